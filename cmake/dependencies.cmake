@@ -1,0 +1,21 @@
+# Every outside package sylva uses is found here, and only here. All come from
+# Debian 12 packages (scripts/setup.sh installs them); nothing is downloaded.
+
+# TBB must come first: OpenVDB's bundled FindTBB would otherwise define a
+# partial TBB::tbb target that breaks the packages found after it.
+find_package(TBB CONFIG REQUIRED)
+find_package(Threads REQUIRED)
+find_package(Eigen3 3.4 REQUIRED NO_MODULE)
+find_package(nlohmann_json 3.10 REQUIRED)
+find_package(OpenImageIO REQUIRED)
+
+# OpenVDB ships a find module, not a config file; it needs Boost.Iostreams.
+list(APPEND CMAKE_MODULE_PATH /usr/lib/x86_64-linux-gnu/cmake/OpenVDB)
+find_package(OpenVDB REQUIRED)
+
+find_package(embree 3.13 REQUIRED)
+
+if(SYLVA_BUILD_TESTS)
+  find_package(GTest REQUIRED)
+  find_package(benchmark REQUIRED)
+endif()

@@ -1,0 +1,51 @@
+# Helpers that give every sylva target the same flags and layout.
+
+set(SYLVA_WARNING_FLAGS -Wall -Wextra -Wpedantic -Wno-sign-compare)
+set(SYLVA_SANITIZER_FLAGS -fsanitize=address,undefined -fno-omit-frame-pointer)
+
+function(_sylva_common_target_settings target)
+  target_compile_options(${target} PRIVATE ${SYLVA_WARNING_FLAGS})
+  target_include_directories(${target} PUBLIC ${PROJECT_SOURCE_DIR})
+  if(SYLVA_ENABLE_ASAN)
+    target_compile_options(${target} PRIVATE ${SYLVA_SANITIZER_FLAGS})
+    target_link_options(${target} PUBLIC ${SYLVA_SANITIZER_FLAGS})
+  endif()
+endfunction()
+
+# sylva_add_library(NAME SRCS ... [PUBLIC_DEPS ...] [PRIVATE_DEPS ...])
+# A static library whose includes are relative to the repository root.
+function(sylva_add_library name)
+  cmake_parse_arguments(ARG "" "" "SRCS;PUBLIC_DEPS;PRIVATE_DEPS" ${ARGN})
+  add_library(${name} STATIC ${ARG_SRCS})
+  _sylva_common_target_settings(${name})
+  target_link_libraries(${name} PUBLIC ${ARG_PUBLIC_DEPS} PRIVATE ${ARG_PRIVATE_DEPS})
+endfunction()
+
+# sylva_add_executable(NAME SRCS ... [DEPS ...])
+function(sylva_add_executable name)
+  cmake_parse_arguments(ARG "" "" "SRCS;DEPS" ${ARGN})
+  add_executable(${name} ${ARG_SRCS})
+  _sylva_common_target_settings(${name})
+  target_link_libraries(${name} PRIVATE ${ARG_DEPS})
+endfunction()
+
+# sylva_add_test(NAME SRCS ... [DEPS ...] [LABELS ...])
+# A GoogleTest binary registered with CTest; tests run from the build tree.
+function(sylva_add_test name)
+  if(NOT SYLVA_BUILD_TESTS)
+    return()
+  endif()
+  cmake_parse_arguments(ARG "" "TIMEOUT" "SRCS;DEPS;LABELS" ${ARGN})
+  add_executable(${name} ${ARG_SRCS})
+  _sylva_common_target_settings(${name})
+  target_link_libraries(${name} PRIVATE ${ARG_DEPS} GTest::gtest GTest::gtest_main GTest::gmock)
+  if(NOT ARG_TIMEOUT)
+    set(ARG_TIMEOUT 600)
+  endif()
+  add_test(NAME ${name} COMMAND ${name})
+  set_tests_properties(${name} PROPERTIES TIMEOUT ${ARG_TIMEOUT}
+    ENVIRONMENT "SYLVA_SOURCE_DIR=${PROJECT_SOURCE_DIR};SYLVA_BINARY_DIR=${PROJECT_BINARY_DIR}")
+  if(ARG_LABELS)
+    set_tests_properties(${name} PROPERTIES LABELS "${ARG_LABELS}")
+  endif()
+endfunction()

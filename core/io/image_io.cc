@@ -1,0 +1,125 @@
+#include "core/io/image_io.h"
+
+#include <OpenImageIO/imageio.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/util/check.h"
+#include "core/util/file_util.h"
+
+namespace sylva {
+namespace {
+
+// Two 8-bit levels: tolerance for "R = G = B" in mattes saved as RGB.
+constexpr float kGrayTolerance = 2.0f / 255.0f;
+
+std::unique_ptr<OIIO::ImageInput> OpenImage(const fs::path& path) {
+  std::error_code ec;
+  SYLVA_CHECK_INPUT(fs::is_regular_file(path, ec), path.string()) << "image file not found";
+  auto input = OIIO::ImageInput::open(path.string());
+  if (!input) {
+    std::string reason = OIIO::geterror();
+    if (reason.empty()) reason = "unknown format";
+    SYLVA_INPUT_ERROR(path.string()) << "cannot read image: " << reason;
+  }
+  return input;
+}
+
+ImageHeader HeaderFromSpec(const OIIO::ImageSpec& spec) {
+  ImageHeader header;
+  header.width = spec.width;
+  header.height = spec.height;
+  header.channels = spec.nchannels;
+  header.alpha_channel = spec.alpha_channel;
+  if (header.alpha_channel < 0 && (spec.nchannels == 2 || spec.nchannels == 4)) {
+    header.alpha_channel = spec.nchannels - 1;
+  }
+  return header;
+}
+
+}  // namespace
+
+ImageHeader ReadImageHeader(const fs::path& path) {
+  auto input = OpenImage(path);
+  const ImageHeader header = HeaderFromSpec(input->spec());
+  SYLVA_CHECK_INPUT(header.width > 0 && header.height > 0 && header.channels > 0, path.string())
+      << "image has no pixels";
+  return header;
+}
+
+FloatImage ReadImage(const fs::path& path) {
+  auto input = OpenImage(path);
+  const ImageHeader header = HeaderFromSpec(input->spec());
+  SYLVA_CHECK_INPUT(header.width > 0 && header.height > 0 && header.channels > 0, path.string())
+      << "image has no pixels";
+  FloatImage image(header.width, header.height, header.channels);
+  const bool ok = input->read_image(0, 0, 0, header.channels, OIIO::TypeDesc::FLOAT, image.data());
+  std::string reason = ok ? std::string() : input->geterror();
+  input->close();
+  SYLVA_CHECK_INPUT(ok, path.string()) << "cannot decode image: " << reason;
+  for (float& value : image.values()) {
+    SYLVA_CHECK_INPUT(std::isfinite(value), path.string()) << "image contains NaN or infinity";
+  }
+  return image;
+}
+
+FloatImage ReadMatte(const fs::path& path) {
+  const FloatImage image = ReadImage(path);
+  const int channels = image.channels();
+  FloatImage matte;
+  if (channels == 1) {
+    matte = image;
+  } else if (channels == 2 || channels == 4) {
+    matte = image.Channel(channels - 1);
+  } else if (channels == 3) {
+    for (size_t i = 0; i < image.NumPixels(); ++i) {
+      const float* rgb = image.data() + 3 * i;
+      const bool gray = std::abs(rgb[0] - rgb[1]) <= kGrayTolerance &&
+                        std::abs(rgb[0] - rgb[2]) <= kGrayTolerance;
+      SYLVA_CHECK_INPUT(gray, path.string())
+          << "matte is a colour image without alpha; a matte must be grayscale or have an "
+             "alpha channel";
+    }
+    matte = image.Channel(0);
+  } else {
+    SYLVA_INPUT_ERROR(path.string()) << "matte has " << channels
+                                     << " channels; expected 1 (gray), 2, 3 or 4";
+  }
+  for (float& value : matte.values()) value = std::clamp(value, 0.0f, 1.0f);
+  return matte;
+}
+
+void WriteImage(const fs::path& path, const FloatImage& image, PixelFormat format) {
+  SYLVA_CHECK(!image.empty()) << "writing an empty image to " << path;
+  OIIO::TypeDesc type = OIIO::TypeDesc::UINT8;
+  if (format == PixelFormat::kUint16) type = OIIO::TypeDesc::UINT16;
+  if (format == PixelFormat::kFloat) type = OIIO::TypeDesc::FLOAT;
+  AtomicWriteWith(path, [&](const fs::path& temp) {
+    auto output = OIIO::ImageOutput::create(temp.string());
+    SYLVA_CHECK(output != nullptr) << "no image writer for " << path << ": " << OIIO::geterror();
+    OIIO::ImageSpec spec(image.width(), image.height(), image.channels(), type);
+    if (image.channels() == 2 || image.channels() == 4) spec.alpha_channel = image.channels() - 1;
+    SYLVA_CHECK(output->open(temp.string(), spec)) << "cannot write " << path << ": "
+                                                   << output->geterror();
+    const bool ok = output->write_image(OIIO::TypeDesc::FLOAT, image.data());
+    const std::string reason = ok ? std::string() : output->geterror();
+    output->close();
+    SYLVA_CHECK(ok) << "cannot write " << path << ": " << reason;
+  });
+}
+
+fs::path FindMatteFile(const fs::path& folder, const std::string& photo_name) {
+  const fs::path relative(photo_name);
+  std::vector<fs::path> candidates = {folder / relative};
+  for (const char* extension : {".png", ".tif", ".tiff", ".exr", ".jpg"}) {
+    candidates.push_back(folder / fs::path(relative).replace_extension(extension));
+  }
+  std::error_code ec;
+  for (const fs::path& candidate : candidates) {
+    if (fs::is_regular_file(candidate, ec)) return candidate;
+  }
+  return {};
+}
+
+}  // namespace sylva

@@ -1,0 +1,51 @@
+// Photos and mattes through OpenImageIO (PNG, JPEG, TIFF, EXR, ...; 8/16-bit
+// integer or float). Pixel values are converted to float in [0, 1]. Pixels
+// are read as stored: EXIF orientation is not applied (COLMAP does not apply
+// it either, so cameras and pixels stay consistent).
+#ifndef SYLVA_CORE_IO_IMAGE_IO_H_
+#define SYLVA_CORE_IO_IMAGE_IO_H_
+
+#include <filesystem>
+#include <string>
+
+#include "core/types/float_image.h"
+
+namespace sylva {
+
+struct ImageHeader {
+  int width = 0;
+  int height = 0;
+  int channels = 0;
+  int alpha_channel = -1;  // index of the alpha channel, or -1
+};
+
+// Reads only the header (fast). Throws InputError naming the file.
+ImageHeader ReadImageHeader(const std::filesystem::path& path);
+
+// Reads all channels. Throws InputError naming the file if it is missing,
+// unreadable, truncated or contains non-finite values.
+FloatImage ReadImage(const std::filesystem::path& path);
+
+// Reads a matte as one channel of alpha in [0, 1]:
+//   1 channel (grayscale)      -> that channel;
+//   2 or 4 channels            -> the alpha channel;
+//   3 channels                 -> accepted only if R = G = B (a grayscale
+//                                 image saved as RGB), otherwise InputError.
+FloatImage ReadMatte(const std::filesystem::path& path);
+
+enum class PixelFormat { kUint8, kUint16, kFloat };
+
+// Writes atomically; the format follows the extension. Values are clamped to
+// [0, 1] for integer formats.
+void WriteImage(const std::filesystem::path& path, const FloatImage& image,
+                PixelFormat format = PixelFormat::kUint8);
+
+// The file in `folder` holding the matte of photo `photo_name` (which may have
+// sub-folders): the same relative path, with the photo's own extension or any
+// of .png .tif .tiff .exr .jpg; empty path if none exists.
+std::filesystem::path FindMatteFile(const std::filesystem::path& folder,
+                                    const std::string& photo_name);
+
+}  // namespace sylva
+
+#endif  // SYLVA_CORE_IO_IMAGE_IO_H_

@@ -1,0 +1,99 @@
+#include "core/io/image_io.h"
+
+#include <gtest/gtest.h>
+
+#include "core/util/check.h"
+#include "core/util/file_util.h"
+
+namespace sylva {
+namespace {
+
+fs::path TestDir() {
+  const fs::path dir = fs::temp_directory_path() / "sylva_image_io_test";
+  fs::create_directories(dir);
+  return dir;
+}
+
+FloatImage Gradient(int channels) {
+  FloatImage image(16, 8, channels);
+  for (int y = 0; y < 8; ++y)
+    for (int x = 0; x < 16; ++x)
+      for (int c = 0; c < channels; ++c) image.at(x, y, c) = (x + y * 16) / 127.0f;
+  return image;
+}
+
+TEST(ImageIoTest, RoundTripFormatsAndDepths) {
+  struct Case {
+    const char* name;
+    PixelFormat format;
+    float tolerance;
+  };
+  const Case cases[] = {{"a.png", PixelFormat::kUint8, 0.5f / 255},
+                        {"a16.png", PixelFormat::kUint16, 0.5f / 65535},
+                        {"a.tif", PixelFormat::kUint16, 0.5f / 65535},
+                        {"a.exr", PixelFormat::kFloat, 1e-6f},
+                        {"a.jpg", PixelFormat::kUint8, 0.05f}};
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.name);
+    const int channels = std::string(c.name) == "a.jpg" ? 3 : 1;
+    const FloatImage image = Gradient(channels);
+    const fs::path path = TestDir() / c.name;
+    WriteImage(path, image, c.format);
+    const ImageHeader header = ReadImageHeader(path);
+    EXPECT_EQ(header.width, 16);
+    EXPECT_EQ(header.height, 8);
+    const FloatImage back = ReadImage(path);
+    ASSERT_EQ(back.channels(), channels);
+    for (size_t i = 0; i < image.values().size(); ++i) {
+      ASSERT_NEAR(back.values()[i], image.values()[i], c.tolerance);
+    }
+  }
+}
+
+TEST(ImageIoTest, MatteFromAlphaGrayOrGrayRgb) {
+  FloatImage rgba(4, 2, 4, 0.2f);
+  rgba.at(1, 1, 3) = 1.0f;
+  rgba.at(0, 0, 3) = 0.0f;
+  WriteImage(TestDir() / "rgba.png", rgba);
+  const FloatImage alpha = ReadMatte(TestDir() / "rgba.png");
+  EXPECT_EQ(alpha.channels(), 1);
+  EXPECT_NEAR(alpha.at(1, 1), 1.0f, 1e-6);
+  EXPECT_NEAR(alpha.at(2, 1), 0.2f, 0.5f / 255);
+
+  FloatImage gray_rgb(4, 2, 3, 0.6f);
+  WriteImage(TestDir() / "gray_rgb.png", gray_rgb);
+  EXPECT_NEAR(ReadMatte(TestDir() / "gray_rgb.png").at(3, 1), 0.6f, 0.5f / 255);
+
+  FloatImage colour(4, 2, 3, 0.1f);
+  colour.at(2, 1, 1) = 0.9f;
+  WriteImage(TestDir() / "colour.png", colour);
+  EXPECT_THROW(ReadMatte(TestDir() / "colour.png"), InputError);
+}
+
+TEST(ImageIoTest, MissingAndCorruptFilesAreInputErrors) {
+  EXPECT_THROW(ReadImage(TestDir() / "missing.png"), InputError);
+  AtomicWriteString(TestDir() / "corrupt.png", "\x89PNG\r\n\x1a\n this is not a png");
+  try {
+    ReadImage(TestDir() / "corrupt.png");
+    FAIL();
+  } catch (const InputError& error) {
+    EXPECT_EQ(error.source(), (TestDir() / "corrupt.png").string());
+  }
+  // A truncated file: a valid PNG cut in half.
+  const FloatImage image = Gradient(3);
+  WriteImage(TestDir() / "whole.png", image);
+  const std::string bytes = ReadFileToString(TestDir() / "whole.png");
+  AtomicWriteString(TestDir() / "half.png", bytes.substr(0, bytes.size() / 2));
+  EXPECT_THROW(ReadImage(TestDir() / "half.png"), InputError);
+}
+
+TEST(ImageIoTest, FindMatteFileBySameRelativeName) {
+  const fs::path mattes = TestDir() / "mattes";
+  fs::create_directories(mattes / "side");
+  WriteImage(mattes / "side" / "30.png", FloatImage(2, 2, 1));
+  EXPECT_EQ(FindMatteFile(mattes, "side/30.jpg"), mattes / "side" / "30.png");
+  EXPECT_TRUE(FindMatteFile(mattes, "side/31.jpg").empty());
+}
+
+}  // namespace
+}  // namespace sylva

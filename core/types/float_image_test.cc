@@ -1,0 +1,50 @@
+#include "core/types/float_image.h"
+
+#include <gtest/gtest.h>
+
+namespace sylva {
+namespace {
+
+FloatImage Ramp(int width, int height) {
+  FloatImage image(width, height, 1);
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x) image.at(x, y) = static_cast<float>(x + 10 * y);
+  return image;
+}
+
+TEST(FloatImageTest, DownsampleBoxAveragesIncludingPartialBlocks) {
+  const FloatImage image = Ramp(5, 3);
+  const FloatImage small = DownsampleBox(image, 2);
+  ASSERT_EQ(small.width(), 3);
+  ASSERT_EQ(small.height(), 2);
+  EXPECT_FLOAT_EQ(small.at(0, 0), (0 + 1 + 10 + 11) / 4.0f);
+  EXPECT_FLOAT_EQ(small.at(2, 0), (4 + 14) / 2.0f);   // last column alone
+  EXPECT_FLOAT_EQ(small.at(2, 1), 24.0f);             // corner pixel alone
+  EXPECT_FLOAT_EQ(small.at(1, 1), (22 + 23) / 2.0f);  // last row alone
+}
+
+TEST(FloatImageTest, SummedAreaTableMatchesDirectMeans) {
+  const FloatImage image = Ramp(8, 6);
+  const SummedAreaTable table(image);
+  // Pixel centres in [1, 4) x [2, 5): columns 1..3 (centres 1.5..3.5), rows 2..4.
+  double sum = 0;
+  for (int y = 2; y <= 4; ++y)
+    for (int x = 1; x <= 3; ++x) sum += image.at(x, y);
+  EXPECT_NEAR(table.BoxMean(1.0, 2.0, 4.0, 5.0), sum / 9, 1e-9);
+  // A tiny box samples the pixel it falls in.
+  EXPECT_NEAR(table.BoxMean(3.2, 4.2, 3.3, 4.3), image.at(3, 4), 1e-9);
+  // Clipped to the image; fully outside gives -1.
+  EXPECT_NEAR(table.BoxMean(-5, -5, 1, 1), image.at(0, 0), 1e-9);
+  EXPECT_EQ(table.BoxMean(20, 20, 30, 30), -1.0);
+}
+
+TEST(FloatImageTest, ChannelExtraction) {
+  FloatImage rgba(2, 1, 4);
+  rgba.at(1, 0, 3) = 0.25f;
+  const FloatImage alpha = rgba.Channel(3);
+  EXPECT_EQ(alpha.channels(), 1);
+  EXPECT_FLOAT_EQ(alpha.at(1, 0), 0.25f);
+}
+
+}  // namespace
+}  // namespace sylva
