@@ -42,9 +42,11 @@ function(sylva_add_test name)
   if(NOT ARG_TIMEOUT)
     set(ARG_TIMEOUT 600)
   endif()
+  # Tests find checked-in data and built tools through these definitions.
+  target_compile_definitions(${name} PRIVATE
+    SYLVA_SOURCE_DIR="${PROJECT_SOURCE_DIR}" SYLVA_BINARY_DIR="${PROJECT_BINARY_DIR}")
   add_test(NAME ${name} COMMAND ${name})
-  set_tests_properties(${name} PROPERTIES TIMEOUT ${ARG_TIMEOUT}
-    ENVIRONMENT "SYLVA_SOURCE_DIR=${PROJECT_SOURCE_DIR};SYLVA_BINARY_DIR=${PROJECT_BINARY_DIR}")
+  set_tests_properties(${name} PROPERTIES TIMEOUT ${ARG_TIMEOUT})
   if(ARG_LABELS)
     set_tests_properties(${name} PROPERTIES LABELS "${ARG_LABELS}")
   endif()
