@@ -62,7 +62,9 @@ TEST(VoxelTraversalTest, MatchesBruteForceOnRandomRays) {
       EXPECT_NEAR(exact[index], length, tolerance);
     }
     for (const auto& [index, length] : exact) {
-      if (length > tolerance) EXPECT_EQ(brute.count(index), 1u) << "extra voxel " << index;
+      if (length > tolerance) {
+        EXPECT_EQ(brute.count(index), 1u) << "extra voxel " << index;
+      }
     }
   }
 }

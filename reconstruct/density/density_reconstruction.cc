@@ -1,0 +1,238 @@
+#include "reconstruct/density/density_reconstruction.h"
+
+#include <tbb/parallel_for.h>
+
+#include <chrono>
+#include <cmath>
+#include <sstream>
+
+#include "core/util/check.h"
+#include "reconstruct/density/ray_system.h"
+#include "reconstruct/density/view_sampling.h"
+#include "reconstruct/density/visual_hull.h"
+
+namespace sylva {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double SecondsSince(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+void CheckMattes(const ImageSet& image_set, const std::vector<FloatImage>& mattes) {
+  SYLVA_CHECK(static_cast<int>(mattes.size()) == image_set.NumViews())
+      << mattes.size() << " mattes for " << image_set.NumViews() << " views";
+  for (int v = 0; v < image_set.NumViews(); ++v) {
+    const Camera& camera = image_set.CameraOf(v);
+    const FloatImage& matte = mattes[v];
+    SYLVA_CHECK_INPUT(matte.channels() == 1, image_set.views[v].name)
+        << "matte must have one channel";
+    SYLVA_CHECK_INPUT(matte.width() == camera.width() && matte.height() == camera.height(),
+                      image_set.views[v].name)
+        << "matte is " << matte.width() << "x" << matte.height() << " but the camera is "
+        << camera.width() << "x" << camera.height();
+  }
+}
+
+// The dense voxel block over `bounds` with `resolution` voxels on its longest side.
+VoxelBlock GridBlock(const Box3d& bounds, int resolution) {
+  VoxelBlock block;
+  block.voxel_size = bounds.sizes().maxCoeff() / resolution;
+  block.lower_corner = bounds.min();
+  for (int a = 0; a < 3; ++a) {
+    block.dims[a] = std::max(
+        1, static_cast<int>(std::ceil(bounds.sizes()[a] / block.voxel_size - 1e-9)));
+  }
+  return block;
+}
+
+Box3d ComputeBounds(const ImageSet& image_set, const std::vector<FloatImage>& mattes,
+                    const DensityOptions& options, const ProgressTask& progress) {
+  if (!options.bounds.isEmpty()) return options.bounds;
+  std::vector<FloatImage> masks;
+  for (const FloatImage& matte : mattes) {
+    masks.push_back(ForegroundMask(matte, options.hull_alpha_threshold));
+  }
+  Box3d bounds = VisualHullBounds(image_set, masks, options.hull_resolution, progress);
+  const double margin =
+      options.bounds_margin_voxels * bounds.sizes().maxCoeff() / options.resolution;
+  bounds.min().array() -= margin;
+  bounds.max().array() += margin;
+  return bounds;
+}
+
+// Dense voxel index -> column of the unknown, -1 for carved voxels.
+std::vector<int32_t> ColumnsOfKeptVoxels(const std::vector<float>& initial, double threshold,
+                                         std::vector<int64_t>* voxel_of_column) {
+  std::vector<int32_t> column_of_voxel(initial.size(), -1);
+  for (size_t i = 0; i < initial.size(); ++i) {
+    if (initial[i] > 0.0f && initial[i] >= threshold) {
+      SYLVA_CHECK(voxel_of_column->size() < static_cast<size_t>(INT32_MAX))
+          << "too many voxels; lower Density.resolution";
+      column_of_voxel[i] = static_cast<int32_t>(voxel_of_column->size());
+      voxel_of_column->push_back(static_cast<int64_t>(i));
+    }
+  }
+  return column_of_voxel;
+}
+
+double OpticalDepth(double alpha, double max_opacity) {
+  return -std::log(1.0 - std::min(alpha, max_opacity));
+}
+
+// The initial optical depths, scaled by the s minimising |s A x0 - b|.
+std::vector<double> InitialSolution(const RaySystem& system, const std::vector<float>& initial,
+                                    const std::vector<int64_t>& voxel_of_column,
+                                    double max_opacity, double* scale) {
+  std::vector<double> x(voxel_of_column.size());
+  for (size_t j = 0; j < x.size(); ++j) x[j] = OpticalDepth(initial[voxel_of_column[j]], max_opacity);
+  std::vector<double> ax;
+  system.matrix.Multiply(x, &ax);
+  double ab = 0.0, aa = 0.0;
+  for (size_t i = 0; i < ax.size(); ++i) {
+    ab += ax[i] * system.rhs[i];
+    aa += ax[i] * ax[i];
+  }
+  *scale = aa > 0 ? ab / aa : 1.0;
+  for (double& value : x) value *= *scale;
+  return x;
+}
+
+// CGLS, then clamping of negatives, then re-solves with clamped voxels fixed.
+void SolveNonNegative(const RaySystem& system, const DensityOptions& options,
+                      const ProgressTask& progress, std::vector<double>* x,
+                      DensitySummary* summary) {
+  const SparseRows transposed = system.matrix.Transposed();
+  const CglsOptions cgls{options.max_iterations, options.tolerance};
+  std::vector<char> free(x->size(), 1);
+  const int passes = 1 + options.nonnegative_passes;
+  for (int pass = 0; pass < passes; ++pass) {
+    ProgressTask task = progress.SubTask("density: least squares", double(pass) / passes,
+                                         double(pass + 1) / passes);
+    summary->solves.push_back(
+        SolveCgls(system.matrix, transposed, system.rhs, cgls, pass > 0 ? &free : nullptr, x,
+                  &task));
+    int64_t clamped = 0;
+    for (size_t j = 0; j < x->size(); ++j) {
+      if ((*x)[j] < 0.0) {
+        (*x)[j] = 0.0;
+        free[j] = 0;
+        ++clamped;
+      }
+    }
+    summary->num_clamped_voxels += clamped;
+    if (clamped == 0) break;
+  }
+}
+
+DensityGrid MakeGrid(const VoxelBlock& block, const std::vector<int64_t>& voxel_of_column,
+                     const std::vector<double>& x, double min_output_opacity) {
+  const Eigen::Vector3d origin = block.lower_corner + Eigen::Vector3d::Constant(0.5 * block.voxel_size);
+  DensityGrid grid(block.voxel_size, origin);
+  for (size_t j = 0; j < x.size(); ++j) {
+    const double alpha = 1.0 - std::exp(-x[j]);
+    if (alpha > 0 && alpha >= min_output_opacity) {
+      grid.SetValue(block.VoxelFromLinear(voxel_of_column[j]), static_cast<float>(alpha));
+    }
+  }
+  return grid;
+}
+
+}  // namespace
+
+std::string DensitySummary::BriefReport() const {
+  std::ostringstream out;
+  out << "Density: " << num_views << " views, grid " << grid_dims.x() << "x" << grid_dims.y()
+      << "x" << grid_dims.z() << " (voxel " << voxel_size << "), "
+      << (automatic_bounds ? "visual-hull" : "given") << " bounds; " << num_carved_voxels
+      << " voxels after carving, " << num_rows << " pixel rays, " << num_nonzeros
+      << " non-zeros";
+  if (num_unexplained_pixels > 0) out << ", " << num_unexplained_pixels << " unexplained fg pixels";
+  out << ". Least squares: ";
+  for (size_t i = 0; i < solves.size(); ++i) {
+    out << (i ? "; " : "") << solves[i].iterations << " it, |r| " << solves[i].initial_residual_norm
+        << " -> " << solves[i].final_residual_norm << (solves[i].converged ? " (converged)" : "");
+  }
+  out << "; " << num_clamped_voxels << " negatives clamped; " << num_output_voxels
+      << " voxels stored. Time " << seconds_total << " s (bounds " << seconds_bounds << ", init "
+      << seconds_init << ", system " << seconds_system << ", solve " << seconds_solve << ").";
+  return out.str();
+}
+
+DensityGrid ReconstructDensity(const ImageSet& image_set, const std::vector<FloatImage>& mattes,
+                               const DensityOptions& options, ProgressReporter* reporter,
+                               DensitySummary* summary) {
+  options.Check();
+  image_set.Check("cameras");
+  CheckMattes(image_set, mattes);
+  DensitySummary local_summary;
+  if (summary == nullptr) summary = &local_summary;
+  *summary = DensitySummary();
+  summary->num_views = image_set.NumViews();
+  const Clock::time_point start = Clock::now();
+  const ProgressTask progress(reporter, "density");
+
+  // 1. Bounds.
+  Clock::time_point step = Clock::now();
+  summary->automatic_bounds = options.bounds.isEmpty();
+  summary->bounds = ComputeBounds(image_set, mattes, options,
+                                  progress.SubTask("density: bounds", 0.0, 0.05));
+  const VoxelBlock block = GridBlock(summary->bounds, options.resolution);
+  summary->grid_dims = block.dims;
+  summary->voxel_size = block.voxel_size;
+  summary->seconds_bounds = SecondsSince(step);
+
+  // 2. Initialisation and implicit carving.
+  step = Clock::now();
+  std::vector<SummedAreaTable> tables;
+  for (const FloatImage& matte : mattes) tables.emplace_back(matte);
+  const std::vector<float> initial =
+      MinFootprintMeans(image_set, tables, block, progress.SubTask("density: init", 0.05, 0.2));
+  tables.clear();
+  std::vector<int64_t> voxel_of_column;
+  const std::vector<int32_t> column_of_voxel =
+      ColumnsOfKeptVoxels(initial, options.carve_threshold, &voxel_of_column);
+  summary->num_carved_voxels = static_cast<int64_t>(voxel_of_column.size());
+  SYLVA_CHECK_INPUT(!voxel_of_column.empty(), "Density.carve_threshold")
+      << "every voxel was carved away; lower the threshold or check cameras and mattes";
+  summary->seconds_init = SecondsSince(step);
+
+  // 3. The pixel-ray equations.
+  step = Clock::now();
+  const Eigen::Vector3d center = block.lower_corner + 0.5 * block.voxel_size * block.dims.cast<double>();
+  std::vector<ViewSampling> sampling;
+  std::vector<FloatImage> downsampled(image_set.NumViews());
+  for (int v = 0; v < image_set.NumViews(); ++v) {
+    sampling.push_back(MakeViewSampling(image_set, v, center, block.voxel_size,
+                                        options.pixels_per_voxel, options.rays_per_axis));
+    summary->downsample_factors.push_back(sampling.back().factor);
+  }
+  tbb::parallel_for(0, image_set.NumViews(), [&](int v) {
+    downsampled[v] = DownsampleBox(mattes[v], sampling[v].factor);
+  });
+  const RaySystem system = BuildRaySystem(
+      image_set, sampling, downsampled, block, column_of_voxel,
+      static_cast<int64_t>(voxel_of_column.size()), options.max_pixel_opacity,
+      options.hull_alpha_threshold, progress.SubTask("density: rays", 0.2, 0.4));
+  summary->num_rows = system.matrix.NumRows();
+  summary->num_nonzeros = system.matrix.NumNonZeros();
+  summary->num_unexplained_pixels = system.num_unexplained_pixels;
+  summary->seconds_system = SecondsSince(step);
+
+  // 4. Least squares from the (rescaled) initialisation.
+  step = Clock::now();
+  std::vector<double> x = InitialSolution(system, initial, voxel_of_column,
+                                          options.max_pixel_opacity, &summary->initial_scale);
+  SolveNonNegative(system, options, progress.SubTask("density: solve", 0.4, 0.98), &x, summary);
+  summary->seconds_solve = SecondsSince(step);
+
+  // 5. The sparse grid.
+  DensityGrid grid = MakeGrid(block, voxel_of_column, x, options.min_output_opacity);
+  grid.SetMetadata("sylva_quantity", "opacity per voxel (alpha of a ray crossing one voxel)");
+  summary->num_output_voxels = grid.NumActiveVoxels();
+  summary->seconds_total = SecondsSince(start);
+  return grid;
+}
+
+}  // namespace sylva

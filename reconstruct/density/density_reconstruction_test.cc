@@ -1,0 +1,230 @@
+#include "reconstruct/density/density_reconstruction.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "core/util/check.h"
+#include "reconstruct/density/opacity_projection.h"
+
+namespace sylva {
+namespace {
+
+// A known density: an ellipsoidal crown on a thin trunk, opacity varying
+// smoothly, on a 24^3 lattice of 0.1 voxels.
+DensityGrid TrueDensity() {
+  DensityGrid grid(0.1, Eigen::Vector3d(-1.15, -1.15, 0.05));
+  for (int k = 0; k < 24; ++k)
+    for (int j = 0; j < 24; ++j)
+      for (int i = 0; i < 24; ++i) {
+        const Eigen::Vector3d p = grid.WorldFromIndex(Eigen::Vector3d(i, j, k));
+        const double crown = std::pow(p.x() / 0.9, 2) + std::pow(p.y() / 0.7, 2) +
+                             std::pow((p.z() - 1.5) / 0.6, 2);
+        float alpha = 0.0f;
+        if (crown < 1.0) alpha = static_cast<float>(0.05 + 0.15 * (1 - crown));
+        if (p.head<2>().norm() < 0.12 && p.z() < 1.2) alpha = 0.5f;
+        grid.SetValue({i, j, k}, alpha);
+      }
+  return grid;
+}
+
+Box3d TrueBox() { return Box3d(Eigen::Vector3d(-1.2, -1.2, 0.0), Eigen::Vector3d(1.2, 1.2, 2.4)); }
+
+// Pinhole cameras on two rings looking at the crown.
+ImageSet RingViews(int num_views, int size) {
+  ImageSet set;
+  set.cameras[1] = Camera::Pinhole(size, size, 1.4 * size);
+  for (int v = 0; v < num_views; ++v) {
+    const double azimuth = 2 * M_PI * v / num_views;
+    const double elevation = (v % 2 == 0) ? 0.2 : 0.7;
+    const Eigen::Vector3d center(6 * std::cos(azimuth) * std::cos(elevation),
+                                 6 * std::sin(azimuth) * std::cos(elevation),
+                                 1.2 + 6 * std::sin(elevation));
+    View view;
+    view.image_id = v + 1;
+    view.name = "v" + std::to_string(v) + ".png";
+    view.camera_id = 1;
+    view.cam_from_world = LookAt(center, Eigen::Vector3d(0, 0, 1.2), Eigen::Vector3d::UnitZ());
+    set.views.push_back(view);
+  }
+  return set;
+}
+
+ImageSet TwoOrthographicViews(int size) {
+  ImageSet set;
+  set.cameras[1] = Camera(CameraModel::kOrthographic, size, size,
+                          {size / 2.6, size / 2.6, size / 2.0, size / 2.0});
+  const Eigen::Vector3d target(0, 0, 1.2);
+  for (int v = 0; v < 2; ++v) {
+    View view;
+    view.image_id = v + 1;
+    view.name = v == 0 ? "front.png" : "side.png";
+    view.camera_id = 1;
+    const Eigen::Vector3d center = target + (v == 0 ? Eigen::Vector3d(0, -5, 0)
+                                                    : Eigen::Vector3d(5, 0, 0));
+    view.cam_from_world = LookAt(center, target, Eigen::Vector3d::UnitZ());
+    set.views.push_back(view);
+  }
+  return set;
+}
+
+// Full-resolution mattes rendered from the true density, supersampled.
+std::vector<FloatImage> RenderMattes(const DensityGrid& truth, const ImageSet& set) {
+  const OpacityProjector projector(truth);
+  std::vector<FloatImage> mattes;
+  for (int v = 0; v < set.NumViews(); ++v) {
+    const Camera& camera = set.CameraOf(v);
+    const ViewSampling full{1, 3, camera.width(), camera.height()};
+    mattes.push_back(projector.Render(set, v, full));
+  }
+  return mattes;
+}
+
+double MeanReprojectionError(const DensityGrid& grid, const ImageSet& set,
+                             const std::vector<FloatImage>& mattes, const DensityOptions& options) {
+  const OpacityProjector projector(grid);
+  double error = 0.0;
+  size_t count = 0;
+  for (int v = 0; v < set.NumViews(); ++v) {
+    const ViewSampling sampling = MakeViewSampling(set, v, projector.Center(), grid.voxel_size(),
+                                                   options.pixels_per_voxel, 1);
+    const FloatImage predicted = projector.Render(set, v, sampling);
+    const FloatImage observed = DownsampleBox(mattes[v], sampling.factor);
+    for (size_t i = 0; i < predicted.NumPixels(); ++i) {
+      error += std::abs(predicted.data()[i] - observed.data()[i]);
+      ++count;
+    }
+  }
+  return error / count;
+}
+
+TEST(DensityReconstructionTest, RecoversKnownDensityFromItsProjections) {
+  const DensityGrid truth = TrueDensity();
+  const ImageSet set = RingViews(16, 96);
+  const std::vector<FloatImage> mattes = RenderMattes(truth, set);
+  DensityOptions options;
+  options.resolution = 24;
+  options.bounds = TrueBox();  // the same lattice as the truth
+  options.max_iterations = 200;
+  options.tolerance = 1e-6;
+  DensitySummary summary;
+  const DensityGrid grid = ReconstructDensity(set, mattes, options, nullptr, &summary);
+  SCOPED_TRACE(summary.BriefReport());
+  EXPECT_EQ(summary.grid_dims, Eigen::Vector3i(24, 24, 24));
+  EXPECT_LT(summary.solves.back().final_residual_norm,
+            0.3 * summary.solves.front().initial_residual_norm);
+  // Projections reproduce the inputs.
+  EXPECT_LT(MeanReprojectionError(grid, set, mattes, options), 0.01);
+  // Occupied voxels agree (IoU), and opacities are close where both are occupied.
+  int64_t both = 0, either = 0;
+  double abs_error = 0.0;
+  for (int k = 0; k < 24; ++k)
+    for (int j = 0; j < 24; ++j)
+      for (int i = 0; i < 24; ++i) {
+        const float t = truth.Value({i, j, k});
+        // Same lattice: voxel (i, j, k) of the truth is at the same place.
+        const Eigen::Vector3d p = truth.WorldFromIndex(Eigen::Vector3d(i, j, k));
+        const Eigen::Vector3i r = grid.IndexFromWorld(p).array().round().cast<int>();
+        const float g = grid.Value(r);
+        both += (t > 0.05f) && (g > 0.05f);
+        either += (t > 0.05f) || (g > 0.05f);
+        if (t > 0.05f) abs_error += std::abs(t - g);
+      }
+  const double iou = static_cast<double>(both) / either;
+  std::printf("voxel IoU %.3f, mean opacity error %.4f\n", iou, abs_error / both);
+  EXPECT_GT(iou, 0.8) << "voxel IoU";
+  EXPECT_LT(abs_error / both, 0.1) << "mean opacity error in occupied voxels";
+}
+
+TEST(DensityReconstructionTest, AutomaticBoundsContainTheObjectSnugly) {
+  const DensityGrid truth = TrueDensity();
+  const ImageSet set = RingViews(8, 96);
+  DensityOptions options;
+  options.resolution = 32;
+  DensitySummary summary;
+  ReconstructDensity(set, RenderMattes(truth, set), options, nullptr, &summary);
+  const Box3d object = truth.ActiveWorldBounds();
+  EXPECT_TRUE(summary.bounds.contains(object)) << summary.bounds.min().transpose() << " / "
+                                               << summary.bounds.max().transpose();
+  EXPECT_LT(summary.bounds.volume(), 1.6 * object.volume());
+}
+
+TEST(DensityReconstructionTest, TwoOrthographicViewsAtRightAngles) {
+  const DensityGrid truth = TrueDensity();
+  const ImageSet set = TwoOrthographicViews(64);
+  const std::vector<FloatImage> mattes = RenderMattes(truth, set);
+  DensityOptions options;
+  options.resolution = 24;
+  DensitySummary summary;
+  const DensityGrid grid = ReconstructDensity(set, mattes, options, nullptr, &summary);
+  SCOPED_TRACE(summary.BriefReport());
+  EXPECT_LT(MeanReprojectionError(grid, set, mattes, options), 0.02);
+  EXPECT_TRUE(summary.bounds.contains(truth.ActiveWorldBounds().center()));
+}
+
+TEST(DensityReconstructionTest, SameInputsSameGrid) {
+  const DensityGrid truth = TrueDensity();
+  const ImageSet set = RingViews(6, 64);
+  const std::vector<FloatImage> mattes = RenderMattes(truth, set);
+  DensityOptions options;
+  options.resolution = 20;
+  const DensityGrid a = ReconstructDensity(set, mattes, options, nullptr, nullptr);
+  const DensityGrid b = ReconstructDensity(set, mattes, options, nullptr, nullptr);
+  ASSERT_EQ(a.NumActiveVoxels(), b.NumActiveVoxels());
+  a.ForEachActive([&](const Eigen::Vector3i& ijk, float alpha) { EXPECT_EQ(alpha, b.Value(ijk)); });
+}
+
+TEST(DensityReconstructionTest, BadInputsAreNamed) {
+  const DensityGrid truth = TrueDensity();
+  const ImageSet set = RingViews(4, 48);
+  std::vector<FloatImage> mattes = RenderMattes(truth, set);
+  DensityOptions options;
+  options.resolution = 16;
+
+  std::vector<FloatImage> empty = mattes;
+  empty[2] = FloatImage(48, 48, 1, 0.0f);
+  try {
+    ReconstructDensity(set, empty, options, nullptr, nullptr);
+    FAIL() << "empty matte accepted";
+  } catch (const InputError& error) {
+    EXPECT_EQ(error.source(), "v2.png");
+    EXPECT_NE(std::string(error.what()).find("empty"), std::string::npos) << error.what();
+  }
+
+  std::vector<FloatImage> wrong_size = mattes;
+  wrong_size[1] = FloatImage(40, 48, 1, 0.5f);
+  try {
+    ReconstructDensity(set, wrong_size, options, nullptr, nullptr);
+    FAIL() << "wrong-size matte accepted";
+  } catch (const InputError& error) {
+    EXPECT_EQ(error.source(), "v1.png");
+  }
+
+  DensityOptions bad = options;
+  bad.resolution = 1;
+  try {
+    ReconstructDensity(set, mattes, bad, nullptr, nullptr);
+    FAIL() << "bad option accepted";
+  } catch (const InputError& error) {
+    EXPECT_EQ(error.source(), "Density.resolution");
+  }
+}
+
+class CancelAtOnce : public ProgressReporter {
+ public:
+  CancelAtOnce() { RequestCancel(); }
+  void Update(std::string_view, double) override {}
+};
+
+TEST(DensityReconstructionTest, Cancellable) {
+  const DensityGrid truth = TrueDensity();
+  const ImageSet set = RingViews(4, 48);
+  CancelAtOnce cancel;
+  DensityOptions options;
+  options.resolution = 16;
+  EXPECT_THROW(ReconstructDensity(set, RenderMattes(truth, set), options, &cancel, nullptr),
+               Cancelled);
+}
+
+}  // namespace
+}  // namespace sylva

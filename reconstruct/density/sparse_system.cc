@@ -1,0 +1,108 @@
+#include "reconstruct/density/sparse_system.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <cmath>
+
+#include "core/util/check.h"
+
+namespace sylva {
+namespace {
+
+// Rows per parallel task: large enough to amortise scheduling.
+constexpr int64_t kRowGrain = 1024;
+
+double Dot(const std::vector<double>& a, const std::vector<double>& b) {
+  double sum = 0.0;
+  for (size_t i = 0; i < a.size(); ++i) sum += a[i] * b[i];
+  return sum;
+}
+
+void MaskFixed(const std::vector<char>* free, std::vector<double>* v) {
+  if (free == nullptr) return;
+  for (size_t i = 0; i < v->size(); ++i) {
+    if (!(*free)[i]) (*v)[i] = 0.0;
+  }
+}
+
+}  // namespace
+
+SparseRows SparseRows::Transposed() const {
+  SparseRows t;
+  t.num_cols = NumRows();
+  t.row_offsets.assign(num_cols + 1, 0);
+  for (int32_t c : cols) ++t.row_offsets[c + 1];
+  for (int64_t i = 0; i < num_cols; ++i) t.row_offsets[i + 1] += t.row_offsets[i];
+  t.cols.resize(cols.size());
+  t.values.resize(values.size());
+  std::vector<int64_t> next(t.row_offsets.begin(), t.row_offsets.end() - 1);
+  for (int64_t row = 0; row < NumRows(); ++row) {
+    for (int64_t k = row_offsets[row]; k < row_offsets[row + 1]; ++k) {
+      const int64_t slot = next[cols[k]]++;
+      t.cols[slot] = static_cast<int32_t>(row);
+      t.values[slot] = values[k];
+    }
+  }
+  return t;
+}
+
+void SparseRows::Multiply(const std::vector<double>& x, std::vector<double>* y) const {
+  SYLVA_DCHECK(static_cast<int64_t>(x.size()) == num_cols);
+  y->resize(NumRows());
+  tbb::parallel_for(tbb::blocked_range<int64_t>(0, NumRows(), kRowGrain),
+                    [&](const tbb::blocked_range<int64_t>& range) {
+                      for (int64_t row = range.begin(); row < range.end(); ++row) {
+                        double sum = 0.0;
+                        for (int64_t k = row_offsets[row]; k < row_offsets[row + 1]; ++k) {
+                          sum += values[k] * x[cols[k]];
+                        }
+                        (*y)[row] = sum;
+                      }
+                    });
+}
+
+CglsSummary SolveCgls(const SparseRows& a, const SparseRows& transposed,
+                      const std::vector<double>& b, const CglsOptions& options,
+                      const std::vector<char>* free, std::vector<double>* x,
+                      ProgressTask* progress) {
+  SYLVA_CHECK(static_cast<int64_t>(b.size()) == a.NumRows());
+  SYLVA_CHECK(static_cast<int64_t>(x->size()) == a.num_cols);
+  CglsSummary summary;
+  std::vector<double> r, q, s, ax;
+  a.Multiply(*x, &ax);
+  r.resize(b.size());
+  for (size_t i = 0; i < b.size(); ++i) r[i] = b[i] - ax[i];
+  summary.initial_residual_norm = std::sqrt(Dot(r, r));
+  transposed.Multiply(b, &s);
+  MaskFixed(free, &s);
+  const double gradient_scale = std::sqrt(Dot(s, s));
+  transposed.Multiply(r, &s);
+  MaskFixed(free, &s);
+  std::vector<double> p = s;
+  double gamma = Dot(s, s);
+  const double stop_gamma = std::pow(options.tolerance * gradient_scale, 2);
+  summary.converged = gamma <= stop_gamma;
+  while (!summary.converged && summary.iterations < options.max_iterations) {
+    a.Multiply(p, &q);
+    const double q_norm2 = Dot(q, q);
+    if (!(q_norm2 > 0)) break;
+    const double alpha = gamma / q_norm2;
+    for (size_t j = 0; j < x->size(); ++j) (*x)[j] += alpha * p[j];
+    for (size_t i = 0; i < r.size(); ++i) r[i] -= alpha * q[i];
+    transposed.Multiply(r, &s);
+    MaskFixed(free, &s);
+    const double gamma_next = Dot(s, s);
+    const double beta = gamma_next / gamma;
+    for (size_t j = 0; j < p.size(); ++j) p[j] = s[j] + beta * p[j];
+    gamma = gamma_next;
+    ++summary.iterations;
+    summary.converged = gamma <= stop_gamma;
+    if (progress) progress->Update(static_cast<double>(summary.iterations) / options.max_iterations);
+  }
+  summary.final_residual_norm = std::sqrt(Dot(r, r));
+  summary.relative_gradient = gradient_scale > 0 ? std::sqrt(gamma) / gradient_scale : 0.0;
+  return summary;
+}
+
+}  // namespace sylva

@@ -1,0 +1,56 @@
+// A sparse least-squares system A x = b with row-compressed A and its
+// transpose, and a CGLS solver over it.
+//
+// CGLS (conjugate gradients on the normal equations A^T A x = A^T b, without
+// forming A^T A) is the thesis' "least square fitting" (eq. 3.3) done
+// iteratively: each iteration costs one product with A and one with A^T.
+#ifndef SYLVA_RECONSTRUCT_DENSITY_SPARSE_SYSTEM_H_
+#define SYLVA_RECONSTRUCT_DENSITY_SPARSE_SYSTEM_H_
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/util/progress.h"
+
+namespace sylva {
+
+// Row-compressed sparse matrix with float entries.
+struct SparseRows {
+  int64_t num_cols = 0;
+  std::vector<int64_t> row_offsets = {0};  // size rows + 1
+  std::vector<int32_t> cols;
+  std::vector<float> values;
+
+  int64_t NumRows() const { return static_cast<int64_t>(row_offsets.size()) - 1; }
+  int64_t NumNonZeros() const { return static_cast<int64_t>(cols.size()); }
+  // The transpose, in the same format (rows become columns).
+  SparseRows Transposed() const;
+  // y = this * x (parallel over rows, deterministic).
+  void Multiply(const std::vector<double>& x, std::vector<double>* y) const;
+};
+
+struct CglsOptions {
+  int max_iterations = 40;
+  // Stop when |A^T r| <= tolerance * |A^T b|.
+  double tolerance = 1e-3;
+};
+
+struct CglsSummary {
+  int iterations = 0;
+  double initial_residual_norm = 0.0;  // |b - A x0|
+  double final_residual_norm = 0.0;    // |b - A x|
+  double relative_gradient = 0.0;      // |A^T r| / |A^T b| at the end
+  bool converged = false;              // tolerance reached
+};
+
+// Minimises |A x - b| starting from *x. Entries where `free` is false (if
+// given) stay fixed. `transposed` must be a.Transposed().
+CglsSummary SolveCgls(const SparseRows& a, const SparseRows& transposed,
+                      const std::vector<double>& b, const CglsOptions& options,
+                      const std::vector<char>* free, std::vector<double>* x,
+                      ProgressTask* progress);
+
+}  // namespace sylva
+
+#endif  // SYLVA_RECONSTRUCT_DENSITY_SPARSE_SYSTEM_H_

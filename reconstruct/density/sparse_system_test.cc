@@ -1,0 +1,83 @@
+#include "reconstruct/density/sparse_system.h"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
+
+#include "core/util/random.h"
+
+namespace sylva {
+namespace {
+
+SparseRows RandomSparse(int rows, int cols, double fill, RandomEngine* rng, Eigen::MatrixXd* dense) {
+  SparseRows a;
+  a.num_cols = cols;
+  dense->setZero(rows, cols);
+  for (int r = 0; r < rows; ++r) {
+    for (int c = 0; c < cols; ++c) {
+      if (rng->Uniform() > fill) continue;
+      const float value = static_cast<float>(rng->Uniform(0.1, 1.0));
+      a.cols.push_back(c);
+      a.values.push_back(value);
+      (*dense)(r, c) = value;
+    }
+    a.row_offsets.push_back(static_cast<int64_t>(a.cols.size()));
+  }
+  return a;
+}
+
+TEST(SparseSystemTest, TransposeAndMultiply) {
+  RandomEngine rng(1);
+  Eigen::MatrixXd dense;
+  const SparseRows a = RandomSparse(30, 12, 0.3, &rng, &dense);
+  const SparseRows t = a.Transposed();
+  EXPECT_EQ(t.NumRows(), 12);
+  EXPECT_EQ(t.num_cols, 30);
+  std::vector<double> x(30), y;
+  for (double& v : x) v = rng.Normal();
+  t.Multiply(x, &y);
+  const Eigen::VectorXd expected = dense.transpose() * Eigen::Map<Eigen::VectorXd>(x.data(), 30);
+  for (int i = 0; i < 12; ++i) EXPECT_NEAR(y[i], expected[i], 1e-9);
+}
+
+TEST(SparseSystemTest, CglsReachesTheLeastSquaresSolution) {
+  RandomEngine rng(2);
+  Eigen::MatrixXd dense;
+  const SparseRows a = RandomSparse(80, 25, 0.4, &rng, &dense);
+  std::vector<double> b(80);
+  for (double& v : b) v = rng.Normal();
+  const Eigen::VectorXd b_vec = Eigen::Map<Eigen::VectorXd>(b.data(), 80);
+  const Eigen::VectorXd expected = dense.colPivHouseholderQr().solve(b_vec);
+  std::vector<double> x(25, 0.0);
+  const CglsSummary summary =
+      SolveCgls(a, a.Transposed(), b, CglsOptions{200, 1e-12}, nullptr, &x, nullptr);
+  EXPECT_TRUE(summary.converged);
+  EXPECT_LT(summary.final_residual_norm, summary.initial_residual_norm);
+  for (int j = 0; j < 25; ++j) EXPECT_NEAR(x[j], expected[j], 1e-6);
+}
+
+TEST(SparseSystemTest, FixedEntriesStayFixed) {
+  RandomEngine rng(3);
+  Eigen::MatrixXd dense;
+  const SparseRows a = RandomSparse(60, 10, 0.5, &rng, &dense);
+  std::vector<double> b(60);
+  for (double& v : b) v = rng.Normal();
+  std::vector<double> x(10, 0.0);
+  x[3] = 0.7;
+  std::vector<char> free(10, 1);
+  free[3] = 0;
+  SolveCgls(a, a.Transposed(), b, CglsOptions{100, 1e-12}, &free, &x, nullptr);
+  EXPECT_EQ(x[3], 0.7);
+  // The others solve the reduced problem A' x' = b - a_3 * 0.7.
+  Eigen::MatrixXd reduced(60, 9);
+  reduced << dense.leftCols(3), dense.rightCols(6);
+  const Eigen::VectorXd rhs = Eigen::Map<Eigen::VectorXd>(b.data(), 60) - dense.col(3) * 0.7;
+  const Eigen::VectorXd expected = reduced.colPivHouseholderQr().solve(rhs);
+  for (int j = 0, k = 0; j < 10; ++j) {
+    if (j == 3) continue;
+    EXPECT_NEAR(x[j], expected[k++], 1e-6);
+  }
+}
+
+}  // namespace
+}  // namespace sylva

@@ -1,0 +1,135 @@
+#include "reconstruct/density/view_sampling.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "core/util/check.h"
+
+namespace sylva {
+namespace {
+
+// Z slices per parallel task in MinFootprintMeans; each task reuses its
+// previous lattice layer, so larger chunks project fewer points twice.
+constexpr int kSlicesPerTask = 4;
+
+}  // namespace
+
+Eigen::Vector2d ViewSampling::RayPosition(int pixel_x, int pixel_y, int a, int b) const {
+  const int x0 = pixel_x * factor, y0 = pixel_y * factor;
+  const int block_width = std::min(x0 + factor, original_width) - x0;
+  const int block_height = std::min(y0 + factor, original_height) - y0;
+  return Eigen::Vector2d(x0 + block_width * (a + 0.5) / rays_per_axis,
+                         y0 + block_height * (b + 0.5) / rays_per_axis);
+}
+
+ViewSampling MakeViewSampling(const ImageSet& image_set, int view_idx,
+                              const Eigen::Vector3d& center_in_world, double voxel_size,
+                              double pixels_per_voxel, int rays_per_axis) {
+  const View& view = image_set.views.at(view_idx);
+  const Camera& camera = image_set.CameraOf(view);
+  const Eigen::Vector3d center_in_cam = view.cam_from_world * center_in_world;
+  double voxel_pixels = 0.5 * (camera.FocalLengthX() + camera.FocalLengthY()) * voxel_size;
+  if (!camera.IsOrthographic()) voxel_pixels /= std::max(center_in_cam.z(), 1e-12 * voxel_size);
+  ViewSampling sampling;
+  sampling.factor = std::max(1, static_cast<int>(std::floor(voxel_pixels / pixels_per_voxel)));
+  sampling.factor = std::min(sampling.factor, std::max(camera.width(), camera.height()));
+  sampling.rays_per_axis = rays_per_axis;
+  sampling.original_width = camera.width();
+  sampling.original_height = camera.height();
+  return sampling;
+}
+
+ViewProjector::ViewProjector(const ImageSet& image_set, int view_idx)
+    : camera_(&image_set.CameraOf(view_idx)),
+      rotation_(image_set.views.at(view_idx).cam_from_world.rotation.toRotationMatrix()),
+      translation_(image_set.views.at(view_idx).cam_from_world.translation) {}
+
+namespace {
+
+// Projections of one z layer of voxel corners: (nx + 1) x (ny + 1) points.
+struct CornerLayer {
+  std::vector<Eigen::Vector2f> pixels;
+  std::vector<char> valid;
+};
+
+void ProjectCornerLayer(const ViewProjector& projector, const VoxelBlock& block, int z,
+                        CornerLayer* layer) {
+  const int nx = block.dims.x() + 1, ny = block.dims.y() + 1;
+  layer->pixels.resize(static_cast<size_t>(nx) * ny);
+  layer->valid.resize(layer->pixels.size());
+  for (int y = 0; y < ny; ++y) {
+    for (int x = 0; x < nx; ++x) {
+      const Eigen::Vector3d corner =
+          block.lower_corner + block.voxel_size * Eigen::Vector3d(x, y, z);
+      Eigen::Vector2d pixel = Eigen::Vector2d::Zero();
+      const size_t i = static_cast<size_t>(y) * nx + x;
+      layer->valid[i] = projector.Project(corner, &pixel);
+      layer->pixels[i] = pixel.cast<float>();
+    }
+  }
+}
+
+// Footprint mean of voxel (x, y) between two corner layers; -1 if unseen.
+double FootprintMean(const CornerLayer& lower, const CornerLayer& upper, int nx, int x, int y,
+                     const SummedAreaTable& table) {
+  float x0 = std::numeric_limits<float>::max(), y0 = x0;
+  float x1 = std::numeric_limits<float>::lowest(), y1 = x1;
+  for (const CornerLayer* layer : {&lower, &upper}) {
+    for (int dy = 0; dy < 2; ++dy) {
+      for (int dx = 0; dx < 2; ++dx) {
+        const size_t i = static_cast<size_t>(y + dy) * nx + x + dx;
+        if (!layer->valid[i]) return -1.0;
+        const Eigen::Vector2f& p = layer->pixels[i];
+        x0 = std::min(x0, p.x());
+        x1 = std::max(x1, p.x());
+        y0 = std::min(y0, p.y());
+        y1 = std::max(y1, p.y());
+      }
+    }
+  }
+  return table.BoxMean(x0, y0, x1, y1);
+}
+
+}  // namespace
+
+std::vector<float> MinFootprintMeans(const ImageSet& image_set,
+                                     const std::vector<SummedAreaTable>& tables,
+                                     const VoxelBlock& block, const ProgressTask& progress) {
+  SYLVA_CHECK(static_cast<int>(tables.size()) == image_set.NumViews());
+  constexpr float kUnseen = std::numeric_limits<float>::infinity();
+  std::vector<float> result(block.NumVoxels(), kUnseen);
+  std::vector<ViewProjector> projectors;
+  for (int v = 0; v < image_set.NumViews(); ++v) projectors.emplace_back(image_set, v);
+  const int nx = block.dims.x(), ny = block.dims.y(), nz = block.dims.z();
+  const int num_tasks = (nz + kSlicesPerTask - 1) / kSlicesPerTask;
+  tbb::parallel_for(0, num_tasks, [&](int task) {
+    progress.CheckCancelled();
+    CornerLayer lower, upper;
+    for (int v = 0; v < image_set.NumViews(); ++v) {
+      const int z_begin = task * kSlicesPerTask, z_end = std::min(nz, z_begin + kSlicesPerTask);
+      ProjectCornerLayer(projectors[v], block, z_begin, &lower);
+      for (int z = z_begin; z < z_end; ++z) {
+        ProjectCornerLayer(projectors[v], block, z + 1, &upper);
+        for (int y = 0; y < ny; ++y) {
+          for (int x = 0; x < nx; ++x) {
+            float& value = result[block.LinearIndex({x, y, z})];
+            if (value == 0.0f) continue;  // cannot get lower
+            const double mean = FootprintMean(lower, upper, nx + 1, x, y, tables[v]);
+            if (mean >= 0.0) value = std::min(value, static_cast<float>(mean));
+          }
+        }
+        std::swap(lower, upper);
+      }
+    }
+  });
+  for (float& value : result) {
+    if (value == kUnseen) value = 0.0f;
+  }
+  return result;
+}
+
+}  // namespace sylva

@@ -1,0 +1,70 @@
+// How the density stage samples views: per-view downsampling to about the
+// grid's resolution, ray positions inside downsampled pixels, and voxel
+// footprints (the image rectangle a voxel projects to).
+#ifndef SYLVA_RECONSTRUCT_DENSITY_VIEW_SAMPLING_H_
+#define SYLVA_RECONSTRUCT_DENSITY_VIEW_SAMPLING_H_
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "core/geometry/voxel_traversal.h"
+#include "core/types/float_image.h"
+#include "core/types/image_set.h"
+#include "core/util/progress.h"
+
+namespace sylva {
+
+// Sampling of one view: downsampled pixel (I, J) covers original pixels
+// [I f, min((I+1) f, width)) x [J f, min((J+1) f, height)), and is sampled by
+// n x n rays spread evenly over that block.
+struct ViewSampling {
+  int factor = 1;
+  int rays_per_axis = 1;
+  int original_width = 0;
+  int original_height = 0;
+
+  int width() const { return (original_width + factor - 1) / factor; }
+  int height() const { return (original_height + factor - 1) / factor; }
+  // Ray position (a, b) in [0, n)^2 of pixel (I, J), in original image
+  // coordinates (COLMAP convention, pixel centres at +0.5).
+  Eigen::Vector2d RayPosition(int pixel_x, int pixel_y, int a, int b) const;
+};
+
+// The integer factor that makes a voxel of `voxel_size` (world units) at
+// `center_in_world` about `pixels_per_voxel` pixels wide in the view.
+ViewSampling MakeViewSampling(const ImageSet& image_set, int view_idx,
+                              const Eigen::Vector3d& center_in_world, double voxel_size,
+                              double pixels_per_voxel, int rays_per_axis);
+
+// Projects world points into one view with the pose as a matrix (faster
+// than going through the quaternion for every point).
+class ViewProjector {
+ public:
+  ViewProjector(const ImageSet& image_set, int view_idx);
+  // False if the point is behind a pinhole camera.
+  bool Project(const Eigen::Vector3d& point_in_world, Eigen::Vector2d* point_in_image) const {
+    const Eigen::Vector3d point_in_cam = rotation_ * point_in_world + translation_;
+    if (!camera_->IsInFront(point_in_cam)) return false;
+    *point_in_image = camera_->ImgFromCam(point_in_cam);
+    return true;
+  }
+
+ private:
+  const Camera* camera_;
+  Eigen::Matrix3d rotation_;
+  Eigen::Vector3d translation_;
+};
+
+// For every voxel of `block` (dense index), the minimum over views of the
+// mean of `tables[view]`'s image over the voxel's footprint (the bounding
+// rectangle of its 8 projected corners). Views in which the voxel is behind
+// the camera or outside the image are skipped; a voxel no view sees gets 0.
+// With mattes this is the thesis' initial density (3.3); with a binary
+// foreground mask it is a conservative visual-hull test (> 0 = kept).
+std::vector<float> MinFootprintMeans(const ImageSet& image_set,
+                                     const std::vector<SummedAreaTable>& tables,
+                                     const VoxelBlock& block, const ProgressTask& progress);
+
+}  // namespace sylva
+
+#endif  // SYLVA_RECONSTRUCT_DENSITY_VIEW_SAMPLING_H_

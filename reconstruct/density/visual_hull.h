@@ -1,0 +1,32 @@
+// Automatic reconstruction bounds: the bounding box of the visual hull of the
+// mattes (the region that projects to foreground in every view that sees it).
+#ifndef SYLVA_RECONSTRUCT_DENSITY_VISUAL_HULL_H_
+#define SYLVA_RECONSTRUCT_DENSITY_VISUAL_HULL_H_
+
+#include <vector>
+
+#include "core/geometry/box.h"
+#include "core/types/float_image.h"
+#include "core/types/image_set.h"
+#include "core/util/progress.h"
+
+namespace sylva {
+
+// Binary foreground mask (1 where matte > alpha_threshold) of a matte.
+FloatImage ForegroundMask(const FloatImage& matte, double alpha_threshold);
+
+// Intersection of the frusta through each mask's foreground bounding
+// rectangle; a bounded box, or InputError if the views do not bound the
+// object (e.g. all parallel) or do not intersect.
+Box3d FrustumIntersectionBounds(const ImageSet& image_set, const std::vector<FloatImage>& masks);
+
+// The visual hull's bounding box: frustum intersection refined by carving a
+// grid of `resolution` voxels (longest side) with the masks' summed-area
+// tables. Conservative: contains every point that projects to foreground in
+// all views that see it. Throws InputError if nothing survives.
+Box3d VisualHullBounds(const ImageSet& image_set, const std::vector<FloatImage>& masks,
+                       int resolution, const ProgressTask& progress);
+
+}  // namespace sylva
+
+#endif  // SYLVA_RECONSTRUCT_DENSITY_VISUAL_HULL_H_
