@@ -1,0 +1,245 @@
+#include "mesh/mesh_renderer.h"
+
+#include <embree3/rtcore.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <vector>
+
+#include "core/util/check.h"
+
+namespace sylva {
+namespace {
+
+// Full-line (orthographic) rays start this much beyond the mesh's bounding
+// sphere, as a fraction of its radius, so that nothing on the line is missed.
+constexpr double kLineStartMargin = 0.01;
+
+struct Hit {
+  double t = 0.0;              // along the ray, from its original origin
+  int triangle_idx = -1;
+  Eigen::Vector3f normal;      // geometric normal, not normalized
+};
+
+void CheckDevice(RTCDevice device, const char* step) {
+  const RTCError error = rtcGetDeviceError(device);
+  SYLVA_CHECK(error == RTC_ERROR_NONE) << "Embree error " << static_cast<int>(error) << " in "
+                                       << step;
+}
+
+// The image positions of the S x S stratified samples of pixel (col, row).
+Eigen::Vector2d SampleInPixel(int col, int row, int s, int t, int samples_per_axis) {
+  const double step = 1.0 / samples_per_axis;
+  return Eigen::Vector2d(col + (s + 0.5) * step, row + (t + 0.5) * step);
+}
+
+}  // namespace
+
+void MeshRenderOptions::Check() const {
+  SYLVA_CHECK_INPUT(samples_per_axis >= 1, "MeshRenderOptions.samples_per_axis")
+      << "must be >= 1, got " << samples_per_axis;
+  SYLVA_CHECK_INPUT(light_direction.allFinite() && light_direction.norm() > 0,
+                    "MeshRenderOptions.light_direction")
+      << "must be a finite, non-zero vector";
+  SYLVA_CHECK_INPUT(ambient >= 0 && ambient <= 1, "MeshRenderOptions.ambient")
+      << "must be in [0, 1], got " << ambient;
+}
+
+class MeshRenderer::Impl {
+ public:
+  explicit Impl(const TriangleMesh& mesh);
+  ~Impl();
+  Impl(const Impl&) = delete;
+  Impl& operator=(const Impl&) = delete;
+
+  // First hit of a world ray at t >= ray.t_min; false if none.
+  bool Intersect(const Ray3d& ray, Hit* hit) const;
+
+  // Renders `channels` channels; `shade(hit, pixel)` adds one hit's colour to
+  // the pixel's first channels - 1 values, the last channel is coverage.
+  using ShadeFn = std::function<void(const Hit&, float*)>;
+  FloatImage Render(const Camera& camera, const Rigid3d& cam_from_world, int samples_per_axis,
+                    int channels, const ShadeFn& shade) const;
+
+  const Eigen::Vector3f& ColorOf(int triangle_idx) const {
+    return material_colors_[triangle_materials_[triangle_idx]];
+  }
+  int NumTriangles() const { return static_cast<int>(triangle_materials_.size()); }
+
+ private:
+  void AddGeometry(const TriangleMesh& mesh);
+  void RenderRow(const Camera& camera, const Rigid3d& world_from_cam, int samples_per_axis,
+                 int row, const ShadeFn& shade, FloatImage* image) const;
+
+  RTCDevice device_ = nullptr;
+  RTCScene scene_ = nullptr;
+  std::vector<int> triangle_materials_;
+  std::vector<Eigen::Vector3f> material_colors_;
+  Eigen::Vector3d bounds_center_ = Eigen::Vector3d::Zero();
+  double bounds_radius_ = 0.0;
+};
+
+MeshRenderer::Impl::Impl(const TriangleMesh& mesh) {
+  mesh.Check();
+  triangle_materials_ = mesh.triangle_materials;
+  for (const Material& material : mesh.materials) material_colors_.push_back(material.diffuse_color);
+  if (mesh.NumVertices() > 0) {
+    const Box3d bounds = mesh.Bounds();
+    bounds_center_ = bounds.center();
+    bounds_radius_ = 0.5 * bounds.diagonal().norm();
+  }
+  device_ = rtcNewDevice(nullptr);
+  SYLVA_CHECK(device_ != nullptr) << "cannot create an Embree device";
+  scene_ = rtcNewScene(device_);
+  // Robust traversal: no cracks between triangles sharing an edge, so a
+  // tessellated surface's coverage is exact.
+  rtcSetSceneFlags(scene_, RTC_SCENE_FLAG_ROBUST);
+  if (mesh.NumTriangles() > 0) AddGeometry(mesh);
+  rtcCommitScene(scene_);
+  CheckDevice(device_, "building the scene");
+}
+
+MeshRenderer::Impl::~Impl() {
+  if (scene_ != nullptr) rtcReleaseScene(scene_);
+  if (device_ != nullptr) rtcReleaseDevice(device_);
+}
+
+void MeshRenderer::Impl::AddGeometry(const TriangleMesh& mesh) {
+  RTCGeometry geometry = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
+  auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(
+      geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float),
+      mesh.vertices.size()));
+  auto* indices = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
+      geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned),
+      mesh.triangles.size()));
+  CheckDevice(device_, "allocating geometry buffers");
+  for (size_t v = 0; v < mesh.vertices.size(); ++v) {
+    for (int k = 0; k < 3; ++k) vertices[3 * v + k] = mesh.vertices[v][k];
+  }
+  for (size_t t = 0; t < mesh.triangles.size(); ++t) {
+    for (int k = 0; k < 3; ++k) indices[3 * t + k] = static_cast<unsigned>(mesh.triangles[t][k]);
+  }
+  rtcCommitGeometry(geometry);
+  rtcAttachGeometry(scene_, geometry);
+  rtcReleaseGeometry(geometry);
+}
+
+bool MeshRenderer::Impl::Intersect(const Ray3d& ray, Hit* hit) const {
+  // Embree needs tnear >= 0: start the ray at t_min, or for a full line just
+  // before the mesh's bounding sphere.
+  double t_start = ray.t_min;
+  if (!std::isfinite(t_start)) {
+    t_start = ray.direction.dot(bounds_center_ - ray.origin) -
+              (1.0 + kLineStartMargin) * bounds_radius_ - kLineStartMargin;
+  }
+  const Eigen::Vector3d origin = ray.origin + t_start * ray.direction;
+  RTCRayHit ray_hit;
+  ray_hit.ray.org_x = static_cast<float>(origin.x());
+  ray_hit.ray.org_y = static_cast<float>(origin.y());
+  ray_hit.ray.org_z = static_cast<float>(origin.z());
+  ray_hit.ray.dir_x = static_cast<float>(ray.direction.x());
+  ray_hit.ray.dir_y = static_cast<float>(ray.direction.y());
+  ray_hit.ray.dir_z = static_cast<float>(ray.direction.z());
+  ray_hit.ray.tnear = 0.0f;
+  ray_hit.ray.tfar = std::numeric_limits<float>::infinity();
+  ray_hit.ray.time = 0.0f;
+  ray_hit.ray.mask = ~0u;
+  ray_hit.ray.id = 0;
+  ray_hit.ray.flags = 0;
+  ray_hit.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  ray_hit.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  rtcIntersect1(scene_, &context, &ray_hit);
+  if (ray_hit.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
+  hit->t = t_start + ray_hit.ray.tfar;
+  hit->triangle_idx = static_cast<int>(ray_hit.hit.primID);
+  hit->normal = Eigen::Vector3f(ray_hit.hit.Ng_x, ray_hit.hit.Ng_y, ray_hit.hit.Ng_z);
+  return true;
+}
+
+void MeshRenderer::Impl::RenderRow(const Camera& camera, const Rigid3d& world_from_cam,
+                                   int samples_per_axis, int row, const ShadeFn& shade,
+                                   FloatImage* image) const {
+  const int channels = image->channels();
+  const float inv_samples = 1.0f / static_cast<float>(samples_per_axis * samples_per_axis);
+  std::vector<float> sum(channels);
+  for (int col = 0; col < camera.width(); ++col) {
+    std::fill(sum.begin(), sum.end(), 0.0f);
+    int hits = 0;
+    for (int t = 0; t < samples_per_axis; ++t) {
+      for (int s = 0; s < samples_per_axis; ++s) {
+        const Ray3d ray_in_cam =
+            camera.CamRayFromImg(SampleInPixel(col, row, s, t, samples_per_axis));
+        Ray3d ray_in_world = ray_in_cam;
+        ray_in_world.origin = world_from_cam * ray_in_cam.origin;
+        ray_in_world.direction = world_from_cam.rotation * ray_in_cam.direction;
+        Hit hit;
+        if (!Intersect(ray_in_world, &hit)) continue;
+        ++hits;
+        shade(hit, sum.data());
+      }
+    }
+    float* pixel = &image->at(col, row, 0);
+    for (int c = 0; c + 1 < channels; ++c) pixel[c] = hits > 0 ? sum[c] / hits : 0.0f;
+    pixel[channels - 1] = static_cast<float>(hits) * inv_samples;
+  }
+}
+
+FloatImage MeshRenderer::Impl::Render(const Camera& camera, const Rigid3d& cam_from_world,
+                                      int samples_per_axis, int channels,
+                                      const ShadeFn& shade) const {
+  camera.Check("MeshRenderer camera");
+  SYLVA_CHECK_INPUT(samples_per_axis >= 1, "samples_per_axis")
+      << "must be >= 1, got " << samples_per_axis;
+  FloatImage image(camera.width(), camera.height(), channels);
+  const Rigid3d world_from_cam = cam_from_world.Inverse();
+  tbb::parallel_for(tbb::blocked_range<int>(0, camera.height()),
+                    [&](const tbb::blocked_range<int>& rows) {
+                      for (int row = rows.begin(); row < rows.end(); ++row) {
+                        RenderRow(camera, world_from_cam, samples_per_axis, row, shade, &image);
+                      }
+                    });
+  return image;
+}
+
+MeshRenderer::MeshRenderer(const TriangleMesh& mesh) : impl_(std::make_unique<Impl>(mesh)) {}
+MeshRenderer::~MeshRenderer() = default;
+MeshRenderer::MeshRenderer(MeshRenderer&&) noexcept = default;
+MeshRenderer& MeshRenderer::operator=(MeshRenderer&&) noexcept = default;
+
+int MeshRenderer::NumTriangles() const { return impl_->NumTriangles(); }
+
+FloatImage MeshRenderer::RenderRgba(const Camera& camera, const Rigid3d& cam_from_world,
+                                    const Options& options) const {
+  options.Check();
+  const Eigen::Vector3f light = options.light_direction.normalized();
+  const float ambient = options.ambient;
+  const Impl& impl = *impl_;
+  return impl.Render(camera, cam_from_world, options.samples_per_axis, 4,
+                     [&](const Hit& hit, float* rgb) {
+                       const float normal_norm = hit.normal.norm();
+                       const float cosine =
+                           normal_norm > 0 ? std::abs(hit.normal.dot(light)) / normal_norm : 1.0f;
+                       const float shading = ambient + (1.0f - ambient) * cosine;
+                       const Eigen::Vector3f& color = impl.ColorOf(hit.triangle_idx);
+                       for (int c = 0; c < 3; ++c) rgb[c] += shading * color[c];
+                     });
+}
+
+FloatImage MeshRenderer::RenderCoverage(const Camera& camera, const Rigid3d& cam_from_world,
+                                        int samples_per_axis) const {
+  return impl_->Render(camera, cam_from_world, samples_per_axis, 1, [](const Hit&, float*) {});
+}
+
+double MeshRenderer::CastRay(const Ray3d& ray_in_world) const {
+  Hit hit;
+  if (!impl_->Intersect(ray_in_world, &hit)) return std::numeric_limits<double>::infinity();
+  return hit.t;
+}
+
+}  // namespace sylva

@@ -1,0 +1,160 @@
+#include "mesh/mesh_renderer.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "core/util/check.h"
+
+namespace sylva {
+namespace {
+
+// An axis-aligned rectangle [x0, x1] x [y0, y1] in the plane z = `z`.
+TriangleMesh Rectangle(double x0, double x1, double y0, double y1, double z,
+                       const Eigen::Vector3f& color = Eigen::Vector3f(0.2f, 0.6f, 0.4f)) {
+  TriangleMesh mesh;
+  const int material = mesh.AddMaterial({"paint", color, true});
+  const int a = mesh.AddVertex(Eigen::Vector3d(x0, y0, z).cast<float>());
+  const int b = mesh.AddVertex(Eigen::Vector3d(x1, y0, z).cast<float>());
+  const int c = mesh.AddVertex(Eigen::Vector3d(x1, y1, z).cast<float>());
+  const int d = mesh.AddVertex(Eigen::Vector3d(x0, y1, z).cast<float>());
+  mesh.AddTriangle(a, b, c, material);
+  mesh.AddTriangle(a, c, d, material);
+  return mesh;
+}
+
+double Sum(const FloatImage& image, int channel = 0) {
+  double sum = 0;
+  for (int y = 0; y < image.height(); ++y)
+    for (int x = 0; x < image.width(); ++x) sum += image.at(x, y, channel);
+  return sum;
+}
+
+// A pinhole camera at the origin looking along +z: f = 100 px, 128 x 128, so
+// a point (x, y, 5) lands at pixel position (64 + 20 x, 64 + 20 y).
+TEST(MeshRendererTest, CoverageOfAnAxisAlignedSquareIsExact) {
+  // Columns [44, 84.5), rows [44, 84): column 84 is half covered.
+  const MeshRenderer renderer(Rectangle(-1.0, 1.025, -1.0, 1.0, 5.0));
+  const Camera camera = Camera::Pinhole(128, 128, 100.0);
+  const FloatImage coverage = renderer.RenderCoverage(camera, Rigid3d(), 4);
+  ASSERT_EQ(coverage.width(), 128);
+  ASSERT_EQ(coverage.channels(), 1);
+  EXPECT_NEAR(Sum(coverage), 40.5 * 40.0, 1e-3);
+  for (int row = 44; row < 84; ++row) {
+    EXPECT_FLOAT_EQ(coverage.at(43, row), 0.0f);
+    EXPECT_FLOAT_EQ(coverage.at(44, row), 1.0f);
+    EXPECT_FLOAT_EQ(coverage.at(83, row), 1.0f);
+    EXPECT_NEAR(coverage.at(84, row), 0.5f, 1e-6);
+    EXPECT_FLOAT_EQ(coverage.at(85, row), 0.0f);
+  }
+  EXPECT_FLOAT_EQ(coverage.at(60, 43), 0.0f);
+  EXPECT_FLOAT_EQ(coverage.at(60, 84), 0.0f);
+}
+
+TEST(MeshRendererTest, CoverageOfATiltedSquareMatchesItsArea) {
+  // A square of side 2 rotated by 30 degrees about the optical axis, at z = 5:
+  // 40 x 40 px on the image. Error within a tenth of a pixel per unit edge.
+  TriangleMesh mesh = Rectangle(-1.0, 1.0, -1.0, 1.0, 0.0);
+  const Eigen::AngleAxisf rotation(static_cast<float>(M_PI / 6), Eigen::Vector3f::UnitZ());
+  for (Eigen::Vector3f& v : mesh.vertices) v = rotation * v + Eigen::Vector3f(0.013f, 0.21f, 5.0f);
+  const MeshRenderer renderer(mesh);
+  const FloatImage coverage = renderer.RenderCoverage(Camera::Pinhole(128, 128, 100.0), Rigid3d(), 4);
+  const double perimeter_px = 4 * 40.0;
+  EXPECT_NEAR(Sum(coverage), 1600.0, 0.1 * perimeter_px);
+}
+
+TEST(MeshRendererTest, OrthographicRaysAreFullLines) {
+  // 10 px per unit; the camera's nominal centre lies beyond the square, which
+  // an orthographic camera must see anyway.
+  const MeshRenderer renderer(Rectangle(-1.0, 1.0, -1.0, 1.0, 0.0));
+  const Camera camera = Camera::Orthographic(64, 64, 10.0);
+  for (double z : {10.0, -10.0}) {
+    SCOPED_TRACE(z);
+    const Rigid3d cam_from_world = LookAt(Eigen::Vector3d(0, 0, z), Eigen::Vector3d(0, 0, 2 * z),
+                                          Eigen::Vector3d::UnitY());
+    const FloatImage coverage = renderer.RenderCoverage(camera, cam_from_world, 2);
+    EXPECT_NEAR(Sum(coverage), 400.0, 1e-3);
+    EXPECT_FLOAT_EQ(coverage.at(32, 32), 1.0f);
+  }
+}
+
+TEST(MeshRendererTest, RgbaIsStraightAlphaLambertShading) {
+  const Eigen::Vector3f color(0.2f, 0.6f, 0.4f);
+  const MeshRenderer renderer(Rectangle(-1.0, 1.025, -1.0, 1.0, 5.0, color));
+  MeshRenderOptions options;
+  options.ambient = 0.25f;
+  // The light 60 degrees off the square's normal: |cos| = 0.5, either side.
+  options.light_direction = Eigen::Vector3f(std::sqrt(3.0f) / 2, 0.0f, -0.5f);
+  const FloatImage rgba = renderer.RenderRgba(Camera::Pinhole(128, 128, 100.0), Rigid3d(), options);
+  ASSERT_EQ(rgba.channels(), 4);
+  const float shading = 0.25f + 0.75f * 0.5f;
+  for (int col : {50, 84}) {  // inside, and half covered on the edge
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(rgba.at(col, 60, c), shading * color[c], 1e-5);
+  }
+  EXPECT_FLOAT_EQ(rgba.at(50, 60, 3), 1.0f);
+  EXPECT_NEAR(rgba.at(84, 60, 3), 0.5f, 1e-6);
+  for (int c = 0; c < 4; ++c) EXPECT_FLOAT_EQ(rgba.at(10, 10, c), 0.0f);
+  // The same sampling as RenderCoverage.
+  const FloatImage coverage = renderer.RenderCoverage(Camera::Pinhole(128, 128, 100.0), Rigid3d(), 4);
+  EXPECT_EQ(rgba.Channel(3).values(), coverage.values());
+}
+
+TEST(MeshRendererTest, FollowsTheCameraDistortion) {
+  // With barrel/pincushion distortion the covered area changes; the rendered
+  // coverage must match a dense analytic sampling through the same camera.
+  const Camera camera(CameraModel::kSimpleRadial, 96, 96, {80.0, 48.0, 48.0, 0.15});
+  const double half = 1.2, z = 4.0;
+  const MeshRenderer renderer(Rectangle(-half, half, -half, half, z));
+  const FloatImage coverage = renderer.RenderCoverage(camera, Rigid3d(), 4);
+  double expected = 0;
+  constexpr int kDense = 8;
+  for (int row = 0; row < camera.height(); ++row) {
+    for (int col = 0; col < camera.width(); ++col) {
+      for (int t = 0; t < kDense; ++t) {
+        for (int s = 0; s < kDense; ++s) {
+          const Eigen::Vector2d xy =
+              camera.CamFromImg(Eigen::Vector2d(col + (s + 0.5) / kDense, row + (t + 0.5) / kDense));
+          if (std::abs(xy.x() * z) <= half && std::abs(xy.y() * z) <= half) expected += 1.0;
+        }
+      }
+    }
+  }
+  expected /= kDense * kDense;
+  const double undistorted_area = std::pow(2 * half / z * 80.0, 2);
+  EXPECT_GT(std::abs(expected - undistorted_area), 50.0);  // distortion matters here
+  EXPECT_NEAR(Sum(coverage), expected, 0.1 * 4 * std::sqrt(expected));
+}
+
+TEST(MeshRendererTest, DeterministicAndCastRay) {
+  const MeshRenderer renderer(Rectangle(-1.0, 1.0, -1.0, 1.0, 5.0));
+  const Camera camera = Camera::Pinhole(64, 48, 50.0);
+  const Rigid3d cam_from_world(Eigen::Quaterniond(Eigen::AngleAxisd(0.1, Eigen::Vector3d::UnitY())),
+                               Eigen::Vector3d(0.1, 0.0, 0.5));
+  const FloatImage a = renderer.RenderRgba(camera, cam_from_world, MeshRenderOptions());
+  const FloatImage b = renderer.RenderRgba(camera, cam_from_world, MeshRenderOptions());
+  EXPECT_EQ(a.values(), b.values());
+  EXPECT_EQ(renderer.NumTriangles(), 2);
+
+  Ray3d ray;
+  ray.direction = Eigen::Vector3d::UnitZ();
+  EXPECT_NEAR(renderer.CastRay(ray), 5.0, 1e-5);
+  ray.origin = Eigen::Vector3d(0.0, 0.0, 8.0);
+  EXPECT_TRUE(std::isinf(renderer.CastRay(ray)));  // behind the origin
+  ray.t_min = -std::numeric_limits<double>::infinity();
+  EXPECT_NEAR(renderer.CastRay(ray), -3.0, 1e-5);  // a full line sees it
+}
+
+TEST(MeshRendererTest, EmptyMeshAndBadOptions) {
+  const MeshRenderer renderer{TriangleMesh()};
+  const FloatImage coverage = renderer.RenderCoverage(Camera::Pinhole(8, 8, 10.0), Rigid3d(), 2);
+  EXPECT_EQ(Sum(coverage), 0.0);
+  MeshRenderOptions options;
+  options.samples_per_axis = 0;
+  EXPECT_THROW(renderer.RenderRgba(Camera::Pinhole(8, 8, 10.0), Rigid3d(), options), InputError);
+  options = MeshRenderOptions();
+  options.light_direction.setZero();
+  EXPECT_THROW(options.Check(), InputError);
+}
+
+}  // namespace
+}  // namespace sylva
