@@ -10,31 +10,41 @@
 #include <limits>
 #include <vector>
 
+#include "core/geometry/box.h"
 #include "core/util/check.h"
 
 namespace sylva {
 namespace {
 
-// Full-line (orthographic) rays start this much beyond the mesh's bounding
-// sphere, as a fraction of its radius, so that nothing on the line is missed.
-constexpr double kLineStartMargin = 0.01;
+// Rays start where they enter the mesh bounds padded by this fraction of
+// their diagonal (plus this much in world units), so float rounding of the
+// moved origin cannot lose a hit.
+constexpr double kBoundsPadding = 1e-3;
 
 struct Hit {
-  double t = 0.0;              // along the ray, from its original origin
+  double t = 0.0;  // along the ray, from its original origin
   int triangle_idx = -1;
-  Eigen::Vector3f normal;      // geometric normal, not normalized
+  Eigen::Vector3f normal;  // geometric normal, not normalized
 };
 
 void CheckDevice(RTCDevice device, const char* step) {
   const RTCError error = rtcGetDeviceError(device);
-  SYLVA_CHECK(error == RTC_ERROR_NONE) << "Embree error " << static_cast<int>(error) << " in "
-                                       << step;
+  SYLVA_CHECK(error == RTC_ERROR_NONE)
+      << "Embree error " << static_cast<int>(error) << " in " << step;
 }
 
 // The image positions of the S x S stratified samples of pixel (col, row).
 Eigen::Vector2d SampleInPixel(int col, int row, int s, int t, int samples_per_axis) {
   const double step = 1.0 / samples_per_axis;
   return Eigen::Vector2d(col + (s + 0.5) * step, row + (t + 0.5) * step);
+}
+
+bool HitFromRayHit(const RTCRayHit& ray_hit, double t_start, Hit* hit) {
+  if (ray_hit.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
+  hit->t = t_start + ray_hit.ray.tfar;
+  hit->triangle_idx = static_cast<int>(ray_hit.hit.primID);
+  hit->normal = Eigen::Vector3f(ray_hit.hit.Ng_x, ray_hit.hit.Ng_y, ray_hit.hit.Ng_z);
+  return true;
 }
 
 }  // namespace
@@ -58,6 +68,8 @@ class MeshRenderer::Impl {
 
   // First hit of a world ray at t >= ray.t_min; false if none.
   bool Intersect(const Ray3d& ray, Hit* hit) const;
+  // The Embree ray for a world ray, and the offset of its origin along it.
+  RTCRayHit MakeRayHit(const Ray3d& ray, double* t_start) const;
 
   // Renders `channels` channels; `shade(hit, pixel)` adds one hit's colour to
   // the pixel's first channels - 1 values, the last channel is coverage.
@@ -72,25 +84,34 @@ class MeshRenderer::Impl {
 
  private:
   void AddGeometry(const TriangleMesh& mesh);
-  void RenderRow(const Camera& camera, const Rigid3d& world_from_cam, int samples_per_axis,
-                 int row, const ShadeFn& shade, FloatImage* image) const;
+  // The rays of one image row and where each starts along its world ray;
+  // reused from row to row.
+  struct RowBuffers {
+    std::vector<RTCRayHit> ray_hits;
+    std::vector<double> t_starts;
+  };
+  void RenderRow(const Camera& camera, const Rigid3d& world_from_cam, int samples_per_axis, int row,
+                 const ShadeFn& shade, RowBuffers* buffers, FloatImage* image) const;
+  // Averages the traced rays of one row (`samples` consecutive rays per pixel).
+  static void ShadeRow(const RowBuffers& buffers, int samples, int row, const ShadeFn& shade,
+                       FloatImage* image);
 
   RTCDevice device_ = nullptr;
   RTCScene scene_ = nullptr;
   std::vector<int> triangle_materials_;
   std::vector<Eigen::Vector3f> material_colors_;
-  Eigen::Vector3d bounds_center_ = Eigen::Vector3d::Zero();
-  double bounds_radius_ = 0.0;
+  Box3d padded_bounds_;  // mesh bounds, padded (empty for an empty mesh)
 };
 
 MeshRenderer::Impl::Impl(const TriangleMesh& mesh) {
   mesh.Check();
   triangle_materials_ = mesh.triangle_materials;
-  for (const Material& material : mesh.materials) material_colors_.push_back(material.diffuse_color);
+  for (const Material& material : mesh.materials)
+    material_colors_.push_back(material.diffuse_color);
   if (mesh.NumVertices() > 0) {
     const Box3d bounds = mesh.Bounds();
-    bounds_center_ = bounds.center();
-    bounds_radius_ = 0.5 * bounds.diagonal().norm();
+    const double pad = kBoundsPadding * bounds.diagonal().norm() + kBoundsPadding;
+    padded_bounds_ = Box3d(bounds.min().array() - pad, bounds.max().array() + pad);
   }
   device_ = rtcNewDevice(nullptr);
   SYLVA_CHECK(device_ != nullptr) << "cannot create an Embree device";
@@ -110,12 +131,12 @@ MeshRenderer::Impl::~Impl() {
 
 void MeshRenderer::Impl::AddGeometry(const TriangleMesh& mesh) {
   RTCGeometry geometry = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
-  auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(
-      geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float),
-      mesh.vertices.size()));
-  auto* indices = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
-      geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned),
-      mesh.triangles.size()));
+  auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0,
+                                                               RTC_FORMAT_FLOAT3, 3 * sizeof(float),
+                                                               mesh.vertices.size()));
+  auto* indices = static_cast<unsigned*>(
+      rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                              3 * sizeof(unsigned), mesh.triangles.size()));
   CheckDevice(device_, "allocating geometry buffers");
   for (size_t v = 0; v < mesh.vertices.size(); ++v) {
     for (int k = 0; k < 3; ++k) vertices[3 * v + k] = mesh.vertices[v][k];
@@ -128,65 +149,90 @@ void MeshRenderer::Impl::AddGeometry(const TriangleMesh& mesh) {
   rtcReleaseGeometry(geometry);
 }
 
-bool MeshRenderer::Impl::Intersect(const Ray3d& ray, Hit* hit) const {
-  // Embree needs tnear >= 0: start the ray at t_min, or for a full line just
-  // before the mesh's bounding sphere.
-  double t_start = ray.t_min;
-  if (!std::isfinite(t_start)) {
-    t_start = ray.direction.dot(bounds_center_ - ray.origin) -
-              (1.0 + kLineStartMargin) * bounds_radius_ - kLineStartMargin;
-  }
-  const Eigen::Vector3d origin = ray.origin + t_start * ray.direction;
+RTCRayHit MeshRenderer::Impl::MakeRayHit(const Ray3d& ray, double* t_start) const {
   RTCRayHit ray_hit;
+  // Embree needs tnear >= 0, and a full line (t_min = -inf) has no start:
+  // clip the ray to the (padded) mesh bounds and start it there. Rays that
+  // miss the bounds are made inactive (tnear > tfar), which Embree skips.
+  double t_enter = 0.0, t_exit = 0.0;
+  const bool inside = ClipRayToBox(ray, padded_bounds_, &t_enter, &t_exit);
+  *t_start = inside ? t_enter : 0.0;
+  const Eigen::Vector3d origin = ray.origin + *t_start * ray.direction;
   ray_hit.ray.org_x = static_cast<float>(origin.x());
   ray_hit.ray.org_y = static_cast<float>(origin.y());
   ray_hit.ray.org_z = static_cast<float>(origin.z());
   ray_hit.ray.dir_x = static_cast<float>(ray.direction.x());
   ray_hit.ray.dir_y = static_cast<float>(ray.direction.y());
   ray_hit.ray.dir_z = static_cast<float>(ray.direction.z());
-  ray_hit.ray.tnear = 0.0f;
-  ray_hit.ray.tfar = std::numeric_limits<float>::infinity();
+  ray_hit.ray.tnear = inside ? 0.0f : 1.0f;
+  ray_hit.ray.tfar = inside ? std::numeric_limits<float>::infinity() : 0.0f;
   ray_hit.ray.time = 0.0f;
   ray_hit.ray.mask = ~0u;
   ray_hit.ray.id = 0;
   ray_hit.ray.flags = 0;
   ray_hit.hit.geomID = RTC_INVALID_GEOMETRY_ID;
   ray_hit.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+  return ray_hit;
+}
+
+bool MeshRenderer::Impl::Intersect(const Ray3d& ray, Hit* hit) const {
+  double t_start = 0.0;
+  RTCRayHit ray_hit = MakeRayHit(ray, &t_start);
+  if (ray_hit.ray.tnear > ray_hit.ray.tfar) return false;  // misses the bounds
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   rtcIntersect1(scene_, &context, &ray_hit);
-  if (ray_hit.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
-  hit->t = t_start + ray_hit.ray.tfar;
-  hit->triangle_idx = static_cast<int>(ray_hit.hit.primID);
-  hit->normal = Eigen::Vector3f(ray_hit.hit.Ng_x, ray_hit.hit.Ng_y, ray_hit.hit.Ng_z);
-  return true;
+  return HitFromRayHit(ray_hit, t_start, hit);
 }
 
 void MeshRenderer::Impl::RenderRow(const Camera& camera, const Rigid3d& world_from_cam,
                                    int samples_per_axis, int row, const ShadeFn& shade,
-                                   FloatImage* image) const {
-  const int channels = image->channels();
-  const float inv_samples = 1.0f / static_cast<float>(samples_per_axis * samples_per_axis);
-  std::vector<float> sum(channels);
+                                   RowBuffers* buffers, FloatImage* image) const {
+  // All rays of the row, pixel by pixel, traced as one coherent stream.
+  const int samples = samples_per_axis * samples_per_axis;
+  const size_t num_rays = static_cast<size_t>(camera.width()) * samples;
+  buffers->ray_hits.resize(num_rays);
+  buffers->t_starts.resize(num_rays);
+  const Eigen::Matrix3d world_from_cam_rotation = world_from_cam.rotation.toRotationMatrix();
+  size_t r = 0;
   for (int col = 0; col < camera.width(); ++col) {
-    std::fill(sum.begin(), sum.end(), 0.0f);
-    int hits = 0;
     for (int t = 0; t < samples_per_axis; ++t) {
-      for (int s = 0; s < samples_per_axis; ++s) {
+      for (int s = 0; s < samples_per_axis; ++s, ++r) {
         const Ray3d ray_in_cam =
             camera.CamRayFromImg(SampleInPixel(col, row, s, t, samples_per_axis));
         Ray3d ray_in_world = ray_in_cam;
-        ray_in_world.origin = world_from_cam * ray_in_cam.origin;
-        ray_in_world.direction = world_from_cam.rotation * ray_in_cam.direction;
-        Hit hit;
-        if (!Intersect(ray_in_world, &hit)) continue;
-        ++hits;
-        shade(hit, sum.data());
+        ray_in_world.origin =
+            world_from_cam_rotation * ray_in_cam.origin + world_from_cam.translation;
+        ray_in_world.direction = world_from_cam_rotation * ray_in_cam.direction;
+        buffers->ray_hits[r] = MakeRayHit(ray_in_world, &buffers->t_starts[r]);
       }
+    }
+  }
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+  rtcIntersect1M(scene_, &context, buffers->ray_hits.data(), static_cast<unsigned>(num_rays),
+                 sizeof(RTCRayHit));
+  ShadeRow(*buffers, samples, row, shade, image);
+}
+
+void MeshRenderer::Impl::ShadeRow(const RowBuffers& buffers, int samples, int row,
+                                  const ShadeFn& shade, FloatImage* image) {
+  const int channels = image->channels();
+  std::vector<float> sum(channels);
+  for (int col = 0; col < image->width(); ++col) {
+    std::fill(sum.begin(), sum.end(), 0.0f);
+    int hits = 0;
+    for (int k = 0; k < samples; ++k) {
+      const size_t r = static_cast<size_t>(col) * samples + k;
+      Hit hit;
+      if (!HitFromRayHit(buffers.ray_hits[r], buffers.t_starts[r], &hit)) continue;
+      ++hits;
+      shade(hit, sum.data());
     }
     float* pixel = &image->at(col, row, 0);
     for (int c = 0; c + 1 < channels; ++c) pixel[c] = hits > 0 ? sum[c] / hits : 0.0f;
-    pixel[channels - 1] = static_cast<float>(hits) * inv_samples;
+    pixel[channels - 1] = static_cast<float>(hits) / static_cast<float>(samples);
   }
 }
 
@@ -198,12 +244,13 @@ FloatImage MeshRenderer::Impl::Render(const Camera& camera, const Rigid3d& cam_f
       << "must be >= 1, got " << samples_per_axis;
   FloatImage image(camera.width(), camera.height(), channels);
   const Rigid3d world_from_cam = cam_from_world.Inverse();
-  tbb::parallel_for(tbb::blocked_range<int>(0, camera.height()),
-                    [&](const tbb::blocked_range<int>& rows) {
-                      for (int row = rows.begin(); row < rows.end(); ++row) {
-                        RenderRow(camera, world_from_cam, samples_per_axis, row, shade, &image);
-                      }
-                    });
+  tbb::parallel_for(
+      tbb::blocked_range<int>(0, camera.height()), [&](const tbb::blocked_range<int>& rows) {
+        RowBuffers buffers;
+        for (int row = rows.begin(); row < rows.end(); ++row) {
+          RenderRow(camera, world_from_cam, samples_per_axis, row, shade, &buffers, &image);
+        }
+      });
   return image;
 }
 
@@ -220,15 +267,14 @@ FloatImage MeshRenderer::RenderRgba(const Camera& camera, const Rigid3d& cam_fro
   const Eigen::Vector3f light = options.light_direction.normalized();
   const float ambient = options.ambient;
   const Impl& impl = *impl_;
-  return impl.Render(camera, cam_from_world, options.samples_per_axis, 4,
-                     [&](const Hit& hit, float* rgb) {
-                       const float normal_norm = hit.normal.norm();
-                       const float cosine =
-                           normal_norm > 0 ? std::abs(hit.normal.dot(light)) / normal_norm : 1.0f;
-                       const float shading = ambient + (1.0f - ambient) * cosine;
-                       const Eigen::Vector3f& color = impl.ColorOf(hit.triangle_idx);
-                       for (int c = 0; c < 3; ++c) rgb[c] += shading * color[c];
-                     });
+  return impl.Render(
+      camera, cam_from_world, options.samples_per_axis, 4, [&](const Hit& hit, float* rgb) {
+        const float normal_norm = hit.normal.norm();
+        const float cosine = normal_norm > 0 ? std::abs(hit.normal.dot(light)) / normal_norm : 1.0f;
+        const float shading = ambient + (1.0f - ambient) * cosine;
+        const Eigen::Vector3f& color = impl.ColorOf(hit.triangle_idx);
+        for (int c = 0; c < 3; ++c) rgb[c] += shading * color[c];
+      });
 }
 
 FloatImage MeshRenderer::RenderCoverage(const Camera& camera, const Rigid3d& cam_from_world,

@@ -58,7 +58,8 @@ TEST(MeshRendererTest, CoverageOfATiltedSquareMatchesItsArea) {
   const Eigen::AngleAxisf rotation(static_cast<float>(M_PI / 6), Eigen::Vector3f::UnitZ());
   for (Eigen::Vector3f& v : mesh.vertices) v = rotation * v + Eigen::Vector3f(0.013f, 0.21f, 5.0f);
   const MeshRenderer renderer(mesh);
-  const FloatImage coverage = renderer.RenderCoverage(Camera::Pinhole(128, 128, 100.0), Rigid3d(), 4);
+  const FloatImage coverage =
+      renderer.RenderCoverage(Camera::Pinhole(128, 128, 100.0), Rigid3d(), 4);
   const double perimeter_px = 4 * 40.0;
   EXPECT_NEAR(Sum(coverage), 1600.0, 0.1 * perimeter_px);
 }
@@ -70,8 +71,8 @@ TEST(MeshRendererTest, OrthographicRaysAreFullLines) {
   const Camera camera = Camera::Orthographic(64, 64, 10.0);
   for (double z : {10.0, -10.0}) {
     SCOPED_TRACE(z);
-    const Rigid3d cam_from_world = LookAt(Eigen::Vector3d(0, 0, z), Eigen::Vector3d(0, 0, 2 * z),
-                                          Eigen::Vector3d::UnitY());
+    const Rigid3d cam_from_world =
+        LookAt(Eigen::Vector3d(0, 0, z), Eigen::Vector3d(0, 0, 2 * z), Eigen::Vector3d::UnitY());
     const FloatImage coverage = renderer.RenderCoverage(camera, cam_from_world, 2);
     EXPECT_NEAR(Sum(coverage), 400.0, 1e-3);
     EXPECT_FLOAT_EQ(coverage.at(32, 32), 1.0f);
@@ -95,7 +96,8 @@ TEST(MeshRendererTest, RgbaIsStraightAlphaLambertShading) {
   EXPECT_NEAR(rgba.at(84, 60, 3), 0.5f, 1e-6);
   for (int c = 0; c < 4; ++c) EXPECT_FLOAT_EQ(rgba.at(10, 10, c), 0.0f);
   // The same sampling as RenderCoverage.
-  const FloatImage coverage = renderer.RenderCoverage(Camera::Pinhole(128, 128, 100.0), Rigid3d(), 4);
+  const FloatImage coverage =
+      renderer.RenderCoverage(Camera::Pinhole(128, 128, 100.0), Rigid3d(), 4);
   EXPECT_EQ(rgba.Channel(3).values(), coverage.values());
 }
 
@@ -112,8 +114,8 @@ TEST(MeshRendererTest, FollowsTheCameraDistortion) {
     for (int col = 0; col < camera.width(); ++col) {
       for (int t = 0; t < kDense; ++t) {
         for (int s = 0; s < kDense; ++s) {
-          const Eigen::Vector2d xy =
-              camera.CamFromImg(Eigen::Vector2d(col + (s + 0.5) / kDense, row + (t + 0.5) / kDense));
+          const Eigen::Vector2d xy = camera.CamFromImg(
+              Eigen::Vector2d(col + (s + 0.5) / kDense, row + (t + 0.5) / kDense));
           if (std::abs(xy.x() * z) <= half && std::abs(xy.y() * z) <= half) expected += 1.0;
         }
       }

@@ -17,7 +17,11 @@ constexpr float kGrayTolerance = 2.0f / 255.0f;
 std::unique_ptr<OIIO::ImageInput> OpenImage(const fs::path& path) {
   std::error_code ec;
   SYLVA_CHECK_INPUT(fs::is_regular_file(path, ec), path.string()) << "image file not found";
-  auto input = OIIO::ImageInput::open(path.string());
+  // Keep alpha unassociated (straight): sylva's images never hold
+  // premultiplied colour (OpenImageIO would premultiply PNG/TIFF by default).
+  OIIO::ImageSpec config;
+  config.attribute("oiio:UnassociatedAlpha", 1);
+  auto input = OIIO::ImageInput::open(path.string(), &config);
   if (!input) {
     std::string reason = OIIO::geterror();
     if (reason.empty()) reason = "unknown format";
@@ -100,6 +104,9 @@ void WriteImage(const fs::path& path, const FloatImage& image, PixelFormat forma
     SYLVA_CHECK(output != nullptr) << "no image writer for " << path << ": " << OIIO::geterror();
     OIIO::ImageSpec spec(image.width(), image.height(), image.channels(), type);
     if (image.channels() == 2 || image.channels() == 4) spec.alpha_channel = image.channels() - 1;
+    // The pixels are straight alpha; without this OpenImageIO would divide the
+    // colour by alpha when writing PNG (which stores unassociated alpha).
+    spec.attribute("oiio:UnassociatedAlpha", 1);
     SYLVA_CHECK(output->open(temp.string(), spec)) << "cannot write " << path << ": "
                                                    << output->geterror();
     const bool ok = output->write_image(OIIO::TypeDesc::FLOAT, image.data());

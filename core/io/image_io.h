@@ -2,6 +2,8 @@
 // integer or float). Pixel values are converted to float in [0, 1]. Pixels
 // are read as stored: EXIF orientation is not applied (COLMAP does not apply
 // it either, so cameras and pixels stay consistent).
+// Alpha is straight (unassociated) both ways: colour is never premultiplied
+// by alpha on reading, nor divided by it on writing.
 #ifndef SYLVA_CORE_IO_IMAGE_IO_H_
 #define SYLVA_CORE_IO_IMAGE_IO_H_
 

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include "core/util/check.h"
 #include "core/util/file_util.h"
 
@@ -47,6 +49,22 @@ TEST(ImageIoTest, RoundTripFormatsAndDepths) {
     for (size_t i = 0; i < image.values().size(); ++i) {
       ASSERT_NEAR(back.values()[i], image.values()[i], c.tolerance);
     }
+  }
+}
+
+TEST(ImageIoTest, RgbaIsStraightAlphaBothWays) {
+  // Colour must survive low and zero alpha unchanged: no premultiplication on
+  // reading, no division by alpha on writing.
+  FloatImage image(2, 1, 4);
+  const float pixels[8] = {0.6f, 0.2f, 0.4f, 0.1f, 0.8f, 0.4f, 0.2f, 0.0f};
+  std::copy(pixels, pixels + 8, image.data());
+  for (const char* name : {"straight.png", "straight.tif"}) {
+    SCOPED_TRACE(name);
+    const fs::path path = TestDir() / name;
+    WriteImage(path, image, PixelFormat::kUint8);
+    const FloatImage back = ReadImage(path);
+    ASSERT_EQ(back.channels(), 4);
+    for (int i = 0; i < 8; ++i) EXPECT_NEAR(back.data()[i], pixels[i], 0.51f / 255) << i;
   }
 }
 

@@ -68,8 +68,7 @@ std::vector<std::string> SplitWords(const std::string& line) {
 // Reads lines, tracking "file:line" for error messages.
 class LineReader {
  public:
-  explicit LineReader(const fs::path& path)
-      : path_(path.string()), in_(ReadFileToString(path)) {}
+  explicit LineReader(const fs::path& path) : path_(path.string()), in_(ReadFileToString(path)) {}
   bool Next(std::string* line) {
     if (!std::getline(in_, *line)) return false;
     ++line_number_;

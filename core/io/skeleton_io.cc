@@ -35,10 +35,11 @@ void WriteSkeletonJson(const std::filesystem::path& path, const SkeletonGraph& s
   json["radius_source"] = skeleton.radius_source;
   json["nodes"] = Json::array();
   for (const SkeletonNode& node : skeleton.nodes) {
-    json["nodes"].push_back({{"position", {node.position.x(), node.position.y(), node.position.z()}},
-                             {"radius", node.radius},
-                             {"parent", node.parent_idx},
-                             {"order", node.order}});
+    json["nodes"].push_back(
+        {{"position", {node.position.x(), node.position.y(), node.position.z()}},
+         {"radius", node.radius},
+         {"parent", node.parent_idx},
+         {"order", node.order}});
   }
   WriteJsonFile(path, json);
 }
