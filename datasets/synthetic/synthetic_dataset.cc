@@ -239,7 +239,12 @@ SyntheticDataset MakeSyntheticDataset(const SyntheticDatasetOptions& options,
 namespace {
 
 Json TreeOptionsToJson(const SyntheticTreeOptions& o) {
-  const auto color = [](const Eigen::Vector3f& c) { return Json::array({c.x(), c.y(), c.z()}); };
+  // Floats printed as their shortest decimal (0.36, not 0.36000001430511475).
+  const auto color = [](const Eigen::Vector3f& c) {
+    Json rgb = Json::array();
+    for (int k = 0; k < 3; ++k) rgb.push_back(std::stod(std::to_string(c[k])));
+    return rgb;
+  };
   return {{"trunk_length", o.trunk_length},
           {"trunk_base_radius", o.trunk_base_radius},
           {"trunk_wobble", o.trunk_wobble},
