@@ -24,6 +24,10 @@ void DensityOptions::Check() const {
       << "must be between 1 and 8, got " << rays_per_axis;
   SYLVA_CHECK_INPUT(max_pixel_opacity > 0 && max_pixel_opacity < 1, "Density.max_pixel_opacity")
       << "must be in (0, 1), got " << max_pixel_opacity;
+  SYLVA_CHECK_INPUT(min_row_weight > 0 && min_row_weight <= 1, "Density.min_row_weight")
+      << "must be in (0, 1], got " << min_row_weight;
+  SYLVA_CHECK_INPUT(solver == "projected" || solver == "cgls", "Density.solver")
+      << "must be 'projected' or 'cgls', got '" << solver << "'";
   SYLVA_CHECK_INPUT(max_iterations >= 0 && max_iterations <= 100000, "Density.max_iterations")
       << "must be between 0 and 100000, got " << max_iterations;
   SYLVA_CHECK_INPUT(tolerance >= 0 && tolerance < 1, "Density.tolerance")

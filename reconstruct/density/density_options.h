@@ -3,6 +3,8 @@
 #ifndef SYLVA_RECONSTRUCT_DENSITY_DENSITY_OPTIONS_H_
 #define SYLVA_RECONSTRUCT_DENSITY_DENSITY_OPTIONS_H_
 
+#include <string>
+
 #include "core/geometry/box.h"
 
 namespace sylva {
@@ -37,15 +39,28 @@ struct DensityOptions {
   int rays_per_axis = 1;
   // Matte opacities are clamped to this before -log(1 - alpha): a fully
   // opaque pixel would need an infinite optical depth (alpha, < 1).
-  double max_pixel_opacity = 0.98;
+  double max_pixel_opacity = 0.95;
 
-  // CGLS iterations per solve, and the stopping tolerance on
-  // |A^T r| / |A^T b| (relative normal-equation residual).
-  int max_iterations = 40;
+  // Rows are weighted by max(1 - alpha_pixel, min_row_weight): to first
+  // order this fits opacities rather than optical depths (d alpha / d depth =
+  // 1 - alpha), so nearly opaque pixels, whose depth is clamped and
+  // uncertain, do not dominate the fit. 1 = unweighted (thesis).
+  double min_row_weight = 0.25;
+
+  // How the least-squares system is solved:
+  //   "projected": projected gradient with Barzilai-Borwein steps, keeping
+  //                every optical depth >= 0 throughout (non-negative least
+  //                squares; the default, see DESIGN notes in the report);
+  //   "cgls":      the thesis' way: unconstrained least squares (CGLS), then
+  //                negatives clamped to empty (plus nonnegative_passes).
+  std::string solver = "projected";
+  // Iterations per solve, and the stopping tolerance: |A^T r| / |A^T b| for
+  // CGLS, the projected gradient relative to its start for "projected".
+  int max_iterations = 50;
   double tolerance = 1e-3;
-  // The thesis clamps negative solutions to empty once (0 passes). Each pass
-  // fixes the clamped voxels at zero and re-solves for the rest.
-  int nonnegative_passes = 2;
+  // Solver "cgls" only: each pass fixes the clamped voxels at zero and
+  // re-solves for the rest (0 = clamp once, as the thesis).
+  int nonnegative_passes = 0;
   // Voxels whose final opacity is below this are not stored (alpha).
   double min_output_opacity = 1e-3;
 

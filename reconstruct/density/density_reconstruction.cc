@@ -99,12 +99,19 @@ std::vector<double> InitialSolution(const RaySystem& system, const std::vector<f
   return x;
 }
 
-// CGLS, then clamping of negatives, then re-solves with clamped voxels fixed.
+// Non-negative least squares, or (thesis) CGLS, clamping of negatives, and
+// re-solves with the clamped voxels fixed.
 void SolveNonNegative(const RaySystem& system, const DensityOptions& options,
                       const ProgressTask& progress, std::vector<double>* x,
                       DensitySummary* summary) {
   const SparseRows transposed = system.matrix.Transposed();
   const CglsOptions cgls{options.max_iterations, options.tolerance};
+  if (options.solver == "projected") {
+    ProgressTask task = progress.SubTask("density: least squares", 0.0, 1.0);
+    summary->solves.push_back(
+        SolveProjectedGradient(system.matrix, transposed, system.rhs, cgls, x, &task));
+    return;
+  }
   std::vector<char> free(x->size(), 1);
   const int passes = 1 + options.nonnegative_passes;
   for (int pass = 0; pass < passes; ++pass) {
@@ -214,7 +221,8 @@ DensityGrid ReconstructDensity(const ImageSet& image_set, const std::vector<Floa
   const RaySystem system = BuildRaySystem(
       image_set, sampling, downsampled, block, column_of_voxel,
       static_cast<int64_t>(voxel_of_column.size()), options.max_pixel_opacity,
-      options.hull_alpha_threshold, progress.SubTask("density: rays", 0.2, 0.4));
+      options.hull_alpha_threshold, options.min_row_weight,
+      progress.SubTask("density: rays", 0.2, 0.4));
   summary->num_rows = system.matrix.NumRows();
   summary->num_nonzeros = system.matrix.NumNonZeros();
   summary->num_unexplained_pixels = system.num_unexplained_pixels;

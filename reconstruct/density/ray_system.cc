@@ -54,7 +54,7 @@ struct RowChunk {
 void BuildChunk(const ImageSet& image_set, int view_idx, const ViewSampling& sampling,
                 const FloatImage& matte, int pixel_y, const VoxelBlock& block,
                 const std::vector<int32_t>& column_of_voxel, double max_pixel_opacity,
-                double foreground_alpha, RowChunk* chunk) {
+                double foreground_alpha, double min_row_weight, RowChunk* chunk) {
   std::vector<std::pair<int32_t, float>> row;
   for (int pixel_x = 0; pixel_x < sampling.width(); ++pixel_x) {
     PixelRow(image_set, view_idx, sampling, pixel_x, pixel_y, block, column_of_voxel, &row);
@@ -63,12 +63,13 @@ void BuildChunk(const ImageSet& image_set, int view_idx, const ViewSampling& sam
       chunk->unexplained += alpha > foreground_alpha;
       continue;
     }
+    const double weight = std::max(1.0 - alpha, min_row_weight);
     chunk->lengths.push_back(static_cast<int64_t>(row.size()));
     for (const auto& [col, value] : row) {
       chunk->cols.push_back(col);
-      chunk->values.push_back(value);
+      chunk->values.push_back(static_cast<float>(value * weight));
     }
-    chunk->rhs.push_back(-std::log(1.0 - std::min(alpha, max_pixel_opacity)));
+    chunk->rhs.push_back(-std::log(1.0 - std::min(alpha, max_pixel_opacity)) * weight);
   }
 }
 
@@ -78,7 +79,7 @@ RaySystem BuildRaySystem(const ImageSet& image_set, const std::vector<ViewSampli
                          const std::vector<FloatImage>& downsampled_mattes,
                          const VoxelBlock& block, const std::vector<int32_t>& column_of_voxel,
                          int64_t num_columns, double max_pixel_opacity, double foreground_alpha,
-                         const ProgressTask& progress) {
+                         double min_row_weight, const ProgressTask& progress) {
   // One chunk per (view, downsampled image row), filled in parallel and
   // concatenated in order, so the system does not depend on scheduling.
   std::vector<std::pair<int, int>> chunk_keys;
@@ -90,7 +91,7 @@ RaySystem BuildRaySystem(const ImageSet& image_set, const std::vector<ViewSampli
     progress.CheckCancelled();
     const auto [v, y] = chunk_keys[i];
     BuildChunk(image_set, v, sampling[v], downsampled_mattes[v], y, block, column_of_voxel,
-               max_pixel_opacity, foreground_alpha, &chunks[i]);
+               max_pixel_opacity, foreground_alpha, min_row_weight, &chunks[i]);
   });
   RaySystem system;
   system.matrix.num_cols = num_columns;

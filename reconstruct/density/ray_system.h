@@ -29,14 +29,15 @@ void PixelRow(const ImageSet& image_set, int view_idx, const ViewSampling& sampl
               std::vector<std::pair<int32_t, float>>* row);
 
 // One equation per downsampled pixel whose rays cross an unknown voxel.
-// `downsampled_mattes[v]` has sampling[v]'s size. Pixels whose alpha exceeds
+// `downsampled_mattes[v]` has sampling[v]'s size. Each row and its
+// right-hand side are scaled by max(1 - alpha, min_row_weight). Pixels whose alpha exceeds
 // `foreground_alpha` but whose rays cross no unknown are counted as
 // unexplained.
 RaySystem BuildRaySystem(const ImageSet& image_set, const std::vector<ViewSampling>& sampling,
                          const std::vector<FloatImage>& downsampled_mattes,
                          const VoxelBlock& block, const std::vector<int32_t>& column_of_voxel,
                          int64_t num_columns, double max_pixel_opacity, double foreground_alpha,
-                         const ProgressTask& progress);
+                         double min_row_weight, const ProgressTask& progress);
 
 }  // namespace sylva
 

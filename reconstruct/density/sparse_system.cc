@@ -3,6 +3,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/util/check.h"
@@ -102,6 +103,88 @@ CglsSummary SolveCgls(const SparseRows& a, const SparseRows& transposed,
   }
   summary.final_residual_norm = std::sqrt(Dot(r, r));
   summary.relative_gradient = gradient_scale > 0 ? std::sqrt(gamma) / gradient_scale : 0.0;
+  return summary;
+}
+
+namespace {
+
+// The projected step d = max(x - alpha m g, 0) - x in the diagonal metric m;
+// returns |d|^2.
+double ProjectedStep(const std::vector<double>& x, const std::vector<double>& g,
+                     const std::vector<double>& metric, double alpha, std::vector<double>* d) {
+  double norm2 = 0.0;
+  for (size_t j = 0; j < x.size(); ++j) {
+    (*d)[j] = std::max(x[j] - alpha * metric[j] * g[j], 0.0) - x[j];
+    norm2 += (*d)[j] * (*d)[j];
+  }
+  return norm2;
+}
+
+// Inverse squared column norms of A (1 for empty columns): the Jacobi
+// preconditioner of A^T A, which equalises voxels crossed by many or few rays.
+std::vector<double> InverseColumnNorms(const SparseRows& transposed) {
+  std::vector<double> metric(transposed.NumRows(), 1.0);
+  for (int64_t j = 0; j < transposed.NumRows(); ++j) {
+    double norm2 = 0.0;
+    for (int64_t k = transposed.row_offsets[j]; k < transposed.row_offsets[j + 1]; ++k) {
+      norm2 += double{transposed.values[k]} * transposed.values[k];
+    }
+    if (norm2 > 0) metric[j] = 1.0 / norm2;
+  }
+  return metric;
+}
+
+// Bounds on the Barzilai-Borwein step, relative to the first step.
+constexpr double kMinStepRatio = 1e-10;
+constexpr double kMaxStepRatio = 1e10;
+
+}  // namespace
+
+CglsSummary SolveProjectedGradient(const SparseRows& a, const SparseRows& transposed,
+                                   const std::vector<double>& b, const CglsOptions& options,
+                                   std::vector<double>* x, ProgressTask* progress) {
+  SYLVA_CHECK(static_cast<int64_t>(b.size()) == a.NumRows());
+  SYLVA_CHECK(static_cast<int64_t>(x->size()) == a.num_cols);
+  for (double& value : *x) value = std::max(value, 0.0);
+  CglsSummary summary;
+  const std::vector<double> metric = InverseColumnNorms(transposed);
+  std::vector<double> r, g, g_next, d(x->size()), ad;
+  a.Multiply(*x, &r);
+  for (size_t i = 0; i < r.size(); ++i) r[i] -= b[i];  // r = A x - b
+  summary.initial_residual_norm = std::sqrt(Dot(r, r));
+  transposed.Multiply(r, &g);
+  // Step lengths are in the metric; 1 is the Jacobi step.
+  double alpha = 1.0;
+  const double initial_projected = std::sqrt(ProjectedStep(*x, g, metric, 1.0, &d));
+  double projected = initial_projected;
+  summary.converged = projected == 0.0;
+  while (!summary.converged && summary.iterations < options.max_iterations) {
+    if (ProjectedStep(*x, g, metric, alpha, &d) == 0.0) break;
+    a.Multiply(d, &ad);
+    const double ad2 = Dot(ad, ad);
+    const double slope = Dot(g, d);  // < 0 for a descent direction
+    if (!(ad2 > 0) || slope >= 0) break;
+    const double lambda = std::min(1.0, -slope / ad2);
+    for (size_t j = 0; j < x->size(); ++j) (*x)[j] = std::max((*x)[j] + lambda * d[j], 0.0);
+    for (size_t i = 0; i < r.size(); ++i) r[i] += lambda * ad[i];
+    transposed.Multiply(r, &g_next);
+    // Barzilai-Borwein in the metric: alpha = s.M^-1 s / s.y, s = lambda d,
+    // y = g_next - g.
+    double ss = 0.0, sy = 0.0;
+    for (size_t j = 0; j < d.size(); ++j) {
+      const double s = lambda * d[j];
+      ss += s * s / metric[j];
+      sy += s * (g_next[j] - g[j]);
+    }
+    alpha = sy > 0 ? std::clamp(ss / sy, kMinStepRatio, kMaxStepRatio) : kMaxStepRatio;
+    g.swap(g_next);
+    ++summary.iterations;
+    projected = std::sqrt(ProjectedStep(*x, g, metric, 1.0, &d));
+    summary.converged = projected <= options.tolerance * initial_projected;
+    if (progress) progress->Update(static_cast<double>(summary.iterations) / options.max_iterations);
+  }
+  summary.final_residual_norm = std::sqrt(Dot(r, r));
+  summary.relative_gradient = initial_projected > 0 ? projected / initial_projected : 0.0;
   return summary;
 }
 

@@ -51,6 +51,16 @@ CglsSummary SolveCgls(const SparseRows& a, const SparseRows& transposed,
                       const std::vector<char>* free, std::vector<double>* x,
                       ProgressTask* progress);
 
+// Minimises |A x - b| subject to x >= 0 starting from max(*x, 0): projected
+// gradient with Barzilai-Borwein step lengths and an exact line search along
+// each projected step (the objective is quadratic), so the objective never
+// increases. One product with A and one with A^T per iteration, like CGLS.
+// Converged when the projected gradient |P(x - g) - x| falls below
+// tolerance times its initial value.
+CglsSummary SolveProjectedGradient(const SparseRows& a, const SparseRows& transposed,
+                                   const std::vector<double>& b, const CglsOptions& options,
+                                   std::vector<double>* x, ProgressTask* progress);
+
 }  // namespace sylva
 
 #endif  // SYLVA_RECONSTRUCT_DENSITY_SPARSE_SYSTEM_H_

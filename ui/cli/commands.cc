@@ -1,0 +1,311 @@
+#include "ui/cli/commands.h"
+
+#include <tbb/global_control.h>
+
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <sstream>
+
+#include "core/util/check.h"
+#include "core/util/file_util.h"
+#include "core/util/logging.h"
+#include "datasets/synthetic/synthetic_dataset.h"
+#include "ui/cli/arguments.h"
+#include "ui/cli/terminal_progress.h"
+#include "ui/pipeline/pipeline.h"
+
+namespace sylva {
+namespace {
+
+const FlagSpec kLogLevelFlag = {"log-level", "LEVEL",
+                                "debug, info (default), warning, error or silent"};
+
+CommandSpec InitSpec() {
+  return {"init",
+          "sylva init PROJECT --photos DIR (--colmap MODEL_DIR | --cameras FILE.json) "
+          "[--mattes DIR] [--held-out NAMES] [--copy]",
+          "Creates a project folder for one tree from registered photos: a COLMAP sparse model\n"
+          "(text or binary) or a sylva camera file (for orthographic or hand-placed views).\n"
+          "Every photo the model names must exist, with a matte of the same size in --mattes\n"
+          "(same relative name, any image format) or an alpha channel in the photo itself.\n"
+          "Photos and mattes are referenced where they are, or copied with --copy.",
+          {{"photos", "DIR", "folder of the photos (names as in the camera model)"},
+           {"colmap", "MODEL_DIR", "COLMAP sparse model folder (cameras/images .txt or .bin)"},
+           {"cameras", "FILE.json", "sylva camera file (see core/io/camera_file.h)"},
+           {"mattes", "DIR", "folder of alpha mattes; default: the photos' alpha channels"},
+           {"held-out", "NAMES", "views kept out of the reconstruction and reported separately: "
+                                 "comma-separated names, or @FILE with one name per line"},
+           {"copy", "", "copy the photos and mattes into the project"},
+           {"units", "UNITS", "world units of the cameras (default: from the camera file, "
+                              "else 'arbitrary')"},
+           kLogLevelFlag},
+          1,
+          1,
+          false};
+}
+
+CommandSpec RunSpec() {
+  return {"run",
+          "sylva run PROJECT [--until STAGE] [--force] [--Section.field=value ...]",
+          "Runs the pipeline stages that are out of date (their inputs or options changed) and\n"
+          "writes the outputs under PROJECT/out/. Options given here apply to this run (and\n"
+          "are saved in the project's sylva.json with --save); the effective options of every\n"
+          "run are written to PROJECT/out/run.json.",
+          {{"until", "STAGE", "stop after this stage (density, report)"},
+           {"force", "", "re-run stages even if up to date"},
+           {"save", "", "save the options given here in the project's sylva.json"},
+           kLogLevelFlag},
+          1,
+          1,
+          true};
+}
+
+CommandSpec StageSpec(const StageInfo& stage) {
+  return {stage.name,
+          std::string("sylva ") + stage.name + " PROJECT [--Section.field=value ...]",
+          std::string("Runs the '") + stage.name + "' stage now: " + stage.description + ".\n"
+              "Its inputs from earlier stages must exist. Options as for 'sylva run'.",
+          {{"save", "", "save the options given here in the project's sylva.json"},
+           kLogLevelFlag},
+          1,
+          1,
+          true};
+}
+
+CommandSpec SynthSpec() {
+  return {"synth",
+          "sylva synth OUT [--seed N] [--views K] [--held-out H] [--camera pinhole|ortho] "
+          "[--size PX]",
+          "Generates a synthetic ground-truth dataset: a procedural tree (skeleton with radii,\n"
+          "branch cylinders, leaf clusters) rendered with Embree into RGBA photos and exact\n"
+          "mattes from K cameras plus H held-out cameras, with a COLMAP text model (pinhole\n"
+          "only), a sylva camera file, held_out.txt and the ground truth (skeleton, mesh).\n"
+          "Deterministic by seed. Use it with:\n"
+          "  sylva init P --photos OUT/photos --mattes OUT/mattes --cameras OUT/cameras.json "
+          "--held-out @OUT/held_out.txt",
+          {{"seed", "N", "seed of the tree (default 1)"},
+           {"views", "K", "input views (default 8; orthographic: 2 at right angles)"},
+           {"held-out", "H", "extra held-out views (default 2)"},
+           {"camera", "KIND", "pinhole (default) or ortho"},
+           {"size", "PX", "image width and height in pixels (default 512)"},
+           {"samples", "S", "S x S rays per pixel for anti-aliased mattes (default 4)"},
+           {"elevation", "DEG", "elevation of the pinhole input views (default 10)"},
+           {"radial", "K", "radial distortion k of a SIMPLE_RADIAL camera (default 0)"},
+           kLogLevelFlag},
+          1,
+          1,
+          false};
+}
+
+std::vector<CommandSpec> AllSpecs() {
+  std::vector<CommandSpec> specs = {InitSpec(), RunSpec()};
+  for (const StageInfo& stage : AllStages()) specs.push_back(StageSpec(stage));
+  specs.push_back(SynthSpec());
+  return specs;
+}
+
+std::string OptionsHelp() {
+  PipelineOptions options;
+  OptionRegistry registry;
+  RegisterPipelineOptions(&options, &registry);
+  return registry.Help();
+}
+
+std::string GeneralHelp() {
+  std::ostringstream out;
+  out << "sylva: plausible, editable 3D trees from a few photographs.\n\ncommands:\n";
+  for (const CommandSpec& spec : AllSpecs()) out << "  " << spec.usage << "\n";
+  out << "  sylva help [COMMAND | options]\n"
+         "\n'sylva COMMAND -h' explains a command; 'sylva help options' lists every option\n"
+         "with its default and unit. Exit codes: 0 ok, 1 internal error, 2 bad input,\n"
+         "130 interrupted.\n";
+  return out.str();
+}
+
+std::vector<std::string> ParseHeldOut(const std::string& value) {
+  std::vector<std::string> names;
+  std::string text = value;
+  if (!value.empty() && value[0] == '@') text = ReadFileToString(value.substr(1));
+  std::string name;
+  std::istringstream stream(text);
+  const char separator = (!value.empty() && value[0] == '@') ? '\n' : ',';
+  while (std::getline(stream, name, separator)) {
+    const size_t begin = name.find_first_not_of(" \t\r");
+    if (begin == std::string::npos) continue;
+    names.push_back(name.substr(begin, name.find_last_not_of(" \t\r") - begin + 1));
+  }
+  return names;
+}
+
+void ApplyLogLevel(const ParsedArguments& args) {
+  if (args.Has("log-level")) SetLogLevel(ParseLogLevel(args.Get("log-level")));
+}
+
+int CmdInit(const ParsedArguments& args) {
+  ProjectSetup setup;
+  setup.root = args.positional[0];
+  SYLVA_CHECK_INPUT(args.Has("photos"), "sylva init") << "--photos DIR is required";
+  setup.photos_dir = args.Get("photos");
+  setup.colmap_model_dir = args.Get("colmap");
+  setup.camera_file = args.Get("cameras");
+  setup.mattes_dir = args.Get("mattes");
+  if (args.Has("held-out")) setup.held_out = ParseHeldOut(args.Get("held-out"));
+  setup.copy_inputs = args.Has("copy");
+  setup.units = args.Get("units");
+  const Project project = Project::Create(setup);
+  const ImageSet image_set = project.LoadCameras();
+  std::cout << "Created project " << project.root().string() << ": " << image_set.NumViews()
+            << " views (" << project.held_out().size() << " held out), units "
+            << project.units() << ".\nNext: sylva run " << setup.root.string() << "\n";
+  return kExitOk;
+}
+
+// The project's saved options, then the command line's overrides; checked.
+PipelineOptions ResolveOptions(Project* project, const ParsedArguments& args) {
+  PipelineOptions options;
+  OptionRegistry registry;
+  RegisterPipelineOptions(&options, &registry);
+  project->ApplySavedOptions(&registry);
+  for (const auto& [key, value] : args.options) registry.Set(key, value, "--" + key);
+  options.Check();
+  if (args.Has("save")) project->SaveOptions(registry);
+  return options;
+}
+
+void PrintOutputs(const Project& project) {
+  std::cout << "Outputs in " << project.OutDir().string() << "/:\n";
+  for (const char* name : {"density.vdb", "report.json", "report.html", "run.json"}) {
+    std::error_code ec;
+    if (fs::is_regular_file(project.OutDir() / name, ec)) std::cout << "  " << name << "\n";
+  }
+}
+
+int RunPipeline(const ParsedArguments& args, const Stage* single_stage) {
+  Project project = Project::Open(args.positional[0]);
+  const PipelineOptions options = ResolveOptions(&project, args);
+  std::unique_ptr<tbb::global_control> threads;
+  if (options.general.num_threads > 0) {
+    threads = std::make_unique<tbb::global_control>(
+        tbb::global_control::max_allowed_parallelism, options.general.num_threads);
+  }
+  TerminalProgress progress;
+  TerminalProgress::InstallInterruptHandler(&progress);
+  Pipeline pipeline(project, options, &progress);
+  RunSummary summary;
+  if (single_stage != nullptr) {
+    summary.stages.push_back(pipeline.RunStage(*single_stage));
+  } else {
+    const Stage until = args.Has("until") ? ParseStage(args.Get("until"), "--until")
+                                          : AllStages().back().stage;
+    summary = pipeline.Run(until, args.Has("force"));
+  }
+  progress.Finish();
+  std::cout << summary.BriefReport();
+  PrintOutputs(project);
+  return kExitOk;
+}
+
+int CmdSynth(const ParsedArguments& args) {
+  SyntheticDatasetOptions options;
+  if (args.Has("seed")) {
+    options.seed = static_cast<uint64_t>(args.GetInt("seed", 1, 0, 2147483647));
+  }
+  const std::string camera = args.Get("camera", "pinhole");
+  SYLVA_CHECK_INPUT(camera == "pinhole" || camera == "ortho", "--camera")
+      << "expected pinhole or ortho, got '" << camera << "'";
+  options.camera = camera == "ortho" ? SyntheticCameraKind::kOrthographic
+                                     : SyntheticCameraKind::kPinhole;
+  options.num_views = args.GetInt("views", camera == "ortho" ? 2 : 8, 1, 1000);
+  options.num_held_out = args.GetInt("held-out", 2, 0, 1000);
+  options.image_size = args.GetInt("size", options.image_size, 8, 16384);
+  options.samples_per_axis = args.GetInt("samples", options.samples_per_axis, 1, 16);
+  options.elevation_deg = args.GetDouble("elevation", options.elevation_deg);
+  options.radial_distortion = args.GetDouble("radial", options.radial_distortion);
+  options.Check();
+  const fs::path out = args.positional[0];
+  std::error_code ec;
+  SYLVA_CHECK_INPUT(!fs::exists(out, ec) || fs::is_empty(out, ec), out.string())
+      << "already exists and is not empty";
+  TerminalProgress progress;
+  TerminalProgress::InstallInterruptHandler(&progress);
+  const SyntheticDataset dataset = MakeSyntheticDataset(options, &progress);
+  progress.Finish();
+  WriteSyntheticDataset(dataset, options, out);
+  std::cout << "Wrote a synthetic tree (seed " << options.seed << ", "
+            << dataset.image_set.NumViews() << " views, " << dataset.held_out.size()
+            << " held out) to " << out.string() << "\nUse it: sylva init PROJECT --photos "
+            << (out / "photos").string() << " --mattes " << (out / "mattes").string()
+            << " --cameras " << (out / "cameras.json").string() << " --held-out @"
+            << (out / "held_out.txt").string() << "\n";
+  return kExitOk;
+}
+
+int CmdHelp(int argc, const char* const* argv) {
+  if (argc < 3) {
+    std::cout << GeneralHelp();
+    return kExitOk;
+  }
+  const std::string topic = argv[2];
+  if (topic == "options") {
+    std::cout << OptionsHelp();
+    return kExitOk;
+  }
+  for (const CommandSpec& spec : AllSpecs()) {
+    if (spec.name != topic) continue;
+    std::cout << CommandHelp(spec);
+    if (spec.takes_pipeline_options) std::cout << "\n" << OptionsHelp();
+    return kExitOk;
+  }
+  SYLVA_INPUT_ERROR(topic) << "no such command or help topic (see 'sylva help')";
+  return kExitBadInput;
+}
+
+int Dispatch(int argc, const char* const* argv) {
+  if (argc < 2) {
+    std::cerr << GeneralHelp();
+    return kExitBadInput;
+  }
+  const std::string command = argv[1];
+  if (command == "help" || command == "-h" || command == "--help") return CmdHelp(argc, argv);
+  if (command == "version" || command == "--version") {
+    std::cout << "sylva 0.1.0\n";
+    return kExitOk;
+  }
+  for (const CommandSpec& spec : AllSpecs()) {
+    if (spec.name != command) continue;
+    const ParsedArguments args = ParseArguments(spec, argc, argv, 2);
+    if (args.help) {
+      std::cout << CommandHelp(spec);
+      if (spec.takes_pipeline_options) std::cout << "\n" << OptionsHelp();
+      return kExitOk;
+    }
+    ApplyLogLevel(args);
+    if (command == "init") return CmdInit(args);
+    if (command == "run") return RunPipeline(args, nullptr);
+    if (command == "synth") return CmdSynth(args);
+    const Stage stage = ParseStage(command, command);
+    return RunPipeline(args, &stage);
+  }
+  SYLVA_INPUT_ERROR(command) << "unknown command (see 'sylva help')";
+  return kExitBadInput;
+}
+
+}  // namespace
+
+int RunCommandLine(int argc, const char* const* argv) {
+  try {
+    return Dispatch(argc, argv);
+  } catch (const InputError& error) {
+    std::cerr << "\nsylva: error: " << error.what() << "\n";
+    return kExitBadInput;
+  } catch (const Cancelled&) {
+    std::cerr << "\nsylva: interrupted; no output was changed by the unfinished stage\n";
+    return kExitCancelled;
+  } catch (const std::exception& error) {
+    std::cerr << "\nsylva: internal error: " << error.what() << "\n";
+    return kExitError;
+  }
+}
+
+}  // namespace sylva

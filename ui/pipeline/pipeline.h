@@ -1,0 +1,77 @@
+// The full-pipeline controller shared by the CLI, the batch runner and the
+// desktop app: runs the stages of a project in order, re-running only those
+// whose inputs changed (COLMAP-controller style, with progress and cancel).
+//
+// Each stage's inputs (options, input file stamps, upstream stage keys) are
+// hashed into a key recorded in PROJECT/cache/stages.json with the stage's
+// outputs; a stage is up to date when its key matches and its outputs exist.
+// Every run writes the effective options to PROJECT/out/run.json.
+#ifndef SYLVA_UI_PIPELINE_PIPELINE_H_
+#define SYLVA_UI_PIPELINE_PIPELINE_H_
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "core/util/progress.h"
+#include "ui/pipeline/pipeline_options.h"
+#include "ui/pipeline/project.h"
+
+namespace sylva {
+
+enum class Stage { kDensity, kReport };
+
+struct StageInfo {
+  Stage stage;
+  const char* name;         // "density"
+  const char* description;  // one line for help
+};
+const std::vector<StageInfo>& AllStages();
+const StageInfo& GetStageInfo(Stage stage);
+// Throws InputError naming `source` for an unknown name.
+Stage ParseStage(const std::string& name, const std::string& source);
+
+struct StageRun {
+  Stage stage = Stage::kDensity;
+  bool up_to_date = false;  // skipped: inputs unchanged since the last run
+  double seconds = 0.0;
+  std::string brief;        // the stage's BriefReport()
+  std::vector<std::filesystem::path> outputs;
+};
+
+struct RunSummary {
+  std::vector<StageRun> stages;
+  std::string BriefReport() const;
+};
+
+class Pipeline {
+ public:
+  // `options` must already hold the project's saved options and any
+  // overrides; they are checked before any work starts.
+  Pipeline(const Project& project, const PipelineOptions& options, ProgressReporter* progress);
+
+  // Runs every stage up to and including `until` that is out of date (or
+  // all of them with `force`).
+  RunSummary Run(Stage until, bool force);
+  // Runs one stage now; its inputs from earlier stages must exist.
+  StageRun RunStage(Stage stage);
+
+  // The key that identifies the inputs of `stage` (for tests and tools).
+  std::string StageKey(Stage stage) const;
+  bool IsUpToDate(Stage stage) const;
+
+ private:
+  StageRun Execute(Stage stage);
+  StageRun RunDensity();
+  StageRun RunReport();
+  void Record(const StageRun& run) const;
+  void WriteRunRecord() const;
+
+  const Project& project_;
+  PipelineOptions options_;
+  ProgressReporter* progress_;
+};
+
+}  // namespace sylva
+
+#endif  // SYLVA_UI_PIPELINE_PIPELINE_H_
