@@ -50,10 +50,10 @@ VoxelBlock GridBlock(const Box3d& bounds, int resolution) {
 Box3d ComputeBounds(const ImageSet& image_set, const std::vector<FloatImage>& mattes,
                     const DensityOptions& options, const ProgressTask& progress) {
   if (!options.bounds.isEmpty()) return options.bounds;
-  std::vector<FloatImage> masks;
-  for (const FloatImage& matte : mattes) {
-    masks.push_back(ForegroundMask(matte, options.hull_alpha_threshold));
-  }
+  std::vector<FloatImage> masks(mattes.size());
+  tbb::parallel_for(size_t{0}, mattes.size(), [&](size_t v) {
+    masks[v] = ForegroundMask(mattes[v], options.hull_alpha_threshold);
+  });
   Box3d bounds = VisualHullBounds(image_set, masks, options.hull_resolution, progress);
   const double margin =
       options.bounds_margin_voxels * bounds.sizes().maxCoeff() / options.resolution;
@@ -192,8 +192,7 @@ DensityGrid ReconstructDensity(const ImageSet& image_set, const std::vector<Floa
 
   // 2. Initialisation and implicit carving.
   step = Clock::now();
-  std::vector<SummedAreaTable> tables;
-  for (const FloatImage& matte : mattes) tables.emplace_back(matte);
+  std::vector<SummedAreaTable> tables = MakeSummedAreaTables(mattes);
   const std::vector<float> initial =
       MinFootprintMeans(image_set, tables, block, progress.SubTask("density: init", 0.05, 0.2));
   tables.clear();

@@ -2,9 +2,11 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 
 #include "core/util/check.h"
 
@@ -108,16 +110,20 @@ CglsSummary SolveCgls(const SparseRows& a, const SparseRows& transposed,
 
 namespace {
 
-// The projected step d = max(x - alpha m g, 0) - x in the diagonal metric m;
-// returns |d|^2.
-double ProjectedStep(const std::vector<double>& x, const std::vector<double>& g,
-                     const std::vector<double>& metric, double alpha, std::vector<double>* d) {
-  double norm2 = 0.0;
-  for (size_t j = 0; j < x.size(); ++j) {
-    (*d)[j] = std::max(x[j] - alpha * metric[j] * g[j], 0.0) - x[j];
-    norm2 += (*d)[j] * (*d)[j];
-  }
-  return norm2;
+// Vector passes run in parallel over fixed chunks, and reductions combine
+// the chunks in a fixed order (parallel_deterministic_reduce), so results do
+// not depend on scheduling.
+constexpr size_t kVectorGrain = 16384;
+
+template <typename Body>
+double DeterministicSum(size_t size, const Body& body) {
+  return tbb::parallel_deterministic_reduce(
+      tbb::blocked_range<size_t>(0, size, kVectorGrain), 0.0,
+      [&](const tbb::blocked_range<size_t>& range, double sum) {
+        for (size_t j = range.begin(); j < range.end(); ++j) sum += body(j);
+        return sum;
+      },
+      std::plus<double>());
 }
 
 // Inverse squared column norms of A (1 for empty columns): the Jacobi
@@ -134,9 +140,31 @@ std::vector<double> InverseColumnNorms(const SparseRows& transposed) {
   return metric;
 }
 
-// Bounds on the Barzilai-Borwein step, relative to the first step.
-constexpr double kMinStepRatio = 1e-10;
-constexpr double kMaxStepRatio = 1e10;
+// One fused pass: the projected step d = max(x - alpha m g, 0) - x in the
+// diagonal metric m, its slope g . d, and |max(x - m g, 0) - x|^2 (the
+// projected gradient, for the stopping test).
+struct StepPass {
+  double slope = 0.0;
+  double projected_gradient2 = 0.0;
+};
+
+StepPass ProjectedStep(const std::vector<double>& x, const std::vector<double>& g,
+                       const std::vector<double>& metric, double alpha, std::vector<double>* d) {
+  StepPass pass;
+  pass.slope = DeterministicSum(x.size(), [&](size_t j) {
+    (*d)[j] = std::max(x[j] - alpha * metric[j] * g[j], 0.0) - x[j];
+    return g[j] * (*d)[j];
+  });
+  pass.projected_gradient2 = DeterministicSum(x.size(), [&](size_t j) {
+    const double step = std::max(x[j] - metric[j] * g[j], 0.0) - x[j];
+    return step * step;
+  });
+  return pass;
+}
+
+// Bounds on the Barzilai-Borwein step (the Jacobi step is 1).
+constexpr double kMinStep = 1e-10;
+constexpr double kMaxStep = 1e10;
 
 }  // namespace
 
@@ -153,34 +181,33 @@ CglsSummary SolveProjectedGradient(const SparseRows& a, const SparseRows& transp
   for (size_t i = 0; i < r.size(); ++i) r[i] -= b[i];  // r = A x - b
   summary.initial_residual_norm = std::sqrt(Dot(r, r));
   transposed.Multiply(r, &g);
-  // Step lengths are in the metric; 1 is the Jacobi step.
-  double alpha = 1.0;
-  const double initial_projected = std::sqrt(ProjectedStep(*x, g, metric, 1.0, &d));
-  double projected = initial_projected;
-  summary.converged = projected == 0.0;
-  while (!summary.converged && summary.iterations < options.max_iterations) {
-    if (ProjectedStep(*x, g, metric, alpha, &d) == 0.0) break;
+  double alpha = 1.0;  // step length in the metric
+  double initial_projected = -1.0, projected = 0.0;
+  for (;;) {
+    const StepPass pass = ProjectedStep(*x, g, metric, alpha, &d);
+    projected = std::sqrt(pass.projected_gradient2);
+    if (initial_projected < 0) initial_projected = projected;
+    summary.converged = projected <= options.tolerance * initial_projected;
+    if (summary.converged || summary.iterations >= options.max_iterations) break;
     a.Multiply(d, &ad);
     const double ad2 = Dot(ad, ad);
-    const double slope = Dot(g, d);  // < 0 for a descent direction
-    if (!(ad2 > 0) || slope >= 0) break;
-    const double lambda = std::min(1.0, -slope / ad2);
-    for (size_t j = 0; j < x->size(); ++j) (*x)[j] = std::max((*x)[j] + lambda * d[j], 0.0);
+    if (!(ad2 > 0) || pass.slope >= 0) break;  // no descent left
+    const double lambda = std::min(1.0, -pass.slope / ad2);
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, x->size(), kVectorGrain),
+                      [&](const tbb::blocked_range<size_t>& range) {
+                        for (size_t j = range.begin(); j < range.end(); ++j) {
+                          (*x)[j] = std::max((*x)[j] + lambda * d[j], 0.0);
+                        }
+                      });
     for (size_t i = 0; i < r.size(); ++i) r[i] += lambda * ad[i];
     transposed.Multiply(r, &g_next);
     // Barzilai-Borwein in the metric: alpha = s.M^-1 s / s.y, s = lambda d,
     // y = g_next - g.
-    double ss = 0.0, sy = 0.0;
-    for (size_t j = 0; j < d.size(); ++j) {
-      const double s = lambda * d[j];
-      ss += s * s / metric[j];
-      sy += s * (g_next[j] - g[j]);
-    }
-    alpha = sy > 0 ? std::clamp(ss / sy, kMinStepRatio, kMaxStepRatio) : kMaxStepRatio;
+    const double ss = DeterministicSum(d.size(), [&](size_t j) { return d[j] * d[j] / metric[j]; });
+    const double sy = DeterministicSum(d.size(), [&](size_t j) { return d[j] * (g_next[j] - g[j]); });
+    alpha = sy > 0 ? std::clamp(lambda * ss / sy, kMinStep, kMaxStep) : kMaxStep;
     g.swap(g_next);
     ++summary.iterations;
-    projected = std::sqrt(ProjectedStep(*x, g, metric, 1.0, &d));
-    summary.converged = projected <= options.tolerance * initial_projected;
     if (progress) progress->Update(static_cast<double>(summary.iterations) / options.max_iterations);
   }
   summary.final_residual_norm = std::sqrt(Dot(r, r));

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 
 #include "core/util/check.h"
 
@@ -95,6 +96,16 @@ double FootprintMean(const CornerLayer& lower, const CornerLayer& upper, int nx,
 }
 
 }  // namespace
+
+std::vector<SummedAreaTable> MakeSummedAreaTables(const std::vector<FloatImage>& images) {
+  std::vector<std::unique_ptr<SummedAreaTable>> built(images.size());
+  tbb::parallel_for(size_t{0}, images.size(),
+                    [&](size_t i) { built[i] = std::make_unique<SummedAreaTable>(images[i]); });
+  std::vector<SummedAreaTable> tables;
+  tables.reserve(images.size());
+  for (auto& table : built) tables.push_back(std::move(*table));
+  return tables;
+}
 
 std::vector<float> MinFootprintMeans(const ImageSet& image_set,
                                      const std::vector<SummedAreaTable>& tables,

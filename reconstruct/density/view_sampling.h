@@ -55,6 +55,9 @@ class ViewProjector {
   Eigen::Vector3d translation_;
 };
 
+// Summed-area tables of single-channel images, built in parallel.
+std::vector<SummedAreaTable> MakeSummedAreaTables(const std::vector<FloatImage>& images);
+
 // For every voxel of `block` (dense index), the minimum over views of the
 // mean of `tables[view]`'s image over the voxel's footprint (the bounding
 // rectangle of its 8 projected corners). Views in which the voxel is behind

@@ -147,8 +147,7 @@ Box3d FrustumIntersectionBounds(const ImageSet& image_set, const std::vector<Flo
 Box3d VisualHullBounds(const ImageSet& image_set, const std::vector<FloatImage>& masks,
                        int resolution, const ProgressTask& progress) {
   const Box3d frustum_bounds = FrustumIntersectionBounds(image_set, masks);
-  std::vector<SummedAreaTable> tables;
-  for (const FloatImage& mask : masks) tables.emplace_back(mask);
+  const std::vector<SummedAreaTable> tables = MakeSummedAreaTables(masks);
   const VoxelBlock block = CoarseBlock(frustum_bounds, resolution);
   const std::vector<float> kept = MinFootprintMeans(image_set, tables, block, progress);
   Box3d bounds;
