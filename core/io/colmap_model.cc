@@ -258,6 +258,9 @@ void ReadCamerasText(const fs::path& path, ModelBuilder* builder) {
     const int height = static_cast<int>(line.Integer(3, "HEIGHT", 1, kMaxImageSize));
     std::vector<double> params;
     for (size_t i = 4; i < line.fields.size(); ++i) params.push_back(line.Number(i, "PARAMS"));
+    SYLVA_CHECK_INPUT(static_cast<int>(params.size()) == CameraModelNumParams(model), line.Source())
+        << CameraModelName(model) << " camera needs " << CameraModelNumParams(model)
+        << " parameters, got " << params.size();
     line.Expect(builder->AddCamera(camera_id, Camera(model, width, height, std::move(params))));
   }
 }

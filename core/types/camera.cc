@@ -65,7 +65,13 @@ CameraModel CameraModelFromColmapId(int id, const std::string& source) {
 }
 
 Camera::Camera(CameraModel model, int width, int height, std::vector<double> params)
-    : model_(model), width_(width), height_(height), params_(std::move(params)) {}
+    : model_(model), width_(width), height_(height), params_(std::move(params)) {
+  // Every accessor indexes params_ by the model's layout, so a wrong count is
+  // refused here; readers re-raise this at the offending file location.
+  SYLVA_CHECK_INPUT(static_cast<int>(params_.size()) == CameraModelNumParams(model_), "")
+      << CameraModelName(model_) << " camera needs " << CameraModelNumParams(model_)
+      << " parameters, got " << params_.size();
+}
 
 Camera Camera::Orthographic(int width, int height, double pixels_per_unit) {
   return Camera(CameraModel::kOrthographic, width, height,

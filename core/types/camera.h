@@ -46,6 +46,8 @@ CameraModel CameraModelFromColmapId(int id, const std::string& source);
 class Camera {
  public:
   Camera() = default;
+  // Throws InputError (with an empty source) if `params` does not have the
+  // model's parameter count.
   Camera(CameraModel model, int width, int height, std::vector<double> params);
 
   // Convenience constructors.
@@ -81,6 +83,9 @@ class Camera {
   Ray3d CamRayFromImg(const Eigen::Vector2d& point_in_image) const;
 
   // Distortion applied to normalized coordinates (identity for models without).
+  // Undistort inverts it by Newton's method; where the distortion is not
+  // invertible (far outside the image for strong distortion) the result is
+  // the last iterate, as in COLMAP.
   Eigen::Vector2d Distort(const Eigen::Vector2d& undistorted) const;
   Eigen::Vector2d Undistort(const Eigen::Vector2d& distorted) const;
 

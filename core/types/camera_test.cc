@@ -88,7 +88,7 @@ TEST(CameraTest, OrthographicRaysAreParallelLines) {
 
 TEST(CameraTest, CheckRejectsBadParameters) {
   EXPECT_NO_THROW(Camera::Pinhole(10, 10, 5).Check("ok"));
-  EXPECT_THROW(Camera(CameraModel::kPinhole, 10, 10, {1, 2, 3}).Check("x"), InputError);
+  EXPECT_THROW(Camera(CameraModel::kPinhole, 10, 10, {1, 2, 3}), InputError);
   EXPECT_THROW(Camera(CameraModel::kPinhole, 0, 10, {1, 1, 5, 5}).Check("x"), InputError);
   EXPECT_THROW(Camera(CameraModel::kPinhole, 10, 10, {-1, 1, 5, 5}).Check("x"), InputError);
 }

@@ -145,6 +145,15 @@ DensityGrid DensityGridFromVdb(const openvdb::FloatGrid& vdb_grid, const std::st
       << "grid '" << vdb_grid.getName() << "' must have a uniform linear transform";
   SYLVA_CHECK_INPUT(voxel[0] > 0, source) << "grid voxel size must be positive";
   const openvdb::Vec3d origin = transform.indexToWorld(openvdb::Vec3d(0, 0, 0));
+  for (int axis = 0; axis < 3; ++axis) {
+    openvdb::Vec3d unit(0, 0, 0);
+    unit[axis] = 1;
+    const openvdb::Vec3d step = transform.indexToWorld(unit) - origin;
+    openvdb::Vec3d expected(0, 0, 0);
+    expected[axis] = voxel[0];
+    SYLVA_CHECK_INPUT((step - expected).length() <= 1e-9 * voxel[0], source)
+        << "grid '" << vdb_grid.getName() << "' is rotated; only axis-aligned grids are supported";
+  }
   DensityGrid grid(voxel[0], Eigen::Vector3d(origin.x(), origin.y(), origin.z()));
   grid.impl().grid = vdb_grid.deepCopy();
   grid.impl().grid->setTransform(MakeTransform(voxel[0], grid.origin()));
