@@ -68,27 +68,45 @@ FloatImage ReadImage(const fs::path& path) {
   return image;
 }
 
+namespace {
+
+// The first channel of an image whose first `color_channels` channels are
+// equal (a grey image saved as RGB); InputError otherwise.
+FloatImage GrayChannel(const FloatImage& image, int color_channels, const fs::path& path) {
+  const int stride = image.channels();
+  for (size_t i = 0; i < image.NumPixels(); ++i) {
+    const float* pixel = image.data() + stride * i;
+    for (int c = 1; c < color_channels; ++c) {
+      SYLVA_CHECK_INPUT(std::abs(pixel[c] - pixel[0]) <= kGrayTolerance, path.string())
+          << "matte is a colour image without a usable alpha channel; a matte must be "
+             "grayscale or carry its values in the alpha channel";
+    }
+  }
+  return image.Channel(0);
+}
+
+bool IsOpaqueEverywhere(const FloatImage& alpha) {
+  return std::all_of(alpha.values().begin(), alpha.values().end(),
+                     [](float a) { return a >= 1.0f; });
+}
+
+}  // namespace
+
 FloatImage ReadMatte(const fs::path& path) {
   const FloatImage image = ReadImage(path);
   const int channels = image.channels();
+  SYLVA_CHECK_INPUT(channels >= 1 && channels <= 4, path.string())
+      << "matte has " << channels << " channels; expected 1 (gray), 2, 3 or 4";
   FloatImage matte;
   if (channels == 1) {
     matte = image;
-  } else if (channels == 2 || channels == 4) {
-    matte = image.Channel(channels - 1);
   } else if (channels == 3) {
-    for (size_t i = 0; i < image.NumPixels(); ++i) {
-      const float* rgb = image.data() + 3 * i;
-      const bool gray = std::abs(rgb[0] - rgb[1]) <= kGrayTolerance &&
-                        std::abs(rgb[0] - rgb[2]) <= kGrayTolerance;
-      SYLVA_CHECK_INPUT(gray, path.string())
-          << "matte is a colour image without alpha; a matte must be grayscale or have an "
-             "alpha channel";
-    }
-    matte = image.Channel(0);
+    matte = GrayChannel(image, 3, path);
   } else {
-    SYLVA_INPUT_ERROR(path.string()) << "matte has " << channels
-                                     << " channels; expected 1 (gray), 2, 3 or 4";
+    matte = image.Channel(channels - 1);
+    // An alpha channel that is opaque everywhere carries no matte (e.g. a
+    // grey silhouette saved as grey+alpha): the grey values are the matte.
+    if (IsOpaqueEverywhere(matte)) matte = GrayChannel(image, channels - 1, path);
   }
   for (float& value : matte.values()) value = std::clamp(value, 0.0f, 1.0f);
   return matte;

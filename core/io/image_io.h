@@ -30,7 +30,10 @@ FloatImage ReadImage(const std::filesystem::path& path);
 
 // Reads a matte as one channel of alpha in [0, 1]:
 //   1 channel (grayscale)      -> that channel;
-//   2 or 4 channels            -> the alpha channel;
+//   2 or 4 channels            -> the alpha channel, unless it is opaque
+//                                 everywhere (a grey silhouette saved with a
+//                                 constant alpha): then the grey values, as
+//                                 for 1 or 3 channels;
 //   3 channels                 -> accepted only if R = G = B (a grayscale
 //                                 image saved as RGB), otherwise InputError.
 FloatImage ReadMatte(const std::filesystem::path& path);

@@ -82,6 +82,16 @@ TEST(ImageIoTest, MatteFromAlphaGrayOrGrayRgb) {
   WriteImage(TestDir() / "gray_rgb.png", gray_rgb);
   EXPECT_NEAR(ReadMatte(TestDir() / "gray_rgb.png").at(3, 1), 0.6f, 0.5f / 255);
 
+  // Grey+alpha with alpha opaque everywhere: the grey values are the matte.
+  FloatImage gray_alpha(4, 2, 2, 1.0f);
+  gray_alpha.at(0, 0, 0) = 0.0f;
+  gray_alpha.at(2, 1, 0) = 0.4f;
+  WriteImage(TestDir() / "gray_alpha.png", gray_alpha);
+  const FloatImage from_gray = ReadMatte(TestDir() / "gray_alpha.png");
+  EXPECT_NEAR(from_gray.at(0, 0), 0.0f, 1e-6);
+  EXPECT_NEAR(from_gray.at(2, 1), 0.4f, 0.5f / 255);
+  EXPECT_NEAR(from_gray.at(3, 1), 1.0f, 1e-6);
+
   FloatImage colour(4, 2, 3, 0.1f);
   colour.at(2, 1, 1) = 0.9f;
   WriteImage(TestDir() / "colour.png", colour);
