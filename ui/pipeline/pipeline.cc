@@ -1,5 +1,6 @@
 #include "ui/pipeline/pipeline.h"
 
+#include <algorithm>
 #include <chrono>
 #include <ctime>
 #include <sstream>
@@ -195,20 +196,41 @@ void Pipeline::WriteRunRecord() const {
 }
 
 RunSummary Pipeline::Run(Stage until, bool force) {
+  std::vector<Stage> to_run;
+  for (const StageInfo& info : kStages) {
+    if (force || !IsUpToDate(info.stage)) to_run.push_back(info.stage);
+    if (info.stage == until) break;
+  }
+  const auto runs = [&](Stage stage) {
+    return std::find(to_run.begin(), to_run.end(), stage) != to_run.end();
+  };
+  // A bad matte must fail the run before any stage writes. Each stage checks
+  // the mattes it reads before writing; only the held-out views' are read by
+  // the report alone, after the density stage has written its grid.
+  if (runs(Stage::kDensity) && runs(Stage::kReport)) CheckHeldOutMattes();
   RunSummary summary;
   for (const StageInfo& info : kStages) {
-    if (!force && IsUpToDate(info.stage)) {
+    if (runs(info.stage)) {
+      summary.stages.push_back(Execute(info.stage));
+    } else {
       StageRun skipped;
       skipped.stage = info.stage;
       skipped.up_to_date = true;
       summary.stages.push_back(skipped);
-    } else {
-      summary.stages.push_back(Execute(info.stage));
     }
     if (info.stage == until) break;
   }
   WriteRunRecord();
   return summary;
+}
+
+void Pipeline::CheckHeldOutMattes() const {
+  const ImageSet image_set = project_.LoadCameras();
+  ProgressTask progress(progress_, "checking held-out mattes");
+  for (int v = 0; v < image_set.NumViews(); ++v) {
+    if (project_.IsHeldOut(image_set.views[v].name)) project_.LoadMatte(image_set, v);
+    progress.Update(static_cast<double>(v + 1) / image_set.NumViews());
+  }
 }
 
 StageRun Pipeline::RunStage(Stage stage) {

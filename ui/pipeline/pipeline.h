@@ -64,6 +64,8 @@ class Pipeline {
   StageRun Execute(Stage stage);
   StageRun RunDensity();
   StageRun RunReport();
+  // Reads the held-out views' mattes (InputError for a bad one).
+  void CheckHeldOutMattes() const;
   void Record(const StageRun& run) const;
   void WriteRunRecord() const;
 

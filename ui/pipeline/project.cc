@@ -28,7 +28,9 @@ ImageSet ReadCameraSource(const std::string& type, const fs::path& path, std::st
   return ReadCameraFile(path, units);
 }
 
-// Checks a view's photo (and matte) exist and match its camera's size.
+// Checks a view's photo (and matte) exist, decode and match its camera's
+// size, and that the matte is not empty. Everything is decoded in full, so a
+// truncated file is refused here rather than after minutes of work.
 void CheckViewFiles(const Project& project, const ImageSet& image_set, int view_idx,
                     bool mattes_from_photos) {
   const View& view = image_set.views[view_idx];
@@ -45,16 +47,10 @@ void CheckViewFiles(const Project& project, const ImageSet& image_set, int view_
   if (mattes_from_photos) {
     SYLVA_CHECK_INPUT(header.alpha_channel >= 0, photo.string())
         << "photo has no alpha channel and no matte folder was given (use --mattes DIR)";
-    return;
+  } else {
+    ReadImage(photo);  // LoadMatte decodes it when the photo is the matte
   }
-  const fs::path matte = project.MattePath(view.name);
-  SYLVA_CHECK_INPUT(!matte.empty(), view.name) << "no matte for this photo in the matte folder";
-  const ImageHeader matte_header = ReadImageHeader(matte);
-  SYLVA_CHECK_INPUT(
-      matte_header.width == camera.width() && matte_header.height == camera.height(),
-      matte.string())
-      << "matte is " << matte_header.width << "x" << matte_header.height << " but the photo is "
-      << camera.width() << "x" << camera.height();
+  project.LoadMatte(image_set, view_idx);
 }
 
 // Copies the files of a COLMAP model (and nothing else from its folder).
@@ -130,7 +126,9 @@ ImageSet Project::LoadCameras() const {
 FloatImage Project::LoadMatte(const ImageSet& image_set, int view_idx) const {
   const View& view = image_set.views.at(view_idx);
   const fs::path path = MattePath(view.name);
-  SYLVA_CHECK_INPUT(!path.empty(), view.name) << "no matte for this photo in the matte folder";
+  SYLVA_CHECK_INPUT(!path.empty(), (Resolve(mattes_) / view.name).string())
+      << "no matte for photo '" << view.name
+      << "' in the matte folder (same relative name, any image extension)";
   FloatImage matte = ReadMatte(path);
   const Camera& camera = image_set.CameraOf(view);
   SYLVA_CHECK_INPUT(matte.width() == camera.width() && matte.height() == camera.height(),
