@@ -1,0 +1,642 @@
+// End-to-end tests of the real `sylva` binary: each test runs it as a child
+// process on a small synthetic dataset (made once by `sylva synth`) and on
+// copies of it damaged by file surgery, and checks the exit code, the one
+// "sylva: error:" line naming the offending file or option, and that a failed
+// command leaves nothing behind: no project folder after a failed `init`, no
+// file created or changed in the project after a failed `run`.
+#include <sys/stat.h>
+
+#include <gtest/gtest.h>
+
+#include <csignal>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "core/io/image_io.h"
+#include "core/io/json_util.h"
+#include "core/types/float_image.h"
+#include "core/util/file_util.h"
+#include "tests/e2e/subprocess.h"
+
+namespace sylva {
+namespace {
+
+namespace fs = std::filesystem;
+
+const char kSylva[] = SYLVA_BINARY_DIR "/bin/sylva";
+const char kRomiBinaryModel[] = SYLVA_SOURCE_DIR "/datasets/romi-colmap/bin";
+// The synthetic dataset: 6 input views and 1 held-out view of 96 x 96 pixels.
+constexpr int kImageSize = 96;
+constexpr int kExitBadInput = 2;
+constexpr int kExitInterrupted = 130;
+
+// What changes when a file is written: size, modification time and, for
+// sylva's atomic writes (temp file + rename), the inode.
+struct FileFacts {
+  bool is_directory = false;
+  uintmax_t size = 0;
+  int64_t mtime_ns = 0;
+  ino_t inode = 0;
+  bool operator==(const FileFacts& o) const {
+    return is_directory == o.is_directory && size == o.size && mtime_ns == o.mtime_ns &&
+           inode == o.inode;
+  }
+  bool operator!=(const FileFacts& o) const { return !(*this == o); }
+};
+
+FileFacts Facts(const fs::path& path) {
+  struct stat info {};
+  if (lstat(path.c_str(), &info) != 0) return {};
+  FileFacts facts;
+  facts.is_directory = S_ISDIR(info.st_mode);
+  facts.size = facts.is_directory ? 0 : static_cast<uintmax_t>(info.st_size);
+  facts.mtime_ns = static_cast<int64_t>(info.st_mtim.tv_sec) * 1000000000 + info.st_mtim.tv_nsec;
+  facts.inode = info.st_ino;
+  return facts;
+}
+
+// Every file and folder under `root` (relative path -> facts); empty if
+// `root` does not exist. Directory mtimes are left out: they only repeat what
+// the entries say.
+using TreeSnapshot = std::map<std::string, FileFacts>;
+
+TreeSnapshot Snapshot(const fs::path& root) {
+  TreeSnapshot snapshot;
+  std::error_code ec;
+  if (!fs::exists(root, ec)) return snapshot;
+  for (const auto& entry : fs::recursive_directory_iterator(root)) {
+    FileFacts facts = Facts(entry.path());
+    if (facts.is_directory) facts.mtime_ns = 0;
+    snapshot[fs::relative(entry.path(), root).string()] = facts;
+  }
+  return snapshot;
+}
+
+// The entries that differ between two snapshots, for failure messages.
+std::string SnapshotDiff(const TreeSnapshot& before, const TreeSnapshot& after) {
+  std::ostringstream diff;
+  for (const auto& [name, facts] : before) {
+    const auto it = after.find(name);
+    if (it == after.end()) {
+      diff << "  removed: " << name << "\n";
+    } else if (it->second != facts) {
+      diff << "  changed: " << name << " (size " << facts.size << " -> " << it->second.size
+           << ")\n";
+    }
+  }
+  for (const auto& [name, facts] : after) {
+    if (before.count(name) == 0) diff << "  created: " << name << "\n";
+  }
+  return diff.str();
+}
+
+// Names of sylva's atomic-write temp files (".NAME.tmp-PID-N.EXT") under root.
+std::vector<std::string> TempFilesUnder(const fs::path& root) {
+  std::vector<std::string> temps;
+  for (const auto& [name, facts] : Snapshot(root)) {
+    const std::string file = fs::path(name).filename().string();
+    if (file.rfind('.', 0) == 0 && file.find(".tmp-") != std::string::npos) temps.push_back(name);
+  }
+  return temps;
+}
+
+std::vector<std::string> Lines(const std::string& text) {
+  std::vector<std::string> lines;
+  std::istringstream stream(text);
+  for (std::string line; std::getline(stream, line);) lines.push_back(line);
+  return lines;
+}
+
+bool Contains(const std::string& text, const std::string& part) {
+  return text.find(part) != std::string::npos;
+}
+
+// The command failed cleanly with `exit_code`: no signal, and stderr holds
+// exactly one "sylva: error:" line, which contains every string of `names`.
+::testing::AssertionResult FailedNaming(const SubprocessResult& result, int exit_code,
+                                        const std::vector<std::string>& names) {
+  if (result.timed_out || result.term_signal != 0 || result.exit_code != exit_code) {
+    return ::testing::AssertionFailure()
+           << "expected exit code " << exit_code << ", got " << result.Describe();
+  }
+  std::vector<std::string> error_lines;
+  for (const std::string& line : Lines(result.err)) {
+    if (Contains(line, "sylva: error:")) error_lines.push_back(line);
+  }
+  if (error_lines.size() != 1) {
+    return ::testing::AssertionFailure() << "expected one 'sylva: error:' line, got "
+                                         << error_lines.size() << ": " << result.Describe();
+  }
+  for (const std::string& name : names) {
+    if (!Contains(error_lines[0], name)) {
+      return ::testing::AssertionFailure()
+             << "the error line does not name '" << name << "': " << error_lines[0];
+    }
+  }
+  return ::testing::AssertionSuccess();
+}
+
+::testing::AssertionResult Succeeded(const SubprocessResult& result) {
+  if (!result.timed_out && result.term_signal == 0 && result.exit_code == 0) {
+    return ::testing::AssertionSuccess();
+  }
+  return ::testing::AssertionFailure() << "expected success, got " << result.Describe();
+}
+
+void WriteFile(const fs::path& path, const std::string& contents) {
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  out << contents;
+  ASSERT_TRUE(out.good()) << path;
+}
+
+// Keeps the first `fraction` of a file's bytes (a half-written download).
+void Truncate(const fs::path& path, double fraction) {
+  const auto size = fs::file_size(path);
+  fs::resize_file(path, static_cast<uintmax_t>(static_cast<double>(size) * fraction));
+}
+
+// Replaces one whitespace-separated field of line `line_number` (1-based).
+void ReplaceField(const fs::path& path, int line_number, int field, const std::string& value) {
+  std::vector<std::string> lines = Lines(ReadFileToString(path));
+  ASSERT_LE(line_number, static_cast<int>(lines.size())) << path;
+  std::istringstream stream(lines[line_number - 1]);
+  std::vector<std::string> fields;
+  for (std::string f; stream >> f;) fields.push_back(f);
+  ASSERT_LT(field, static_cast<int>(fields.size())) << path << ":" << line_number;
+  fields[field] = value;
+  std::string joined;
+  for (const std::string& f : fields) joined += (joined.empty() ? "" : " ") + f;
+  lines[line_number - 1] = joined;
+  std::string text;
+  for (const std::string& line : lines) text += line + "\n";
+  WriteFile(path, text);
+}
+
+// A real PNG written through sylva's own image I/O.
+void WritePng(const fs::path& path, int width, int height, float value) {
+  WriteImage(path, FloatImage(width, height, 1, value));
+}
+
+class CliTest : public ::testing::Test {
+ protected:
+  // One synthetic dataset and one project made from it (with --copy, so that
+  // copies of the folder are independent projects) that has been run once.
+  static void SetUpTestSuite() {
+    std::string templ = (fs::temp_directory_path() / "sylva_cli_e2e_XXXXXX").string();
+    if (mkdtemp(templ.data()) == nullptr) {
+      setup_error_ = "cannot create a temporary folder from " + templ;
+      return;
+    }
+    root_ = new fs::path(fs::canonical(templ));
+    const fs::path dataset = *root_ / "dataset";
+    const SubprocessResult synth =
+        RunSubprocess({kSylva, "synth", dataset.string(), "--size", std::to_string(kImageSize),
+                       "--samples", "2", "--views", "6", "--held-out", "1"});
+    if (!Succeeded(synth)) {
+      setup_error_ = "sylva synth failed: " + synth.Describe();
+      return;
+    }
+    const SubprocessResult init =
+        RunSubprocess(InitArgs(dataset, *root_ / "base_project", {"--copy"}));
+    const SubprocessResult run = RunSubprocess({kSylva, "run", (*root_ / "base_project").string()});
+    if (!Succeeded(init) || !Succeeded(run)) {
+      setup_error_ = "init + run of the base project failed: " + init.Describe() + run.Describe();
+    }
+  }
+
+  static void TearDownTestSuite() {
+    if (root_ == nullptr) return;
+    if (std::getenv("SYLVA_E2E_KEEP") == nullptr) {
+      std::error_code ec;
+      fs::remove_all(*root_, ec);
+    }
+    delete root_;
+    root_ = nullptr;
+  }
+
+  void SetUp() override {
+    ASSERT_TRUE(setup_error_.empty()) << setup_error_;
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    work_ = *root_ / info->name();
+    fs::create_directories(work_);
+  }
+
+  // `sylva init PROJECT` with the given dataset's photos, mattes, camera file
+  // and held-out list.
+  static std::vector<std::string> InitArgs(const fs::path& dataset, const fs::path& project,
+                                           const std::vector<std::string>& extra = {}) {
+    std::vector<std::string> args = {kSylva,
+                                     "init",
+                                     project.string(),
+                                     "--photos",
+                                     (dataset / "photos").string(),
+                                     "--mattes",
+                                     (dataset / "mattes").string(),
+                                     "--cameras",
+                                     (dataset / "cameras.json").string(),
+                                     "--held-out",
+                                     "@" + (dataset / "held_out.txt").string()};
+    args.insert(args.end(), extra.begin(), extra.end());
+    return args;
+  }
+
+  static SubprocessResult Sylva(const std::vector<std::string>& args) {
+    std::vector<std::string> argv = {kSylva};
+    argv.insert(argv.end(), args.begin(), args.end());
+    return RunSubprocess(argv);
+  }
+
+  // A private copy of the synthetic dataset (without the ground truth).
+  fs::path CopyDataset() {
+    const fs::path from = *root_ / "dataset";
+    const fs::path to = work_ / "dataset";
+    fs::create_directories(to);
+    for (const char* name : {"photos", "mattes", "colmap", "cameras.json", "held_out.txt"}) {
+      fs::copy(from / name, to / name, fs::copy_options::recursive);
+    }
+    return to;
+  }
+
+  // A private copy of the base project, outputs included.
+  fs::path CopyBaseProject() {
+    const fs::path to = work_ / "project";
+    fs::copy(*root_ / "base_project", to, fs::copy_options::recursive);
+    return to;
+  }
+
+  // Runs `init` and expects it to fail naming `names` without leaving
+  // anything behind: no project folder, no staging folder, inputs untouched.
+  void ExpectInitFails(const std::vector<std::string>& args, const fs::path& project,
+                       const std::vector<std::string>& names) {
+    const TreeSnapshot before = Snapshot(work_);
+    const SubprocessResult result = RunSubprocess(args);
+    EXPECT_TRUE(FailedNaming(result, kExitBadInput, names));
+    EXPECT_FALSE(fs::exists(project)) << project;
+    const TreeSnapshot after = Snapshot(work_);
+    EXPECT_TRUE(before == after) << "init left changes behind:\n" << SnapshotDiff(before, after);
+  }
+
+  // Runs `sylva ARGS` on `project` and expects it to fail naming `names`
+  // without creating or changing any file of the project.
+  void ExpectRunFails(const fs::path& project, const std::vector<std::string>& args,
+                      const std::vector<std::string>& names) {
+    const TreeSnapshot before = Snapshot(project);
+    const SubprocessResult result = Sylva(args);
+    EXPECT_TRUE(FailedNaming(result, kExitBadInput, names));
+    const TreeSnapshot after = Snapshot(project);
+    EXPECT_TRUE(before == after) << "a failed '" << args[0] << "' changed the project:\n"
+                                 << SnapshotDiff(before, after);
+  }
+
+  void ExpectRunFails(const fs::path& project, const std::vector<std::string>& names) {
+    ExpectRunFails(project, {"run", project.string()}, names);
+  }
+
+  static fs::path* root_;
+  static std::string setup_error_;
+  fs::path work_;  // this test's own folder
+};
+
+fs::path* CliTest::root_ = nullptr;
+std::string CliTest::setup_error_;
+
+// 1. The real flow, then the stage cache: unchanged inputs skip, --force and a
+//    changed option re-run.
+TEST_F(CliTest, InitRunAndCachedReruns) {
+  const fs::path dataset = CopyDataset();
+  const fs::path project = work_ / "tree";
+  const SubprocessResult init = RunSubprocess(InitArgs(dataset, project));
+  ASSERT_TRUE(Succeeded(init));
+  EXPECT_TRUE(Contains(init.out, "sylva run " + project.string())) << init.out;
+
+  const SubprocessResult run = Sylva({"run", project.string()});
+  ASSERT_TRUE(Succeeded(run));
+  const fs::path out = project / "out";
+  for (const char* name : {"density.vdb", "report.json", "report.html", "run.json"}) {
+    EXPECT_TRUE(fs::is_regular_file(out / name)) << name;
+  }
+  EXPECT_TRUE(Contains(run.out, out.string())) << run.out;
+  const Json report = ReadJsonFile(out / "report.json");
+  EXPECT_GT(report.at("input_views").at("mean_iou").get<double>(), 0.5) << report.dump(2);
+  EXPECT_EQ(report.at("input_views").at("num_views").get<int>(), 6);
+  EXPECT_EQ(report.at("held_out_views").at("num_views").get<int>(), 1);
+  EXPECT_TRUE(TempFilesUnder(project).empty());
+  const FileFacts first = Facts(out / "density.vdb");
+
+  const SubprocessResult again = Sylva({"run", project.string()});
+  ASSERT_TRUE(Succeeded(again));
+  EXPECT_TRUE(Contains(again.out, "density: up to date")) << again.out;
+  EXPECT_TRUE(Contains(again.out, "report: up to date")) << again.out;
+  EXPECT_TRUE(Facts(out / "density.vdb") == first)
+      << "an up-to-date density stage rewrote its grid";
+
+  const SubprocessResult forced = Sylva({"run", project.string(), "--force"});
+  ASSERT_TRUE(Succeeded(forced));
+  EXPECT_FALSE(Contains(forced.out, "up to date")) << forced.out;
+  const FileFacts second = Facts(out / "density.vdb");
+  EXPECT_NE(second.inode, first.inode) << "--force did not rewrite density.vdb";
+  EXPECT_NE(second.mtime_ns, first.mtime_ns) << "--force did not rewrite density.vdb";
+
+  const SubprocessResult changed = Sylva({"run", project.string(), "--Density.resolution=32"});
+  ASSERT_TRUE(Succeeded(changed));
+  EXPECT_FALSE(Contains(changed.out, "density: up to date")) << changed.out;
+  EXPECT_FALSE(Contains(changed.out, "report: up to date")) << changed.out;
+  EXPECT_NE(Facts(out / "density.vdb").inode, second.inode)
+      << "a new option did not re-run density";
+  const Json run_record = ReadJsonFile(out / "run.json");
+  EXPECT_EQ(run_record.at("options").at("Density").at("resolution").get<int>(), 32);
+  EXPECT_TRUE(TempFilesUnder(project).empty());
+}
+
+// 2. A photo named by the camera model is missing.
+TEST_F(CliTest, InitFailsOnMissingPhoto) {
+  const fs::path dataset = CopyDataset();
+  const fs::path photo = dataset / "photos" / "view_02.png";
+  fs::remove(photo);
+  const fs::path project = work_ / "tree";
+  ExpectInitFails(InitArgs(dataset, project), project, {photo.string(), "missing"});
+}
+
+// 2b. A photo without a matte in the matte folder.
+TEST_F(CliTest, InitFailsOnMissingMatte) {
+  const fs::path dataset = CopyDataset();
+  fs::remove(dataset / "mattes" / "view_02.png");
+  const fs::path project = work_ / "tree";
+  ExpectInitFails(InitArgs(dataset, project), project,
+                  {(dataset / "mattes").string(), "view_02.png"});
+}
+
+// 3. Photos that are not images, or only part of one.
+TEST_F(CliTest, InitFailsOnCorruptPhoto) {
+  const fs::path dataset = CopyDataset();
+  const fs::path project = work_ / "tree";
+  const fs::path photo = dataset / "photos" / "view_01.png";
+  const std::string original = ReadFileToString(photo);
+  WriteFile(photo, std::string(4096, 'x'));
+  ExpectInitFails(InitArgs(dataset, project), project, {photo.string()});
+
+  WriteFile(photo, original);
+  Truncate(photo, 0.5);
+  ExpectInitFails(InitArgs(dataset, project), project, {photo.string()});
+}
+
+// 3b. A truncated matte is refused at init as well.
+TEST_F(CliTest, InitFailsOnTruncatedMatte) {
+  const fs::path dataset = CopyDataset();
+  const fs::path matte = dataset / "mattes" / "view_04.png";
+  Truncate(matte, 0.5);
+  const fs::path project = work_ / "tree";
+  ExpectInitFails(InitArgs(dataset, project), project, {matte.string()});
+}
+
+// 3c. A matte damaged after init: `run` refuses it and changes nothing.
+TEST_F(CliTest, RunFailsOnCorruptMatte) {
+  const fs::path project = CopyBaseProject();
+  const fs::path matte = project / "mattes" / "view_01.png";
+  const std::string original = ReadFileToString(matte);
+  WriteFile(matte, "garbage, not a PNG\n");
+  ExpectRunFails(project, {matte.string()});
+
+  WriteFile(matte, original);
+  Truncate(matte, 0.5);
+  ExpectRunFails(project, {matte.string()});
+}
+
+// 4. A matte of another size than its photo.
+TEST_F(CliTest, MatteOfWrongSizeIsRefused) {
+  const fs::path dataset = CopyDataset();
+  const fs::path matte = dataset / "mattes" / "view_03.png";
+  WritePng(matte, 64, 64, 1.0f);
+  const fs::path project = work_ / "tree";
+  ExpectInitFails(InitArgs(dataset, project), project, {matte.string(), "64x64"});
+
+  const fs::path base = CopyBaseProject();
+  const fs::path project_matte = base / "mattes" / "view_03.png";
+  WritePng(project_matte, 64, 64, 1.0f);
+  ExpectRunFails(base, {project_matte.string(), "64x64"});
+}
+
+// 5. An empty matte (no foreground) of the right size.
+TEST_F(CliTest, EmptyMatteIsRefused) {
+  const fs::path project = CopyBaseProject();
+  const fs::path matte = project / "mattes" / "view_04.png";
+  WritePng(matte, kImageSize, kImageSize, 0.0f);
+  ExpectRunFails(project, {matte.string(), "empty"});
+
+  // At init, and for a held-out view (which only the report stage reads)
+  // of a project whose density stage has not run yet.
+  const fs::path dataset = CopyDataset();
+  const fs::path held_out_matte = dataset / "mattes" / "heldout_00.png";
+  const std::string original = ReadFileToString(held_out_matte);
+  WritePng(held_out_matte, kImageSize, kImageSize, 0.0f);
+  const fs::path refused = work_ / "refused";
+  ExpectInitFails(InitArgs(dataset, refused), refused, {held_out_matte.string(), "empty"});
+  WriteFile(held_out_matte, original);
+  const fs::path fresh = work_ / "fresh";
+  ASSERT_TRUE(Succeeded(RunSubprocess(InitArgs(dataset, fresh))));
+  WritePng(held_out_matte, kImageSize, kImageSize, 0.0f);
+  ExpectRunFails(fresh, {held_out_matte.string(), "empty"});
+  EXPECT_FALSE(fs::exists(fresh / "out"));
+}
+
+// 6. A damaged project file.
+TEST_F(CliTest, RunFailsOnBadProjectFile) {
+  const fs::path project = CopyBaseProject();
+  const fs::path settings = project / "sylva.json";
+  const std::string original = ReadFileToString(settings);
+  Truncate(settings, 0.5);
+  ExpectRunFails(project, {settings.string(), "invalid JSON"});
+
+  Json json = ParseJson(original, settings.string());
+  json["held_out"] = 3;
+  WriteFile(settings, json.dump(2));
+  ExpectRunFails(project, {settings.string(), "/held_out"});
+
+  json = ParseJson(original, settings.string());
+  json["options"] = {{"Density", {{"resolution", "many"}}}};
+  WriteFile(settings, json.dump(2));
+  ExpectRunFails(project, {settings.string(), "Density.resolution"});
+
+  json = ParseJson(original, settings.string());
+  json["cameras"]["type"] = "bundler";
+  WriteFile(settings, json.dump(2));
+  ExpectRunFails(project, {settings.string(), "/cameras/type"});
+
+  fs::remove(settings);
+  ExpectRunFails(project, {settings.string()});
+}
+
+// 7. COLMAP models that cannot be read. The model is read before any photo
+//    is looked at, so photos that do not match the model are fine here.
+TEST_F(CliTest, InitFailsOnBadColmapModel) {
+  const fs::path dataset = CopyDataset();
+  const fs::path model = dataset / "colmap";
+  const fs::path project = work_ / "tree";
+  auto colmap_init = [&](const fs::path& model_dir) {
+    return std::vector<std::string>{kSylva,
+                                    "init",
+                                    project.string(),
+                                    "--photos",
+                                    (dataset / "photos").string(),
+                                    "--mattes",
+                                    (dataset / "mattes").string(),
+                                    "--colmap",
+                                    model_dir.string()};
+  };
+  // The unmodified text model works (so the failures below are the edits').
+  const fs::path good = work_ / "good";
+  ASSERT_TRUE(Succeeded(RunSubprocess(colmap_init(model))));
+  fs::rename(project, good);
+
+  const std::string cameras = ReadFileToString(model / "cameras.txt");
+  ReplaceField(model / "cameras.txt", 4, 3, "abc");  // HEIGHT of camera 1
+  ExpectInitFails(colmap_init(model), project,
+                  {(model / "cameras.txt").string() + ":4", "HEIGHT", "abc"});
+  WriteFile(model / "cameras.txt", cameras);
+
+  ReplaceField(model / "images.txt", 5, 8, "9");  // CAMERA_ID of image 1
+  ExpectInitFails(colmap_init(model), project,
+                  {(model / "images.txt").string() + ":5", "CAMERA_ID 9"});
+
+  // A binary model (the ROMI scan): intact, the error is the first photo;
+  // with cameras.bin cut short, the error is cameras.bin.
+  const fs::path binary = work_ / "romi_bin";
+  fs::copy(kRomiBinaryModel, binary, fs::copy_options::recursive);
+  const SubprocessResult photos_missing = RunSubprocess(colmap_init(binary));
+  EXPECT_TRUE(FailedNaming(photos_missing, kExitBadInput, {(dataset / "photos").string()}));
+  EXPECT_FALSE(Contains(photos_missing.err, "cameras.bin")) << photos_missing.err;
+  Truncate(binary / "cameras.bin", 0.5);
+  ExpectInitFails(colmap_init(binary), project, {(binary / "cameras.bin").string(), "truncated"});
+}
+
+// 8. Option values that cannot be used: nothing runs, nothing changes.
+TEST_F(CliTest, BadOptionsAreRefused) {
+  const fs::path project = CopyBaseProject();
+  const std::string p = project.string();
+  ExpectRunFails(project, {"run", p, "--Density.resolution=abc"}, {"--Density.resolution", "abc"});
+  ExpectRunFails(project, {"run", p, "--Density.resolution=1"}, {"Density.resolution"});
+  ExpectRunFails(project, {"run", p, "--Density.tolerance=-1"}, {"Density.tolerance"});
+  ExpectRunFails(project, {"run", p, "--Density.nosuch=1"}, {"Density.nosuch"});
+  ExpectRunFails(project, {"run", p, "--until", "nosuchstage"}, {"--until", "nosuchstage"});
+  ExpectRunFails(project, {"run", p, "--frobnicate"}, {"--frobnicate"});
+  ExpectRunFails(project, {"run", p, "--save", "--Density.resolution=1"}, {"Density.resolution"});
+  ExpectRunFails(project, {"density", p, "--Density.resolution=abc"}, {"--Density.resolution"});
+  ExpectRunFails(project, {"run", p, "--force", "--Report.opacity_threshold=2"},
+                 {"Report.opacity_threshold"});
+
+  const fs::path dataset = CopyDataset();
+  const fs::path fresh = work_ / "fresh";
+  std::vector<std::string> args = InitArgs(dataset, fresh, {"--frobnicate"});
+  ExpectInitFails(args, fresh, {"--frobnicate"});
+  ExpectInitFails({kSylva, "init", fresh.string(), "--photos", (work_ / "nowhere").string(),
+                   "--cameras", (dataset / "cameras.json").string()},
+                  fresh, {(work_ / "nowhere").string()});
+  ExpectInitFails(InitArgs(dataset, fresh, {"--held-out", "nosuchview.png"}), fresh,
+                  {"--held-out", "nosuchview.png"});
+}
+
+// 9. Help: every option with its default; usage errors exit 2.
+TEST_F(CliTest, HelpListsEveryOption) {
+  // Every option, as the base project's run recorded them.
+  const Json options = ReadJsonFile(*root_ / "base_project" / "out" / "run.json").at("options");
+  std::vector<std::string> keys;
+  for (const auto& [section, fields] : options.items()) {
+    for (const auto& [field, value] : fields.items()) keys.push_back(section + "." + field);
+  }
+  ASSERT_GE(keys.size(), 10u);
+  for (const std::vector<std::string>& args : std::vector<std::vector<std::string>>{
+           {"help", "options"}, {"run", "-h"}, {"help", "run"}, {"density", "--help"}}) {
+    const SubprocessResult help = Sylva(args);
+    ASSERT_TRUE(Succeeded(help)) << args[0] << " " << args[1];
+    for (const std::string& key : keys) {
+      bool listed = false;
+      for (const std::string& line : Lines(help.out)) {
+        listed = listed || (Contains(line, "--" + key + "=") && Contains(line, "(default"));
+      }
+      EXPECT_TRUE(listed) << "'sylva " << args[0] << " " << args[1] << "' does not list --" << key
+                          << " with its default:\n"
+                          << help.out;
+    }
+  }
+  const SubprocessResult general = Sylva({"help"});
+  ASSERT_TRUE(Succeeded(general));
+  for (const char* command : {"init", "run", "density", "report", "synth", "help options"}) {
+    EXPECT_TRUE(Contains(general.out, std::string("sylva ") + command)) << command;
+  }
+  EXPECT_TRUE(Succeeded(Sylva({"init", "-h"})));
+
+  const SubprocessResult bare = RunSubprocess({kSylva});
+  EXPECT_EQ(bare.exit_code, kExitBadInput) << bare.Describe();
+  EXPECT_TRUE(Contains(bare.err, "sylva help")) << bare.Describe();
+  EXPECT_TRUE(bare.out.empty()) << bare.Describe();
+  EXPECT_TRUE(FailedNaming(Sylva({"nosuchcommand"}), kExitBadInput, {"nosuchcommand"}));
+  EXPECT_TRUE(FailedNaming(Sylva({"help", "nosuchtopic"}), kExitBadInput, {"nosuchtopic"}));
+  EXPECT_TRUE(FailedNaming(Sylva({"run"}), kExitBadInput, {}));
+}
+
+// 10. Ctrl-C during the density stage: exit 130, outputs as before, no temp
+//     files. The resolution makes the stage take seconds (about 2 s here),
+//     and the signal is sent 0.3 s after its progress starts.
+SubprocessResult InterruptDensity(const fs::path& project) {
+  Subprocess process({kSylva, "run", project.string(), "--force", "--Density.resolution=200"});
+  const bool started = process.WaitForStderr("[density", 60.0);
+  EXPECT_TRUE(started) << "no density progress line";
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  process.Signal(SIGINT);
+  return process.Wait(60.0);
+}
+
+TEST_F(CliTest, InterruptedRunChangesNothing) {
+  const fs::path project = CopyBaseProject();
+  const fs::path grid = project / "out" / "density.vdb";
+  const std::string grid_before = ReadFileToString(grid);
+  const TreeSnapshot before = Snapshot(project);
+  const SubprocessResult result = InterruptDensity(project);
+  EXPECT_EQ(result.exit_code, kExitInterrupted) << result.Describe();
+  EXPECT_EQ(result.term_signal, 0) << result.Describe();
+  EXPECT_TRUE(Contains(result.err, "interrupted")) << result.Describe();
+  EXPECT_TRUE(ReadFileToString(grid) == grid_before) << "density.vdb changed";
+  const TreeSnapshot after = Snapshot(project);
+  EXPECT_TRUE(before == after) << SnapshotDiff(before, after);
+  EXPECT_TRUE(TempFilesUnder(project).empty());
+
+  // A first run interrupted leaves no out/ at all.
+  const fs::path dataset = CopyDataset();
+  const fs::path fresh = work_ / "fresh";
+  ASSERT_TRUE(Succeeded(RunSubprocess(InitArgs(dataset, fresh))));
+  const TreeSnapshot fresh_before = Snapshot(fresh);
+  const SubprocessResult first = InterruptDensity(fresh);
+  EXPECT_EQ(first.exit_code, kExitInterrupted) << first.Describe();
+  EXPECT_TRUE(Contains(first.err, "interrupted")) << first.Describe();
+  EXPECT_FALSE(fs::exists(fresh / "out" / "density.vdb"));
+  const TreeSnapshot fresh_after = Snapshot(fresh);
+  EXPECT_TRUE(fresh_before == fresh_after) << SnapshotDiff(fresh_before, fresh_after);
+  EXPECT_TRUE(TempFilesUnder(fresh).empty());
+}
+
+// 11. `init` never writes into an existing folder.
+TEST_F(CliTest, InitRefusesExistingFolder) {
+  const fs::path dataset = CopyDataset();
+  const fs::path empty = work_ / "empty";
+  fs::create_directories(empty);
+  const TreeSnapshot before = Snapshot(work_);
+  EXPECT_TRUE(FailedNaming(RunSubprocess(InitArgs(dataset, empty)), kExitBadInput,
+                           {empty.string(), "already exists"}));
+  EXPECT_TRUE(before == Snapshot(work_)) << SnapshotDiff(before, Snapshot(work_));
+  EXPECT_TRUE(fs::is_empty(empty));
+
+  const fs::path project = CopyBaseProject();
+  const TreeSnapshot project_before = Snapshot(work_);
+  EXPECT_TRUE(FailedNaming(RunSubprocess(InitArgs(dataset, project, {"--copy"})), kExitBadInput,
+                           {project.string(), "already exists"}));
+  EXPECT_TRUE(project_before == Snapshot(work_)) << SnapshotDiff(project_before, Snapshot(work_));
+}
+
+}  // namespace
+}  // namespace sylva
