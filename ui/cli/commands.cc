@@ -241,6 +241,12 @@ int CmdSynth(const ParsedArguments& args) {
   return kExitOk;
 }
 
+int PrintCommandHelp(const CommandSpec& spec) {
+  std::cout << CommandHelp(spec);
+  if (spec.takes_pipeline_options) std::cout << "\n" << OptionsHelp();
+  return kExitOk;
+}
+
 int CmdHelp(int argc, const char* const* argv) {
   if (argc < 3) {
     std::cout << GeneralHelp();
@@ -252,10 +258,7 @@ int CmdHelp(int argc, const char* const* argv) {
     return kExitOk;
   }
   for (const CommandSpec& spec : AllSpecs()) {
-    if (spec.name != topic) continue;
-    std::cout << CommandHelp(spec);
-    if (spec.takes_pipeline_options) std::cout << "\n" << OptionsHelp();
-    return kExitOk;
+    if (spec.name == topic) return PrintCommandHelp(spec);
   }
   SYLVA_INPUT_ERROR(topic) << "no such command or help topic (see 'sylva help')";
   return kExitBadInput;
@@ -275,11 +278,7 @@ int Dispatch(int argc, const char* const* argv) {
   for (const CommandSpec& spec : AllSpecs()) {
     if (spec.name != command) continue;
     const ParsedArguments args = ParseArguments(spec, argc, argv, 2);
-    if (args.help) {
-      std::cout << CommandHelp(spec);
-      if (spec.takes_pipeline_options) std::cout << "\n" << OptionsHelp();
-      return kExitOk;
-    }
+    if (args.help) return PrintCommandHelp(spec);
     ApplyLogLevel(args);
     if (command == "init") return CmdInit(args);
     if (command == "run") return RunPipeline(args, nullptr);
