@@ -10,6 +10,7 @@
 #include "core/util/check.h"
 #include "core/util/file_util.h"
 #include "core/util/logging.h"
+#include "core/util/threading.h"
 #include "reconstruct/density/density_reconstruction.h"
 #include "ui/pipeline/report.h"
 
@@ -70,10 +71,12 @@ Json LoadStageRecords(const fs::path& path) {
 std::vector<FloatImage> LoadMattes(const Project& project, const ImageSet& image_set,
                                    ProgressTask* progress) {
   std::vector<FloatImage> mattes(image_set.NumViews());
-  for (int v = 0; v < image_set.NumViews(); ++v) {
+  progress->Update(0.0);
+  ParallelForFirstError(image_set.NumViews(), [&](int v) {
+    progress->CheckCancelled();
     mattes[v] = project.LoadMatte(image_set, v);
-    progress->Update(static_cast<double>(v + 1) / image_set.NumViews());
-  }
+  });
+  progress->Update(1.0);
   return mattes;
 }
 

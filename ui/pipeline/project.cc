@@ -10,6 +10,7 @@
 #include "core/io/json_util.h"
 #include "core/util/check.h"
 #include "core/util/file_util.h"
+#include "core/util/threading.h"
 
 namespace sylva {
 namespace {
@@ -221,9 +222,11 @@ Project Project::Create(const ProjectSetup& setup) {
                                           : (file_units.empty() ? "arbitrary" : file_units);
     project.photos_ = AbsoluteString(setup.photos_dir);
     project.mattes_ = setup.mattes_dir.empty() ? "" : AbsoluteString(setup.mattes_dir);
-    for (int v = 0; v < image_set.NumViews(); ++v) {
+    // Every photo and matte is decoded (a truncated file is caught now, not
+    // half-way through a run); in parallel, with the first view's error shown.
+    ParallelForFirstError(image_set.NumViews(), [&](int v) {
       CheckViewFiles(project, image_set, v, setup.mattes_dir.empty());
-    }
+    });
     for (const std::string& name : setup.held_out) {
       SYLVA_CHECK_INPUT(image_set.FindView(name) >= 0, "--held-out")
           << "view '" << name << "' is not in the camera model";
