@@ -20,6 +20,7 @@
 
 #include "core/io/image_io.h"
 #include "core/io/json_util.h"
+#include "core/io/vdb_io.h"
 #include "core/types/float_image.h"
 #include "core/util/file_util.h"
 #include "tests/e2e/subprocess.h"
@@ -636,6 +637,35 @@ TEST_F(CliTest, InitRefusesExistingFolder) {
   EXPECT_TRUE(FailedNaming(RunSubprocess(InitArgs(dataset, project, {"--copy"})), kExitBadInput,
                            {project.string(), "already exists"}));
   EXPECT_TRUE(project_before == Snapshot(work_)) << SnapshotDiff(project_before, Snapshot(work_));
+}
+
+// The bundled demo, initialised the way scripts/demo.sh does it (COLMAP model,
+// separate mattes, held-out list), reconstructed with the default options.
+TEST_F(CliTest, BundledDemoMeetsItsFidelityTargets) {
+  const fs::path demo = fs::path(SYLVA_SOURCE_DIR) / "datasets" / "demo";
+  const fs::path project = work_ / "demo-project";
+  ASSERT_TRUE(Succeeded(Sylva({"init", project.string(), "--photos", (demo / "photos").string(),
+                               "--mattes", (demo / "mattes").string(), "--colmap",
+                               (demo / "colmap").string(), "--held-out",
+                               "@" + (demo / "held_out.txt").string(), "--units", "m"})));
+  const SubprocessResult run = Sylva({"run", project.string()});
+  ASSERT_TRUE(Succeeded(run));
+  EXPECT_TRUE(Contains(run.out, "held-out views (2)")) << run.out;
+  const Json report = ReadJsonFile(project / "out" / "report.json");
+  EXPECT_EQ(report.at("units").get<std::string>(), "m");
+  EXPECT_EQ(report.at("input_views").at("num_views").get<int>(), 8);
+  EXPECT_EQ(report.at("held_out_views").at("num_views").get<int>(), 2);
+  for (const Json& view : report.at("views")) {
+    const double iou = view.at("iou").get<double>();
+    EXPECT_GE(iou, view.at("held_out").get<bool>() ? 0.75 : 0.9) << view.dump();
+  }
+  const DensityGrid grid = ReadDensityGrid(project / "out" / "density.vdb");
+  EXPECT_GT(grid.NumActiveVoxels(), 10000);
+  EXPECT_EQ(grid.GetMetadata("units"), "m");
+  // The tree (about 6.4 m tall, base at the origin) lies inside the grid's bounds.
+  const Box3d bounds = grid.ActiveWorldBounds();
+  EXPECT_LT(bounds.min().z(), 0.5);
+  EXPECT_GT(bounds.max().z(), 5.5);
 }
 
 }  // namespace
