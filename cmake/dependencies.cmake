@@ -1,5 +1,6 @@
 # Every outside package sylva uses is found here, and only here. All come from
-# Debian 12 packages (scripts/setup.sh installs them); nothing is downloaded.
+# Debian 12 packages (scripts/debian-packages.txt, installed by the README's
+# commands through scripts/common.sh); nothing is downloaded at configure time.
 
 # TBB must come first: OpenVDB's bundled FindTBB would otherwise define a
 # partial TBB::tbb target that breaks the packages found after it.
