@@ -20,6 +20,10 @@ SkeletonNode ParseNode(const JsonCursor& json, int num_nodes) {
   }
   node.order = json["order"].AsInt();
   if (node.order < 0) json["order"].Fail("order must be >= 0");
+  if (json.Has("strands")) {
+    node.strands = json["strands"].AsInt();
+    if (node.strands < 0) json["strands"].Fail("strands must be >= 0");
+  }
   return node;
 }
 
@@ -39,7 +43,8 @@ void WriteSkeletonJson(const std::filesystem::path& path, const SkeletonGraph& s
         {{"position", {node.position.x(), node.position.y(), node.position.z()}},
          {"radius", node.radius},
          {"parent", node.parent_idx},
-         {"order", node.order}});
+         {"order", node.order},
+         {"strands", node.strands}});
   }
   WriteJsonFile(path, json);
 }

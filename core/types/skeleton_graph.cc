@@ -28,6 +28,73 @@ std::vector<std::vector<int>> SkeletonGraph::Children() const {
   return children;
 }
 
+std::vector<int> SkeletonGraph::Tips() const {
+  std::vector<int> tips;
+  const std::vector<std::vector<int>> children = Children();
+  for (int i = 0; i < NumNodes(); ++i) {
+    if (children[i].empty()) tips.push_back(i);
+  }
+  return tips;
+}
+
+namespace {
+
+// The child an axis continues into: most strands, then thickest, then lowest index.
+int ContinuationChild(const SkeletonGraph& graph, const std::vector<int>& children) {
+  int best = -1;
+  for (int child : children) {
+    if (best < 0) {
+      best = child;
+      continue;
+    }
+    const SkeletonNode& c = graph.nodes[child];
+    const SkeletonNode& b = graph.nodes[best];
+    if (c.strands > b.strands || (c.strands == b.strands && c.radius > b.radius)) best = child;
+  }
+  return best;
+}
+
+}  // namespace
+
+std::vector<BranchAxis> SkeletonGraph::BranchAxes(std::vector<int>* orders) const {
+  std::vector<BranchAxis> axes;
+  std::vector<int> axis_orders;
+  const int root = RootIdx();
+  if (root < 0) return axes;
+  const std::vector<std::vector<int>> children = Children();
+  // Breadth-first over axes: (junction node, first node of the axis, order).
+  struct Start {
+    int junction, first, order;
+  };
+  std::vector<Start> queue = {{-1, root, 0}};
+  for (size_t q = 0; q < queue.size(); ++q) {
+    const Start start = queue[q];
+    BranchAxis axis;
+    if (start.junction >= 0) axis.push_back(start.junction);
+    for (int node = start.first; node >= 0;) {
+      axis.push_back(node);
+      const int next = ContinuationChild(*this, children[node]);
+      for (int child : children[node]) {
+        if (child != next) queue.push_back({node, child, start.order + 1});
+      }
+      node = next;
+    }
+    axes.push_back(std::move(axis));
+    axis_orders.push_back(start.order);
+  }
+  if (orders != nullptr) *orders = std::move(axis_orders);
+  return axes;
+}
+
+void SkeletonGraph::AssignOrders() {
+  std::vector<int> orders;
+  const std::vector<BranchAxis> axes = BranchAxes(&orders);
+  for (size_t a = 0; a < axes.size(); ++a) {
+    // Skip the junction node, which belongs to the parent axis.
+    for (size_t k = (a == 0 ? 0 : 1); k < axes[a].size(); ++k) nodes[axes[a][k]].order = orders[a];
+  }
+}
+
 double SkeletonGraph::TotalLength() const {
   double length = 0.0;
   for (const SkeletonNode& node : nodes) {
@@ -59,6 +126,7 @@ void SkeletonGraph::Check() const {
         << "node " << i << " has parent " << node.parent_idx;
     SYLVA_CHECK(node.position.allFinite()) << "node " << i << " position is not finite";
     SYLVA_CHECK(node.radius >= 0 && std::isfinite(node.radius)) << "node " << i << " radius";
+    SYLVA_CHECK(node.strands >= 0) << "node " << i << " has " << node.strands << " strands";
     if (node.parent_idx < 0) ++roots;
   }
   SYLVA_CHECK(nodes.empty() || roots == 1) << "skeleton has " << roots << " roots";

@@ -17,7 +17,15 @@ struct SkeletonNode {
   double radius = 0.0;                                 // world units
   int parent_idx = -1;                                 // -1 for the root
   int order = 0;  // branch order: 0 = trunk, 1 = its branches, ...
+  // Particles ("strands" of the pipe model, thesis 5.1) carried by the edge
+  // from this node to its parent; for the root, all of them. 0 = unknown.
+  int strands = 0;
 };
+
+// One branch axis: a chain of node indices from where the branch leaves its
+// parent axis (that junction node is the chain's first element; the root for
+// the trunk) to a tip.
+using BranchAxis = std::vector<int>;
 
 class SkeletonGraph {
  public:
@@ -31,6 +39,18 @@ class SkeletonGraph {
   int RootIdx() const;  // -1 if empty
   // Children lists, indexed like nodes.
   std::vector<std::vector<int>> Children() const;
+  // Tips (nodes without children).
+  std::vector<int> Tips() const;
+
+  // Splits the tree into branch axes: the trunk from the root, following at
+  // every node the child carrying the most strands (then the thickest, then
+  // the lowest index); every other child starts a new axis of the next order.
+  // Axes are listed trunk first, then by order, then in order of discovery.
+  // `orders` (optional) receives each axis' branch order.
+  std::vector<BranchAxis> BranchAxes(std::vector<int>* orders = nullptr) const;
+  // Sets every node's `order` from BranchAxes() (a junction node keeps the
+  // order of the axis it continues).
+  void AssignOrders();
   // Sum of edge lengths.
   double TotalLength() const;
   // Points sampled along every edge at most `spacing` apart (plus the nodes).

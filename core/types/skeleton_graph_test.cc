@@ -20,13 +20,40 @@ TEST(SkeletonGraphTest, BuildsAndChecksATree) {
   EXPECT_EQ(graph.SamplePoints(0.5).size(), 3u + 3u + 1u);
 }
 
+TEST(SkeletonGraphTest, BranchAxesFollowTheMostStrands) {
+  // 0 -> 1 -> {2 (3 strands) -> 4, 3 (5 strands) -> 5 -> {6, 7 (1 strand)}}
+  SkeletonGraph graph;
+  graph.AddNode({0, 0, 0}, 1, -1, 0);
+  graph.AddNode({0, 0, 1}, 1, 0, 0);
+  graph.AddNode({1, 0, 2}, 1, 1, 0);
+  graph.AddNode({-1, 0, 2}, 1, 1, 0);
+  graph.AddNode({2, 0, 3}, 1, 2, 0);
+  graph.AddNode({-1, 0, 3}, 1, 3, 0);
+  graph.AddNode({-1, 0, 4}, 1, 5, 0);
+  graph.AddNode({-2, 0, 4}, 1, 5, 0);
+  const int strands[] = {8, 8, 3, 5, 3, 5, 4, 1};
+  for (int i = 0; i < 8; ++i) graph.nodes[i].strands = strands[i];
+  std::vector<int> orders;
+  const std::vector<BranchAxis> axes = graph.BranchAxes(&orders);
+  ASSERT_EQ(axes.size(), 3u);
+  EXPECT_EQ(axes[0], (BranchAxis{0, 1, 3, 5, 6}));
+  EXPECT_EQ(axes[1], (BranchAxis{1, 2, 4}));
+  EXPECT_EQ(axes[2], (BranchAxis{5, 7}));
+  EXPECT_EQ(orders, (std::vector<int>{0, 1, 1}));
+  graph.AssignOrders();
+  EXPECT_EQ(graph.nodes[1].order, 0);
+  EXPECT_EQ(graph.nodes[4].order, 1);
+  EXPECT_EQ(graph.nodes[7].order, 1);
+  EXPECT_EQ(graph.Tips(), (std::vector<int>{4, 6, 7}));
+}
+
 TEST(SkeletonGraphTest, CheckRejectsTwoRootsAndCycles) {
   SkeletonGraph two_roots;
   two_roots.AddNode({0, 0, 0}, 1, -1, 0);
   two_roots.AddNode({1, 0, 0}, 1, -1, 0);
   EXPECT_THROW(two_roots.Check(), Error);
   SkeletonGraph cycle;
-  cycle.nodes = {{{0, 0, 0}, 1, -1, 0}, {{1, 0, 0}, 1, 2, 0}, {{2, 0, 0}, 1, 1, 0}};
+  cycle.nodes = {{{0, 0, 0}, 1, -1, 0, 0}, {{1, 0, 0}, 1, 2, 0, 0}, {{2, 0, 0}, 1, 1, 0, 0}};
   EXPECT_THROW(cycle.Check(), Error);
 }
 
