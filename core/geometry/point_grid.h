@@ -1,0 +1,43 @@
+// Nearest-neighbour queries on a fixed set of 3D points, bucketed in a
+// uniform hash grid. Exact; the cell size adapts to the points' spread.
+#ifndef SYLVA_CORE_GEOMETRY_POINT_GRID_H_
+#define SYLVA_CORE_GEOMETRY_POINT_GRID_H_
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <unordered_map>
+#include <vector>
+
+#include "core/geometry/box.h"
+
+namespace sylva {
+
+class PointGrid {
+ public:
+  // The points are copied. `cell_size` (world units) 0 = automatic.
+  explicit PointGrid(std::vector<Eigen::Vector3d> points, double cell_size = 0.0);
+
+  // Index of the point nearest to `query` within `max_distance` (world
+  // units; infinity = any), or -1; `distance` (optional) receives it.
+  int Nearest(const Eigen::Vector3d& query, double max_distance, double* distance = nullptr) const;
+
+  const std::vector<Eigen::Vector3d>& points() const { return points_; }
+  double cell_size() const { return cell_size_; }
+
+ private:
+  Eigen::Vector3i Cell(const Eigen::Vector3d& p) const {
+    return (p / cell_size_).array().floor().cast<int>();
+  }
+  static int64_t Key(const Eigen::Vector3i& c);
+  void VisitShell(const Eigen::Vector3i& center, int ring, const Eigen::Vector3d& query,
+                  int* best, double* best_distance) const;
+
+  std::vector<Eigen::Vector3d> points_;
+  double cell_size_ = 1.0;
+  Box3d box_;
+  std::unordered_map<int64_t, std::vector<int>> cells_;
+};
+
+}  // namespace sylva
+
+#endif  // SYLVA_CORE_GEOMETRY_POINT_GRID_H_
