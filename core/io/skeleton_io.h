@@ -32,6 +32,19 @@ void WriteSkeletonJson(const std::filesystem::path& path, const SkeletonGraph& s
 // including a broken invariant (two roots, a cycle, a negative radius).
 SkeletonGraph ReadSkeletonJson(const std::filesystem::path& path, std::string* units = nullptr);
 
+// The skeleton as an ASCII PLY graph in the layout AdTree exports through
+// Easy3D (and Easy3D's viewer opens): element "vertex" with float x, y, z and
+// per-vertex properties `radius` (float), `strands` and `order` (int), and
+// element "edge" with an int list `vertex_indices` (child, parent). A comment
+// line carries the units and the radius source (e.g. "allometric prior").
+// Writes atomically.
+void WriteSkeletonPly(const std::filesystem::path& path, const SkeletonGraph& skeleton,
+                      const std::string& units = "arbitrary");
+
+// Reads what WriteSkeletonPly writes (ASCII, these properties, edges from
+// child to parent); throws InputError naming the file and line otherwise.
+SkeletonGraph ReadSkeletonPly(const std::filesystem::path& path);
+
 }  // namespace sylva
 
 #endif  // SYLVA_CORE_IO_SKELETON_IO_H_

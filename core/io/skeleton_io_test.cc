@@ -35,6 +35,36 @@ TEST(SkeletonIoTest, RoundTripIsExact) {
   }
 }
 
+TEST(SkeletonIoTest, PlyRoundTripInAdTreeLayout) {
+  SkeletonGraph skeleton;
+  skeleton.radius_source = "allometric prior";
+  const int root = skeleton.AddNode({0, 0, 0}, 0.16, -1, 0);
+  const int top = skeleton.AddNode({0.5, -0.25, 2}, 0.1, root, 0);
+  skeleton.AddNode({1, 2.5, 3.75}, 0.05, top, 1);
+  skeleton.AddNode({-1, 0, 3}, 0.07, top, 1);
+  const int strands[] = {10, 10, 4, 6};
+  for (int i = 0; i < 4; ++i) skeleton.nodes[i].strands = strands[i];
+  const fs::path path = TestDir() / "skeleton.ply";
+  WriteSkeletonPly(path, skeleton, "m");
+  const std::string text = ReadFileToString(path);
+  EXPECT_NE(text.find("element vertex 4\nproperty float x"), std::string::npos) << text;
+  EXPECT_NE(text.find("property float radius"), std::string::npos);
+  EXPECT_NE(text.find("element edge 3\nproperty list uchar int vertex_indices"), std::string::npos);
+  EXPECT_NE(text.find("radius: allometric prior"), std::string::npos);
+  const SkeletonGraph back = ReadSkeletonPly(path);
+  EXPECT_EQ(back.radius_source, "allometric prior");
+  ASSERT_EQ(back.NumNodes(), 4);
+  for (int i = 0; i < 4; ++i) {
+    EXPECT_TRUE(back.nodes[i].position.isApprox(skeleton.nodes[i].position, 1e-7));
+    EXPECT_NEAR(back.nodes[i].radius, skeleton.nodes[i].radius, 1e-8);
+    EXPECT_EQ(back.nodes[i].parent_idx, skeleton.nodes[i].parent_idx);
+    EXPECT_EQ(back.nodes[i].strands, skeleton.nodes[i].strands);
+    EXPECT_EQ(back.nodes[i].order, skeleton.nodes[i].order);
+  }
+  AtomicWriteString(TestDir() / "cut.ply", text.substr(0, text.size() - 10));
+  EXPECT_THROW(ReadSkeletonPly(TestDir() / "cut.ply"), InputError);
+}
+
 TEST(SkeletonIoTest, RejectsBrokenFiles) {
   const fs::path path = TestDir() / "bad.json";
   const std::string head = R"({"format": "sylva-skeleton", "version": 1, "nodes": [)";
