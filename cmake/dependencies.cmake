@@ -16,6 +16,10 @@ find_package(OpenVDB REQUIRED)
 
 find_package(embree 3.13 REQUIRED)
 
+# glTF export (mesh/gltf_export.cc). Debian ships tinygltf as a shared
+# library with a CMake config (target TinyGLTF::TinyGLTF).
+find_package(TinyGLTF CONFIG REQUIRED)
+
 if(SYLVA_BUILD_TESTS)
   find_package(GTest REQUIRED)
   find_package(benchmark REQUIRED)

@@ -1,0 +1,194 @@
+#include "mesh/gltf_export.h"
+
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "core/io/mesh_io.h"
+#include "core/util/check.h"
+#include "core/util/file_util.h"
+#include "mesh/branch_mesh.h"
+
+namespace sylva {
+namespace {
+
+class GltfExportTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    folder_ =
+        fs::temp_directory_path() /
+        ("sylva_gltf_test_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) +
+         "_" + ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(folder_);
+    fs::create_directories(folder_);
+  }
+  void TearDown() override { fs::remove_all(folder_); }
+
+  fs::path folder_;
+};
+
+// A bark tube plus two double-sided leaf triangles, and a material without triangles.
+TriangleMesh TreeLikeMesh() {
+  SkeletonGraph skeleton;
+  int parent = skeleton.AddNode(Eigen::Vector3d::Zero(), 0.2, -1, 0);
+  parent = skeleton.AddNode(Eigen::Vector3d(0.1, 0.0, 1.0), 0.15, parent, 0);
+  skeleton.AddNode(Eigen::Vector3d(0.0, 0.2, 2.0), 0.1, parent, 0);
+  skeleton.radius_source = "allometric prior";
+  TriangleMesh mesh = MeshBranches(skeleton, BranchMeshOptions(), nullptr);
+  const int leaves = mesh.AddMaterial({"leaves", Eigen::Vector3f(0.2f, 0.5f, 0.1f), true});
+  const int a = mesh.AddVertex(Eigen::Vector3f(0.0f, 0.2f, 2.0f));
+  const int b = mesh.AddVertex(Eigen::Vector3f(0.1f, 0.25f, 2.1f));
+  const int c = mesh.AddVertex(Eigen::Vector3f(0.0f, 0.3f, 2.2f));
+  const int d = mesh.AddVertex(Eigen::Vector3f(-0.1f, 0.25f, 2.1f));
+  mesh.AddTriangle(a, b, c, leaves);
+  mesh.AddTriangle(a, c, d, leaves);
+  mesh.AddMaterial({"unused", Eigen::Vector3f(1.0f, 0.0f, 0.0f), false});
+  return mesh;
+}
+
+const Material* FindMaterial(const TriangleMesh& mesh, const std::string& name) {
+  for (const Material& m : mesh.materials) {
+    if (m.name == name) return &m;
+  }
+  return nullptr;
+}
+
+// Same geometry, triangles and per-triangle material names.
+void ExpectSameMesh(const TriangleMesh& expected, const TriangleMesh& actual) {
+  ASSERT_EQ(actual.NumVertices(), expected.NumVertices());
+  ASSERT_EQ(actual.NumTriangles(), expected.NumTriangles());
+  for (int i = 0; i < expected.NumVertices(); ++i) {
+    EXPECT_LT((actual.vertices[i] - expected.vertices[i]).norm(), 1e-6f) << i;
+  }
+  for (int t = 0; t < expected.NumTriangles(); ++t) {
+    EXPECT_EQ(actual.triangles[t], expected.triangles[t]) << t;
+    EXPECT_EQ(actual.materials[actual.triangle_materials[t]].name,
+              expected.materials[expected.triangle_materials[t]].name);
+  }
+  for (const Material& material : expected.materials) {
+    const Material* back = FindMaterial(actual, material.name);
+    ASSERT_NE(back, nullptr) << material.name;
+    EXPECT_LT((back->diffuse_color - material.diffuse_color).norm(), 1e-6f) << material.name;
+  }
+}
+
+// The JSON chunk of a .glb file (header: magic, version, length; then chunks).
+nlohmann::json GlbJson(const fs::path& path) {
+  const std::string bytes = ReadFileToString(path);
+  uint32_t header[5];
+  EXPECT_GE(bytes.size(), sizeof(header));
+  std::memcpy(header, bytes.data(), sizeof(header));
+  EXPECT_EQ(header[0], 0x46546C67u);  // "glTF"
+  EXPECT_EQ(header[1], 2u);
+  EXPECT_EQ(header[2], bytes.size());
+  EXPECT_EQ(header[4], 0x4E4F534Au);  // "JSON"
+  return nlohmann::json::parse(bytes.substr(sizeof(header), header[3]));
+}
+
+TEST_F(GltfExportTest, GlbRoundTripKeepsGeometryAndMaterials) {
+  const TriangleMesh mesh = TreeLikeMesh();
+  const fs::path path = folder_ / "tree.glb";
+  GltfExportOptions options;
+  options.extras["radius_source"] = "allometric prior";
+  WriteGlb(path, mesh, options);
+  std::map<std::string, std::string> extras;
+  const TriangleMesh back = ReadGlb(path, &extras);
+  ExpectSameMesh(mesh, back);
+  EXPECT_TRUE(FindMaterial(back, "leaves")->double_sided);
+  EXPECT_FALSE(FindMaterial(back, "bark")->double_sided);
+  EXPECT_NE(FindMaterial(back, "unused"), nullptr);
+  EXPECT_EQ(extras["generator"], "sylva");
+  EXPECT_EQ(extras["radius_source"], "allometric prior");
+  // Only the .glb is left in the folder (the temporary file was renamed).
+  EXPECT_EQ(std::distance(fs::directory_iterator(folder_), fs::directory_iterator()), 1);
+}
+
+TEST_F(GltfExportTest, GlbHasOnePrimitivePerMaterialNormalsAndAYUpNode) {
+  const TriangleMesh mesh = TreeLikeMesh();
+  const fs::path path = folder_ / "tree.glb";
+  WriteGlb(path, mesh);
+  const nlohmann::json json = GlbJson(path);
+  EXPECT_EQ(json["asset"]["version"], "2.0");
+  EXPECT_EQ(json["asset"]["generator"], "sylva");
+  ASSERT_EQ(json["meshes"].size(), 1u);
+  ASSERT_EQ(json["meshes"][0]["primitives"].size(), 2u);  // "unused" has no triangles
+  for (const nlohmann::json& primitive : json["meshes"][0]["primitives"]) {
+    EXPECT_TRUE(primitive["attributes"].contains("NORMAL"));
+    EXPECT_TRUE(primitive["attributes"].contains("POSITION"));
+  }
+  const nlohmann::json& position =
+      json["accessors"][json["meshes"][0]["primitives"][0]["attributes"]["POSITION"].get<int>()];
+  EXPECT_EQ(position["count"], mesh.NumVertices());
+  EXPECT_EQ(position["min"].size(), 3u);
+  ASSERT_EQ(json["materials"].size(), 3u);
+  EXPECT_EQ(json["materials"][0]["pbrMetallicRoughness"]["metallicFactor"], 0.0);
+  // Colours as written by people: 0.36, not 0.36000001430511475.
+  EXPECT_EQ(json["materials"][0]["pbrMetallicRoughness"]["baseColorFactor"][0], 0.36);
+  EXPECT_EQ(json["materials"][1]["doubleSided"], true);
+  const std::vector<double> rotation = json["nodes"][0]["rotation"];
+  EXPECT_NEAR(rotation[0], -std::sqrt(0.5), 1e-12);
+  EXPECT_NEAR(rotation[3], std::sqrt(0.5), 1e-12);
+}
+
+TEST_F(GltfExportTest, ObjRoundTripMatchesTheGlb) {
+  const TriangleMesh mesh = TreeLikeMesh();
+  WriteObj(folder_ / "tree.obj", mesh);
+  WriteGlb(folder_ / "tree.glb", mesh);
+  const TriangleMesh from_obj = ReadObj(folder_ / "tree.obj");
+  const TriangleMesh from_glb = ReadGlb(folder_ / "tree.glb");
+  ExpectSameMesh(mesh, from_obj);
+  ASSERT_EQ(from_obj.NumTriangles(), from_glb.NumTriangles());
+  EXPECT_TRUE(FindMaterial(from_obj, "leaves")->double_sided);
+}
+
+TEST_F(GltfExportTest, EmptyMeshGivesAValidFile) {
+  TriangleMesh mesh;
+  mesh.AddMaterial({"bark"});
+  WriteGlb(folder_ / "empty.glb", mesh);
+  const TriangleMesh back = ReadGlb(folder_ / "empty.glb");
+  EXPECT_EQ(back.NumTriangles(), 0);
+  ASSERT_EQ(back.materials.size(), 1u);
+  EXPECT_EQ(back.materials[0].name, "bark");
+}
+
+TEST_F(GltfExportTest, OverwritesAtomically) {
+  const fs::path path = folder_ / "tree.glb";
+  TriangleMesh small;
+  small.AddMaterial({"bark"});
+  WriteGlb(path, small);
+  WriteGlb(path, TreeLikeMesh());
+  EXPECT_EQ(ReadGlb(path).NumTriangles(), TreeLikeMesh().NumTriangles());
+  EXPECT_EQ(std::distance(fs::directory_iterator(folder_), fs::directory_iterator()), 1);
+}
+
+TEST_F(GltfExportTest, BadFilesAreInputErrorsNamingTheFile) {
+  const fs::path garbage = folder_ / "garbage.glb";
+  std::ofstream(garbage) << "this is not a glb";
+  try {
+    ReadGlb(garbage);
+    FAIL() << "expected InputError";
+  } catch (const InputError& error) {
+    EXPECT_EQ(error.source(), garbage.string());
+  }
+  EXPECT_THROW(ReadGlb(folder_ / "missing.glb"), InputError);
+  // A truncated copy of a good file.
+  WriteGlb(folder_ / "tree.glb", TreeLikeMesh());
+  const std::string bytes = ReadFileToString(folder_ / "tree.glb");
+  std::ofstream(folder_ / "cut.glb", std::ios::binary) << bytes.substr(0, bytes.size() / 2);
+  EXPECT_THROW(ReadGlb(folder_ / "cut.glb"), InputError);
+}
+
+TEST_F(GltfExportTest, InvalidMeshesAndOptionsAreRefused) {
+  TriangleMesh mesh = TreeLikeMesh();
+  mesh.triangles[0].x() = mesh.NumVertices();
+  EXPECT_THROW(WriteGlb(folder_ / "bad.glb", mesh), Error);
+  GltfExportOptions options;
+  options.extras[""] = "x";
+  EXPECT_THROW(WriteGlb(folder_ / "bad.glb", TreeLikeMesh(), options), InputError);
+  EXPECT_FALSE(fs::exists(folder_ / "bad.glb"));
+}
+
+}  // namespace
+}  // namespace sylva
