@@ -29,12 +29,15 @@ class PointGrid {
     return (p / cell_size_).array().floor().cast<int>();
   }
   static int64_t Key(const Eigen::Vector3i& c);
+  static double AutomaticCellSize(const Box3d& box, size_t num_points);
   void VisitShell(const Eigen::Vector3i& center, int ring, const Eigen::Vector3d& query,
                   int* best, double* best_distance) const;
 
   std::vector<Eigen::Vector3d> points_;
   double cell_size_ = 1.0;
   Box3d box_;
+  Eigen::Vector3i cell_min_ = Eigen::Vector3i::Zero();  // cells spanned by box_
+  Eigen::Vector3i cell_max_ = Eigen::Vector3i::Zero();
   std::unordered_map<int64_t, std::vector<int>> cells_;
 };
 

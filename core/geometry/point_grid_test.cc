@@ -35,5 +35,21 @@ TEST(PointGridTest, NearestMatchesBruteForce) {
   EXPECT_EQ(PointGrid({}).Nearest(Eigen::Vector3d::Zero(), inf), -1);
 }
 
+TEST(PointGridTest, FlatAndLinearSetsGetUsefulCells) {
+  // Points in a plane and on a line: no volume, but cells must stay near
+  // the points' spacing (a collapsed cell size made queries crawl).
+  std::vector<Eigen::Vector3d> plane, line;
+  for (int i = 0; i < 100; ++i) {
+    for (int j = 0; j < 100; ++j) plane.emplace_back(0.01 * i, 0.0, 0.01 * j);
+    line.emplace_back(0.0, 0.0, 0.01 * i);
+  }
+  const PointGrid plane_grid(plane), line_grid(line);
+  EXPECT_NEAR(plane_grid.cell_size(), 0.015, 0.005);
+  EXPECT_NEAR(line_grid.cell_size(), 0.015, 0.005);
+  EXPECT_EQ(plane_grid.Nearest({0.504, 3.0, 0.296}, 10.0), 50 * 100 + 30);
+  EXPECT_EQ(line_grid.Nearest({0.5, 0.5, 0.0}, 10.0), 0);
+  EXPECT_EQ(PointGrid({Eigen::Vector3d::Ones()}).cell_size(), 1.0);
+}
+
 }  // namespace
 }  // namespace sylva
