@@ -1,0 +1,99 @@
+#include "simulate/finished_traces.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/util/check.h"
+
+namespace sylva {
+namespace {
+
+// Cells are this many join distances wide.
+constexpr double kCellsPerJoinDistance = 2.0;
+// Edges are sampled this many times per join distance.
+constexpr double kSamplesPerJoinDistance = 2.0;
+// Limits the dense grid of cells (about 16^3 cells per million).
+constexpr int64_t kMaxCells = int64_t{1} << 26;
+
+// Squared distance from p to the segment [a, b]; `*t` in [0, 1] receives
+// where the nearest point lies.
+double SegmentDistance2(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
+                        const Eigen::Vector3d& b, double* t) {
+  const Eigen::Vector3d ab = b - a;
+  const double length2 = ab.squaredNorm();
+  *t = length2 > 0 ? std::clamp((p - a).dot(ab) / length2, 0.0, 1.0) : 0.0;
+  return (a + *t * ab - p).squaredNorm();
+}
+
+}  // namespace
+
+FinishedTraces::FinishedTraces(const Eigen::Vector3d& lower, const Eigen::Vector3d& upper,
+                               double join_distance)
+    : lower_(lower), join_distance_(join_distance) {
+  SYLVA_CHECK(join_distance > 0);
+  cell_size_ = kCellsPerJoinDistance * join_distance;
+  const Eigen::Vector3d extent = (upper - lower).cwiseMax(0.0);
+  // Coarser cells if the box would need too many.
+  for (;;) {
+    dims_ = (extent / cell_size_).array().ceil().cast<int>().max(1);
+    if (int64_t{dims_.x()} * dims_.y() * dims_.z() <= kMaxCells) break;
+    cell_size_ *= 2;
+  }
+  cells_.resize(int64_t{dims_.x()} * dims_.y() * dims_.z());
+}
+
+void FinishedTraces::AddEdge(const TraceGraph& graph, int child) {
+  const Eigen::Vector3d a = graph.Position(child);
+  const Eigen::Vector3d b = graph.Position(graph.Parent(child));
+  // Every point within the join distance of the edge lies within `reach` of
+  // one of the samples, which are at most `spacing` apart.
+  const double spacing = join_distance_ / kSamplesPerJoinDistance;
+  const double reach = join_distance_ + spacing / 2;
+  const int samples = static_cast<int>(std::ceil((b - a).norm() / spacing)) + 1;
+  scratch_.clear();
+  for (int s = 0; s < samples; ++s) {
+    const Eigen::Vector3d p =
+        a + (b - a) * (samples > 1 ? static_cast<double>(s) / (samples - 1) : 0.0);
+    const Eigen::Vector3i lo = CellOf(p.array() - reach);
+    const Eigen::Vector3i hi = CellOf(p.array() + reach);
+    for (int z = lo.z(); z <= hi.z(); ++z)
+      for (int y = lo.y(); y <= hi.y(); ++y)
+        for (int x = lo.x(); x <= hi.x(); ++x) {
+          if (Inside({x, y, z})) scratch_.push_back(CellIndex({x, y, z}));
+        }
+  }
+  std::sort(scratch_.begin(), scratch_.end());
+  scratch_.erase(std::unique(scratch_.begin(), scratch_.end()), scratch_.end());
+  for (int64_t cell : scratch_) cells_[cell].push_back(child);
+}
+
+void FinishedTraces::AddSubtree(const TraceGraph& graph, int node) {
+  graph.ForEachEdgeUpstream(node, [&](int child) { AddEdge(graph, child); });
+}
+
+bool FinishedTraces::Nearest(const TraceGraph& graph, const Eigen::Vector3d& point, int* child,
+                             Eigen::Vector3d* point_on_edge) const {
+  const Eigen::Vector3i cell = CellOf(point);
+  if (!Inside(cell)) return false;
+  double best2 = join_distance_ * join_distance_;
+  int best = -1;
+  for (int candidate : cells_[CellIndex(cell)]) {
+    const Eigen::Vector3d a = graph.Position(candidate);
+    const Eigen::Vector3d b = graph.Position(graph.Parent(candidate));
+    double t;
+    const double d2 = SegmentDistance2(point, a, b, &t);
+    // Not at the free end of a tip edge: a seeding node carries exactly one
+    // particle, so nothing joins there (the particle may join further on).
+    if (t == 0.0 && graph.IsTip(candidate)) continue;
+    if (d2 < best2 || (d2 == best2 && best >= 0 && candidate < best)) {
+      best2 = d2;
+      best = candidate;
+      *point_on_edge = a + t * (b - a);
+    }
+  }
+  if (best < 0) return false;
+  *child = best;
+  return true;
+}
+
+}  // namespace sylva

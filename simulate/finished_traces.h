@@ -1,0 +1,60 @@
+// The edges of finished traces (those already joined to the root), bucketed
+// for "is there one within the join distance of this point?" queries, so that
+// a particle flowing along the path of particles that went before it joins
+// their trace instead of laying a second one beside it. Internal to
+// simulate/.
+#ifndef SYLVA_SIMULATE_FINISHED_TRACES_H_
+#define SYLVA_SIMULATE_FINISHED_TRACES_H_
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "simulate/trace_graph.h"
+
+namespace sylva {
+
+class FinishedTraces {
+ public:
+  // Covers the box [lower, upper] (sim frame, voxels); edges outside it are
+  // not indexed, and points outside it find none. `join_distance` > 0, in
+  // voxels.
+  FinishedTraces(const Eigen::Vector3d& lower, const Eigen::Vector3d& upper, double join_distance);
+
+  // Indexes the edge from `child` to its parent (its geometry is read from
+  // `graph` when queried, so a later split of the edge stays covered as
+  // long as the new part is added too).
+  void AddEdge(const TraceGraph& graph, int child);
+  // Indexes every edge upstream of `node`, and its own.
+  void AddSubtree(const TraceGraph& graph, int node);
+
+  // The indexed edge nearest to `point` within the join distance, as its
+  // child node (ties: the lowest), and the nearest point on it; false if
+  // none. Edges whose nearest point is their free tip (a seeding node) are
+  // skipped. Const and thread-safe.
+  bool Nearest(const TraceGraph& graph, const Eigen::Vector3d& point, int* child,
+               Eigen::Vector3d* point_on_edge) const;
+
+ private:
+  int64_t CellIndex(const Eigen::Vector3i& cell) const {
+    return (int64_t{cell.z()} * dims_.y() + cell.y()) * dims_.x() + cell.x();
+  }
+  bool Inside(const Eigen::Vector3i& cell) const {
+    return (cell.array() >= 0).all() && (cell.array() < dims_.array()).all();
+  }
+  Eigen::Vector3i CellOf(const Eigen::Vector3d& point) const {
+    return ((point - lower_) / cell_size_).array().floor().cast<int>();
+  }
+
+  Eigen::Vector3d lower_;
+  double join_distance_;
+  double cell_size_;
+  Eigen::Vector3i dims_;
+  // Child nodes of the edges that may pass within the join distance of
+  // each cell.
+  std::vector<std::vector<int>> cells_;
+  std::vector<int64_t> scratch_;  // cells of the edge being added
+};
+
+}  // namespace sylva
+
+#endif  // SYLVA_SIMULATE_FINISHED_TRACES_H_

@@ -1,0 +1,466 @@
+#include "simulate/particle_flow.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <tuple>
+#include <vector>
+
+#include "core/geometry/box.h"
+#include "core/util/check.h"
+#include "core/util/random.h"
+#include "simulate/finished_traces.h"
+#include "simulate/neighbor_search.h"
+#include "simulate/particle_dynamics.h"
+#include "simulate/trace_graph.h"
+
+namespace sylva {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double SecondsSince(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+// Particles per parallel task: enough work to amortise scheduling.
+constexpr size_t kParticleGrain = 256;
+// RandomEngine stream of the seeding.
+constexpr uint64_t kSeedingStream = 1;
+// Finished traces are indexed within the density's bounds grown by this many
+// voxels (plus the base radius); traces farther out are never joined.
+constexpr double kTraceIndexMargin = 8.0;
+// A join point this close to an edge's end (voxels) joins at that node.
+constexpr double kSameNodeDistance = 1e-6;
+
+template <typename Body>
+void ParallelOver(size_t n, const Body& body) {
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, kParticleGrain),
+                    [&](const tbb::blocked_range<size_t>& range) {
+                      for (size_t i = range.begin(); i < range.end(); ++i) body(i);
+                    });
+}
+
+// The largest value[i]; non-finite values count as +infinity. Exact, so the
+// result does not depend on how the range is split.
+double ParallelMax(const std::vector<double>& values) {
+  return tbb::parallel_reduce(
+      tbb::blocked_range<size_t>(0, values.size(), kParticleGrain), 0.0,
+      [&](const tbb::blocked_range<size_t>& range, double best) {
+        for (size_t i = range.begin(); i < range.end(); ++i) {
+          const double v =
+              std::isfinite(values[i]) ? values[i] : std::numeric_limits<double>::infinity();
+          best = std::max(best, v);
+        }
+        return best;
+      },
+      [](double a, double b) { return std::max(a, b); });
+}
+
+struct Particle {
+  ParticleState state;  // sim frame
+  int id = 0;           // seeding index; a survivor keeps its own
+  int mass = 1;         // seeded particles carried
+  TraceCursor trace;
+};
+
+// The frame of the density's voxels, with the lowest active voxel at 0.
+SimFrame FrameOf(const DensityGrid& density, Eigen::Vector3i* min_ijk, Eigen::Vector3d* extent) {
+  Eigen::Vector3i max_ijk;
+  density.ActiveIndexBounds(min_ijk, &max_ijk);
+  *extent = (max_ijk - *min_ijk).cast<double>();
+  return {density.WorldFromIndex(min_ijk->cast<double>()), density.voxel_size()};
+}
+
+// `count` positions (sim frame), each uniform inside a voxel drawn with
+// probability proportional to its opacity.
+std::vector<Eigen::Vector3d> SeedPositions(const DensityGrid& density,
+                                           const Eigen::Vector3i& min_ijk, int count,
+                                           uint64_t seed) {
+  std::vector<Eigen::Vector3i> voxels;
+  std::vector<double> cumulative;
+  double total = 0.0;
+  density.ForEachActive([&](const Eigen::Vector3i& ijk, float alpha) {
+    if (!(alpha > 0)) return;
+    total += alpha;
+    voxels.push_back(ijk - min_ijk);
+    cumulative.push_back(total);
+  });
+  SYLVA_CHECK_INPUT(total > 0, "density") << "every active voxel has zero opacity";
+  RandomEngine random(seed, kSeedingStream);
+  std::vector<Eigen::Vector3d> positions(count);
+  for (Eigen::Vector3d& position : positions) {
+    const double u = random.Uniform() * total;
+    const size_t v = std::min<size_t>(
+        std::upper_bound(cumulative.begin(), cumulative.end(), u) - cumulative.begin(),
+        voxels.size() - 1);
+    const double dx = random.Uniform(-0.5, 0.5), dy = random.Uniform(-0.5, 0.5),
+                 dz = random.Uniform(-0.5, 0.5);
+    position = voxels[v].cast<double>() + Eigen::Vector3d(dx, dy, dz);
+  }
+  return positions;
+}
+
+// One run of the particle flow.
+class ParticleFlow {
+ public:
+  // The density's active voxels span [0, extent] in the sim frame.
+  ParticleFlow(const SimFrame& frame, const Eigen::Vector3d& extent,
+               const Eigen::Vector3d& base_in_world, const DirectionField& field,
+               const ParticleFlowOptions& options, ParticleFlowSummary* summary);
+
+  void Seed(const std::vector<Eigen::Vector3d>& positions_in_sim);
+  // Iterates until every particle has stopped or max_iterations.
+  void Run(ProgressTask* progress);
+  // Joins particles still flowing to the root by a straight edge.
+  void FinishUnarrived();
+  SkeletonGraph Skeleton(double simplify_tolerance) const {
+    return traces_.ToSkeleton(frame_, base_in_world_, simplify_tolerance);
+  }
+  int NumTraceNodes() const { return traces_.NumNodes(); }
+  double step() const { return controller_.step(); }
+
+ private:
+  // Ends a particle's trace at `node` (the root, or a node of a finished
+  // trace), by way of a node where it is now.
+  void EndAt(Particle* particle, int node);
+  void StopArrivedParticles();
+  void JoinFinishedTraces();
+  // Joins particle i to the finished trace nearest to it; false if none is
+  // within merge_distance.
+  bool JoinFinishedTrace(Particle* particle);
+  void FindNeighbors();
+  void MergeClosePairs();
+  void Merge(int a, int b);
+  void FreezeNeighbors();
+  void Compact();
+  void Advance(const ProgressTask& progress);
+  void RecordTraces(const std::vector<ParticleState>& next);
+
+  const ParticleFlowOptions& options_;
+  ParticleFlowSummary* summary_;
+  SimFrame frame_;
+  Eigen::Vector3d base_in_world_;
+  Eigen::Vector3d base_in_sim_;
+  ParticleForces forces_;
+  StepController controller_;
+  std::unique_ptr<NeighborSearch> search_;
+  TraceGraph traces_;
+  std::unique_ptr<FinishedTraces> finished_;  // null if traces are not joined
+  int iteration_ = 0;
+
+  std::vector<Particle> particles_;  // still flowing, in ascending id
+  // Per particle, within one iteration (indexed like particles_).
+  std::vector<char> alive_;
+  std::vector<Eigen::Vector3d> positions_;  // for the neighbour search
+  std::vector<int> neighbor_idx_;
+  std::vector<double> neighbor_distance_;
+  std::vector<int> merged_into_;  // survivor of an absorbed particle, else itself
+  std::vector<FrozenNeighbor> frozen_;
+};
+
+ParticleFlow::ParticleFlow(const SimFrame& frame, const Eigen::Vector3d& extent,
+                           const Eigen::Vector3d& base_in_world, const DirectionField& field,
+                           const ParticleFlowOptions& options, ParticleFlowSummary* summary)
+    : options_(options),
+      summary_(summary),
+      frame_(frame),
+      base_in_world_(base_in_world),
+      base_in_sim_(frame.SimFromWorld(base_in_world)),
+      forces_(options, base_in_sim_, field, frame),
+      controller_(options.initial_step, options.min_step, options.max_step,
+                  options.error_tolerance),
+      search_(MakeNeighborSearch(
+          NeighborSearchKindFromName(options.neighbor_search, "ParticleFlow.neighbor_search"))),
+      traces_(base_in_sim_) {
+  if (options.join_finished_traces && options.merge_distance > 0) {
+    const double margin = kTraceIndexMargin + options.base_radius;
+    finished_ = std::make_unique<FinishedTraces>(Eigen::Vector3d::Constant(-margin),
+                                                 extent.array() + margin, options.merge_distance);
+  }
+}
+
+void ParticleFlow::Seed(const std::vector<Eigen::Vector3d>& positions_in_sim) {
+  particles_.resize(positions_in_sim.size());
+  for (size_t i = 0; i < positions_in_sim.size(); ++i) {
+    Particle& particle = particles_[i];
+    particle.id = static_cast<int>(i);
+    particle.state.position = positions_in_sim[i];
+    particle.trace = traces_.StartTrace(positions_in_sim[i]);
+  }
+}
+
+void ParticleFlow::Run(ProgressTask* progress) {
+  for (iteration_ = 0; iteration_ < options_.max_iterations; ++iteration_) {
+    StopArrivedParticles();
+    JoinFinishedTraces();
+    if (particles_.empty()) break;
+    const Clock::time_point start_neighbors = Clock::now();
+    FindNeighbors();
+    alive_.assign(particles_.size(), 1);
+    if (iteration_ > 0) MergeClosePairs();
+    FreezeNeighbors();
+    Compact();
+    summary_->seconds_neighbors += SecondsSince(start_neighbors);
+    const Clock::time_point start_integrate = Clock::now();
+    Advance(*progress);
+    summary_->seconds_integrate += SecondsSince(start_integrate);
+    ++summary_->iterations;
+    progress->Update(static_cast<double>(iteration_ + 1) / options_.max_iterations);
+  }
+  StopArrivedParticles();
+}
+
+void ParticleFlow::EndAt(Particle* particle, int node) {
+  if (particle->trace.anchor != particle->state.position) {
+    traces_.RecordNode(&particle->trace, particle->state.position, particle->mass);
+  }
+  traces_.EndTrace(particle->trace, node, particle->mass);
+  if (finished_ != nullptr) finished_->AddSubtree(traces_, particle->trace.last_node);
+}
+
+void ParticleFlow::StopArrivedParticles() {
+  alive_.assign(particles_.size(), 1);
+  const double radius2 = options_.base_radius * options_.base_radius;
+  for (size_t i = 0; i < particles_.size(); ++i) {
+    Particle& particle = particles_[i];
+    if ((particle.state.position - base_in_sim_).squaredNorm() >= radius2) continue;
+    EndAt(&particle, TraceGraph::kRoot);
+    summary_->reached_base += particle.mass;
+    alive_[i] = 0;
+  }
+  frozen_.resize(particles_.size());
+  Compact();
+}
+
+void ParticleFlow::JoinFinishedTraces() {
+  if (finished_ == nullptr) return;
+  const size_t n = particles_.size();
+  // Candidates in parallel; joins in particle order, each seeing the traces
+  // joined before it.
+  std::vector<char> near(n);
+  ParallelOver(n, [&](size_t i) {
+    int child;
+    Eigen::Vector3d point;
+    near[i] = finished_->Nearest(traces_, particles_[i].state.position, &child, &point);
+  });
+  alive_.assign(n, 1);
+  for (size_t i = 0; i < n; ++i) {
+    if (near[i] && JoinFinishedTrace(&particles_[i])) alive_[i] = 0;
+  }
+  Compact();
+}
+
+bool ParticleFlow::JoinFinishedTrace(Particle* particle) {
+  int child;
+  Eigen::Vector3d point;
+  if (!finished_->Nearest(traces_, particle->state.position, &child, &point)) return false;
+  // Join at an end of the edge if the point is one, else at a new node.
+  int node = child;
+  const int parent = traces_.Parent(child);
+  if ((point - traces_.Position(parent)).norm() < kSameNodeDistance) {
+    node = parent;
+  } else if ((point - traces_.Position(child)).norm() >= kSameNodeDistance ||
+             traces_.IsTip(child)) {
+    node = traces_.SplitEdge(child, point);
+    finished_->AddEdge(traces_, node);
+  }
+  EndAt(particle, node);
+  summary_->reached_base += particle->mass;
+  summary_->trace_joins += 1;
+  return true;
+}
+
+void ParticleFlow::FinishUnarrived() {
+  for (Particle& particle : particles_) {
+    EndAt(&particle, TraceGraph::kRoot);
+    summary_->unfinished += particle.mass;
+    ++summary_->unfinished_bundles;
+  }
+  particles_.clear();
+}
+
+void ParticleFlow::FindNeighbors() {
+  const size_t n = particles_.size();
+  positions_.resize(n);
+  ParallelOver(n, [&](size_t i) { positions_[i] = particles_[i].state.position; });
+  search_->Build(positions_);
+  const double radius = std::max(options_.neighbor_radius, options_.merge_distance);
+  neighbor_idx_.resize(n);
+  neighbor_distance_.resize(n);
+  ParallelOver(n, [&](size_t i) {
+    neighbor_idx_[i] = search_->NearestOther(static_cast<int>(i), radius, &neighbor_distance_[i]);
+  });
+  summary_->neighbor_queries += static_cast<int64_t>(n);
+}
+
+void ParticleFlow::MergeClosePairs() {
+  // Candidate pairs (distance, lower index, higher index), in a fixed order.
+  std::vector<std::tuple<double, int, int>> pairs;
+  for (size_t i = 0; i < particles_.size(); ++i) {
+    const int j = neighbor_idx_[i];
+    if (j < 0 || !(neighbor_distance_[i] < options_.merge_distance)) continue;
+    pairs.emplace_back(neighbor_distance_[i], std::min<int>(i, j), std::max<int>(i, j));
+  }
+  std::sort(pairs.begin(), pairs.end());
+  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+  merged_into_.resize(particles_.size());
+  for (size_t i = 0; i < particles_.size(); ++i) merged_into_[i] = static_cast<int>(i);
+  std::vector<char> taken(particles_.size(), 0);
+  for (const auto& [distance, a, b] : pairs) {
+    if (taken[a] || taken[b]) continue;
+    taken[a] = taken[b] = 1;
+    Merge(a, b);
+  }
+}
+
+void ParticleFlow::Merge(int a, int b) {
+  // The heavier survives; equal masses: the lower index (= the lower id).
+  const int survivor_idx = particles_[b].mass > particles_[a].mass ? b : a;
+  const int absorbed_idx = survivor_idx == a ? b : a;
+  Particle& survivor = particles_[survivor_idx];
+  Particle& absorbed = particles_[absorbed_idx];
+  const int junction =
+      traces_.NodeAtPosition(&survivor.trace, survivor.state.position, survivor.mass);
+  traces_.NodeAtPosition(&absorbed.trace, absorbed.state.position, absorbed.mass);
+  traces_.EndTrace(absorbed.trace, junction, absorbed.mass);
+  // Momentum is conserved; the survivor stays where it is.
+  const int mass = survivor.mass + absorbed.mass;
+  survivor.state.velocity =
+      (survivor.mass * survivor.state.velocity + absorbed.mass * absorbed.state.velocity) / mass;
+  survivor.mass = mass;
+  alive_[absorbed_idx] = 0;
+  merged_into_[absorbed_idx] = survivor_idx;
+  ++summary_->merges;
+}
+
+void ParticleFlow::FreezeNeighbors() {
+  const size_t n = particles_.size();
+  frozen_.assign(n, FrozenNeighbor());
+  const bool merged = iteration_ > 0;
+  ParallelOver(n, [&](size_t i) {
+    int j = neighbor_idx_[i];
+    if (j < 0 || !alive_[i]) return;
+    if (merged) j = merged_into_[j];  // an absorbed neighbour is now its survivor
+    if (j == static_cast<int>(i)) return;
+    const double mass_i = particles_[i].mass, mass_j = particles_[j].mass;
+    frozen_[i].position = particles_[j].state.position;
+    frozen_[i].pull = options_.neighbor_pull * 2 * mass_j / (mass_i + mass_j);
+  });
+}
+
+void ParticleFlow::Compact() {
+  size_t kept = 0;
+  for (size_t i = 0; i < particles_.size(); ++i) {
+    if (!alive_[i]) continue;
+    if (kept != i) {
+      particles_[kept] = particles_[i];
+      frozen_[kept] = frozen_[i];
+    }
+    ++kept;
+  }
+  particles_.resize(kept);
+  frozen_.resize(kept);
+}
+
+void ParticleFlow::Advance(const ProgressTask& progress) {
+  const size_t n = particles_.size();
+  std::vector<ParticleState> next(n);
+  std::vector<double> errors(n);
+  for (;;) {
+    const double step = controller_.step();
+    ParallelOver(n, [&](size_t i) {
+      next[i] = DoubledRk4Step(forces_, frozen_[i], particles_[i].state, step, &errors[i]);
+    });
+    const double error = ParallelMax(errors);
+    if (controller_.Judge(error)) {
+      SYLVA_CHECK(std::isfinite(error))
+          << "particle flow diverged (non-finite positions; is the direction field finite?)";
+      summary_->simulated_time += step;
+      summary_->particle_steps += static_cast<int64_t>(n);
+      break;
+    }
+    ++summary_->rejected_steps;
+    progress.CheckCancelled();
+  }
+  RecordTraces(next);
+}
+
+void ParticleFlow::RecordTraces(const std::vector<ParticleState>& next) {
+  const size_t n = particles_.size();
+  std::vector<char> leaves(n);
+  ParallelOver(n, [&](size_t i) {
+    leaves[i] = TraceGraph::LeavesRun(particles_[i].trace, particles_[i].state.position,
+                                      next[i].position, options_.trace_tolerance);
+  });
+  for (size_t i = 0; i < n; ++i) {
+    Particle& particle = particles_[i];
+    if (leaves[i]) traces_.RecordNode(&particle.trace, particle.state.position, particle.mass);
+    TraceGraph::StartRunIfNeeded(&particle.trace, next[i].position);
+    particle.state = next[i];
+  }
+}
+
+void CheckInputs(const DensityGrid& density, const Eigen::Vector3d& base_in_world,
+                 const ParticleFlowOptions& options) {
+  options.Check();
+  SYLVA_CHECK_INPUT(!density.IsEmpty(), "density")
+      << "the density grid has no active voxels: there is nothing to seed particles in";
+  SYLVA_CHECK_INPUT(base_in_world.allFinite(), "base") << "the tree base must be finite";
+  const Box3d bounds = density.ActiveWorldBounds();
+  const double margin = std::max(options.base_radius, 1.0) * density.voxel_size();
+  const Box3d grown(bounds.min().array() - margin, bounds.max().array() + margin);
+  SYLVA_CHECK_INPUT(grown.contains(base_in_world), "base")
+      << "the tree base (" << base_in_world.transpose() << ") lies outside the density's active "
+      << "bounds (" << bounds.min().transpose() << ") - (" << bounds.max().transpose()
+      << ") grown by " << margin << " world units";
+}
+
+}  // namespace
+
+SkeletonGraph SimulateParticleFlow(const DensityGrid& density, const Eigen::Vector3d& base_in_world,
+                                   const DirectionField& field, const ParticleFlowOptions& options,
+                                   ProgressReporter* progress, ParticleFlowSummary* summary,
+                                   SkeletonGraph* raw_traces) {
+  CheckInputs(density, base_in_world, options);
+  ParticleFlowSummary local_summary;
+  if (summary == nullptr) summary = &local_summary;
+  *summary = ParticleFlowSummary();
+  summary->neighbor_search = options.neighbor_search;
+  const Clock::time_point start = Clock::now();
+  ProgressTask task(progress, "simulate: particle flow");
+  task.CheckCancelled();
+
+  Eigen::Vector3i min_ijk;
+  Eigen::Vector3d extent;
+  const SimFrame frame = FrameOf(density, &min_ijk, &extent);
+  ParticleFlow flow(frame, extent, base_in_world, field, options, summary);
+  flow.Seed(SeedPositions(density, min_ijk, options.num_particles, options.seed));
+  summary->seeded = options.num_particles;
+  summary->seconds_seed = SecondsSince(start);
+
+  flow.Run(&task);
+  flow.FinishUnarrived();
+  summary->final_step = flow.step();
+
+  const Clock::time_point start_skeleton = Clock::now();
+  summary->raw_nodes = flow.NumTraceNodes();
+  if (raw_traces != nullptr) *raw_traces = flow.Skeleton(0.0);
+  SkeletonGraph skeleton = flow.Skeleton(options.simplify_tolerance);
+  SYLVA_CHECK(skeleton.nodes[0].strands == options.num_particles)
+      << "mass not conserved: the root carries " << skeleton.nodes[0].strands << " of "
+      << options.num_particles << " particles";
+  summary->skeleton_nodes = skeleton.NumNodes();
+  summary->seconds_skeleton = SecondsSince(start_skeleton);
+  summary->seconds_total = SecondsSince(start);
+  task.Update(1.0);
+  return skeleton;
+}
+
+}  // namespace sylva

@@ -1,0 +1,179 @@
+#include "simulate/trace_graph.h"
+
+#include <algorithm>
+#include <utility>
+
+#include "core/util/check.h"
+
+namespace sylva {
+namespace {
+
+double SegmentDistance2(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
+                        const Eigen::Vector3d& b) {
+  const Eigen::Vector3d ab = b - a;
+  const double length2 = ab.squaredNorm();
+  const double t = length2 > 0 ? std::clamp((p - a).dot(ab) / length2, 0.0, 1.0) : 0.0;
+  return (a + t * ab - p).squaredNorm();
+}
+
+}  // namespace
+
+TraceGraph::TraceGraph(const Eigen::Vector3d& root_in_sim) { AddNode(root_in_sim, 0); }
+
+int TraceGraph::AddNode(const Eigen::Vector3d& position_in_sim, int strands) {
+  positions_.push_back(position_in_sim.cast<float>());
+  parents_.push_back(-1);
+  strands_.push_back(strands);
+  first_child_.push_back(-1);
+  next_sibling_.push_back(-1);
+  return NumNodes() - 1;
+}
+
+void TraceGraph::SetParent(int node, int parent) {
+  SYLVA_DCHECK(parents_[node] < 0);
+  parents_[node] = parent;
+  next_sibling_[node] = first_child_[parent];
+  first_child_[parent] = node;
+}
+
+TraceCursor TraceGraph::StartTrace(const Eigen::Vector3d& position_in_sim) {
+  TraceCursor cursor;
+  cursor.last_node = AddNode(position_in_sim, 1);
+  cursor.anchor = position_in_sim;
+  return cursor;
+}
+
+bool TraceGraph::LeavesRun(const TraceCursor& cursor, const Eigen::Vector3d& from,
+                           const Eigen::Vector3d& to, double tolerance) {
+  if (cursor.direction.isZero()) return false;
+  if (!(tolerance > 0)) return true;  // every step
+  const Eigen::Vector3d offset = to - cursor.anchor;
+  const double along = offset.dot(cursor.direction);
+  if (along < (from - cursor.anchor).dot(cursor.direction)) return true;  // turned back
+  return offset.squaredNorm() - along * along > tolerance * tolerance;
+}
+
+void TraceGraph::StartRunIfNeeded(TraceCursor* cursor, const Eigen::Vector3d& to) {
+  if (!cursor->direction.isZero()) return;
+  const Eigen::Vector3d offset = to - cursor->anchor;
+  const double length = offset.norm();
+  if (length > 0) cursor->direction = offset / length;
+}
+
+int TraceGraph::RecordNode(TraceCursor* cursor, const Eigen::Vector3d& position_in_sim, int mass) {
+  const int node = AddNode(position_in_sim, mass);
+  SetParent(cursor->last_node, node);
+  cursor->last_node = node;
+  cursor->at_seed = false;
+  cursor->anchor = position_in_sim;
+  cursor->direction.setZero();
+  return node;
+}
+
+int TraceGraph::NodeAtPosition(TraceCursor* cursor, const Eigen::Vector3d& position_in_sim,
+                               int mass) {
+  if (!cursor->at_seed && cursor->anchor == position_in_sim) return cursor->last_node;
+  return RecordNode(cursor, position_in_sim, mass);
+}
+
+void TraceGraph::EndTrace(const TraceCursor& cursor, int parent, int mass) {
+  SetParent(cursor.last_node, parent);
+  for (int node = parent; node >= 0; node = parents_[node]) strands_[node] += mass;
+}
+
+int TraceGraph::SplitEdge(int child, const Eigen::Vector3d& point_in_sim) {
+  const int parent = parents_[child];
+  SYLVA_CHECK(parent >= 0) << "trace node " << child << " has no edge to split";
+  // Unlink child from its parent's list of children.
+  int* link = &first_child_[parent];
+  while (*link != child) link = &next_sibling_[*link];
+  *link = next_sibling_[child];
+  parents_[child] = -1;
+  next_sibling_[child] = -1;
+  const int middle = AddNode(point_in_sim, strands_[child]);
+  SetParent(middle, parent);
+  SetParent(child, middle);
+  return middle;
+}
+
+std::vector<char> TraceGraph::KeptNodes(double tolerance) const {
+  const int n = NumNodes();
+  std::vector<char> kept(n, 1);
+  if (!(tolerance > 0)) return kept;
+  std::vector<int> num_children(n, 0);
+  for (int i = 0; i < n; ++i) {
+    if (parents_[i] >= 0) ++num_children[parents_[i]];
+  }
+  for (int i = 0; i < n; ++i) kept[i] = (i == kRoot || num_children[i] != 1);
+  std::vector<int> chain;
+  std::vector<std::pair<int, int>> ranges;
+  for (int start = 0; start < n; ++start) {
+    if (start == kRoot || !kept[start]) continue;
+    // The chain from this key node up to the next key node.
+    chain.assign(1, start);
+    int node = parents_[start];
+    while (!kept[node]) {
+      chain.push_back(node);
+      node = parents_[node];
+    }
+    chain.push_back(node);
+    // Douglas-Peucker, with an explicit stack of index ranges.
+    ranges.assign(1, {0, static_cast<int>(chain.size()) - 1});
+    while (!ranges.empty()) {
+      const auto [first, last] = ranges.back();
+      ranges.pop_back();
+      const Eigen::Vector3d a = positions_[chain[first]].cast<double>();
+      const Eigen::Vector3d b = positions_[chain[last]].cast<double>();
+      double worst2 = tolerance * tolerance;
+      int worst = -1;
+      for (int k = first + 1; k < last; ++k) {
+        const double d2 = SegmentDistance2(positions_[chain[k]].cast<double>(), a, b);
+        if (d2 > worst2) worst2 = d2, worst = k;
+      }
+      if (worst < 0) continue;
+      kept[chain[worst]] = 1;
+      ranges.push_back({first, worst});
+      ranges.push_back({worst, last});
+    }
+  }
+  return kept;
+}
+
+SkeletonGraph TraceGraph::ToSkeleton(const SimFrame& frame, const Eigen::Vector3d& root_in_world,
+                                     double simplify_tolerance) const {
+  const int n = NumNodes();
+  for (int i = 0; i < n; ++i) {
+    SYLVA_CHECK(i == kRoot || parents_[i] >= 0) << "trace node " << i << " was never linked";
+  }
+  const std::vector<char> kept = KeptNodes(simplify_tolerance);
+  // Every kept node's nearest kept ancestor, and kept children in node order.
+  std::vector<int> kept_parent(n, -1);
+  std::vector<std::vector<int>> kept_children(n);
+  for (int i = 0; i < n; ++i) {
+    if (i == kRoot || !kept[i]) continue;
+    int parent = parents_[i];
+    while (!kept[parent]) parent = parents_[parent];
+    kept_parent[i] = parent;
+    kept_children[parent].push_back(i);
+  }
+  // Breadth-first from the root: parents before children.
+  SkeletonGraph skeleton;
+  std::vector<int> queue = {kRoot};
+  std::vector<int> index_of(n, -1);
+  for (size_t q = 0; q < queue.size(); ++q) {
+    const int node = queue[q];
+    SkeletonNode out;
+    out.position =
+        node == kRoot ? root_in_world : frame.WorldFromSim(positions_[node].cast<double>());
+    out.parent_idx = node == kRoot ? -1 : index_of[kept_parent[node]];
+    out.strands = strands_[node];
+    index_of[node] = static_cast<int>(skeleton.nodes.size());
+    skeleton.nodes.push_back(out);
+    for (int child : kept_children[node]) queue.push_back(child);
+  }
+  skeleton.radius_source = "unknown";
+  skeleton.AssignOrders();
+  return skeleton;
+}
+
+}  // namespace sylva
