@@ -35,21 +35,29 @@ double TreeHeight(const SkeletonGraph& skeleton) {
   return top - skeleton.nodes[skeleton.RootIdx()].position.z();
 }
 
+// Beer-Lambert projection factor of randomly oriented leaves (mean |cos|).
+constexpr double kLeafProjection = 0.5;
+// Opacities are capped below 1 before taking -log(1 - alpha).
+constexpr double kMaxOpacity = 0.999;
+
 // Active voxels and the cumulative opacity over them, for drawing ∝ density.
 struct DensitySampler {
   std::vector<Eigen::Vector3i> voxels;
   std::vector<double> cumulative;
   Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  double leaf_area = 0.0;  // world units^2, see LeafOptions::num_leaves
 
   explicit DensitySampler(const DensityGrid& density) {
-    double total = 0.0;
+    double total = 0.0, optical_depth = 0.0;
     density.ForEachActive([&](const Eigen::Vector3i& ijk, float alpha) {
       voxels.push_back(ijk);
       total += alpha;
       cumulative.push_back(total);
       centroid += alpha * density.WorldFromIndex(ijk.cast<double>());
+      optical_depth -= std::log(1.0 - std::min<double>(alpha, kMaxOpacity));
     });
     if (total > 0) centroid /= total;
+    leaf_area = optical_depth * density.voxel_size() * density.voxel_size() / kLeafProjection;
   }
   Eigen::Vector3d Draw(const DensityGrid& density, RandomEngine* rng) const {
     const double u = rng->Uniform() * cumulative.back();
@@ -119,7 +127,11 @@ void AddLeafQuad(const Leaf& leaf, double length, double width, int material, Tr
 
 void LeafOptions::Check() const {
   SYLVA_CHECK_INPUT(num_leaves >= 0 && num_leaves <= 10000000, "Leaves.num_leaves")
-      << "must be between 0 and 10^7, got " << num_leaves;
+      << "must be between 0 (from the leaf area) and 10^7, got " << num_leaves;
+  SYLVA_CHECK_INPUT(max_leaves >= 1 && max_leaves <= 10000000, "Leaves.max_leaves")
+      << "must be between 1 and 10^7, got " << max_leaves;
+  SYLVA_CHECK_INPUT(max_draws_factor >= 1, "Leaves.max_draws_factor")
+      << "must be >= 1, got " << max_draws_factor;
   SYLVA_CHECK_INPUT(leaf_length >= 0, "Leaves.leaf_length") << "must be >= 0, got " << leaf_length;
   SYLVA_CHECK_INPUT(leaf_length_fraction > 0 && leaf_length_fraction < 1,
                     "Leaves.leaf_length_fraction")
@@ -138,7 +150,8 @@ void LeafOptions::Check() const {
 
 std::string LeafSummary::BriefReport() const {
   std::ostringstream out;
-  out << "Leaves: " << kept << " of " << drawn << " drawn (" << far_from_branches
+  out << "Leaves: " << kept << " (target " << target << ") of " << drawn << " drawn ("
+      << far_from_branches
       << " too far from a thin branch, " << outside_mattes << " outside the mattes), length "
       << leaf_length << ".";
   return out.str();
@@ -155,7 +168,7 @@ TriangleMesh GenerateLeaves(const SkeletonGraph& skeleton, const DensityGrid& de
   *summary = LeafSummary();
   TriangleMesh mesh;
   const int material = mesh.AddMaterial(kLeafMaterial);
-  if (skeleton.NumNodes() < 2 || density.IsEmpty() || options.num_leaves == 0) return mesh;
+  if (skeleton.NumNodes() < 2 || density.IsEmpty()) return mesh;
 
   const double length = options.leaf_length > 0 ? options.leaf_length
                                                 : options.leaf_length_fraction * TreeHeight(skeleton);
@@ -167,42 +180,53 @@ TriangleMesh GenerateLeaves(const SkeletonGraph& skeleton, const DensityGrid& de
   const PointGrid twigs(std::move(twig_points));
   const DensitySampler sampler(density);
 
-  // Draw leaves (serially: one random stream, deterministic).
-  RandomEngine rng(options.seed, /*stream=*/0x1eaf);
-  std::vector<Leaf> leaves;
-  for (int i = 0; i < options.num_leaves; ++i) {
-    ++summary->drawn;
-    const Eigen::Vector3d center = sampler.Draw(density, &rng);
-    const int twig = twigs.Nearest(center, options.twig_reach * length);
-    if (twig < 0) {
-      ++summary->far_from_branches;
-      continue;
-    }
-    Leaf leaf;
-    leaf.center = center;
-    const Eigen::Vector3d away = center - twigs.points()[twig];
-    leaf.axis = away.norm() > 1e-9 * length ? Eigen::Vector3d(away.normalized()) : RandomUnitVector(&rng);
-    leaf.normal = LeafNormal(leaf.axis, (center - sampler.centroid).normalized(),
-                             options.phototropism, &rng);
-    leaves.push_back(leaf);
-  }
+  const double width = options.leaf_aspect * length;
+  summary->target = options.num_leaves > 0
+                        ? options.num_leaves
+                        : std::min<int64_t>(options.max_leaves,
+                                            std::llround(sampler.leaf_area / (0.5 * length * width)));
+  std::vector<SummedAreaTable> tables;
+  for (const FloatImage& matte : mattes) tables.emplace_back(matte);
 
-  // Matte test, in parallel (one flag per leaf, so the result is deterministic).
-  std::vector<char> keep(leaves.size(), 1);
-  if (!mattes.empty()) {
-    std::vector<SummedAreaTable> tables;
-    for (const FloatImage& matte : mattes) tables.emplace_back(matte);
-    tbb::parallel_for(size_t{0}, leaves.size(), [&](size_t i) {
-      keep[i] = SeenInMattes(leaves[i], length, views, tables, options.matte_threshold);
-    });
-  }
-  for (size_t i = 0; i < leaves.size(); ++i) {
-    if (!keep[i]) {
-      ++summary->outside_mattes;
-      continue;
+  // Draw in batches (serially: one random stream), test the batch against
+  // the mattes in parallel (one flag per leaf: deterministic), until the
+  // target is met or the draw budget is spent.
+  RandomEngine rng(options.seed, /*stream=*/0x1eaf);
+  const int64_t max_draws = static_cast<int64_t>(options.max_draws_factor * summary->target);
+  while (summary->kept < summary->target && summary->drawn < max_draws) {
+    const int64_t batch = std::min(summary->target - summary->kept, max_draws - summary->drawn);
+    std::vector<Leaf> leaves;
+    for (int64_t i = 0; i < batch; ++i) {
+      ++summary->drawn;
+      const Eigen::Vector3d center = sampler.Draw(density, &rng);
+      const int twig = twigs.Nearest(center, options.twig_reach * length);
+      if (twig < 0) {
+        ++summary->far_from_branches;
+        continue;
+      }
+      Leaf leaf;
+      leaf.center = center;
+      const Eigen::Vector3d away = center - twigs.points()[twig];
+      leaf.axis = away.norm() > 1e-9 * length ? Eigen::Vector3d(away.normalized())
+                                               : RandomUnitVector(&rng);
+      leaf.normal = LeafNormal(leaf.axis, (center - sampler.centroid).normalized(),
+                               options.phototropism, &rng);
+      leaves.push_back(leaf);
     }
-    AddLeafQuad(leaves[i], length, options.leaf_aspect * length, material, &mesh);
-    ++summary->kept;
+    std::vector<char> keep(leaves.size(), 1);
+    if (!tables.empty()) {
+      tbb::parallel_for(size_t{0}, leaves.size(), [&](size_t i) {
+        keep[i] = SeenInMattes(leaves[i], length, views, tables, options.matte_threshold);
+      });
+    }
+    for (size_t i = 0; i < leaves.size(); ++i) {
+      if (!keep[i]) {
+        ++summary->outside_mattes;
+        continue;
+      }
+      AddLeafQuad(leaves[i], length, width, material, &mesh);
+      ++summary->kept;
+    }
   }
   return mesh;
 }

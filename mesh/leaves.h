@@ -17,9 +17,16 @@
 namespace sylva {
 
 struct LeafOptions {
-  // Leaf positions drawn in proportion to the density; fewer remain after
-  // the branch-reach and matte tests.
-  int num_leaves = 20000;
+  // Leaves to place. 0 (the default) = as many as the density's leaf area
+  // implies: by Beer-Lambert with randomly oriented leaves (projection
+  // factor G = 0.5), a voxel of side s and optical depth x (per voxel length)
+  // holds a leaf area of x s^2 / G. Leaves are drawn in proportion to the
+  // density until this many pass the branch-reach and matte tests (or
+  // max_draws_factor times as many were drawn).
+  int num_leaves = 0;
+  // Upper bound on the automatic count.
+  int max_leaves = 200000;
+  double max_draws_factor = 3.0;
   // Leaf length in world units; 0 = leaf_length_fraction x tree height.
   double leaf_length = 0.0;
   double leaf_length_fraction = 0.012;
@@ -27,7 +34,7 @@ struct LeafOptions {
   double leaf_aspect = 0.6;
   // A leaf must be within this many leaf lengths of a thin branch (the twig
   // that carries it); farther draws are dropped.
-  double twig_reach = 3.0;
+  double twig_reach = 4.0;
   // Branches at most this fraction of the trunk radius carry leaves.
   double thin_branch_radius_fraction = 0.35;
   // 0: random orientation about the leaf's axis; 1: the leaf's normal turned
@@ -45,6 +52,7 @@ struct LeafOptions {
 };
 
 struct LeafSummary {
+  int64_t target = 0;  // leaves wanted (num_leaves or from the leaf area)
   int64_t drawn = 0;
   int64_t kept = 0;
   int64_t far_from_branches = 0;

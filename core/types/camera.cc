@@ -32,6 +32,11 @@ const ModelInfo& Info(CameraModel model) {
   return kModels[0];
 }
 
+bool HasSingleFocalLength(CameraModel model) {
+  return model == CameraModel::kSimplePinhole || model == CameraModel::kSimpleRadial ||
+         model == CameraModel::kRadial;
+}
+
 // Newton's method for undistortion: iterations and convergence tolerance on
 // the normalized-coordinate update (COLMAP uses similar values).
 constexpr int kUndistortMaxIterations = 100;
@@ -83,6 +88,13 @@ Camera Camera::Pinhole(int width, int height, double focal_length_px) {
                 {focal_length_px, focal_length_px, 0.5 * width, 0.5 * height});
 }
 
+Camera Camera::Scaled(double scale, int new_width, int new_height) const {
+  std::vector<double> params = params_;
+  const int intrinsics = HasSingleFocalLength(model_) ? 3 : 4;  // f (or fx, fy), cx, cy
+  for (int i = 0; i < intrinsics; ++i) params[i] *= scale;
+  return Camera(model_, new_width, new_height, std::move(params));
+}
+
 bool Camera::HasDistortion() const {
   switch (model_) {
     case CameraModel::kSimpleRadial:
@@ -94,12 +106,6 @@ bool Camera::HasDistortion() const {
   }
 }
 
-namespace {
-bool HasSingleFocalLength(CameraModel model) {
-  return model == CameraModel::kSimplePinhole || model == CameraModel::kSimpleRadial ||
-         model == CameraModel::kRadial;
-}
-}  // namespace
 
 double Camera::FocalLengthX() const { return params_[0]; }
 double Camera::FocalLengthY() const {

@@ -65,6 +65,12 @@ class Camera {
   double FocalLengthY() const;
   Eigen::Vector2d PrincipalPoint() const;
 
+  // The same camera for an image resized by `scale` (e.g. 1/4 for a 4x
+  // box-downsampled image) to new_width x new_height: focal lengths and
+  // principal point scale (pixel edges map onto pixel edges); distortion,
+  // which acts on normalized coordinates, is unchanged.
+  Camera Scaled(double scale, int new_width, int new_height) const;
+
   // Throws InputError (naming `source`) if the parameter count, image size or
   // focal lengths are invalid.
   void Check(const std::string& source) const;

@@ -86,6 +86,15 @@ TEST(CameraTest, OrthographicRaysAreParallelLines) {
   EXPECT_TRUE(camera.ImgFromCam({1, 2, 0}).isApprox(Eigen::Vector2d(110, 70)));
 }
 
+TEST(CameraTest, ScaledCameraMapsPixelsToScaledPixels) {
+  for (const Camera& camera : AllModels()) {
+    const Camera half = camera.Scaled(0.5, camera.width() / 2, camera.height() / 2);
+    const Eigen::Vector3d point(0.3, -0.2, 2.0);
+    EXPECT_LT((half.ImgFromCam(point) - 0.5 * camera.ImgFromCam(point)).norm(), 1e-9)
+        << CameraModelName(camera.model());
+  }
+}
+
 TEST(CameraTest, CheckRejectsBadParameters) {
   EXPECT_NO_THROW(Camera::Pinhole(10, 10, 5).Check("ok"));
   EXPECT_THROW(Camera(CameraModel::kPinhole, 10, 10, {1, 2, 3}), InputError);
