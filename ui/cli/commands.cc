@@ -52,7 +52,7 @@ CommandSpec RunSpec() {
           "writes the outputs under PROJECT/out/. Options given here apply to this run (and\n"
           "are saved in the project's sylva.json with --save); the effective options of every\n"
           "run are written to PROJECT/out/run.json.",
-          {{"until", "STAGE", "stop after this stage (density, report)"},
+          {{"until", "STAGE", "stop after this stage (density, skeleton, mesh, report)"},
            {"force", "", "re-run stages even if up to date"},
            {"save", "", "save the options given here in the project's sylva.json"},
            kLogLevelFlag},
@@ -175,7 +175,8 @@ PipelineOptions ResolveOptions(Project* project, const ParsedArguments& args) {
 
 void PrintOutputs(const Project& project) {
   std::cout << "Outputs in " << project.OutDir().string() << "/:\n";
-  for (const char* name : {"density.vdb", "report.json", "report.html", "run.json"}) {
+  for (const char* name : {"density.vdb", "skeleton.json", "skeleton.ply", "tree.glb", "tree.obj",
+                           "report.json", "report.html", "run.json"}) {
     std::error_code ec;
     if (fs::is_regular_file(project.OutDir() / name, ec)) std::cout << "  " << name << "\n";
   }

@@ -45,12 +45,17 @@ bool ParseBool(const std::string& text) {
   throw std::invalid_argument("expected true or false, got '" + text + "'");
 }
 
-Box3d ParseBox(const std::string& text) {
-  if (Trim(text) == "auto" || Trim(text).empty()) return Box3d();
+std::vector<double> ParseNumberList(const std::string& text) {
   std::vector<double> values;
   std::stringstream stream(text);
   std::string item;
   while (std::getline(stream, item, ',')) values.push_back(ParseDouble(item));
+  return values;
+}
+
+Box3d ParseBox(const std::string& text) {
+  if (Trim(text) == "auto" || Trim(text).empty()) return Box3d();
+  const std::vector<double> values = ParseNumberList(text);
   if (values.size() != 6) {
     throw std::invalid_argument("expected 'auto' or six numbers x0,y0,z0,x1,y1,z1, got '" +
                                 text + "'");
@@ -61,6 +66,20 @@ Box3d ParseBox(const std::string& text) {
     throw std::invalid_argument("box maximum must exceed its minimum on every axis");
   }
   return box;
+}
+
+Eigen::Vector3d ParsePoint(const std::string& text) {
+  if (Trim(text) == "auto" || Trim(text).empty()) return Eigen::Vector3d::Constant(NAN);
+  const std::vector<double> values = ParseNumberList(text);
+  if (values.size() != 3) {
+    throw std::invalid_argument("expected 'auto' or three numbers x,y,z, got '" + text + "'");
+  }
+  return Eigen::Vector3d(values[0], values[1], values[2]);
+}
+
+std::string FormatPoint(const Eigen::Vector3d& point) {
+  if (!point.allFinite()) return "auto";
+  return FormatDouble(point.x()) + "," + FormatDouble(point.y()) + "," + FormatDouble(point.z());
 }
 
 std::string FormatBox(const Box3d& box) {
@@ -126,6 +145,12 @@ void OptionRegistry::AddBox(const std::string& key, Box3d* value, const std::str
                             const std::string& help) {
   Add({key, "box", unit, help, "", [value] { return FormatBox(*value); },
        [value](const std::string& t) { *value = ParseBox(t); }});
+}
+
+void OptionRegistry::AddPoint(const std::string& key, Eigen::Vector3d* value,
+                              const std::string& unit, const std::string& help) {
+  Add({key, "point", unit, help, "", [value] { return FormatPoint(*value); },
+       [value](const std::string& t) { *value = ParsePoint(t); }});
 }
 
 const OptionRegistry::Entry* OptionRegistry::Find(const std::string& key) const {

@@ -40,6 +40,9 @@ class OptionRegistry {
   // A box given as "x0,y0,z0,x1,y1,z1", or "auto" for an empty box.
   void AddBox(const std::string& key, Box3d* value, const std::string& unit,
               const std::string& help);
+  // A point given as "x,y,z", or "auto" for a point with NaN coordinates.
+  void AddPoint(const std::string& key, Eigen::Vector3d* value, const std::string& unit,
+                const std::string& help);
 
   bool Has(const std::string& key) const { return Find(key) != nullptr; }
   const std::vector<Entry>& entries() const { return entries_; }

@@ -6,88 +6,74 @@
 #include <sstream>
 
 #include "core/io/json_util.h"
-#include "core/io/vdb_io.h"
 #include "core/util/check.h"
 #include "core/util/file_util.h"
-#include "core/util/logging.h"
-#include "core/util/threading.h"
-#include "reconstruct/density/density_reconstruction.h"
-#include "ui/pipeline/report.h"
 
 namespace sylva {
 namespace {
 
-// Bump a stage's version when its algorithm changes its outputs, so old
-// results are recomputed.
-constexpr char kDensityVersion[] = "density/1";
-constexpr char kReportVersion[] = "report/1";
-constexpr char kSylvaVersion[] = "0.1.0";
+constexpr char kSylvaVersion[] = "0.2.0";
 
-const std::vector<StageInfo> kStages = {
-    {Stage::kDensity, "density",
-     "back-project the mattes into a voxel density grid (out/density.vdb)"},
-    {Stage::kReport, "report",
-     "per-view fidelity of the reconstruction against the mattes (out/report.json)"},
+// What a stage is and what it depends on.
+struct StageDefinition {
+  StageInfo info;
+  // Bump when the stage's algorithm changes its outputs, so old results are
+  // recomputed.
+  const char* version;
+  // Option sections (Section.field prefixes) and single keys it reads.
+  std::vector<std::string> options;
+  std::vector<Stage> upstream;
+  bool reads_held_out_mattes;
+  StageRun (*run)(const StageContext&);
 };
+
+const std::vector<StageDefinition>& Definitions() {
+  static const std::vector<StageDefinition> definitions = {
+      {{Stage::kDensity, "density",
+        "back-project the mattes into a voxel density grid (out/density.vdb)"},
+       "density/1", {"Density."}, {}, false, RunDensityStage},
+      {{Stage::kSkeleton, "skeleton",
+        "particle flow from the density to the tree base; skeleton with allometric radii "
+        "(out/skeleton.json, skeleton.ply)"},
+       "skeleton/1", {"TreeBase.", "ParticleFlow.", "Skeleton.", "Allometry.", "General.seed"},
+       {Stage::kDensity}, false, RunSkeletonStage},
+      {{Stage::kMesh, "mesh",
+        "branch tubes and leaves from the skeleton (out/tree.glb, tree.obj)"},
+       "mesh/1", {"BranchMesh.", "Leaves.", "General.seed"}, {Stage::kDensity, Stage::kSkeleton},
+       false, RunMeshStage},
+      {{Stage::kReport, "report",
+        "per-view fidelity of the density and the mesh against the mattes, tree metrics "
+        "(out/report.json, report.html)"},
+       "report/2", {"Report."}, {Stage::kDensity, Stage::kSkeleton, Stage::kMesh}, true,
+       RunReportStage},
+  };
+  return definitions;
+}
+
+const StageDefinition& Definition(Stage stage) {
+  for (const StageDefinition& definition : Definitions()) {
+    if (definition.info.stage == stage) return definition;
+  }
+  SYLVA_CHECK(false) << "unknown stage";
+  return Definitions().front();
+}
 
 double SecondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-// The options of the given sections, as canonical JSON text.
-std::string SectionsText(const PipelineOptions& options, const std::vector<std::string>& keys) {
+// The values of the options a stage reads, as canonical text.
+std::string OptionsText(const PipelineOptions& options, const std::vector<std::string>& prefixes) {
   PipelineOptions copy = options;
   OptionRegistry registry;
   RegisterPipelineOptions(&copy, &registry);
   std::string text;
-  for (const std::string& key : keys) text += key + "=" + registry.Get(key) + ";";
-  return text;
-}
-
-std::vector<std::string> KeysOfSection(const std::string& section) {
-  PipelineOptions options;
-  OptionRegistry registry;
-  RegisterPipelineOptions(&options, &registry);
-  std::vector<std::string> keys;
   for (const auto& entry : registry.entries()) {
-    if (entry.key.rfind(section + ".", 0) == 0) keys.push_back(entry.key);
+    for (const std::string& prefix : prefixes) {
+      if (entry.key.rfind(prefix, 0) == 0) text += entry.key + "=" + entry.get() + ";";
+    }
   }
-  return keys;
-}
-
-Json LoadStageRecords(const fs::path& path) {
-  std::error_code ec;
-  if (!fs::is_regular_file(path, ec)) return Json::object();
-  try {
-    Json json = ReadJsonFile(path);
-    return json.is_object() ? json : Json::object();
-  } catch (const InputError& error) {
-    // The cache is safe to delete; a corrupt one only means re-running.
-    SYLVA_LOG(kWarning) << error.what() << " (ignored; stages will re-run)";
-    return Json::object();
-  }
-}
-
-std::vector<FloatImage> LoadMattes(const Project& project, const ImageSet& image_set,
-                                   ProgressTask* progress) {
-  std::vector<FloatImage> mattes(image_set.NumViews());
-  progress->Update(0.0);
-  ParallelForFirstError(image_set.NumViews(), [&](int v) {
-    progress->CheckCancelled();
-    mattes[v] = project.LoadMatte(image_set, v);
-  });
-  progress->Update(1.0);
-  return mattes;
-}
-
-// The views used for the reconstruction (all but the held-out ones).
-ImageSet InputViews(const Project& project, const ImageSet& image_set) {
-  ImageSet inputs = image_set;
-  inputs.views.clear();
-  for (const View& view : image_set.views) {
-    if (!project.IsHeldOut(view.name)) inputs.views.push_back(view);
-  }
-  return inputs;
+  return text;
 }
 
 std::string LocalTime() {
@@ -99,22 +85,20 @@ std::string LocalTime() {
 
 }  // namespace
 
-const std::vector<StageInfo>& AllStages() { return kStages; }
-
-const StageInfo& GetStageInfo(Stage stage) {
-  for (const StageInfo& info : kStages) {
-    if (info.stage == stage) return info;
-  }
-  SYLVA_CHECK(false) << "unknown stage";
-  return kStages.front();
+std::vector<StageInfo> AllStages() {
+  std::vector<StageInfo> stages;
+  for (const StageDefinition& definition : Definitions()) stages.push_back(definition.info);
+  return stages;
 }
 
+StageInfo GetStageInfo(Stage stage) { return Definition(stage).info; }
+
 Stage ParseStage(const std::string& name, const std::string& source) {
-  for (const StageInfo& info : kStages) {
-    if (name == info.name) return info.stage;
-  }
   std::string names;
-  for (const StageInfo& info : kStages) names += (names.empty() ? "" : ", ") + std::string(info.name);
+  for (const StageDefinition& definition : Definitions()) {
+    if (name == definition.info.name) return definition.info.stage;
+    names += (names.empty() ? "" : ", ") + std::string(definition.info.name);
+  }
   SYLVA_INPUT_ERROR(source) << "unknown stage '" << name << "' (stages: " << names << ")";
   return Stage::kDensity;
 }
@@ -135,36 +119,36 @@ Pipeline::Pipeline(const Project& project, const PipelineOptions& options,
 }
 
 std::string Pipeline::StageKey(Stage stage) const {
-  std::string text;
+  const StageDefinition& definition = Definition(stage);
+  std::string text = std::string(definition.version) + ";";
   for (const fs::path& file : project_.CameraFiles()) {
     text += file.string() + ":" + HexString(FileStamp(file)) + ";";
   }
   const ImageSet image_set = project_.LoadCameras();
   for (const View& view : image_set.views) {
     const bool held_out = project_.IsHeldOut(view.name);
-    if (stage == Stage::kDensity && held_out) continue;
+    if (held_out && !definition.reads_held_out_mattes) continue;
     const fs::path matte = project_.MattePath(view.name);
     text += view.name + (held_out ? "(held out)" : "") + "=" + matte.string() + ":" +
             HexString(FileStamp(matte)) + ";";
   }
-  if (stage == Stage::kDensity) {
-    text = std::string(kDensityVersion) + ";" + text + SectionsText(options_, KeysOfSection("Density"));
-  } else {
-    text = std::string(kReportVersion) + ";" + text +
-           SectionsText(options_, KeysOfSection("Report")) + "density=" + StageKey(Stage::kDensity);
+  text += OptionsText(options_, definition.options);
+  for (Stage upstream : definition.upstream) {
+    text += std::string(GetStageInfo(upstream).name) + "=" + StageKey(upstream) + ";";
   }
   return HexString(Fnv1a64(text));
 }
 
 bool Pipeline::IsUpToDate(Stage stage) const {
-  const Json records = LoadStageRecords(project_.CacheDir() / "stages.json");
+  const Json records = ParseJson(ReadStageRecordsText(project_), "stage records");
   const std::string name = GetStageInfo(stage).name;
   if (!records.contains(name)) return false;
   const Json& record = records[name];
   if (!record.contains("key") || record["key"] != StageKey(stage)) return false;
   std::error_code ec;
   for (const auto& output : record.value("outputs", Json::array())) {
-    if (!output.is_string() || !fs::is_regular_file(project_.root() / output.get<std::string>(), ec)) {
+    if (!output.is_string() ||
+        !fs::is_regular_file(project_.root() / output.get<std::string>(), ec)) {
       return false;
     }
   }
@@ -172,8 +156,7 @@ bool Pipeline::IsUpToDate(Stage stage) const {
 }
 
 void Pipeline::Record(const StageRun& run) const {
-  const fs::path path = project_.CacheDir() / "stages.json";
-  Json records = LoadStageRecords(path);
+  Json records = ParseJson(ReadStageRecordsText(project_), "stage records");
   Json outputs = Json::array();
   for (const fs::path& output : run.outputs) {
     outputs.push_back(fs::relative(output, project_.root()).generic_string());
@@ -183,7 +166,7 @@ void Pipeline::Record(const StageRun& run) const {
                                            {"seconds", run.seconds},
                                            {"summary", run.brief},
                                            {"finished", LocalTime()}};
-  WriteJsonFile(path, records);
+  WriteJsonFile(project_.CacheDir() / "stages.json", records);
 }
 
 void Pipeline::WriteRunRecord() const {
@@ -200,28 +183,33 @@ void Pipeline::WriteRunRecord() const {
 
 RunSummary Pipeline::Run(Stage until, bool force) {
   std::vector<Stage> to_run;
-  for (const StageInfo& info : kStages) {
-    if (force || !IsUpToDate(info.stage)) to_run.push_back(info.stage);
-    if (info.stage == until) break;
+  for (const StageDefinition& definition : Definitions()) {
+    const Stage stage = definition.info.stage;
+    // A stage re-runs when it is out of date or a stage it builds on re-runs.
+    bool stale = force || !IsUpToDate(stage);
+    for (Stage upstream : definition.upstream) {
+      stale = stale || std::find(to_run.begin(), to_run.end(), upstream) != to_run.end();
+    }
+    if (stale) to_run.push_back(stage);
+    if (stage == until) break;
   }
-  const auto runs = [&](Stage stage) {
-    return std::find(to_run.begin(), to_run.end(), stage) != to_run.end();
-  };
-  // A bad matte must fail the run before any stage writes. Each stage checks
-  // the mattes it reads before writing; only the held-out views' are read by
-  // the report alone, after the density stage has written its grid.
-  if (runs(Stage::kDensity) && runs(Stage::kReport)) CheckHeldOutMattes();
+  // A bad held-out matte must fail the run before any stage writes: only
+  // the report reads them, after the others have written.
+  if (!to_run.empty() && to_run.back() == Stage::kReport && to_run.size() > 1) {
+    CheckHeldOutMattes();
+  }
   RunSummary summary;
-  for (const StageInfo& info : kStages) {
-    if (runs(info.stage)) {
-      summary.stages.push_back(Execute(info.stage));
+  for (const StageDefinition& definition : Definitions()) {
+    const Stage stage = definition.info.stage;
+    if (std::find(to_run.begin(), to_run.end(), stage) != to_run.end()) {
+      summary.stages.push_back(Execute(stage));
     } else {
       StageRun skipped;
-      skipped.stage = info.stage;
+      skipped.stage = stage;
       skipped.up_to_date = true;
       summary.stages.push_back(skipped);
     }
-    if (info.stage == until) break;
+    if (stage == until) break;
   }
   WriteRunRecord();
   return summary;
@@ -244,46 +232,11 @@ StageRun Pipeline::RunStage(Stage stage) {
 
 StageRun Pipeline::Execute(Stage stage) {
   const auto start = std::chrono::steady_clock::now();
-  StageRun run = stage == Stage::kDensity ? RunDensity() : RunReport();
+  const StageContext context{project_, options_, progress_};
+  StageRun run = Definition(stage).run(context);
   run.stage = stage;
   run.seconds = SecondsSince(start);
   Record(run);
-  return run;
-}
-
-StageRun Pipeline::RunDensity() {
-  ProgressTask progress(progress_, "density: reading mattes", 0.0, 0.1);
-  const ImageSet image_set = InputViews(project_, project_.LoadCameras());
-  const std::vector<FloatImage> mattes = LoadMattes(project_, image_set, &progress);
-  DensitySummary summary;
-  DensityGrid grid = ReconstructDensity(image_set, mattes, options_.density, progress_, &summary);
-  grid.SetMetadata("units", project_.units());
-  StageRun run;
-  run.brief = summary.BriefReport();
-  run.outputs = {project_.OutDir() / "density.vdb"};
-  WriteDensityGrid(run.outputs[0], grid);
-  return run;
-}
-
-StageRun Pipeline::RunReport() {
-  const fs::path density_path = project_.OutDir() / "density.vdb";
-  std::error_code ec;
-  SYLVA_CHECK_INPUT(fs::is_regular_file(density_path, ec), density_path.string())
-      << "no density grid yet; run the density stage first ('sylva run')";
-  const DensityGrid grid = ReadDensityGrid(density_path);
-  const ImageSet image_set = project_.LoadCameras();
-  ProgressTask progress(progress_, "report: reading mattes");
-  const std::vector<FloatImage> mattes = LoadMattes(project_, image_set, &progress);
-  std::vector<bool> held_out;
-  for (const View& view : image_set.views) held_out.push_back(project_.IsHeldOut(view.name));
-  FidelityReport report = ComputeFidelity(grid, image_set, mattes, held_out, options_.report);
-  report.units = project_.units();
-  const Json records = LoadStageRecords(project_.CacheDir() / "stages.json");
-  const std::string density_brief =
-      records.contains("density") ? records["density"].value("summary", "") : "";
-  StageRun run;
-  run.brief = report.BriefReport();
-  run.outputs = WriteFidelityReport(report, density_brief, options_.report, project_.OutDir());
   return run;
 }
 

@@ -2,10 +2,11 @@
 // desktop app: runs the stages of a project in order, re-running only those
 // whose inputs changed (COLMAP-controller style, with progress and cancel).
 //
-// Each stage's inputs (options, input file stamps, upstream stage keys) are
-// hashed into a key recorded in PROJECT/cache/stages.json with the stage's
-// outputs; a stage is up to date when its key matches and its outputs exist.
-// Every run writes the effective options to PROJECT/out/run.json.
+// Stages: density -> skeleton -> mesh -> report. Each stage's inputs (its
+// options, the camera and matte files it reads, the keys of the stages it
+// builds on) are hashed into a key recorded in PROJECT/cache/stages.json with
+// the stage's outputs; a stage is up to date when its key matches and its
+// outputs exist. Every run writes the effective options to PROJECT/out/run.json.
 #ifndef SYLVA_UI_PIPELINE_PIPELINE_H_
 #define SYLVA_UI_PIPELINE_PIPELINE_H_
 
@@ -16,28 +17,20 @@
 #include "core/util/progress.h"
 #include "ui/pipeline/pipeline_options.h"
 #include "ui/pipeline/project.h"
+#include "ui/pipeline/stage_context.h"
 
 namespace sylva {
-
-enum class Stage { kDensity, kReport };
 
 struct StageInfo {
   Stage stage;
   const char* name;         // "density"
   const char* description;  // one line for help
 };
-const std::vector<StageInfo>& AllStages();
-const StageInfo& GetStageInfo(Stage stage);
+// In pipeline order.
+std::vector<StageInfo> AllStages();
+StageInfo GetStageInfo(Stage stage);
 // Throws InputError naming `source` for an unknown name.
 Stage ParseStage(const std::string& name, const std::string& source);
-
-struct StageRun {
-  Stage stage = Stage::kDensity;
-  bool up_to_date = false;  // skipped: inputs unchanged since the last run
-  double seconds = 0.0;
-  std::string brief;        // the stage's BriefReport()
-  std::vector<std::filesystem::path> outputs;
-};
 
 struct RunSummary {
   std::vector<StageRun> stages;
@@ -62,9 +55,8 @@ class Pipeline {
 
  private:
   StageRun Execute(Stage stage);
-  StageRun RunDensity();
-  StageRun RunReport();
-  // Reads the held-out views' mattes (InputError for a bad one).
+  // Reads the held-out views' mattes (only the report reads them) so a bad
+  // one fails the run before any stage writes.
   void CheckHeldOutMattes() const;
   void Record(const StageRun& run) const;
   void WriteRunRecord() const;

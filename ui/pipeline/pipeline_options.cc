@@ -1,5 +1,7 @@
 #include "ui/pipeline/pipeline_options.h"
 
+#include <cmath>
+
 #include "core/util/check.h"
 
 namespace sylva {
@@ -16,11 +18,37 @@ void ReportOptions::Check() const {
       << "must be in (0, 1], got " << matte_threshold;
   SYLVA_CHECK_INPUT(pixels_per_voxel > 0 && pixels_per_voxel <= 64, "Report.pixels_per_voxel")
       << "must be in (0, 64], got " << pixels_per_voxel;
+  SYLVA_CHECK_INPUT(mesh_samples_per_axis >= 1 && mesh_samples_per_axis <= 16,
+                    "Report.mesh_samples_per_axis")
+      << "must be between 1 and 16, got " << mesh_samples_per_axis;
+}
+
+void SkeletonOptions::Check() const {
+  SYLVA_CHECK_INPUT(base.allFinite() || base.array().isNaN().all(), "Skeleton.base")
+      << "must be 'auto' or three finite numbers";
+  SYLVA_CHECK_INPUT(trunk_radius >= 0 && std::isfinite(trunk_radius), "Skeleton.trunk_radius")
+      << "must be >= 0 (0 = measured in the mattes), got " << trunk_radius;
+  SYLVA_CHECK_INPUT(trunk_radius_fraction > 0 && trunk_radius_fraction < 1,
+                    "Skeleton.trunk_radius_fraction")
+      << "must be in (0, 1), got " << trunk_radius_fraction;
+  SYLVA_CHECK_INPUT(min_radius_fraction >= 0 && min_radius_fraction <= 1,
+                    "Skeleton.min_radius_fraction")
+      << "must be in [0, 1], got " << min_radius_fraction;
 }
 
 void PipelineOptions::Check() const {
   general.Check();
   density.Check();
+  tree_base.Check();
+  particle_flow.Check();
+  skeleton.Check();
+  // Allometry sizes are set by the skeleton stage; check the exponent here.
+  AllometryOptions allometry_check = allometry;
+  allometry_check.trunk_radius = 1.0;
+  allometry_check.min_radius = 0.0;
+  allometry_check.Check();
+  branch_mesh.Check();
+  leaves.Check();
   report.Check();
 }
 
@@ -68,6 +96,93 @@ void RegisterDensity(DensityOptions* o, OptionRegistry* r) {
                "voxels below this opacity are not stored");
 }
 
+void RegisterTreeBase(TreeBaseOptions* o, OptionRegistry* r) {
+  r->AddDouble("TreeBase.min_opacity", &o->min_opacity, "alpha",
+               "voxels below this opacity are ignored when finding the trunk's base");
+  r->AddDouble("TreeBase.layer_fraction", &o->layer_fraction, "",
+               "the base layer is the lowest holding this fraction of the densest low layer");
+  r->AddInt("TreeBase.reference_voxels", &o->reference_voxels, "voxels",
+            "low layers among which the densest is the reference");
+  r->AddInt("TreeBase.slab_voxels", &o->slab_voxels, "voxels",
+            "layers above the base whose centre gives the base's x and y");
+}
+
+void RegisterParticleFlow(ParticleFlowOptions* o, OptionRegistry* r) {
+  r->AddInt("ParticleFlow.num_particles", &o->num_particles, "particles",
+            "particles seeded in proportion to density (thesis: 500-2000)");
+  r->AddDouble("ParticleFlow.base_pull", &o->base_pull, "voxels/time^2", "pull towards the base");
+  r->AddDouble("ParticleFlow.descent_angle_deg", &o->descent_angle_deg, "degrees",
+               "the pull aims at the trunk axis this far below the horizontal (90 = at the base)");
+  r->AddDouble("ParticleFlow.axis_lookahead", &o->axis_lookahead, "voxels",
+               "near the axis the pull aims at least this far down");
+  r->AddDouble("ParticleFlow.neighbor_pull", &o->neighbor_pull, "voxels/time^2",
+               "largest attraction to the nearest neighbour");
+  r->AddDouble("ParticleFlow.neighbor_radius", &o->neighbor_radius, "voxels",
+               "the attraction fades to zero at this distance");
+  r->AddDouble("ParticleFlow.field_weight", &o->field_weight, "voxels/time^2",
+               "weight of the external direction field");
+  r->AddDouble("ParticleFlow.damping", &o->damping, "1/time", "linear drag");
+  r->AddDouble("ParticleFlow.merge_distance", &o->merge_distance, "voxels",
+               "particles closer than this merge (masses add)");
+  r->AddDouble("ParticleFlow.base_radius", &o->base_radius, "voxels",
+               "particles this close to the base stop");
+  r->AddInt("ParticleFlow.max_iterations", &o->max_iterations, "steps",
+            "accepted RK4 steps at most (thesis: ~200)");
+  r->AddDouble("ParticleFlow.error_tolerance", &o->error_tolerance, "voxels",
+               "largest position error per adaptive RK4 step");
+  r->AddDouble("ParticleFlow.initial_step", &o->initial_step, "time", "first RK4 step");
+  r->AddDouble("ParticleFlow.min_step", &o->min_step, "time", "smallest RK4 step");
+  r->AddDouble("ParticleFlow.max_step", &o->max_step, "time", "largest RK4 step");
+  r->AddDouble("ParticleFlow.trace_tolerance", &o->trace_tolerance, "voxels",
+               "a trace records a node when the path deviates this much");
+  r->AddDouble("ParticleFlow.simplify_tolerance", &o->simplify_tolerance, "voxels",
+               "collinear chains are simplified within this distance");
+  r->AddString("ParticleFlow.neighbor_search", &o->neighbor_search,
+               "uniform_grid (fastest), embree or brute_force");
+}
+
+void RegisterSkeleton(SkeletonOptions* o, AllometryOptions* allometry, OptionRegistry* r) {
+  r->AddPoint("Skeleton.base", &o->base, "world units",
+              "bottom of the trunk x,y,z, or auto (estimated from the density)");
+  r->AddDouble("Skeleton.trunk_radius", &o->trunk_radius, "world units",
+               "trunk radius at the base (an allometric prior's scale); 0 = measured in the mattes");
+  r->AddDouble("Skeleton.trunk_radius_fraction", &o->trunk_radius_fraction, "",
+               "trunk radius as a fraction of the tree height where the mattes cannot tell");
+  r->AddDouble("Skeleton.min_radius_fraction", &o->min_radius_fraction, "",
+               "thinnest branch radius as a fraction of the trunk radius");
+  r->AddDouble("Allometry.diameter_exponent", &allometry->diameter_exponent, "",
+               "pipe model d0^D = sum di^D: 2 = Leonardo, 2.49 = Murray");
+}
+
+void RegisterBranchMesh(BranchMeshOptions* o, OptionRegistry* r) {
+  r->AddInt("BranchMesh.rings_per_segment", &o->rings_per_segment, "rings",
+            "rings sampled per skeleton edge along the B-spline");
+  r->AddDouble("BranchMesh.rings_per_unit_length", &o->rings_per_unit_length, "rings/world unit",
+               "at least this many rings per unit of length (0 = off)");
+  r->AddInt("BranchMesh.min_sides", &o->min_sides, "sides", "sides of the thinnest branches");
+  r->AddInt("BranchMesh.max_sides", &o->max_sides, "sides", "sides of the trunk");
+}
+
+void RegisterLeaves(LeafOptions* o, OptionRegistry* r) {
+  r->AddInt("Leaves.num_leaves", &o->num_leaves, "leaves",
+            "leaves placed in proportion to density; 0 = from the density's leaf area "
+            "(Beer-Lambert)");
+  r->AddInt("Leaves.max_leaves", &o->max_leaves, "leaves", "upper bound on the automatic count");
+  r->AddDouble("Leaves.leaf_length", &o->leaf_length, "world units",
+               "leaf length; 0 = leaf_length_fraction x tree height");
+  r->AddDouble("Leaves.leaf_length_fraction", &o->leaf_length_fraction, "",
+               "leaf length as a fraction of the tree height");
+  r->AddDouble("Leaves.leaf_aspect", &o->leaf_aspect, "", "leaf width / length");
+  r->AddDouble("Leaves.twig_reach", &o->twig_reach, "leaf lengths",
+               "leaves farther than this from a thin branch are dropped");
+  r->AddDouble("Leaves.thin_branch_radius_fraction", &o->thin_branch_radius_fraction, "",
+               "branches thinner than this fraction of the trunk radius carry leaves");
+  r->AddDouble("Leaves.phototropism", &o->phototropism, "",
+               "0 random orientation, 1 leaves turned outward from the crown (thesis 5.4)");
+  r->AddDouble("Leaves.matte_threshold", &o->matte_threshold, "alpha",
+               "leaves projecting onto mattes sparser than this are dropped");
+}
+
 void RegisterReport(ReportOptions* o, OptionRegistry* r) {
   r->AddDouble("Report.opacity_threshold", &o->opacity_threshold, "alpha",
                "projected density at or above this is foreground");
@@ -76,8 +191,10 @@ void RegisterReport(ReportOptions* o, OptionRegistry* r) {
   r->AddDouble("Report.pixels_per_voxel", &o->pixels_per_voxel, "pixels",
                "comparison resolution: images downsampled so a voxel covers about this many "
                "pixels");
+  r->AddInt("Report.mesh_samples_per_axis", &o->mesh_samples_per_axis, "rays",
+            "rays per compared pixel along each axis when rendering the mesh");
   r->AddBool("Report.write_images", &o->write_images,
-             "write per-view comparison pictures and report.html");
+             "write per-view comparison pictures, renders and report.html");
 }
 
 }  // namespace
@@ -85,6 +202,11 @@ void RegisterReport(ReportOptions* o, OptionRegistry* r) {
 void RegisterPipelineOptions(PipelineOptions* options, OptionRegistry* registry) {
   RegisterGeneral(&options->general, registry);
   RegisterDensity(&options->density, registry);
+  RegisterTreeBase(&options->tree_base, registry);
+  RegisterParticleFlow(&options->particle_flow, registry);
+  RegisterSkeleton(&options->skeleton, &options->allometry, registry);
+  RegisterBranchMesh(&options->branch_mesh, registry);
+  RegisterLeaves(&options->leaves, registry);
   RegisterReport(&options->report, registry);
 }
 

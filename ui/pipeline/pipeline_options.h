@@ -1,27 +1,48 @@
-// All options of a sylva run, one struct per stage, and their registration
-// in the option registry (the single place that names them for users).
+// All options of a sylva run, one struct per algorithm, and their
+// registration in the option registry (the single place that names them for
+// users as Section.field).
 #ifndef SYLVA_UI_PIPELINE_PIPELINE_OPTIONS_H_
 #define SYLVA_UI_PIPELINE_PIPELINE_OPTIONS_H_
 
+#include <Eigen/Core>
 #include <cstdint>
 #include <string>
 
+#include "mesh/allometry.h"
+#include "mesh/branch_mesh.h"
+#include "mesh/leaves.h"
 #include "reconstruct/density/density_options.h"
+#include "simulate/particle_flow.h"
 #include "ui/pipeline/option_registry.h"
 
 namespace sylva {
 
 struct GeneralOptions {
   // Seed of every random choice of the run; same inputs and seed give the
-  // same tree.
+  // same tree. Each stage derives its own stream from it.
   uint64_t seed = 1;
   // Worker threads; 0 uses every core.
   int num_threads = 0;
   void Check() const;
 };
 
+// The skeleton stage's own settings around the particle flow and radii.
+struct SkeletonOptions {
+  // The bottom of the trunk, in world units; NaN (the default, "auto") =
+  // estimated from the density (TreeBase options).
+  Eigen::Vector3d base = Eigen::Vector3d::Constant(NAN);
+  // Radius of the trunk at its base, in world units; 0 = measured in the
+  // mattes, or trunk_radius_fraction x tree height where it cannot be.
+  double trunk_radius = 0.0;
+  double trunk_radius_fraction = 0.025;
+  // The thinnest branch radius, as a fraction of the trunk radius.
+  double min_radius_fraction = 0.02;
+  void Check() const;
+};
+
 struct ReportOptions {
-  // A pixel of the projected density is foreground at this opacity or more.
+  // A pixel of the projected density or rendered mesh is foreground at this
+  // opacity (coverage) or more.
   double opacity_threshold = 0.5;
   // A matte pixel is foreground at this alpha or more.
   double matte_threshold = 0.5;
@@ -29,7 +50,9 @@ struct ReportOptions {
   // covers about this many pixels across (independent of the density stage's
   // own sampling, so that solver settings are compared on equal terms).
   double pixels_per_voxel = 1.0;
-  // Write per-view comparison pictures and report.html under out/.
+  // Rays per compared pixel along each axis when rendering the mesh.
+  int mesh_samples_per_axis = 4;
+  // Write per-view comparison pictures, renders and report.html under out/.
   bool write_images = true;
   void Check() const;
 };
@@ -37,13 +60,21 @@ struct ReportOptions {
 struct PipelineOptions {
   GeneralOptions general;
   DensityOptions density;
+  TreeBaseOptions tree_base;
+  ParticleFlowOptions particle_flow;
+  SkeletonOptions skeleton;
+  AllometryOptions allometry;
+  BranchMeshOptions branch_mesh;
+  LeafOptions leaves;
   ReportOptions report;
 
   // Throws InputError naming the first invalid option.
   void Check() const;
 };
 
-// Registers every field of `options` (which must outlive the registry).
+// Registers every user-facing field of `options` (which must outlive the
+// registry). Seeds and the allometry's world-unit sizes are set by the
+// stages from General.seed and Skeleton.* instead.
 void RegisterPipelineOptions(PipelineOptions* options, OptionRegistry* registry);
 
 }  // namespace sylva

@@ -1,12 +1,16 @@
 #include "ui/pipeline/report.h"
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <iomanip>
 #include <sstream>
 
 #include "core/io/image_io.h"
 #include "core/io/json_util.h"
+#include "core/util/check.h"
 #include "core/util/file_util.h"
+#include "mesh/mesh_renderer.h"
 #include "reconstruct/density/opacity_projection.h"
 
 namespace sylva {
@@ -14,17 +18,20 @@ namespace {
 
 // Comparison pictures are enlarged (nearest neighbour) to at least this size.
 constexpr int kMinPictureSize = 256;
+// Shaded renders of the mesh are made at most this many pixels across.
+constexpr int kRenderSize = 512;
 
-FidelityGroup Summarise(const std::vector<ViewFidelity>& views, bool held_out) {
+FidelityGroup Summarise(const std::vector<ViewFidelity>& views, bool held_out, bool mesh) {
   FidelityGroup group;
   group.min_iou = 1.0;
   for (const ViewFidelity& view : views) {
-    if (view.held_out != held_out) continue;
+    if (view.held_out != held_out || (mesh && !view.has_mesh)) continue;
+    const SilhouetteScores& scores = mesh ? view.mesh_scores : view.scores;
     ++group.num_views;
-    group.mean_iou += view.scores.iou;
-    group.min_iou = std::min(group.min_iou, view.scores.iou);
-    group.mean_precision += view.scores.precision;
-    group.mean_recall += view.scores.recall;
+    group.mean_iou += scores.iou;
+    group.min_iou = std::min(group.min_iou, scores.iou);
+    group.mean_precision += scores.precision;
+    group.mean_recall += scores.recall;
   }
   if (group.num_views == 0) return FidelityGroup();
   group.mean_iou /= group.num_views;
@@ -41,15 +48,16 @@ std::string GroupLine(const char* label, const FidelityGroup& group) {
   return out.str();
 }
 
-// White: both; red: predicted only; blue: matte only; black: neither.
-FloatImage ComparisonPicture(const ViewFidelity& view, const ReportOptions& options) {
-  const int scale = std::max(1, (kMinPictureSize + view.width - 1) / view.width);
-  FloatImage picture(view.width * scale, view.height * scale, 3);
+// White: both; red: predicted only; blue: matte only; dark: neither.
+FloatImage ComparisonPicture(const FloatImage& predicted, const FloatImage& observed,
+                             const ReportOptions& options) {
+  const int scale = std::max(1, (kMinPictureSize + predicted.width() - 1) / predicted.width());
+  FloatImage picture(predicted.width() * scale, predicted.height() * scale, 3);
   for (int y = 0; y < picture.height(); ++y) {
     for (int x = 0; x < picture.width(); ++x) {
-      const bool p = view.predicted.at(x / scale, y / scale) >= options.opacity_threshold;
-      const bool m = view.observed.at(x / scale, y / scale) >= options.matte_threshold;
-      const float grey = 0.25f * view.observed.at(x / scale, y / scale);
+      const bool p = predicted.at(x / scale, y / scale) >= options.opacity_threshold;
+      const bool m = observed.at(x / scale, y / scale) >= options.matte_threshold;
+      const float grey = 0.25f * observed.at(x / scale, y / scale);
       picture.at(x, y, 0) = p ? (m ? 0.95f : 0.9f) : grey;
       picture.at(x, y, 1) = p && m ? 0.95f : grey;
       picture.at(x, y, 2) = m ? (p ? 0.95f : 0.9f) : grey;
@@ -58,39 +66,64 @@ FloatImage ComparisonPicture(const ViewFidelity& view, const ReportOptions& opti
   return picture;
 }
 
+Json ScoresJson(const SilhouetteScores& s) {
+  return {{"iou", s.iou}, {"precision", s.precision}, {"recall", s.recall},
+          {"true_positive", s.true_positive}, {"false_positive", s.false_positive},
+          {"false_negative", s.false_negative}};
+}
+
 Json GroupJson(const FidelityGroup& group) {
   return {{"num_views", group.num_views},   {"mean_iou", group.mean_iou},
           {"min_iou", group.min_iou},       {"mean_precision", group.mean_precision},
           {"mean_recall", group.mean_recall}};
 }
 
-Json ReportJson(const FidelityReport& report, const std::string& density_brief) {
+Json ViewJson(const ViewFidelity& view) {
+  Json json = ScoresJson(view.scores);
+  json["name"] = view.name;
+  json["held_out"] = view.held_out;
+  json["downsample_factor"] = view.downsample_factor;
+  json["compared_size"] = {view.width, view.height};
+  if (view.has_mesh) json["mesh"] = ScoresJson(view.mesh_scores);
+  return json;
+}
+
+Json TreeJson(const TreeMetrics& tree) {
+  return {{"height", tree.height},
+          {"crown_width", tree.crown_width},
+          {"trunk_radius", tree.trunk_radius},
+          {"trunk_radius_is", "an allometric prior scaled to the mattes, not a measurement"},
+          {"total_branch_length", tree.total_branch_length},
+          {"branches_per_order", tree.branches_per_order},
+          {"skeleton_nodes", tree.num_skeleton_nodes},
+          {"triangles", tree.num_triangles}};
+}
+
+Json ReportJson(const FidelityReport& report, const std::map<std::string, std::string>& briefs) {
   Json views = Json::array();
-  for (const ViewFidelity& view : report.views) {
-    views.push_back({{"name", view.name},
-                     {"held_out", view.held_out},
-                     {"downsample_factor", view.downsample_factor},
-                     {"compared_size", {view.width, view.height}},
-                     {"iou", view.scores.iou},
-                     {"precision", view.scores.precision},
-                     {"recall", view.scores.recall},
-                     {"true_positive", view.scores.true_positive},
-                     {"false_positive", view.scores.false_positive},
-                     {"false_negative", view.scores.false_negative}});
+  for (const ViewFidelity& view : report.views) views.push_back(ViewJson(view));
+  const Box3d& b = report.bounds;
+  Json json = {
+      {"format", "sylva-report"},
+      {"version", 2},
+      {"what", "silhouettes of the projected density grid and of the rendered mesh against the "
+               "mattes, per view; input and held-out views separately"},
+      {"units", report.units},
+      {"density",
+       {{"voxel_size", report.voxel_size},
+        {"active_voxels", report.num_voxels},
+        {"bounds_min", {b.min().x(), b.min().y(), b.min().z()}},
+        {"bounds_max", {b.max().x(), b.max().y(), b.max().z()}}}},
+      {"input_views", GroupJson(report.input)},
+      {"held_out_views", GroupJson(report.held_out)},
+      {"stages", briefs},
+      {"views", views}};
+  if (report.has_tree) {
+    json["mesh_input_views"] = GroupJson(report.mesh_input);
+    json["mesh_held_out_views"] = GroupJson(report.mesh_held_out);
+    json["tree"] = TreeJson(report.tree);
   }
-  return {{"format", "sylva-report"},
-          {"version", 1},
-          {"what", "silhouettes of the projected density grid against the mattes"},
-          {"units", report.units},
-          {"density",
-           {{"voxel_size", report.voxel_size},
-            {"active_voxels", report.num_voxels},
-            {"bounds_min", {report.bounds.min().x(), report.bounds.min().y(), report.bounds.min().z()}},
-            {"bounds_max", {report.bounds.max().x(), report.bounds.max().y(), report.bounds.max().z()}},
-            {"summary", density_brief}}},
-          {"input_views", GroupJson(report.input)},
-          {"held_out_views", GroupJson(report.held_out)},
-          {"views", views}};
+  return json;
 }
 
 std::string HtmlEscape(const std::string& text) {
@@ -107,43 +140,70 @@ std::string HtmlEscape(const std::string& text) {
   return out;
 }
 
-fs::path PictureRelativePath(const std::string& view_name) {
-  return fs::path("report") / fs::path(view_name).replace_extension(".png");
+// out/report/<kind>/<view name>.png
+fs::path PicturePath(const std::string& kind, const std::string& view_name) {
+  return fs::path("report") / kind / fs::path(view_name).replace_extension(".png");
 }
 
-std::string ReportHtml(const FidelityReport& report, const std::string& density_brief) {
+std::string ImageCell(const std::string& kind, const std::string& view_name) {
+  return "<td><img src=\"" + HtmlEscape(PicturePath(kind, view_name).generic_string()) + "\"></td>";
+}
+
+std::string ReportHtml(const FidelityReport& report,
+                       const std::map<std::string, std::string>& briefs) {
   std::ostringstream html;
   html << std::fixed << std::setprecision(3)
        << "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>sylva report</title>"
           "<style>body{font-family:sans-serif}td,th{padding:4px 8px}img{width:256px;"
-          "image-rendering:pixelated}</style></head><body>\n<h1>sylva fidelity report</h1>\n"
-       << "<p>" << HtmlEscape(density_brief) << "</p>\n<pre>" << HtmlEscape(report.BriefReport())
-       << "</pre>\n<p>Pictures: white = both, red = reconstruction only, blue = matte only.</p>\n"
-       << "<table><tr><th>view</th><th>held out</th><th>IoU</th><th>precision</th>"
-          "<th>recall</th><th>comparison</th></tr>\n";
+          "image-rendering:pixelated}</style></head><body>\n<h1>sylva report</h1>\n<pre>"
+       << HtmlEscape(report.BriefReport()) << "</pre>\n<ul>";
+  for (const auto& [stage, brief] : briefs) {
+    html << "<li><b>" << HtmlEscape(stage) << "</b>: " << HtmlEscape(brief) << "</li>\n";
+  }
+  html << "</ul>\n<p>Comparisons: white = both, red = reconstruction only, blue = matte only."
+       << "</p>\n<table><tr><th>view</th><th>held out</th><th>density IoU</th><th>mesh IoU</th>"
+       << "<th>density vs matte</th><th>mesh vs matte</th><th>mesh</th></tr>\n";
   for (const ViewFidelity& view : report.views) {
     html << "<tr><td>" << HtmlEscape(view.name) << "</td><td>" << (view.held_out ? "yes" : "")
-         << "</td><td>" << view.scores.iou << "</td><td>" << view.scores.precision << "</td><td>"
-         << view.scores.recall << "</td><td><img src=\""
-         << HtmlEscape(PictureRelativePath(view.name).generic_string()) << "\"></td></tr>\n";
+         << "</td><td>" << view.scores.iou << "</td><td>";
+    if (view.has_mesh) html << view.mesh_scores.iou;
+    html << "</td>" << ImageCell("density", view.name);
+    if (view.has_mesh) html << ImageCell("mesh", view.name) << ImageCell("render", view.name);
+    html << "</tr>\n";
   }
   html << "</table></body></html>\n";
   return html.str();
 }
 
+// A camera for the image downsampled by `factor` (box filter, partial blocks).
+Camera DownsampledCamera(const Camera& camera, int factor) {
+  return camera.Scaled(1.0 / factor, (camera.width() + factor - 1) / factor,
+                       (camera.height() + factor - 1) / factor);
+}
+
 }  // namespace
 
 std::string FidelityReport::BriefReport() const {
-  std::string text = "Fidelity (projected density vs mattes, at about the grid's resolution):\n";
-  text += GroupLine("input views", input);
-  if (held_out.num_views > 0) text += GroupLine("held-out views", held_out);
+  std::string text = "Fidelity (silhouettes vs mattes, at about the grid's resolution):\n";
+  text += GroupLine("density, input views", input);
+  if (held_out.num_views > 0) text += GroupLine("density, held-out views", held_out);
+  if (has_tree) {
+    text += GroupLine("mesh, input views", mesh_input);
+    if (mesh_held_out.num_views > 0) text += GroupLine("mesh, held-out views", mesh_held_out);
+    std::ostringstream out;
+    out << "Tree: height " << tree.height << ", crown width " << tree.crown_width
+        << ", trunk radius " << tree.trunk_radius << " (allometric prior), branch length "
+        << tree.total_branch_length << " " << units << "; branches per order";
+    for (int count : tree.branches_per_order) out << " " << count;
+    out << ".\n";
+    text += out.str();
+  }
   return text;
 }
 
 FidelityReport ComputeFidelity(const DensityGrid& grid, const ImageSet& image_set,
                                const std::vector<FloatImage>& mattes,
-                               const std::vector<bool>& held_out,
-                               const ReportOptions& options) {
+                               const std::vector<bool>& held_out, const ReportOptions& options) {
   FidelityReport report;
   const OpacityProjector projector(grid);
   report.voxel_size = grid.voxel_size();
@@ -167,26 +227,98 @@ FidelityReport ComputeFidelity(const DensityGrid& grid, const ImageSet& image_se
                                      static_cast<float>(options.matte_threshold));
     report.views.push_back(std::move(view));
   }
-  report.input = Summarise(report.views, false);
-  report.held_out = Summarise(report.views, true);
+  report.input = Summarise(report.views, false, false);
+  report.held_out = Summarise(report.views, true, false);
   return report;
 }
 
+TreeMetrics ComputeTreeMetrics(const SkeletonGraph& skeleton, const TriangleMesh& mesh) {
+  TreeMetrics tree;
+  const int root = skeleton.RootIdx();
+  if (root < 0) return tree;
+  tree.trunk_radius = skeleton.nodes[root].radius;
+  tree.total_branch_length = skeleton.TotalLength();
+  tree.num_skeleton_nodes = skeleton.NumNodes();
+  tree.num_triangles = mesh.NumTriangles();
+  std::vector<int> orders;
+  skeleton.BranchAxes(&orders);
+  for (int order : orders) {
+    if (order >= static_cast<int>(tree.branches_per_order.size())) {
+      tree.branches_per_order.resize(order + 1, 0);
+    }
+    ++tree.branches_per_order[order];
+  }
+  // Height from the root to the top of the mesh; crown width over the leaves
+  // (every triangle if the mesh has none).
+  Box3d all, leaves;
+  for (int t = 0; t < mesh.NumTriangles(); ++t) {
+    const bool is_leaf = mesh.materials[mesh.triangle_materials[t]].name == "leaves";
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::Vector3d p = mesh.vertices[mesh.triangles[t][k]].cast<double>();
+      all.extend(p);
+      if (is_leaf) leaves.extend(p);
+    }
+  }
+  if (all.isEmpty()) return tree;
+  tree.height = all.max().z() - skeleton.nodes[root].position.z();
+  const Box3d& crown = leaves.isEmpty() ? all : leaves;
+  tree.crown_width = std::max(crown.sizes().x(), crown.sizes().y());
+  return tree;
+}
+
+void AddMeshFidelity(const TriangleMesh& mesh, const SkeletonGraph& skeleton,
+                     const ImageSet& image_set, const ReportOptions& options,
+                     FidelityReport* report) {
+  SYLVA_CHECK(static_cast<int>(report->views.size()) == image_set.NumViews());
+  report->has_tree = true;
+  report->tree = ComputeTreeMetrics(skeleton, mesh);
+  if (mesh.NumTriangles() == 0) return;
+  const MeshRenderer renderer(mesh);
+  MeshRenderOptions shading;
+  shading.samples_per_axis = 2;
+  for (int v = 0; v < image_set.NumViews(); ++v) {
+    ViewFidelity& view = report->views[v];
+    const Camera& camera = image_set.CameraOf(v);
+    const Rigid3d& pose = image_set.views[v].cam_from_world;
+    view.mesh_coverage = renderer.RenderCoverage(DownsampledCamera(camera, view.downsample_factor),
+                                                 pose, options.mesh_samples_per_axis);
+    view.mesh_scores = CompareSilhouettes(view.mesh_coverage, view.observed,
+                                          static_cast<float>(options.opacity_threshold),
+                                          static_cast<float>(options.matte_threshold));
+    view.has_mesh = true;
+    if (options.write_images) {
+      const int factor = std::max(1, (std::max(camera.width(), camera.height()) + kRenderSize - 1) /
+                                         kRenderSize);
+      view.mesh_render = renderer.RenderRgba(DownsampledCamera(camera, factor), pose, shading);
+    }
+  }
+  report->mesh_input = Summarise(report->views, false, true);
+  report->mesh_held_out = Summarise(report->views, true, true);
+}
+
 std::vector<fs::path> WriteFidelityReport(const FidelityReport& report,
-                                          const std::string& density_brief,
+                                          const std::map<std::string, std::string>& stage_briefs,
                                           const ReportOptions& options, const fs::path& out_dir) {
   std::vector<fs::path> written;
   if (options.write_images) {
     for (const ViewFidelity& view : report.views) {
-      const fs::path path = out_dir / PictureRelativePath(view.name);
-      WriteImage(path, ComparisonPicture(view, options));
-      written.push_back(path);
+      const fs::path density = out_dir / PicturePath("density", view.name);
+      WriteImage(density, ComparisonPicture(view.predicted, view.observed, options));
+      written.push_back(density);
+      if (!view.has_mesh) continue;
+      const fs::path mesh = out_dir / PicturePath("mesh", view.name);
+      WriteImage(mesh, ComparisonPicture(view.mesh_coverage, view.observed, options));
+      written.push_back(mesh);
+      if (view.mesh_render.empty()) continue;
+      const fs::path render = out_dir / PicturePath("render", view.name);
+      WriteImage(render, view.mesh_render);
+      written.push_back(render);
     }
-    AtomicWriteString(out_dir / "report.html", ReportHtml(report, density_brief));
+    AtomicWriteString(out_dir / "report.html", ReportHtml(report, stage_briefs));
     written.push_back(out_dir / "report.html");
   }
   // report.json last: its presence means the report is complete.
-  WriteJsonFile(out_dir / "report.json", ReportJson(report, density_brief));
+  WriteJsonFile(out_dir / "report.json", ReportJson(report, stage_briefs));
   written.push_back(out_dir / "report.json");
   return written;
 }

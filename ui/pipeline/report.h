@@ -8,9 +8,13 @@
 #include <string>
 #include <vector>
 
+#include <map>
+
 #include "core/types/density_grid.h"
 #include "core/types/float_image.h"
 #include "core/types/image_set.h"
+#include "core/types/skeleton_graph.h"
+#include "core/types/triangle_mesh.h"
 #include "datasets/eval/silhouette_metrics.h"
 #include "ui/pipeline/pipeline_options.h"
 
@@ -21,9 +25,24 @@ struct ViewFidelity {
   bool held_out = false;
   int downsample_factor = 1;
   int width = 0, height = 0;  // of the compared (downsampled) images
-  SilhouetteScores scores;
-  FloatImage predicted;  // projected opacity
-  FloatImage observed;   // downsampled matte
+  SilhouetteScores scores;    // the density's projection
+  FloatImage predicted;       // projected opacity
+  FloatImage observed;        // downsampled matte
+  bool has_mesh = false;
+  SilhouetteScores mesh_scores;  // the mesh's rendered silhouette
+  FloatImage mesh_coverage;
+  FloatImage mesh_render;        // shaded RGBA picture of the mesh from this view
+};
+
+// Facts about the reconstructed tree (world units of the project).
+struct TreeMetrics {
+  double height = 0;                // top of the mesh above the skeleton's root
+  double crown_width = 0;           // largest horizontal extent of the leaves (or mesh)
+  double trunk_radius = 0;          // root radius (an allometric prior)
+  double total_branch_length = 0;   // sum of skeleton edge lengths
+  std::vector<int> branches_per_order;  // branch axes of order 0, 1, ...
+  int num_skeleton_nodes = 0;
+  int num_triangles = 0;
 };
 
 struct FidelityGroup {
@@ -33,7 +52,10 @@ struct FidelityGroup {
 
 struct FidelityReport {
   std::vector<ViewFidelity> views;
-  FidelityGroup input, held_out;
+  FidelityGroup input, held_out;            // density
+  FidelityGroup mesh_input, mesh_held_out;  // mesh (if any)
+  bool has_tree = false;
+  TreeMetrics tree;
   // Grid facts.
   double voxel_size = 0;
   int64_t num_voxels = 0;
@@ -52,12 +74,21 @@ FidelityReport ComputeFidelity(const DensityGrid& grid, const ImageSet& image_se
                                const std::vector<bool>& held_out,
                                const ReportOptions& options);
 
+// Renders `mesh` (Embree) from every view of `image_set` at the resolution
+// each view was compared at, and compares its coverage with the matte; also
+// keeps a shaded picture of each view (if options.write_images). Adds the
+// tree's metrics.
+void AddMeshFidelity(const TriangleMesh& mesh, const SkeletonGraph& skeleton,
+                     const ImageSet& image_set, const ReportOptions& options,
+                     FidelityReport* report);
+
+TreeMetrics ComputeTreeMetrics(const SkeletonGraph& skeleton, const TriangleMesh& mesh);
+
 // out/report.json (+ out/report/*.png and out/report.html if asked); returns
-// the files written. `density_brief` is the density stage's summary.
-std::vector<std::filesystem::path> WriteFidelityReport(const FidelityReport& report,
-                                                       const std::string& density_brief,
-                                                       const ReportOptions& options,
-                                                       const std::filesystem::path& out_dir);
+// the files written. `stage_briefs` maps stage names to their summaries.
+std::vector<std::filesystem::path> WriteFidelityReport(
+    const FidelityReport& report, const std::map<std::string, std::string>& stage_briefs,
+    const ReportOptions& options, const std::filesystem::path& out_dir);
 
 }  // namespace sylva
 

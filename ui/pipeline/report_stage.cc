@@ -1,0 +1,39 @@
+// The report stage: the density's projection and, once the tree exists, the
+// mesh's rendered silhouette against every view's matte (input and held-out
+// separately), plus the tree's metrics -> out/report.json, report.html and
+// pictures under out/report/.
+#include "core/io/skeleton_io.h"
+#include "core/io/vdb_io.h"
+#include "mesh/gltf_export.h"
+#include "ui/pipeline/report.h"
+#include "ui/pipeline/stage_context.h"
+
+namespace sylva {
+
+StageRun RunReportStage(const StageContext& context) {
+  const DensityGrid grid = ReadDensityGrid(context.RequireOutput("density.vdb", "density"));
+  const ImageSet image_set = context.project.LoadCameras();
+  const std::vector<FloatImage> mattes = context.LoadMattes(image_set, "report: reading mattes");
+  std::vector<bool> held_out;
+  for (const View& view : image_set.views) held_out.push_back(context.project.IsHeldOut(view.name));
+  FidelityReport report =
+      ComputeFidelity(grid, image_set, mattes, held_out, context.options.report);
+  report.units = context.project.units();
+  std::error_code ec;
+  if (fs::is_regular_file(context.Out("tree.glb"), ec)) {
+    const TriangleMesh mesh = ReadGlb(context.Out("tree.glb"));
+    const SkeletonGraph skeleton = ReadSkeletonJson(context.RequireOutput("skeleton.json", "skeleton"));
+    AddMeshFidelity(mesh, skeleton, image_set, context.options.report, &report);
+  }
+  std::map<std::string, std::string> briefs;
+  for (const char* stage : {"density", "skeleton", "mesh"}) {
+    const std::string brief = context.RecordedBrief(stage);
+    if (!brief.empty()) briefs[stage] = brief;
+  }
+  StageRun run;
+  run.brief = report.BriefReport();
+  run.outputs = WriteFidelityReport(report, briefs, context.options.report, context.project.OutDir());
+  return run;
+}
+
+}  // namespace sylva

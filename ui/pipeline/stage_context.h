@@ -1,0 +1,59 @@
+// What every pipeline stage gets (the project, the options, progress) and
+// returns (a StageRun), plus the helpers stages share. Each stage is a plain
+// function (density_stage.cc, skeleton_stage.cc, ...) that reads its inputs
+// from the project folder, calls the algorithm modules, and writes its
+// outputs atomically at the end, so a failed or cancelled stage changes
+// nothing.
+#ifndef SYLVA_UI_PIPELINE_STAGE_CONTEXT_H_
+#define SYLVA_UI_PIPELINE_STAGE_CONTEXT_H_
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "core/types/float_image.h"
+#include "core/types/image_set.h"
+#include "core/util/progress.h"
+#include "ui/pipeline/pipeline_options.h"
+#include "ui/pipeline/project.h"
+
+namespace sylva {
+
+enum class Stage { kDensity, kSkeleton, kMesh, kReport };
+
+struct StageRun {
+  Stage stage = Stage::kDensity;
+  bool up_to_date = false;  // skipped: inputs unchanged since the last run
+  double seconds = 0.0;
+  std::string brief;        // the stage's BriefReport()
+  std::vector<std::filesystem::path> outputs;
+};
+
+struct StageContext {
+  const Project& project;
+  const PipelineOptions& options;
+  ProgressReporter* progress;
+
+  std::filesystem::path Out(const std::string& name) const { return project.OutDir() / name; }
+  // An earlier stage's output; InputError naming it if it does not exist.
+  std::filesystem::path RequireOutput(const std::string& name, const char* stage) const;
+  // The views used for the reconstruction (all but the held-out ones).
+  ImageSet InputViews() const;
+  // Every view's matte, decoded in parallel (first view's error thrown).
+  std::vector<FloatImage> LoadMattes(const ImageSet& image_set, const std::string& task) const;
+  // The BriefReport() recorded by an earlier stage ("" if none).
+  std::string RecordedBrief(const std::string& stage_name) const;
+};
+
+StageRun RunDensityStage(const StageContext& context);
+StageRun RunSkeletonStage(const StageContext& context);
+StageRun RunMeshStage(const StageContext& context);
+StageRun RunReportStage(const StageContext& context);
+
+// cache/stages.json as JSON text ("{}" if missing or unreadable: the cache is
+// safe to delete, a corrupt one only means re-running).
+std::string ReadStageRecordsText(const Project& project);
+
+}  // namespace sylva
+
+#endif  // SYLVA_UI_PIPELINE_STAGE_CONTEXT_H_
