@@ -1,0 +1,88 @@
+#include "ui/pipeline/tree_building.h"
+
+#include <algorithm>
+#include <sstream>
+
+#include "core/util/random.h"
+#include "mesh/allometry.h"
+#include "mesh/branch_mesh.h"
+#include "mesh/leaves.h"
+#include "mesh/trunk_width.h"
+#include "simulate/direction_field.h"
+#include "simulate/particle_flow.h"
+
+namespace sylva {
+namespace {
+
+// Stream ids for DeriveSeed(General.seed, stream).
+constexpr uint64_t kParticleSeedStream = 1;
+constexpr uint64_t kLeafSeedStream = 2;
+
+double SkeletonHeight(const SkeletonGraph& skeleton, const Eigen::Vector3d& base) {
+  double top = base.z();
+  for (const SkeletonNode& node : skeleton.nodes) top = std::max(top, node.position.z());
+  return top - base.z();
+}
+
+// The trunk radius and how it was found.
+double TrunkRadius(const ImageSet& views, const std::function<std::vector<FloatImage>()>& load_mattes,
+                   const SkeletonOptions& options, const Eigen::Vector3d& base, double height,
+                   std::string* how) {
+  if (options.trunk_radius > 0) {
+    *how = "given";
+    return options.trunk_radius;
+  }
+  const TrunkWidth width = MeasureTrunkWidth(views, load_mattes(), base, height);
+  if (width.radius > 0) {
+    *how = "measured in " + std::to_string(width.num_measurements) + " matte sections";
+    return width.radius;
+  }
+  std::ostringstream fallback;
+  fallback << "not measurable in the mattes; " << options.trunk_radius_fraction << " x height";
+  *how = fallback.str();
+  return options.trunk_radius_fraction * height;
+}
+
+}  // namespace
+
+BuiltSkeleton BuildSkeleton(const DensityGrid& density, const ImageSet& input_views,
+                            const std::function<std::vector<FloatImage>()>& load_mattes,
+                            const PipelineOptions& options, ProgressReporter* progress) {
+  BuiltSkeleton built;
+  built.base = options.skeleton.base.allFinite() ? options.skeleton.base
+                                                 : EstimateTreeBase(density, options.tree_base);
+  ParticleFlowOptions flow = options.particle_flow;
+  flow.seed = DeriveSeed(options.general.seed, kParticleSeedStream);
+  ParticleFlowSummary flow_summary;
+  built.skeleton = SimulateParticleFlow(density, built.base, ConstantDirectionField(), flow,
+                                        progress, &flow_summary, &built.raw);
+  const double height = std::max(SkeletonHeight(built.skeleton, built.base), density.voxel_size());
+  std::string how;
+  AllometryOptions allometry = options.allometry;
+  allometry.trunk_radius = TrunkRadius(input_views, load_mattes, options.skeleton, built.base,
+                                       height, &how);
+  allometry.min_radius = options.skeleton.min_radius_fraction * allometry.trunk_radius;
+  AssignPipeModelRadii(allometry, &built.skeleton);
+  built.trunk_radius = allometry.trunk_radius;
+  std::ostringstream brief;
+  brief << flow_summary.BriefReport() << " Base (" << built.base.transpose() << "); trunk radius "
+        << allometry.trunk_radius << " (" << how << "; radii are an allometric prior, Delta "
+        << allometry.diameter_exponent << ").";
+  built.brief = brief.str();
+  return built;
+}
+
+TriangleMesh BuildTreeMesh(const SkeletonGraph& skeleton, const DensityGrid& density,
+                           const ImageSet& input_views, const std::vector<FloatImage>& mattes,
+                           const PipelineOptions& options, std::string* brief) {
+  BranchMeshSummary branch_summary;
+  TriangleMesh mesh = MeshBranches(skeleton, options.branch_mesh, &branch_summary);
+  LeafOptions leaf_options = options.leaves;
+  leaf_options.seed = DeriveSeed(options.general.seed, kLeafSeedStream);
+  LeafSummary leaf_summary;
+  mesh.Append(GenerateLeaves(skeleton, density, input_views, mattes, leaf_options, &leaf_summary));
+  if (brief != nullptr) *brief = branch_summary.BriefReport() + " " + leaf_summary.BriefReport();
+  return mesh;
+}
+
+}  // namespace sylva

@@ -1,0 +1,43 @@
+// The skeleton and mesh steps of the pipeline on in-memory data, shared by
+// the stages (which read and write the project folder) and by tests.
+#ifndef SYLVA_UI_PIPELINE_TREE_BUILDING_H_
+#define SYLVA_UI_PIPELINE_TREE_BUILDING_H_
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "core/types/density_grid.h"
+#include "core/types/float_image.h"
+#include "core/types/image_set.h"
+#include "core/types/skeleton_graph.h"
+#include "core/types/triangle_mesh.h"
+#include "core/util/progress.h"
+#include "ui/pipeline/pipeline_options.h"
+
+namespace sylva {
+
+struct BuiltSkeleton {
+  SkeletonGraph skeleton;  // with pipe-model radii (an allometric prior)
+  SkeletonGraph raw;       // the traces before simplification
+  Eigen::Vector3d base = Eigen::Vector3d::Zero();
+  double trunk_radius = 0;
+  std::string brief;
+};
+
+// Base (Skeleton.base or estimated), particle flow, trunk radius
+// (Skeleton.trunk_radius, or measured in the mattes, or a fraction of the
+// height) and radii. `load_mattes` is called only if the trunk must be
+// measured; it returns the input views' mattes.
+BuiltSkeleton BuildSkeleton(const DensityGrid& density, const ImageSet& input_views,
+                            const std::function<std::vector<FloatImage>()>& load_mattes,
+                            const PipelineOptions& options, ProgressReporter* progress);
+
+// Branch tubes and leaves; `brief` receives both summaries.
+TriangleMesh BuildTreeMesh(const SkeletonGraph& skeleton, const DensityGrid& density,
+                           const ImageSet& input_views, const std::vector<FloatImage>& mattes,
+                           const PipelineOptions& options, std::string* brief);
+
+}  // namespace sylva
+
+#endif  // SYLVA_UI_PIPELINE_TREE_BUILDING_H_
