@@ -20,7 +20,10 @@
 
 #include "core/io/image_io.h"
 #include "core/io/json_util.h"
+#include "core/io/mesh_io.h"
+#include "core/io/skeleton_io.h"
 #include "core/io/vdb_io.h"
+#include "mesh/gltf_export.h"
 #include "core/types/float_image.h"
 #include "core/util/file_util.h"
 #include "tests/e2e/subprocess.h"
@@ -637,6 +640,60 @@ TEST_F(CliTest, InitRefusesExistingFolder) {
   EXPECT_TRUE(FailedNaming(RunSubprocess(InitArgs(dataset, project, {"--copy"})), kExitBadInput,
                            {project.string(), "already exists"}));
   EXPECT_TRUE(project_before == Snapshot(work_)) << SnapshotDiff(project_before, Snapshot(work_));
+}
+
+// The tree outputs (issue 3): they re-load with consistent counts, the same
+// seed gives byte-identical files, another seed a different but similar tree.
+TEST_F(CliTest, TreeOutputsReloadAndFollowTheSeed) {
+  const fs::path project = CopyBaseProject();
+  const fs::path out = project / "out";
+  const TriangleMesh glb = ReadGlb(out / "tree.glb");
+  const TriangleMesh obj = ReadObj(out / "tree.obj");
+  EXPECT_GT(glb.NumTriangles(), 1000);
+  EXPECT_EQ(glb.NumTriangles(), obj.NumTriangles());
+  EXPECT_EQ(glb.materials.size(), 2u);  // bark and leaves
+  const SkeletonGraph skeleton = ReadSkeletonJson(out / "skeleton.json");
+  const SkeletonGraph ply = ReadSkeletonPly(out / "skeleton.ply");
+  EXPECT_EQ(ply.NumNodes(), skeleton.NumNodes());
+  EXPECT_EQ(skeleton.radius_source, "allometric prior");
+  EXPECT_EQ(skeleton.nodes[skeleton.RootIdx()].strands, 1000);  // every particle reaches the root
+  const Json report = ReadJsonFile(out / "report.json");
+  ASSERT_TRUE(report.contains("tree")) << report.dump(2);
+  const double mesh_iou = report.at("mesh_input_views").at("mean_iou").get<double>();
+  EXPECT_GT(mesh_iou, 0.5);
+
+  const std::string glb_bytes = ReadFileToString(out / "tree.glb");
+  const std::string skeleton_bytes = ReadFileToString(out / "skeleton.json");
+  ASSERT_TRUE(Succeeded(Sylva({"run", project.string(), "--force"})));
+  EXPECT_TRUE(ReadFileToString(out / "tree.glb") == glb_bytes) << "same seed, different mesh";
+  EXPECT_TRUE(ReadFileToString(out / "skeleton.json") == skeleton_bytes);
+
+  ASSERT_TRUE(Succeeded(Sylva({"run", project.string(), "--General.seed=2"})));
+  EXPECT_FALSE(ReadFileToString(out / "tree.glb") == glb_bytes) << "another seed, same mesh";
+  const Json other = ReadJsonFile(out / "report.json");
+  EXPECT_NEAR(other.at("mesh_input_views").at("mean_iou").get<double>(), mesh_iou, 0.1);
+  EXPECT_NEAR(other.at("tree").at("height").get<double>(),
+              report.at("tree").at("height").get<double>(),
+              0.1 * report.at("tree").at("height").get<double>());
+}
+
+// Bad inputs of the skeleton and mesh stages: a clear error naming the
+// option or file, nothing written.
+TEST_F(CliTest, TreeStagesRefuseBadInputs) {
+  const fs::path project = CopyBaseProject();
+  const std::string p = project.string();
+  ExpectRunFails(project, {"skeleton", p, "--Skeleton.base=100,100,100"}, {"base"});
+  ExpectRunFails(project, {"skeleton", p, "--ParticleFlow.num_particles=0"},
+                 {"ParticleFlow.num_particles"});
+  ExpectRunFails(project, {"run", p, "--Skeleton.trunk_radius=-1"}, {"Skeleton.trunk_radius"});
+  ExpectRunFails(project, {"run", p, "--Allometry.diameter_exponent=0"},
+                 {"Allometry.diameter_exponent"});
+  ExpectRunFails(project, {"mesh", p, "--Leaves.leaf_aspect=-2"}, {"Leaves.leaf_aspect"});
+  ExpectRunFails(project, {"run", p, "--ParticleFlow.neighbor_search=kdtree"},
+                 {"ParticleFlow.neighbor_search"});
+  // An empty density grid (say, every voxel carved away by hand edits).
+  WriteDensityGrid(project / "out" / "density.vdb", DensityGrid());
+  ExpectRunFails(project, {"skeleton", p}, {"density"});
 }
 
 // The bundled demo, initialised the way scripts/demo.sh does it (COLMAP model,
