@@ -16,4 +16,4 @@ if [ ! -f "$project/sylva.json" ]; then
 fi
 sylva_log "Running the pipeline"
 "$sylva" run "$project"
-sylva_log "Done. Outputs: $project/out/ (open report.html in a browser, density.vdb in Blender)"
+sylva_log "Done. Outputs: $project/out/ (tree.glb opens in Blender or any glTF viewer; report.html in a browser)"

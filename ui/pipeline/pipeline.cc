@@ -76,6 +76,14 @@ std::string OptionsText(const PipelineOptions& options, const std::vector<std::s
   return text;
 }
 
+// A file's identity in a stage key: its path (relative to the project for
+// files inside it, so a moved project stays up to date) and its stamp.
+std::string FileKey(const Project& project, const fs::path& file) {
+  const fs::path relative = file.lexically_relative(project.root());
+  const bool inside = !relative.empty() && *relative.begin() != "..";
+  return (inside ? relative : file).generic_string() + ":" + HexString(FileStamp(file));
+}
+
 std::string LocalTime() {
   const std::time_t now = std::time(nullptr);
   char buffer[64];
@@ -121,16 +129,13 @@ Pipeline::Pipeline(const Project& project, const PipelineOptions& options,
 std::string Pipeline::StageKey(Stage stage) const {
   const StageDefinition& definition = Definition(stage);
   std::string text = std::string(definition.version) + ";";
-  for (const fs::path& file : project_.CameraFiles()) {
-    text += file.string() + ":" + HexString(FileStamp(file)) + ";";
-  }
+  for (const fs::path& file : project_.CameraFiles()) text += FileKey(project_, file) + ";";
   const ImageSet image_set = project_.LoadCameras();
   for (const View& view : image_set.views) {
     const bool held_out = project_.IsHeldOut(view.name);
     if (held_out && !definition.reads_held_out_mattes) continue;
-    const fs::path matte = project_.MattePath(view.name);
-    text += view.name + (held_out ? "(held out)" : "") + "=" + matte.string() + ":" +
-            HexString(FileStamp(matte)) + ";";
+    text += view.name + (held_out ? "(held out)" : "") + "=" +
+            FileKey(project_, project_.MattePath(view.name)) + ";";
   }
   text += OptionsText(options_, definition.options);
   for (Stage upstream : definition.upstream) {
