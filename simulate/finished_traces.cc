@@ -39,32 +39,51 @@ FinishedTraces::FinishedTraces(const Eigen::Vector3d& lower, const Eigen::Vector
     if (int64_t{dims_.x()} * dims_.y() * dims_.z() <= kMaxCells) break;
     cell_size_ *= 2;
   }
-  cells_.resize(int64_t{dims_.x()} * dims_.y() * dims_.z());
+  heads_.assign(int64_t{dims_.x()} * dims_.y() * dims_.z(), -1);
 }
 
 void FinishedTraces::AddEdge(const TraceGraph& graph, int child) {
   const Eigen::Vector3d a = graph.Position(child);
   const Eigen::Vector3d b = graph.Position(graph.Parent(child));
-  // Every point within the join distance of the edge lies within `reach` of
-  // one of the samples, which are at most `spacing` apart.
+  // A short edge: every cell its bounds, grown by the join distance, overlap.
+  if ((b - a).norm() <= cell_size_) {
+    AddCells(a.cwiseMin(b).array() - join_distance_, a.cwiseMax(b).array() + join_distance_, child);
+    return;
+  }
+  // A long one: every point within the join distance of the edge lies within
+  // `reach` of one of the samples, which are at most `spacing` apart.
   const double spacing = join_distance_ / kSamplesPerJoinDistance;
   const double reach = join_distance_ + spacing / 2;
   const int samples = static_cast<int>(std::ceil((b - a).norm() / spacing)) + 1;
   scratch_.clear();
   for (int s = 0; s < samples; ++s) {
-    const Eigen::Vector3d p =
-        a + (b - a) * (samples > 1 ? static_cast<double>(s) / (samples - 1) : 0.0);
-    const Eigen::Vector3i lo = CellOf(p.array() - reach);
-    const Eigen::Vector3i hi = CellOf(p.array() + reach);
-    for (int z = lo.z(); z <= hi.z(); ++z)
-      for (int y = lo.y(); y <= hi.y(); ++y)
-        for (int x = lo.x(); x <= hi.x(); ++x) {
-          if (Inside({x, y, z})) scratch_.push_back(CellIndex({x, y, z}));
-        }
+    const Eigen::Vector3d p = a + (b - a) * (static_cast<double>(s) / (samples - 1));
+    ForEachCell(p.array() - reach, p.array() + reach,
+                [&](int64_t cell) { scratch_.push_back(cell); });
   }
   std::sort(scratch_.begin(), scratch_.end());
   scratch_.erase(std::unique(scratch_.begin(), scratch_.end()), scratch_.end());
-  for (int64_t cell : scratch_) cells_[cell].push_back(child);
+  for (int64_t cell : scratch_) Insert(cell, child);
+}
+
+void FinishedTraces::AddCells(const Eigen::Vector3d& lower, const Eigen::Vector3d& upper,
+                              int child) {
+  ForEachCell(lower, upper, [&](int64_t cell) { Insert(cell, child); });
+}
+
+void FinishedTraces::Insert(int64_t cell, int child) {
+  entries_.push_back({child, heads_[cell]});
+  heads_[cell] = static_cast<int32_t>(entries_.size() - 1);
+}
+
+template <typename Visit>
+void FinishedTraces::ForEachCell(const Eigen::Vector3d& lower, const Eigen::Vector3d& upper,
+                                 const Visit& visit) const {
+  const Eigen::Vector3i lo = CellOf(lower).cwiseMax(0);
+  const Eigen::Vector3i hi = CellOf(upper).cwiseMin(dims_ - Eigen::Vector3i::Ones());
+  for (int z = lo.z(); z <= hi.z(); ++z)
+    for (int y = lo.y(); y <= hi.y(); ++y)
+      for (int x = lo.x(); x <= hi.x(); ++x) visit(CellIndex({x, y, z}));
 }
 
 void FinishedTraces::AddSubtree(const TraceGraph& graph, int node) {
@@ -77,7 +96,8 @@ bool FinishedTraces::Nearest(const TraceGraph& graph, const Eigen::Vector3d& poi
   if (!Inside(cell)) return false;
   double best2 = join_distance_ * join_distance_;
   int best = -1;
-  for (int candidate : cells_[CellIndex(cell)]) {
+  for (int entry = heads_[CellIndex(cell)]; entry >= 0; entry = entries_[entry].next) {
+    const int candidate = entries_[entry].child;
     const Eigen::Vector3d a = graph.Position(candidate);
     const Eigen::Vector3d b = graph.Position(graph.Parent(candidate));
     double t;

@@ -7,6 +7,7 @@
 #define SYLVA_SIMULATE_FINISHED_TRACES_H_
 
 #include <Eigen/Core>
+#include <cstdint>
 #include <vector>
 
 #include "simulate/trace_graph.h"
@@ -35,23 +36,37 @@ class FinishedTraces {
                Eigen::Vector3d* point_on_edge) const;
 
  private:
+  // Calls visit(cell index) for the cells overlapping the box [lower, upper].
+  template <typename Visit>
+  void ForEachCell(const Eigen::Vector3d& lower, const Eigen::Vector3d& upper,
+                   const Visit& visit) const;
+  void AddCells(const Eigen::Vector3d& lower, const Eigen::Vector3d& upper, int child);
+  void Insert(int64_t cell, int child);
   int64_t CellIndex(const Eigen::Vector3i& cell) const {
     return (int64_t{cell.z()} * dims_.y() + cell.y()) * dims_.x() + cell.x();
   }
   bool Inside(const Eigen::Vector3i& cell) const {
     return (cell.array() >= 0).all() && (cell.array() < dims_.array()).all();
   }
+  // May lie outside the grid (see Inside), by at most one cell per axis.
   Eigen::Vector3i CellOf(const Eigen::Vector3d& point) const {
-    return ((point - lower_) / cell_size_).array().floor().cast<int>();
+    const Eigen::Vector3d cell = ((point - lower_) / cell_size_).array().floor();
+    return cell.cwiseMax(-1.0).cwiseMin(dims_.cast<double>()).cast<int>();
   }
 
   Eigen::Vector3d lower_;
   double join_distance_;
   double cell_size_;
   Eigen::Vector3i dims_;
-  // Child nodes of the edges that may pass within the join distance of
-  // each cell.
-  std::vector<std::vector<int>> cells_;
+  // Per cell, the child nodes of the edges that may pass within the join
+  // distance of it: a linked list through entries_ (-1 ends it), so that an
+  // empty grid is one small array.
+  struct Entry {
+    int32_t child;
+    int32_t next;
+  };
+  std::vector<int32_t> heads_;
+  std::vector<Entry> entries_;
   std::vector<int64_t> scratch_;  // cells of the edge being added
 };
 

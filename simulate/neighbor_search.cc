@@ -1,5 +1,8 @@
 #include "simulate/neighbor_search.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -31,9 +34,29 @@ const char* NeighborSearchName(NeighborSearchKind kind) {
   return "?";
 }
 
+namespace {
+
+// Queries per parallel task.
+constexpr int kQueryGrain = 256;
+
+}  // namespace
+
 int NeighborSearch::NearestOther(int idx, double max_distance, double* distance) const {
   SYLVA_DCHECK(points_ != nullptr && idx >= 0 && idx < static_cast<int>(points_->size()));
   return Nearest((*points_)[idx], idx, max_distance, distance);
+}
+
+void NeighborSearch::AllNearestOthers(double max_distance, std::vector<int>* nearest,
+                                      std::vector<double>* distances) const {
+  const int n = static_cast<int>(points_->size());
+  nearest->resize(n);
+  distances->resize(n);
+  tbb::parallel_for(tbb::blocked_range<int>(0, n, kQueryGrain),
+                    [&](const tbb::blocked_range<int>& range) {
+                      for (int i = range.begin(); i < range.end(); ++i) {
+                        (*nearest)[i] = NearestOther(i, max_distance, &(*distances)[i]);
+                      }
+                    });
 }
 
 namespace {
@@ -77,6 +100,9 @@ class UniformGridNeighborSearch final : public NeighborSearch {
   void Build(const std::vector<Eigen::Vector3d>& points) override;
   int Nearest(const Eigen::Vector3d& query, int exclude_idx, double max_distance,
               double* distance) const override;
+  // Queries in cell order, so that consecutive queries touch the same cells.
+  void AllNearestOthers(double max_distance, std::vector<int>* nearest,
+                        std::vector<double>* distances) const override;
 
  private:
   // The smallest cell edge giving at most kCellsPerPoint * n cells.
@@ -85,10 +111,11 @@ class UniformGridNeighborSearch final : public NeighborSearch {
   int64_t Linear(const Eigen::Vector3i& cell) const {
     return (int64_t{cell.z()} * dims_.y() + cell.y()) * dims_.x() + cell.x();
   }
-  // Squared distance from `query` to the box of `cell`.
-  double CellDistance2(const Eigen::Vector3d& query, const Eigen::Vector3i& cell) const;
-  void VisitCell(const Eigen::Vector3d& query, const Eigen::Vector3i& cell, int exclude_idx,
-                 Candidate* best) const;
+  // Distance from `query` to the slab of cells with index `cell` along `axis`.
+  double AxisGap(const Eigen::Vector3d& query, int axis, int cell) const;
+  // Visits the points of cell (x, y, z), whose row (y, z) is sqrt(gap2_yz) away.
+  void VisitRow(const Eigen::Vector3d& query, int x, int y, int z, double gap2_yz, int exclude_idx,
+                Candidate* best) const;
   void VisitRing(const Eigen::Vector3d& query, const Eigen::Vector3i& center, int ring,
                  int exclude_idx, Candidate* best) const;
 
@@ -157,21 +184,16 @@ Eigen::Vector3i UniformGridNeighborSearch::CellOf(const Eigen::Vector3d& point) 
   return cell;
 }
 
-double UniformGridNeighborSearch::CellDistance2(const Eigen::Vector3d& query,
-                                                const Eigen::Vector3i& cell) const {
-  double d2 = 0.0;
-  for (int k = 0; k < 3; ++k) {
-    const double lo = lower_[k] + cell[k] * cell_size_;
-    const double gap = std::max({lo - query[k], query[k] - (lo + cell_size_), 0.0});
-    d2 += gap * gap;
-  }
-  return d2;
+double UniformGridNeighborSearch::AxisGap(const Eigen::Vector3d& query, int axis, int cell) const {
+  const double lo = lower_[axis] + cell * cell_size_;
+  return std::max({lo - query[axis], query[axis] - (lo + cell_size_), 0.0});
 }
 
-void UniformGridNeighborSearch::VisitCell(const Eigen::Vector3d& query, const Eigen::Vector3i& cell,
-                                          int exclude_idx, Candidate* best) const {
-  if (CellDistance2(query, cell) > best->distance2) return;
-  const int64_t c = Linear(cell);
+void UniformGridNeighborSearch::VisitRow(const Eigen::Vector3d& query, int x, int y, int z,
+                                         double gap2_yz, int exclude_idx, Candidate* best) const {
+  const double gap_x = AxisGap(query, 0, x);
+  if (gap2_yz + gap_x * gap_x > best->distance2) return;
+  const int64_t c = Linear({x, y, z});
   for (int slot = cell_start_[c]; slot < cell_start_[c + 1]; ++slot) {
     const double d2 = (sorted_points_[slot] - query).squaredNorm();
     const int idx = sorted_idx_[slot];
@@ -182,19 +204,28 @@ void UniformGridNeighborSearch::VisitCell(const Eigen::Vector3d& query, const Ei
 void UniformGridNeighborSearch::VisitRing(const Eigen::Vector3d& query,
                                           const Eigen::Vector3i& center, int ring, int exclude_idx,
                                           Candidate* best) const {
-  // Cells at Chebyshev distance `ring` from `center`, clipped to the grid.
+  // Cells at Chebyshev distance `ring` from `center`, clipped to the grid;
+  // planes and rows farther than the best distance so far are skipped whole.
   const Eigen::Vector3i lo = (center.array() - ring).max(0);
   const Eigen::Vector3i hi = (center.array() + ring).min(dims_.array() - 1);
   for (int z = lo.z(); z <= hi.z(); ++z) {
+    const double gap_z = AxisGap(query, 2, z);
+    if (gap_z * gap_z > best->distance2) continue;
     for (int y = lo.y(); y <= hi.y(); ++y) {
+      const double gap_y = AxisGap(query, 1, y);
+      const double gap2_yz = gap_z * gap_z + gap_y * gap_y;
+      if (gap2_yz > best->distance2) continue;
       const bool face = std::abs(z - center.z()) == ring || std::abs(y - center.y()) == ring;
       if (face) {
-        for (int x = lo.x(); x <= hi.x(); ++x) VisitCell(query, {x, y, z}, exclude_idx, best);
+        for (int x = lo.x(); x <= hi.x(); ++x) VisitRow(query, x, y, z, gap2_yz, exclude_idx, best);
         continue;
       }
-      if (center.x() - ring >= 0) VisitCell(query, {center.x() - ring, y, z}, exclude_idx, best);
-      if (ring > 0 && center.x() + ring < dims_.x())
-        VisitCell(query, {center.x() + ring, y, z}, exclude_idx, best);
+      if (center.x() - ring >= 0) {
+        VisitRow(query, center.x() - ring, y, z, gap2_yz, exclude_idx, best);
+      }
+      if (ring > 0 && center.x() + ring < dims_.x()) {
+        VisitRow(query, center.x() + ring, y, z, gap2_yz, exclude_idx, best);
+      }
     }
   }
 }
@@ -216,6 +247,20 @@ int UniformGridNeighborSearch::Nearest(const Eigen::Vector3d& query, int exclude
   }
   if (distance != nullptr) *distance = best.idx >= 0 ? std::sqrt(best.distance2) : max_distance;
   return best.idx;
+}
+
+void UniformGridNeighborSearch::AllNearestOthers(double max_distance, std::vector<int>* nearest,
+                                                 std::vector<double>* distances) const {
+  const int n = static_cast<int>(sorted_idx_.size());
+  nearest->resize(n);
+  distances->resize(n);
+  tbb::parallel_for(
+      tbb::blocked_range<int>(0, n, kQueryGrain), [&](const tbb::blocked_range<int>& range) {
+        for (int slot = range.begin(); slot < range.end(); ++slot) {
+          const int i = sorted_idx_[slot];
+          (*nearest)[i] = Nearest(sorted_points_[slot], i, max_distance, &(*distances)[i]);
+        }
+      });
 }
 
 }  // namespace

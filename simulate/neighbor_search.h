@@ -50,6 +50,12 @@ class NeighborSearch {
   // The nearest other point to indexed point `idx`.
   int NearestOther(int idx, double max_distance, double* distance) const;
 
+  // NearestOther for every indexed point, in parallel (TBB): (*nearest)[i]
+  // and (*distances)[i] for point i. Implementations may visit the points
+  // in a cache-friendly order; the results are the same.
+  virtual void AllNearestOthers(double max_distance, std::vector<int>* nearest,
+                                std::vector<double>* distances) const;
+
  protected:
   const std::vector<Eigen::Vector3d>* points_ = nullptr;
 };

@@ -27,6 +27,20 @@ ParticleState Offset(const ParticleState& state, const Derivative& rate, double 
   return {state.position + h * rate.position_rate, state.velocity + h * rate.velocity_rate};
 }
 
+// One RK4 step whose first stage k1 = f(state) is already known.
+ParticleState Rk4StepFrom(const ParticleForces& forces, const FrozenNeighbor& neighbor,
+                          const ParticleState& state, const Derivative& k1, double h) {
+  const Derivative k2 = Evaluate(forces, neighbor, Offset(state, k1, h / 2));
+  const Derivative k3 = Evaluate(forces, neighbor, Offset(state, k2, h / 2));
+  const Derivative k4 = Evaluate(forces, neighbor, Offset(state, k3, h));
+  ParticleState next;
+  next.position = state.position + (h / 6) * (k1.position_rate + 2 * k2.position_rate +
+                                              2 * k3.position_rate + k4.position_rate);
+  next.velocity = state.velocity + (h / 6) * (k1.velocity_rate + 2 * k2.velocity_rate +
+                                              2 * k3.velocity_rate + k4.velocity_rate);
+  return next;
+}
+
 }  // namespace
 
 ParticleForces::ParticleForces(const ParticleFlowOptions& options,
@@ -42,7 +56,13 @@ ParticleForces::ParticleForces(const ParticleFlowOptions& options,
       field_weight_(options.field_weight),
       damping_(options.damping),
       field_(field),
-      frame_(frame) {}
+      frame_(frame) {
+  // A constant field needs no call per evaluation (the common case: none).
+  if (const auto* constant = dynamic_cast<const ConstantDirectionField*>(&field)) {
+    constant_field_acceleration_ = field_weight_ * constant->Direction(Eigen::Vector3d::Zero());
+    field_is_constant_ = true;
+  }
+}
 
 Eigen::Vector3d ParticleForces::BaseTarget(const Eigen::Vector3d& position_in_sim) const {
   const double axis_distance = (base_in_sim_ - position_in_sim).head<2>().norm();
@@ -53,7 +73,7 @@ Eigen::Vector3d ParticleForces::BaseTarget(const Eigen::Vector3d& position_in_si
 
 Eigen::Vector3d ParticleForces::Acceleration(const ParticleState& state,
                                              const FrozenNeighbor& neighbor) const {
-  Eigen::Vector3d acceleration = -damping_ * state.velocity;
+  Eigen::Vector3d acceleration = constant_field_acceleration_ - damping_ * state.velocity;
   const Eigen::Vector3d to_base = BaseTarget(state.position) - state.position;
   const double base_distance = to_base.norm();
   if (base_distance > 0) acceleration += (base_pull_ / base_distance) * to_base;
@@ -66,7 +86,7 @@ Eigen::Vector3d ParticleForces::Acceleration(const ParticleState& state,
       acceleration += (neighbor.pull * falloff * falloff / std::sqrt(d2)) * to_neighbor;
     }
   }
-  if (field_weight_ != 0) {
+  if (!field_is_constant_ && field_weight_ != 0) {
     acceleration += field_weight_ * field_.Direction(frame_.WorldFromSim(state.position));
   }
   return acceleration;
@@ -74,22 +94,15 @@ Eigen::Vector3d ParticleForces::Acceleration(const ParticleState& state,
 
 ParticleState Rk4Step(const ParticleForces& forces, const FrozenNeighbor& neighbor,
                       const ParticleState& state, double h) {
-  const Derivative k1 = Evaluate(forces, neighbor, state);
-  const Derivative k2 = Evaluate(forces, neighbor, Offset(state, k1, h / 2));
-  const Derivative k3 = Evaluate(forces, neighbor, Offset(state, k2, h / 2));
-  const Derivative k4 = Evaluate(forces, neighbor, Offset(state, k3, h));
-  ParticleState next;
-  next.position = state.position + (h / 6) * (k1.position_rate + 2 * k2.position_rate +
-                                              2 * k3.position_rate + k4.position_rate);
-  next.velocity = state.velocity + (h / 6) * (k1.velocity_rate + 2 * k2.velocity_rate +
-                                              2 * k3.velocity_rate + k4.velocity_rate);
-  return next;
+  return Rk4StepFrom(forces, neighbor, state, Evaluate(forces, neighbor, state), h);
 }
 
 ParticleState DoubledRk4Step(const ParticleForces& forces, const FrozenNeighbor& neighbor,
                              const ParticleState& state, double h, double* error) {
-  const ParticleState big = Rk4Step(forces, neighbor, state, h);
-  const ParticleState half = Rk4Step(forces, neighbor, state, h / 2);
+  // The big step and the first half step share their first stage.
+  const Derivative k1 = Evaluate(forces, neighbor, state);
+  const ParticleState big = Rk4StepFrom(forces, neighbor, state, k1, h);
+  const ParticleState half = Rk4StepFrom(forces, neighbor, state, k1, h / 2);
   const ParticleState two = Rk4Step(forces, neighbor, half, h / 2);
   *error = (two.position - big.position).norm();
   // Local extrapolation: the two-step result's error is ~1/15 of the difference.

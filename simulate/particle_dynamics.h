@@ -58,6 +58,9 @@ class ParticleForces {
   double field_weight_;
   double damping_;
   const DirectionField& field_;
+  bool field_is_constant_ = false;
+  // field_weight * the direction of a constant field, else zero.
+  Eigen::Vector3d constant_field_acceleration_ = Eigen::Vector3d::Zero();
   SimFrame frame_;
 };
 

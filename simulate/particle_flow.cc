@@ -79,31 +79,48 @@ SimFrame FrameOf(const DensityGrid& density, Eigen::Vector3i* min_ijk, Eigen::Ve
 }
 
 // `count` positions (sim frame), each uniform inside a voxel drawn with
-// probability proportional to its opacity.
+// probability proportional to its opacity, listed in the grid's voxel order
+// (spatially coherent, so particles close in space are close in memory).
+// Streams over the voxels twice instead of storing them.
 std::vector<Eigen::Vector3d> SeedPositions(const DensityGrid& density,
                                            const Eigen::Vector3i& min_ijk, int count,
                                            uint64_t seed) {
-  std::vector<Eigen::Vector3i> voxels;
-  std::vector<double> cumulative;
   double total = 0.0;
-  density.ForEachActive([&](const Eigen::Vector3i& ijk, float alpha) {
-    if (!(alpha > 0)) return;
-    total += alpha;
-    voxels.push_back(ijk - min_ijk);
-    cumulative.push_back(total);
+  density.ForEachActive([&](const Eigen::Vector3i&, float alpha) {
+    if (alpha > 0) total += alpha;
   });
   SYLVA_CHECK_INPUT(total > 0, "density") << "every active voxel has zero opacity";
+  // Per seed: where it falls in the cumulative opacity, and its offset in
+  // its voxel; drawn in seed order, then sorted by the former.
+  struct Seed {
+    double cumulative;
+    Eigen::Vector3d offset;
+  };
   RandomEngine random(seed, kSeedingStream);
-  std::vector<Eigen::Vector3d> positions(count);
-  for (Eigen::Vector3d& position : positions) {
-    const double u = random.Uniform() * total;
-    const size_t v = std::min<size_t>(
-        std::upper_bound(cumulative.begin(), cumulative.end(), u) - cumulative.begin(),
-        voxels.size() - 1);
+  std::vector<Seed> seeds(count);
+  for (Seed& s : seeds) {
+    s.cumulative = random.Uniform() * total;
     const double dx = random.Uniform(-0.5, 0.5), dy = random.Uniform(-0.5, 0.5),
                  dz = random.Uniform(-0.5, 0.5);
-    position = voxels[v].cast<double>() + Eigen::Vector3d(dx, dy, dz);
+    s.offset = Eigen::Vector3d(dx, dy, dz);
   }
+  std::stable_sort(seeds.begin(), seeds.end(),
+                   [](const Seed& a, const Seed& b) { return a.cumulative < b.cumulative; });
+  // Voxel v takes the seeds in [sum of the opacities before it, that + its own).
+  std::vector<Eigen::Vector3d> positions(count);
+  size_t next = 0;
+  double cumulative = 0.0;
+  Eigen::Vector3d last_voxel = Eigen::Vector3d::Zero();
+  density.ForEachActive([&](const Eigen::Vector3i& ijk, float alpha) {
+    if (!(alpha > 0)) return;
+    cumulative += alpha;
+    last_voxel = (ijk - min_ijk).cast<double>();
+    for (; next < seeds.size() && seeds[next].cumulative < cumulative; ++next) {
+      positions[next] = last_voxel + seeds[next].offset;
+    }
+  });
+  // Rounding may leave a draw at the very end of the sum: the last voxel.
+  for (; next < seeds.size(); ++next) positions[next] = last_voxel + seeds[next].offset;
   return positions;
 }
 
@@ -163,6 +180,9 @@ class ParticleFlow {
   std::vector<double> neighbor_distance_;
   std::vector<int> merged_into_;  // survivor of an absorbed particle, else itself
   std::vector<FrozenNeighbor> frozen_;
+  std::vector<ParticleState> next_;  // trial states of a step
+  std::vector<double> errors_;       // their error estimates
+  std::vector<int> new_node_;        // per particle: index of its new trace node, or -1
 };
 
 ParticleFlow::ParticleFlow(const SimFrame& frame, const Eigen::Vector3d& extent,
@@ -198,8 +218,10 @@ void ParticleFlow::Seed(const std::vector<Eigen::Vector3d>& positions_in_sim) {
 
 void ParticleFlow::Run(ProgressTask* progress) {
   for (iteration_ = 0; iteration_ < options_.max_iterations; ++iteration_) {
+    const Clock::time_point start_join = Clock::now();
     StopArrivedParticles();
     JoinFinishedTraces();
+    summary_->seconds_join += SecondsSince(start_join);
     if (particles_.empty()) break;
     const Clock::time_point start_neighbors = Clock::now();
     FindNeighbors();
@@ -292,11 +314,7 @@ void ParticleFlow::FindNeighbors() {
   ParallelOver(n, [&](size_t i) { positions_[i] = particles_[i].state.position; });
   search_->Build(positions_);
   const double radius = std::max(options_.neighbor_radius, options_.merge_distance);
-  neighbor_idx_.resize(n);
-  neighbor_distance_.resize(n);
-  ParallelOver(n, [&](size_t i) {
-    neighbor_idx_[i] = search_->NearestOther(static_cast<int>(i), radius, &neighbor_distance_[i]);
-  });
+  search_->AllNearestOthers(radius, &neighbor_idx_, &neighbor_distance_);
   summary_->neighbor_queries += static_cast<int64_t>(n);
 }
 
@@ -371,8 +389,10 @@ void ParticleFlow::Compact() {
 
 void ParticleFlow::Advance(const ProgressTask& progress) {
   const size_t n = particles_.size();
-  std::vector<ParticleState> next(n);
-  std::vector<double> errors(n);
+  std::vector<ParticleState>& next = next_;
+  std::vector<double>& errors = errors_;
+  next.resize(n);
+  errors.resize(n);
   for (;;) {
     const double step = controller_.step();
     ParallelOver(n, [&](size_t i) {
@@ -393,18 +413,25 @@ void ParticleFlow::Advance(const ProgressTask& progress) {
 }
 
 void ParticleFlow::RecordTraces(const std::vector<ParticleState>& next) {
+  // Which particles record a node, and its index (in particle order).
   const size_t n = particles_.size();
-  std::vector<char> leaves(n);
+  new_node_.resize(n);
   ParallelOver(n, [&](size_t i) {
-    leaves[i] = TraceGraph::LeavesRun(particles_[i].trace, particles_[i].state.position,
-                                      next[i].position, options_.trace_tolerance);
+    new_node_[i] = TraceGraph::LeavesRun(particles_[i].trace, particles_[i].state.position,
+                                         next[i].position, options_.trace_tolerance);
   });
-  for (size_t i = 0; i < n; ++i) {
+  int count = 0;
+  for (size_t i = 0; i < n; ++i) new_node_[i] = new_node_[i] ? count++ : -1;
+  const int first = traces_.AppendBlankNodes(count);
+  ParallelOver(n, [&](size_t i) {
     Particle& particle = particles_[i];
-    if (leaves[i]) traces_.RecordNode(&particle.trace, particle.state.position, particle.mass);
+    if (new_node_[i] >= 0) {
+      traces_.RecordNodeAt(&particle.trace, first + new_node_[i], particle.state.position,
+                           particle.mass);
+    }
     TraceGraph::StartRunIfNeeded(&particle.trace, next[i].position);
     particle.state = next[i];
-  }
+  });
 }
 
 void CheckInputs(const DensityGrid& density, const Eigen::Vector3d& base_in_world,

@@ -131,14 +131,15 @@ struct ParticleFlowOptions {
   double error_tolerance = 0.05;
   double initial_step = 0.5;
   double min_step = 0.01;
-  // With the default forces the speed stays below ~3 voxels per time unit,
-  // so a step moves a particle at most a few voxels.
+  // Speeds stay below (base_pull + 2 neighbor_pull + |field_weight|) /
+  // damping (7 voxels per time unit with the defaults; typically ~2), so a
+  // step moves a particle a few voxels at most.
   double max_step = 1.0;
 
   // --- Traces and skeleton ---
   // A trace records a node when the path deviates from the straight line
   // from its last node by more than this, in voxels (0 records every step).
-  double trace_tolerance = 0.05;
+  double trace_tolerance = 0.25;
   // Chains between junctions are simplified until every dropped node lies
   // within this distance of the kept polyline, in voxels (0 keeps all).
   double simplify_tolerance = 0.5;
@@ -171,8 +172,11 @@ struct ParticleFlowSummary {
   double simulated_time = 0.0;   // in time units
   int raw_nodes = 0;             // nodes of the recorded traces
   int skeleton_nodes = 0;        // nodes after simplification
-  double seconds_seed = 0, seconds_neighbors = 0, seconds_integrate = 0, seconds_skeleton = 0,
-         seconds_total = 0;
+  // Wall-clock times: seeding; neighbour queries and merges; arrivals and
+  // joins of finished traces; integration and trace recording; building the
+  // skeleton; all.
+  double seconds_seed = 0, seconds_neighbors = 0, seconds_join = 0, seconds_integrate = 0,
+         seconds_skeleton = 0, seconds_total = 0;
 
   // One paragraph for humans (Ceres' BriefReport style).
   std::string BriefReport() const;

@@ -68,8 +68,9 @@ std::string ParticleFlowSummary::BriefReport() const {
       << final_step << ", time " << simulated_time << "), " << particle_steps << " particle steps, "
       << neighbor_queries << " neighbour queries (" << neighbor_search << "). Traces " << raw_nodes
       << " nodes, skeleton " << skeleton_nodes << " nodes. Time " << seconds_total << " s (seed "
-      << seconds_seed << ", neighbours " << seconds_neighbors << ", integrate " << seconds_integrate
-      << ", skeleton " << seconds_skeleton << ").";
+      << seconds_seed << ", neighbours and merges " << seconds_neighbors << ", arrivals and joins "
+      << seconds_join << ", integrate " << seconds_integrate << ", skeleton " << seconds_skeleton
+      << ").";
   return out.str();
 }
 

@@ -297,8 +297,16 @@ TEST(ParticleFlowTest, CancellationStopsTheRun) {
 }
 
 TEST(ParticleFlowTest, EstimatesTheBaseAtTheBottomOfTheTrunk) {
-  const Eigen::Vector3d base = EstimateTreeBase(ColumnAndCrown());
-  EXPECT_NEAR((base - kBase).norm(), 0.0, 1e-9) << base.transpose();
+  DensityGrid density = ColumnAndCrown();
+  EXPECT_NEAR((EstimateTreeBase(density) - kBase).norm(), 0.0, 1e-9);
+  // A few blurred voxels under the trunk do not lower the base.
+  density.SetValue({0, 0, -1}, 0.3f);
+  density.SetValue({1, 0, -1}, 0.2f);
+  EXPECT_NEAR((EstimateTreeBase(density) - kBase).norm(), 0.0, 1e-9);
+  // A full layer does.
+  for (int j = -1; j <= 1; ++j)
+    for (int i = -1; i <= 1; ++i) density.SetValue({i, j, -1}, 0.6f);
+  EXPECT_NEAR(EstimateTreeBase(density).z(), -kVoxel, 1e-9);
 }
 
 }  // namespace

@@ -61,13 +61,30 @@ void TraceGraph::StartRunIfNeeded(TraceCursor* cursor, const Eigen::Vector3d& to
 }
 
 int TraceGraph::RecordNode(TraceCursor* cursor, const Eigen::Vector3d& position_in_sim, int mass) {
-  const int node = AddNode(position_in_sim, mass);
+  const int node = AppendBlankNodes(1);
+  RecordNodeAt(cursor, node, position_in_sim, mass);
+  return node;
+}
+
+int TraceGraph::AppendBlankNodes(int count) {
+  const int first = NumNodes();
+  positions_.resize(first + count);
+  parents_.resize(first + count, -1);
+  strands_.resize(first + count, 0);
+  first_child_.resize(first + count, -1);
+  next_sibling_.resize(first + count, -1);
+  return first;
+}
+
+void TraceGraph::RecordNodeAt(TraceCursor* cursor, int node, const Eigen::Vector3d& position_in_sim,
+                              int mass) {
+  positions_[node] = position_in_sim.cast<float>();
+  strands_[node] = mass;
   SetParent(cursor->last_node, node);
   cursor->last_node = node;
   cursor->at_seed = false;
   cursor->anchor = position_in_sim;
   cursor->direction.setZero();
-  return node;
 }
 
 int TraceGraph::NodeAtPosition(TraceCursor* cursor, const Eigen::Vector3d& position_in_sim,

@@ -52,6 +52,13 @@ class TraceGraph {
   // Appends a node at `position_in_sim` carrying `mass` strands after the
   // cursor's last node, and moves the cursor there (the run restarts).
   int RecordNode(TraceCursor* cursor, const Eigen::Vector3d& position_in_sim, int mass);
+  // The same in two parts, for recording many traces in parallel: appends
+  // `count` blank nodes and returns the first; then RecordNodeAt fills one of
+  // them as RecordNode would. Calls for different cursors and nodes may run
+  // concurrently.
+  int AppendBlankNodes(int count);
+  void RecordNodeAt(TraceCursor* cursor, int node, const Eigen::Vector3d& position_in_sim,
+                    int mass);
   // A node of this particle at its current position: the last node if the
   // particle has not moved since (and it is not the seeding tip), else a new
   // one. Used where traces join (merges, the base).

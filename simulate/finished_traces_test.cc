@@ -1,0 +1,70 @@
+#include "simulate/finished_traces.h"
+
+#include <gtest/gtest.h>
+
+namespace sylva {
+namespace {
+
+// A finished trace: tip (0, 0, 10) -> (0, 0, 5) -> root (0, 0, 0), plus a
+// long straight one from (20, 0, 10) to the root.
+struct Scene {
+  TraceGraph graph{Eigen::Vector3d::Zero()};
+  int tip = -1, middle = -1, long_tip = -1;
+  Scene() {
+    TraceCursor cursor = graph.StartTrace(Eigen::Vector3d(0, 0, 10));
+    tip = cursor.last_node;
+    middle = graph.RecordNode(&cursor, Eigen::Vector3d(0, 0, 5), 1);
+    graph.EndTrace(cursor, TraceGraph::kRoot, 1);
+    TraceCursor other = graph.StartTrace(Eigen::Vector3d(20, 0, 10));
+    long_tip = other.last_node;
+    graph.EndTrace(other, TraceGraph::kRoot, 1);
+  }
+};
+
+TEST(FinishedTracesTest, FindsTheNearestEdgeWithinTheJoinDistance) {
+  Scene scene;
+  FinishedTraces index(Eigen::Vector3d::Constant(-5), Eigen::Vector3d::Constant(30), 1.0);
+  index.AddSubtree(scene.graph, scene.middle);
+  index.AddEdge(scene.graph, scene.long_tip);
+  int child = -1;
+  Eigen::Vector3d point;
+  ASSERT_TRUE(index.Nearest(scene.graph, Eigen::Vector3d(0.5, 0, 7), &child, &point));
+  EXPECT_EQ(child, scene.tip);
+  EXPECT_TRUE(point.isApprox(Eigen::Vector3d(0, 0, 7)));
+  ASSERT_TRUE(index.Nearest(scene.graph, Eigen::Vector3d(0, 0.9, 2), &child, &point));
+  EXPECT_EQ(child, scene.middle);
+  // Halfway along the long edge (covered by samples, not by its bounds).
+  ASSERT_TRUE(index.Nearest(scene.graph, Eigen::Vector3d(10, 0.5, 5), &child, &point));
+  EXPECT_EQ(child, scene.long_tip);
+  EXPECT_FALSE(index.Nearest(scene.graph, Eigen::Vector3d(1.5, 0, 7), &child, &point));
+  EXPECT_FALSE(index.Nearest(scene.graph, Eigen::Vector3d(100, 0, 7), &child, &point));
+}
+
+TEST(FinishedTracesTest, NothingJoinsAtAFreeTip) {
+  Scene scene;
+  FinishedTraces index(Eigen::Vector3d::Constant(-5), Eigen::Vector3d::Constant(30), 1.0);
+  index.AddSubtree(scene.graph, scene.middle);
+  int child = -1;
+  Eigen::Vector3d point;
+  // Beyond the tip, the nearest point of its edge is the tip itself.
+  EXPECT_FALSE(index.Nearest(scene.graph, Eigen::Vector3d(0, 0, 10.5), &child, &point));
+}
+
+TEST(FinishedTracesTest, SplitEdgesStayCovered) {
+  Scene scene;
+  FinishedTraces index(Eigen::Vector3d::Constant(-5), Eigen::Vector3d::Constant(30), 1.0);
+  index.AddEdge(scene.graph, scene.long_tip);
+  const int split = scene.graph.SplitEdge(scene.long_tip, Eigen::Vector3d(10, 0, 5));
+  index.AddEdge(scene.graph, split);
+  EXPECT_EQ(scene.graph.Parent(scene.long_tip), split);
+  EXPECT_EQ(scene.graph.Parent(split), TraceGraph::kRoot);
+  int child = -1;
+  Eigen::Vector3d point;
+  ASSERT_TRUE(index.Nearest(scene.graph, Eigen::Vector3d(15, 0.5, 7.5), &child, &point));
+  EXPECT_EQ(child, scene.long_tip);
+  ASSERT_TRUE(index.Nearest(scene.graph, Eigen::Vector3d(5, 0.5, 2.5), &child, &point));
+  EXPECT_EQ(child, split);
+}
+
+}  // namespace
+}  // namespace sylva

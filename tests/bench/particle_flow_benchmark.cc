@@ -1,0 +1,228 @@
+// Benchmark of the particle flow (thesis 3.4) and its nearest-neighbour
+// structures, each beside a brute-force reference run in the same process.
+//
+// The density is built in code, like a tree n voxels tall: an ellipsoidal
+// crown (semi-axes 0.4 n across, 0.3 n high, centred at 0.62 n; opacity 0.4
+// inside falling to 0.1 at the rim) on a trunk column (radius 0.03 n,
+// opacity 0.5) from the ground to the crown's centre; n = 128 gives about
+// 440,000 active voxels, like the density of a synthetic tree at the
+// pipeline's default resolution.
+//
+// Four parts:
+//   1. Nearest-neighbour structures alone: build + one query per point on
+//      particles seeded in the density (one step's worth), N = 10^3 .. 10^6,
+//      uniform grid vs Embree point queries vs brute force (O(N^2), measured
+//      while it takes under ~2 s, then extrapolated as N^2).
+//   2. The whole flow with default options (merging and joining on): 2,000
+//      particles (goal < 50 ms; the thesis took 5-10 s), 10^4, 10^5 and 10^6
+//      (goal: 10^6 particles x 200 steps in < 60 s on 2 cores), with each
+//      structure; brute force where it finishes (N <= 10^4).
+//   3. 10^6 particles in a crown twice as fine (256 voxels tall, 8x the
+//      voxels), so that fewer merge at once and more flow for longer.
+//   4. The worst case per step: no merging or joining, so every particle
+//      flows all 200 steps (they pile up on the trunk axis, which no real run
+//      does: there they would merge); 10^5 with both structures, 10^6 with the
+//      default one.
+#include <sys/resource.h>
+#include <tbb/global_control.h>
+#include <tbb/parallel_for.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "core/util/random.h"
+#include "simulate/neighbor_search.h"
+#include "simulate/particle_flow.h"
+
+namespace sylva {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double Seconds(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+// The crown-like density described above, n voxels tall, voxel size 1 / n.
+DensityGrid CrownDensity(int n) {
+  DensityGrid grid(1.0 / n, Eigen::Vector3d::Zero());
+  const double a = 0.4 * n, c = 0.3 * n, center = 0.62 * n, trunk = 0.03 * n;
+  const int half = static_cast<int>(std::ceil(a));
+  for (int k = 0; k < n; ++k)
+    for (int j = -half; j <= half; ++j)
+      for (int i = -half; i <= half; ++i) {
+        const double r2 = (i * i + j * j) / (a * a) + (k - center) * (k - center) / (c * c);
+        float alpha = 0.0f;
+        if (r2 < 1.0) alpha = static_cast<float>(0.1 + 0.3 * (1.0 - r2));
+        if (i * i + j * j <= trunk * trunk && k <= center) alpha = 0.5f;
+        if (alpha > 0) grid.SetValue({i, j, k}, alpha);
+      }
+  return grid;
+}
+
+// The bottom face of layer 0 (the voxel size is 1 / n; 128 is the coarsest).
+const Eigen::Vector3d kBase(0, 0, -0.5 / 256);
+
+// Positions of N particles seeded in the density, in voxels: the raw traces
+// of a zero-iteration flow are the seeds.
+std::vector<Eigen::Vector3d> SeedPoints(const DensityGrid& density, int count) {
+  ParticleFlowOptions options;
+  options.num_particles = count;
+  options.max_iterations = 0;
+  options.join_finished_traces = false;
+  SkeletonGraph raw;
+  SimulateParticleFlow(density, kBase, ConstantDirectionField(), options, nullptr, nullptr, &raw);
+  std::vector<Eigen::Vector3d> points;
+  for (int tip : raw.Tips()) points.push_back(raw.nodes[tip].position / density.voxel_size());
+  return points;
+}
+
+// ---- Part 1: the structures alone ------------------------------------------
+
+double TimeOneStep(NeighborSearchKind kind, const std::vector<Eigen::Vector3d>& points,
+                   double radius) {
+  const auto search = MakeNeighborSearch(kind);
+  const Clock::time_point start = Clock::now();
+  search->Build(points);
+  std::vector<int> nearest(points.size());
+  tbb::parallel_for(size_t{0}, points.size(), [&](size_t i) {
+    double distance;
+    nearest[i] = search->NearestOther(static_cast<int>(i), radius, &distance);
+  });
+  return Seconds(start);
+}
+
+void StructuresAlone(const DensityGrid& density, bool quick) {
+  std::printf("1. One step of nearest-neighbour queries (build + N queries, radius 16 voxels)\n");
+  std::printf("%9s %14s %14s %14s %10s %10s\n", "N", "uniform_grid", "embree", "brute_force",
+              "brute/grid", "embree/grid");
+  double brute_per_n2 = 0.0;
+  for (int count : {1000, 10000, 100000, 1000000}) {
+    if (quick && count > 10000) break;
+    const std::vector<Eigen::Vector3d> points = SeedPoints(density, count);
+    double grid = 1e300, embree = 1e300;
+    for (int repeat = 0; repeat < 3; ++repeat) {
+      grid = std::min(grid, TimeOneStep(NeighborSearchKind::kUniformGrid, points, 16.0));
+      embree = std::min(embree, TimeOneStep(NeighborSearchKind::kEmbree, points, 16.0));
+    }
+    const bool measure_brute = brute_per_n2 == 0.0 || brute_per_n2 * count * count < 2.0;
+    double brute = 0.0;
+    if (measure_brute) {
+      brute = TimeOneStep(NeighborSearchKind::kBruteForce, points, 16.0);
+      brute_per_n2 = brute / (double(count) * count);
+    } else {
+      brute = brute_per_n2 * count * count;
+    }
+    std::printf("%9d %12.2f ms %12.2f ms %12.1f ms%s %9.0fx %9.2fx\n", count, 1e3 * grid,
+                1e3 * embree, 1e3 * brute, measure_brute ? " " : "*", brute / grid, embree / grid);
+  }
+  std::printf("(* extrapolated as N^2 from the largest measured size)\n\n");
+}
+
+// ---- Parts 2 and 3: the whole flow --------------------------------------------
+
+struct Run {
+  double seconds = 0.0;
+  ParticleFlowSummary summary;
+  int skeleton_nodes = 0;
+};
+
+Run Flow(const DensityGrid& density, ParticleFlowOptions options, const char* search) {
+  options.neighbor_search = search;
+  Run run;
+  const Clock::time_point start = Clock::now();
+  const SkeletonGraph skeleton = SimulateParticleFlow(density, kBase, ConstantDirectionField(),
+                                                      options, nullptr, &run.summary);
+  run.seconds = Seconds(start);
+  run.skeleton_nodes = skeleton.NumNodes();
+  return run;
+}
+
+void PrintRun(const char* label, int count, const Run& run, double reference) {
+  std::printf("%-13s %8d %9.3f s %5d steps %12lld particle-steps %7.3f us/particle-step", label,
+              count, run.seconds, run.summary.iterations,
+              static_cast<long long>(run.summary.particle_steps),
+              1e6 * run.seconds / std::max<int64_t>(1, run.summary.particle_steps));
+  if (reference > 0) std::printf("  brute/this %6.1fx", reference / run.seconds);
+  std::printf("\n");
+}
+
+void WholeFlow(const DensityGrid& density, bool quick) {
+  std::printf("2. The whole flow, default options (merging and joining on)\n");
+  for (int count : {2000, 10000, 100000, 1000000}) {
+    if (quick && count > 10000) break;
+    ParticleFlowOptions options;
+    options.num_particles = count;
+    const Run grid = Flow(density, options, "uniform_grid");
+    const Run embree = Flow(density, options, "embree");
+    const Run brute = count <= 10000 ? Flow(density, options, "brute_force") : Run();
+    PrintRun("uniform_grid", count, grid, brute.seconds);
+    PrintRun("embree", count, embree, brute.seconds);
+    if (brute.seconds > 0) PrintRun("brute_force", count, brute, 0.0);
+    std::printf("  %s\n", grid.summary.BriefReport().c_str());
+  }
+  std::printf("\n");
+}
+
+void FinerCrown(bool quick) {
+  if (quick) return;
+  const DensityGrid density = CrownDensity(256);
+  std::printf("3. Default options, crown 256 voxels tall (%lld active voxels)\n",
+              static_cast<long long>(density.NumActiveVoxels()));
+  ParticleFlowOptions options;
+  options.num_particles = 1000000;
+  const Run grid = Flow(density, options, "uniform_grid");
+  PrintRun("uniform_grid", options.num_particles, grid, 0.0);
+  std::printf("  %s\n\n", grid.summary.BriefReport().c_str());
+}
+
+void WorstCase(const DensityGrid& density, bool quick) {
+  const int steps = quick ? 20 : 200;
+  std::printf("4. Worst case per step: no merging or joining, every particle flows %d steps\n",
+              steps);
+  for (int count : {100000, 1000000}) {
+    if (quick) count /= 10;
+    ParticleFlowOptions options;
+    options.num_particles = count;
+    options.merge_distance = 0.0;
+    options.join_finished_traces = false;
+    options.max_iterations = steps;
+    const Run grid = Flow(density, options, "uniform_grid");
+    PrintRun("uniform_grid", count, grid, 0.0);
+    if (count <= 100000) PrintRun("embree", count, Flow(density, options, "embree"), 0.0);
+    std::printf("  %s\n", grid.summary.BriefReport().c_str());
+    if (quick) break;
+  }
+}
+
+int Main(bool quick) {
+  const int threads = static_cast<int>(
+      tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
+  const Clock::time_point start = Clock::now();
+  const DensityGrid density = CrownDensity(128);
+  std::printf(
+      "Particle flow benchmark, %d threads, %s; crown density 128 voxels tall, %lld "
+      "active voxels (built in %.2f s)\n\n",
+      threads, quick ? "quick mode" : "full mode",
+      static_cast<long long>(density.NumActiveVoxels()), Seconds(start));
+  StructuresAlone(density, quick);
+  WholeFlow(density, quick);
+  FinerCrown(quick);
+  WorstCase(density, quick);
+  struct rusage usage;
+  getrusage(RUSAGE_SELF, &usage);
+  std::printf("\nProcess peak RSS %.1f MB.\n", usage.ru_maxrss / 1e3);
+  return 0;
+}
+
+}  // namespace
+}  // namespace sylva
+
+int main(int argc, char** argv) {
+  const bool quick = argc > 1 && std::strcmp(argv[1], "--quick") == 0;
+  return sylva::Main(quick);
+}
