@@ -1,6 +1,7 @@
 #include "simulate/trace_graph.h"
 
 #include <algorithm>
+#include <limits>
 #include <utility>
 
 #include "core/util/check.h"
@@ -21,12 +22,10 @@ double SegmentDistance2(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
 TraceGraph::TraceGraph(const Eigen::Vector3d& root_in_sim) { AddNode(root_in_sim, 0); }
 
 int TraceGraph::AddNode(const Eigen::Vector3d& position_in_sim, int strands) {
-  positions_.push_back(position_in_sim.cast<float>());
-  parents_.push_back(-1);
-  strands_.push_back(strands);
-  first_child_.push_back(-1);
-  next_sibling_.push_back(-1);
-  return NumNodes() - 1;
+  const int node = AppendBlankNodes(1);
+  positions_[node] = position_in_sim.cast<float>();
+  strands_[node] = strands;
+  return node;
 }
 
 void TraceGraph::SetParent(int node, int parent) {
@@ -68,6 +67,8 @@ int TraceGraph::RecordNode(TraceCursor* cursor, const Eigen::Vector3d& position_
 
 int TraceGraph::AppendBlankNodes(int count) {
   const int first = NumNodes();
+  SYLVA_CHECK(count <= std::numeric_limits<int32_t>::max() - first)
+      << "the traces exceed 2^31 nodes: use fewer particles or a larger trace_tolerance";
   positions_.resize(first + count);
   parents_.resize(first + count, -1);
   strands_.resize(first + count, 0);
