@@ -34,6 +34,7 @@ void SkeletonOptions::Check() const {
   SYLVA_CHECK_INPUT(min_radius_fraction >= 0 && min_radius_fraction <= 1,
                     "Skeleton.min_radius_fraction")
       << "must be in [0, 1], got " << min_radius_fraction;
+  pruning.Check();
 }
 
 void PipelineOptions::Check() const {
@@ -126,6 +127,8 @@ void RegisterParticleFlow(ParticleFlowOptions* o, OptionRegistry* r) {
                "particles closer than this merge (masses add)");
   r->AddDouble("ParticleFlow.base_radius", &o->base_radius, "voxels",
                "particles this close to the base stop");
+  r->AddBool("ParticleFlow.join_finished_traces", &o->join_finished_traces,
+             "a particle passing a finished trace joins it (false = the thesis' behaviour)");
   r->AddInt("ParticleFlow.max_iterations", &o->max_iterations, "steps",
             "accepted RK4 steps at most (thesis: ~200)");
   r->AddDouble("ParticleFlow.error_tolerance", &o->error_tolerance, "voxels",
@@ -150,6 +153,16 @@ void RegisterSkeleton(SkeletonOptions* o, AllometryOptions* allometry, OptionReg
                "trunk radius as a fraction of the tree height where the mattes cannot tell");
   r->AddDouble("Skeleton.min_radius_fraction", &o->min_radius_fraction, "",
                "thinnest branch radius as a fraction of the trunk radius");
+  r->AddDouble("Skeleton.prune_max_strand_fraction", &o->pruning.max_strand_fraction, "",
+               "branches carrying at most this fraction of all strands are checked against the "
+               "mattes (0 = no pruning)");
+  r->AddDouble("Skeleton.prune_max_outside_fraction", &o->pruning.max_outside_fraction, "",
+               "a checked branch with more than this fraction of its length on matte background "
+               "in some view is removed");
+  r->AddDouble("Skeleton.prune_matte_threshold", &o->pruning.matte_threshold, "alpha",
+               "matte value below which a branch sample is on background");
+  r->AddDouble("Skeleton.prune_sample_spacing_fraction", &o->pruning.sample_spacing_fraction, "",
+               "sample spacing along branches, as a fraction of the tree height");
   r->AddDouble("Allometry.diameter_exponent", &allometry->diameter_exponent, "",
                "pipe model d0^D = sum di^D: 2 = Leonardo, 2.49 = Murray");
 }

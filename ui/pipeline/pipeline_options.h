@@ -13,6 +13,7 @@
 #include "mesh/leaves.h"
 #include "reconstruct/density/density_options.h"
 #include "simulate/particle_flow.h"
+#include "simulate/skeleton_pruning.h"
 #include "ui/pipeline/option_registry.h"
 
 namespace sylva {
@@ -37,6 +38,8 @@ struct SkeletonOptions {
   double trunk_radius_fraction = 0.025;
   // The thinnest branch radius, as a fraction of the trunk radius.
   double min_radius_fraction = 0.02;
+  // Removal of thin branches whose path leaves the mattes.
+  MattePruningOptions pruning;
   void Check() const;
 };
 

@@ -12,9 +12,9 @@ namespace sylva {
 StageRun RunSkeletonStage(const StageContext& context) {
   const DensityGrid density = ReadDensityGrid(context.RequireOutput("density.vdb", "density"));
   const ImageSet views = context.InputViews();
-  const BuiltSkeleton built = BuildSkeleton(
-      density, views, [&] { return context.LoadMattes(views, "skeleton: reading mattes"); },
-      context.options, context.progress);
+  const std::vector<FloatImage> mattes = context.LoadMattes(views, "skeleton: reading mattes");
+  const BuiltSkeleton built =
+      BuildSkeleton(density, views, mattes, context.options, context.progress);
   const std::string& units = context.project.units();
   StageRun run;
   run.brief = built.brief;

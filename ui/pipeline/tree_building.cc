@@ -10,6 +10,7 @@
 #include "mesh/trunk_width.h"
 #include "simulate/direction_field.h"
 #include "simulate/particle_flow.h"
+#include "simulate/skeleton_pruning.h"
 
 namespace sylva {
 namespace {
@@ -25,14 +26,14 @@ double SkeletonHeight(const SkeletonGraph& skeleton, const Eigen::Vector3d& base
 }
 
 // The trunk radius and how it was found.
-double TrunkRadius(const ImageSet& views, const std::function<std::vector<FloatImage>()>& load_mattes,
+double TrunkRadius(const ImageSet& views, const std::vector<FloatImage>& mattes,
                    const SkeletonOptions& options, const Eigen::Vector3d& base, double height,
                    std::string* how) {
   if (options.trunk_radius > 0) {
     *how = "given";
     return options.trunk_radius;
   }
-  const TrunkWidth width = MeasureTrunkWidth(views, load_mattes(), base, height);
+  const TrunkWidth width = MeasureTrunkWidth(views, mattes, base, height);
   if (width.radius > 0) {
     *how = "measured in " + std::to_string(width.num_measurements) + " matte sections";
     return width.radius;
@@ -46,26 +47,30 @@ double TrunkRadius(const ImageSet& views, const std::function<std::vector<FloatI
 }  // namespace
 
 BuiltSkeleton BuildSkeleton(const DensityGrid& density, const ImageSet& input_views,
-                            const std::function<std::vector<FloatImage>()>& load_mattes,
-                            const PipelineOptions& options, ProgressReporter* progress) {
+                            const std::vector<FloatImage>& mattes, const PipelineOptions& options,
+                            ProgressReporter* progress) {
   BuiltSkeleton built;
   built.base = options.skeleton.base.allFinite() ? options.skeleton.base
                                                  : EstimateTreeBase(density, options.tree_base);
   ParticleFlowOptions flow = options.particle_flow;
   flow.seed = DeriveSeed(options.general.seed, kParticleSeedStream);
   ParticleFlowSummary flow_summary;
-  built.skeleton = SimulateParticleFlow(density, built.base, ConstantDirectionField(), flow,
-                                        progress, &flow_summary, &built.raw);
+  const SkeletonGraph flowed = SimulateParticleFlow(density, built.base, ConstantDirectionField(),
+                                                    flow, progress, &flow_summary, &built.raw);
+  MattePruningSummary pruning;
+  built.skeleton = PruneBranchesOutsideMattes(flowed, input_views, mattes,
+                                              options.skeleton.pruning, &pruning);
   const double height = std::max(SkeletonHeight(built.skeleton, built.base), density.voxel_size());
   std::string how;
   AllometryOptions allometry = options.allometry;
-  allometry.trunk_radius = TrunkRadius(input_views, load_mattes, options.skeleton, built.base,
-                                       height, &how);
+  allometry.trunk_radius =
+      TrunkRadius(input_views, mattes, options.skeleton, built.base, height, &how);
   allometry.min_radius = options.skeleton.min_radius_fraction * allometry.trunk_radius;
   AssignPipeModelRadii(allometry, &built.skeleton);
   built.trunk_radius = allometry.trunk_radius;
   std::ostringstream brief;
-  brief << flow_summary.BriefReport() << " Base (" << built.base.transpose() << "); trunk radius "
+  brief << flow_summary.BriefReport() << " " << pruning.BriefReport() << " Base ("
+        << built.base.transpose() << "); trunk radius "
         << allometry.trunk_radius << " (" << how << "; radii are an allometric prior, Delta "
         << allometry.diameter_exponent << ").";
   built.brief = brief.str();

@@ -3,7 +3,6 @@
 #ifndef SYLVA_UI_PIPELINE_TREE_BUILDING_H_
 #define SYLVA_UI_PIPELINE_TREE_BUILDING_H_
 
-#include <functional>
 #include <string>
 #include <vector>
 
@@ -25,13 +24,13 @@ struct BuiltSkeleton {
   std::string brief;
 };
 
-// Base (Skeleton.base or estimated), particle flow, trunk radius
-// (Skeleton.trunk_radius, or measured in the mattes, or a fraction of the
-// height) and radii. `load_mattes` is called only if the trunk must be
-// measured; it returns the input views' mattes.
+// Base (Skeleton.base or estimated), particle flow, pruning of thin branches
+// that leave the mattes, trunk radius (Skeleton.trunk_radius, or measured in
+// the mattes, or a fraction of the height) and radii. `mattes` are the input
+// views'.
 BuiltSkeleton BuildSkeleton(const DensityGrid& density, const ImageSet& input_views,
-                            const std::function<std::vector<FloatImage>()>& load_mattes,
-                            const PipelineOptions& options, ProgressReporter* progress);
+                            const std::vector<FloatImage>& mattes, const PipelineOptions& options,
+                            ProgressReporter* progress);
 
 // Branch tubes and leaves; `brief` receives both summaries.
 TriangleMesh BuildTreeMesh(const SkeletonGraph& skeleton, const DensityGrid& density,

@@ -1,0 +1,172 @@
+#include "simulate/skeleton_pruning.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "core/util/check.h"
+
+namespace sylva {
+namespace {
+
+// Largest matte value in the 3 x 3 pixels around `pixel`; -1 if outside.
+float NeighbourhoodMax(const FloatImage& matte, const Eigen::Vector2d& pixel) {
+  const int x = static_cast<int>(std::floor(pixel.x()));
+  const int y = static_cast<int>(std::floor(pixel.y()));
+  if (x < 0 || y < 0 || x >= matte.width() || y >= matte.height()) return -1.0f;
+  float best = 0.0f;
+  for (int dy = -1; dy <= 1; ++dy) {
+    for (int dx = -1; dx <= 1; ++dx) {
+      const int xx = std::clamp(x + dx, 0, matte.width() - 1);
+      const int yy = std::clamp(y + dy, 0, matte.height() - 1);
+      best = std::max(best, matte.at(xx, yy));
+    }
+  }
+  return best;
+}
+
+// Points every `spacing` along the axis' edges (the junction excluded).
+std::vector<Eigen::Vector3d> AxisSamples(const SkeletonGraph& skeleton, const BranchAxis& axis,
+                                         double spacing) {
+  std::vector<Eigen::Vector3d> samples;
+  for (size_t k = 1; k < axis.size(); ++k) {
+    const Eigen::Vector3d& a = skeleton.nodes[axis[k - 1]].position;
+    const Eigen::Vector3d& b = skeleton.nodes[axis[k]].position;
+    const int steps = std::max(1, static_cast<int>(std::ceil((b - a).norm() / spacing)));
+    for (int s = 1; s <= steps; ++s) samples.push_back(a + (b - a) * (double(s) / steps));
+  }
+  return samples;
+}
+
+// True if more than `max_fraction` of the samples fall on background in some view.
+bool LeavesTheMattes(const std::vector<Eigen::Vector3d>& samples, const ImageSet& views,
+                     const std::vector<FloatImage>& mattes, const MattePruningOptions& options) {
+  for (int v = 0; v < views.NumViews(); ++v) {
+    int seen = 0, outside = 0;
+    for (const Eigen::Vector3d& point : samples) {
+      Eigen::Vector2d pixel;
+      if (!views.Project(v, point, &pixel)) continue;
+      const float value = NeighbourhoodMax(mattes[v], pixel);
+      if (value < 0.0f) continue;
+      ++seen;
+      outside += value < options.matte_threshold;
+    }
+    if (seen > 0 && outside > options.max_outside_fraction * seen) return true;
+  }
+  return false;
+}
+
+double Height(const SkeletonGraph& skeleton) {
+  double low = 1e300, high = -1e300;
+  for (const SkeletonNode& node : skeleton.nodes) {
+    low = std::min(low, node.position.z());
+    high = std::max(high, node.position.z());
+  }
+  return high - low;
+}
+
+// Marks every descendant of a marked node.
+void MarkDescendants(const SkeletonGraph& skeleton, std::vector<char>* removed) {
+  const std::vector<std::vector<int>> children = skeleton.Children();
+  std::vector<int> stack;
+  for (int i = 0; i < skeleton.NumNodes(); ++i) {
+    if ((*removed)[i]) stack.push_back(i);
+  }
+  while (!stack.empty()) {
+    const int node = stack.back();
+    stack.pop_back();
+    for (int child : children[node]) {
+      if (!(*removed)[child]) {
+        (*removed)[child] = 1;
+        stack.push_back(child);
+      }
+    }
+  }
+}
+
+// The skeleton without the marked nodes, in the same relative order.
+SkeletonGraph WithoutNodes(const SkeletonGraph& skeleton, const std::vector<char>& removed) {
+  std::vector<int> new_index(skeleton.NumNodes(), -1);
+  int count = 0;
+  for (int i = 0; i < skeleton.NumNodes(); ++i) {
+    if (!removed[i]) new_index[i] = count++;
+  }
+  SkeletonGraph kept;
+  kept.radius_source = skeleton.radius_source;
+  for (int i = 0; i < skeleton.NumNodes(); ++i) {
+    if (removed[i]) continue;
+    SkeletonNode node = skeleton.nodes[i];
+    node.parent_idx = node.parent_idx >= 0 ? new_index[node.parent_idx] : -1;
+    kept.nodes.push_back(node);
+  }
+  kept.AssignOrders();
+  return kept;
+}
+
+}  // namespace
+
+void MattePruningOptions::Check() const {
+  SYLVA_CHECK_INPUT(max_strand_fraction >= 0 && max_strand_fraction <= 1,
+                    "Skeleton.prune_max_strand_fraction")
+      << "must be in [0, 1], got " << max_strand_fraction;
+  SYLVA_CHECK_INPUT(max_outside_fraction >= 0 && max_outside_fraction < 1,
+                    "Skeleton.prune_max_outside_fraction")
+      << "must be in [0, 1), got " << max_outside_fraction;
+  SYLVA_CHECK_INPUT(matte_threshold >= 0 && matte_threshold < 1, "Skeleton.prune_matte_threshold")
+      << "must be in [0, 1), got " << matte_threshold;
+  SYLVA_CHECK_INPUT(sample_spacing_fraction > 0 && sample_spacing_fraction < 1,
+                    "Skeleton.prune_sample_spacing_fraction")
+      << "must be in (0, 1), got " << sample_spacing_fraction;
+}
+
+std::string MattePruningSummary::BriefReport() const {
+  std::ostringstream out;
+  out << "Pruning: " << removed_axes << " of " << tested_axes
+      << " thin branches left the mattes and were removed (" << removed_nodes << " nodes, "
+      << removed_strands << " strands).";
+  return out.str();
+}
+
+SkeletonGraph PruneBranchesOutsideMattes(const SkeletonGraph& skeleton, const ImageSet& views,
+                                         const std::vector<FloatImage>& mattes,
+                                         const MattePruningOptions& options,
+                                         MattePruningSummary* summary) {
+  options.Check();
+  skeleton.Check();
+  SYLVA_CHECK(static_cast<int>(mattes.size()) == views.NumViews());
+  MattePruningSummary local;
+  if (summary == nullptr) summary = &local;
+  *summary = MattePruningSummary();
+  const int root = skeleton.RootIdx();
+  if (root < 0 || options.max_strand_fraction == 0) return skeleton;
+  const double max_strands = options.max_strand_fraction * skeleton.nodes[root].strands;
+  const double spacing = std::max(options.sample_spacing_fraction * Height(skeleton), 1e-12);
+
+  // Axes are listed parent axes first; an axis hanging off a removed one is
+  // skipped (it goes with its parent).
+  std::vector<char> removed(skeleton.NumNodes(), 0);
+  std::vector<int> strands_taken(skeleton.NumNodes(), 0);  // per junction node
+  for (const BranchAxis& axis : skeleton.BranchAxes()) {
+    if (axis.size() < 2 || removed[axis[0]] || removed[axis[1]]) continue;
+    if (skeleton.nodes[axis[1]].strands > max_strands) continue;
+    ++summary->tested_axes;
+    if (!LeavesTheMattes(AxisSamples(skeleton, axis, spacing), views, mattes, options)) continue;
+    ++summary->removed_axes;
+    summary->removed_strands += skeleton.nodes[axis[1]].strands;
+    strands_taken[axis[0]] += skeleton.nodes[axis[1]].strands;
+    for (size_t k = 1; k < axis.size(); ++k) removed[axis[k]] = 1;
+  }
+  MarkDescendants(skeleton, &removed);
+  summary->removed_nodes = static_cast<int>(std::count(removed.begin(), removed.end(), 1));
+  SkeletonGraph pruned = skeleton;
+  // Take the removed strands off every ancestor of each junction.
+  for (int junction = 0; junction < skeleton.NumNodes(); ++junction) {
+    if (strands_taken[junction] == 0 || removed[junction]) continue;
+    for (int node = junction; node >= 0; node = pruned.nodes[node].parent_idx) {
+      pruned.nodes[node].strands -= strands_taken[junction];
+    }
+  }
+  return WithoutNodes(pruned, removed);
+}
+
+}  // namespace sylva
