@@ -191,6 +191,29 @@ bool SyntheticDataset::IsHeldOut(const std::string& name) const {
   return std::find(held_out.begin(), held_out.end(), name) != held_out.end();
 }
 
+std::vector<bool> SyntheticDataset::HeldOutFlags() const {
+  std::vector<bool> flags;
+  for (const View& view : image_set.views) flags.push_back(IsHeldOut(view.name));
+  return flags;
+}
+
+ImageSet SyntheticDataset::InputImageSet() const {
+  ImageSet inputs = image_set;
+  inputs.views.clear();
+  for (const View& view : image_set.views) {
+    if (!IsHeldOut(view.name)) inputs.views.push_back(view);
+  }
+  return inputs;
+}
+
+std::vector<FloatImage> SyntheticDataset::InputMattes() const {
+  std::vector<FloatImage> inputs;
+  for (int v = 0; v < image_set.NumViews(); ++v) {
+    if (!IsHeldOut(image_set.views[v].name)) inputs.push_back(mattes[v]);
+  }
+  return inputs;
+}
+
 ImageSet MakeSyntheticCameras(const SyntheticDatasetOptions& options, const TriangleMesh& mesh) {
   options.Check();
   SYLVA_CHECK(mesh.NumVertices() > 0) << "cannot place cameras around an empty mesh";

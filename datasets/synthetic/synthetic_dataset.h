@@ -72,6 +72,12 @@ struct SyntheticDataset {
   std::string units = "m";
 
   bool IsHeldOut(const std::string& name) const;
+  // Per view of image_set: held out or not.
+  std::vector<bool> HeldOutFlags() const;
+  // The views a reconstruction may use (all but the held-out ones) and
+  // their mattes, in image_set's order.
+  ImageSet InputImageSet() const;
+  std::vector<FloatImage> InputMattes() const;
 };
 
 // Generates the tree, places the cameras and renders every view (parallel

@@ -25,21 +25,11 @@ FidelityReport ReconstructAndReport(const Case& c) {
   synth.num_views = c.num_views;
   synth.num_held_out = 2;
   const SyntheticDataset data = MakeSyntheticDataset(synth);
-  ImageSet inputs = data.image_set;
-  inputs.views.clear();
-  std::vector<FloatImage> input_mattes;
-  std::vector<bool> held_out;
-  for (int v = 0; v < data.image_set.NumViews(); ++v) {
-    held_out.push_back(data.IsHeldOut(data.image_set.views[v].name));
-    if (held_out.back()) continue;
-    inputs.views.push_back(data.image_set.views[v]);
-    input_mattes.push_back(data.mattes[v]);
-  }
   DensitySummary summary;
-  const DensityGrid grid =
-      ReconstructDensity(inputs, input_mattes, DensityOptions(), nullptr, &summary);
+  const DensityGrid grid = ReconstructDensity(data.InputImageSet(), data.InputMattes(),
+                                              DensityOptions(), nullptr, &summary);
   std::printf("%s\n", summary.BriefReport().c_str());
-  return ComputeFidelity(grid, data.image_set, data.mattes, held_out, ReportOptions());
+  return ComputeFidelity(grid, data.image_set, data.mattes, data.HeldOutFlags(), ReportOptions());
 }
 
 void ExpectFidelity(const Case& c, double min_input_iou, double min_held_out_iou) {

@@ -31,16 +31,8 @@ TreeResult ReconstructTree(uint64_t seed) {
   synth.num_views = 8;
   synth.num_held_out = 2;
   const SyntheticDataset data = MakeSyntheticDataset(synth);
-  ImageSet inputs = data.image_set;
-  inputs.views.clear();
-  std::vector<FloatImage> input_mattes;
-  std::vector<bool> held_out;
-  for (int v = 0; v < data.image_set.NumViews(); ++v) {
-    held_out.push_back(data.IsHeldOut(data.image_set.views[v].name));
-    if (held_out.back()) continue;
-    inputs.views.push_back(data.image_set.views[v]);
-    input_mattes.push_back(data.mattes[v]);
-  }
+  const ImageSet inputs = data.InputImageSet();
+  const std::vector<FloatImage> input_mattes = data.InputMattes();
   const PipelineOptions options;
   const DensityGrid density = ReconstructDensity(inputs, input_mattes, options.density, nullptr, nullptr);
   const BuiltSkeleton built =
@@ -53,7 +45,8 @@ TreeResult ReconstructTree(uint64_t seed) {
   TreeResult result;
   ReportOptions report_options;
   report_options.write_images = false;
-  result.report = ComputeFidelity(density, data.image_set, data.mattes, held_out, report_options);
+  result.report =
+      ComputeFidelity(density, data.image_set, data.mattes, data.HeldOutFlags(), report_options);
   AddMeshFidelity(mesh, built.skeleton, data.image_set, report_options, &result.report);
   result.height = data.tree.mesh.Bounds().max().z();  // the true base is at z = 0
   const double spacing = 0.005 * result.height;
