@@ -20,6 +20,14 @@ find_package(embree 3.13 REQUIRED)
 # library with a CMake config (target TinyGLTF::TinyGLTF).
 find_package(TinyGLTF CONFIG REQUIRED)
 
+# Matting (reconstruct/matting): OpenCV 4.6 core + imgproc, and the alphamat
+# contrib module (libopencv-contrib-dev) for information-flow matting.
+find_package(OpenCV 4.6 REQUIRED COMPONENTS core imgproc alphamat)
+
+# Loose / manual registration (reconstruct/registration): Ceres 2.1. Found
+# after TBB (see above) so its exported targets see the full TBB::tbb.
+find_package(Ceres 2.1 REQUIRED)
+
 if(SYLVA_BUILD_TESTS)
   find_package(GTest REQUIRED)
   find_package(benchmark REQUIRED)
