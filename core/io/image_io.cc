@@ -3,6 +3,8 @@
 #include <OpenImageIO/imageio.h>
 
 #include <algorithm>
+#include <cctype>
+#include <iterator>
 #include <cmath>
 
 #include "core/util/check.h"
@@ -145,6 +147,36 @@ fs::path FindMatteFile(const fs::path& folder, const std::string& photo_name) {
     if (fs::is_regular_file(candidate, ec)) return candidate;
   }
   return {};
+}
+
+std::vector<std::string> ListImageFiles(const fs::path& folder) {
+  std::error_code ec;
+  SYLVA_CHECK_INPUT(fs::is_directory(folder, ec), folder.string()) << "not a folder";
+  std::vector<std::string> names;
+  const auto options = fs::directory_options::skip_permission_denied;
+  fs::recursive_directory_iterator it(folder, options, ec);
+  SYLVA_CHECK_INPUT(!ec, folder.string()) << "cannot read the folder: " << ec.message();
+  for (; it != fs::recursive_directory_iterator(); it.increment(ec)) {
+    SYLVA_CHECK_INPUT(!ec, folder.string()) << "cannot read the folder: " << ec.message();
+    const fs::path& path = it->path();
+    if (path.filename().string().rfind('.', 0) == 0) {
+      if (it->is_directory(ec)) it.disable_recursion_pending();
+      continue;
+    }
+    if (!it->is_regular_file(ec)) continue;
+    std::string extension = path.extension().string();
+    std::transform(extension.begin(), extension.end(), extension.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    static const char* const kExtensions[] = {".jpg", ".jpeg", ".png", ".tif",
+                                              ".tiff", ".exr", ".bmp"};
+    if (std::none_of(std::begin(kExtensions), std::end(kExtensions),
+                     [&](const char* e) { return extension == e; })) {
+      continue;
+    }
+    names.push_back(path.lexically_relative(folder).generic_string());
+  }
+  std::sort(names.begin(), names.end());
+  return names;
 }
 
 }  // namespace sylva

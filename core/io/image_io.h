@@ -9,6 +9,7 @@
 
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "core/types/float_image.h"
 
@@ -50,6 +51,12 @@ void WriteImage(const std::filesystem::path& path, const FloatImage& image,
 // of .png .tif .tiff .exr .jpg; empty path if none exists.
 std::filesystem::path FindMatteFile(const std::filesystem::path& folder,
                                     const std::string& photo_name);
+
+// The image files under `folder` (recursively; .jpg .jpeg .png .tif .tiff
+// .exr .bmp in any letter case; hidden files and folders skipped), as names
+// relative to it with '/' separators, sorted. InputError naming the folder if
+// it cannot be read.
+std::vector<std::string> ListImageFiles(const std::filesystem::path& folder);
 
 }  // namespace sylva
 

@@ -123,5 +123,19 @@ TEST(ImageIoTest, FindMatteFileBySameRelativeName) {
   EXPECT_TRUE(FindMatteFile(mattes, "side/31.jpg").empty());
 }
 
+TEST(ImageIoTest, ListImageFilesRecursiveSortedSkippingHiddenAndOthers) {
+  const fs::path dir = TestDir() / "listing";
+  fs::remove_all(dir);
+  fs::create_directories(dir / "side");
+  fs::create_directories(dir / ".thumbnails");
+  for (const char* name : {"b.JPG", "a.png", "side/30.jpeg", "notes.txt", ".hidden.png",
+                           ".thumbnails/a.png", "side/top.TIFF"}) {
+    AtomicWriteString(dir / name, "x");
+  }
+  const std::vector<std::string> expected = {"a.png", "b.JPG", "side/30.jpeg", "side/top.TIFF"};
+  EXPECT_EQ(ListImageFiles(dir), expected);
+  EXPECT_THROW(ListImageFiles(dir / "missing"), InputError);
+}
+
 }  // namespace
 }  // namespace sylva

@@ -23,22 +23,35 @@ const FlagSpec kLogLevelFlag = {"log-level", "LEVEL",
 
 CommandSpec InitSpec() {
   return {"init",
-          "sylva init PROJECT --photos DIR (--colmap MODEL_DIR | --cameras FILE.json) "
-          "[--mattes DIR] [--held-out NAMES] [--copy]",
-          "Creates a project folder for one tree from registered photos: a COLMAP sparse model\n"
-          "(text or binary) or a sylva camera file (for orthographic or hand-placed views).\n"
-          "Every photo the model names must exist, with a matte of the same size in --mattes\n"
-          "(same relative name, any image format) or an alpha channel in the photo itself.\n"
-          "Photos and mattes are referenced where they are, or copied with --copy.",
+          "sylva init PROJECT --photos DIR (--colmap MODEL_DIR | --cameras FILE.json | "
+          "--register colmap | --register manual --loose-cameras FILE.json) [--mattes DIR] "
+          "[--held-out NAMES] [--copy] [--units UNITS]",
+          "Creates a project folder for one tree from its photos. The cameras are given (a\n"
+          "COLMAP sparse model, text or binary, or a sylva camera file for orthographic or\n"
+          "hand-placed views) or registered by the register stage: '--register colmap' runs\n"
+          "COLMAP's structure from motion on every photo of --photos (sub-folders included);\n"
+          "'--register manual' places 2-4 photos from their viewing azimuths and refines them\n"
+          "from clicked correspondences (see reconstruct/registration/loose_registration.h).\n"
+          "Mattes come from --mattes (same relative name, any image format), else from the\n"
+          "photos' alpha channels, else the matte stage computes them (painted trimaps in\n"
+          "PROJECT/edits/trimaps/<photo>.png override it). Every photo is decoded now, so a\n"
+          "corrupt file is reported before any work. Photos and mattes are referenced where\n"
+          "they are, or copied with --copy.",
           {{"photos", "DIR", "folder of the photos (names as in the camera model)"},
-           {"colmap", "MODEL_DIR", "COLMAP sparse model folder (cameras/images .txt or .bin)"},
-           {"cameras", "FILE.json", "sylva camera file (see core/io/camera_file.h)"},
-           {"mattes", "DIR", "folder of alpha mattes; default: the photos' alpha channels"},
+           {"colmap", "MODEL_DIR", "given COLMAP sparse model folder (cameras/images .txt or .bin)"},
+           {"cameras", "FILE.json", "given sylva camera file (see core/io/camera_file.h)"},
+           {"register", "METHOD", "register the photos: colmap (structure from motion) or "
+                                  "manual (with --loose-cameras)"},
+           {"loose-cameras", "FILE.json", "azimuth (and optional elevation, focal length, "
+                                          "correspondences) of each photo, for --register manual"},
+           {"mattes", "DIR", "folder of alpha mattes; default: the photos' alpha channels, "
+                             "else computed"},
            {"held-out", "NAMES", "views kept out of the reconstruction and reported separately: "
                                  "comma-separated names, or @FILE with one name per line"},
            {"copy", "", "copy the photos and mattes into the project"},
            {"units", "UNITS", "world units of the cameras (default: from the camera file, "
-                              "else 'arbitrary')"},
+                              "else 'arbitrary'; with WorldFrame.known_height, the unit of "
+                              "that height)"},
            kLogLevelFlag},
           1,
           1,
@@ -52,7 +65,8 @@ CommandSpec RunSpec() {
           "writes the outputs under PROJECT/out/. Options given here apply to this run (and\n"
           "are saved in the project's sylva.json with --save); the effective options of every\n"
           "run are written to PROJECT/out/run.json.",
-          {{"until", "STAGE", "stop after this stage (density, skeleton, mesh, report)"},
+          {{"until", "STAGE", "stop after this stage (matte, register, density, skeleton, mesh, "
+                              "report)"},
            {"force", "", "re-run stages even if up to date"},
            {"save", "", "save the options given here in the project's sylva.json"},
            kLogLevelFlag},
@@ -149,14 +163,24 @@ int CmdInit(const ParsedArguments& args) {
   setup.photos_dir = args.Get("photos");
   setup.colmap_model_dir = args.Get("colmap");
   setup.camera_file = args.Get("cameras");
+  setup.register_method = args.Get("register");
+  setup.loose_cameras_file = args.Get("loose-cameras");
+  SYLVA_CHECK_INPUT(!args.Has("register") || !setup.register_method.empty(), "--register")
+      << "expected 'colmap' or 'manual'";
   setup.mattes_dir = args.Get("mattes");
   if (args.Has("held-out")) setup.held_out = ParseHeldOut(args.Get("held-out"));
   setup.copy_inputs = args.Has("copy");
   setup.units = args.Get("units");
   const Project project = Project::Create(setup);
-  const ImageSet image_set = project.LoadCameras();
-  std::cout << "Created project " << project.root().string() << ": " << image_set.NumViews()
-            << " views (" << project.held_out().size() << " held out), units "
+  const std::string cameras = project.RegistersWithColmap()  ? "registered by COLMAP"
+                              : project.RegistersManually() ? "placed from loose azimuths"
+                                                            : "given";
+  const std::string mattes = project.ComputesMattes() ? "computed by the matte stage"
+                             : setup.mattes_dir.empty() ? "the photos' alpha channels"
+                                                        : "given";
+  std::cout << "Created project " << project.root().string() << ": "
+            << project.photo_names().size() << " photos (" << project.held_out().size()
+            << " held out); cameras " << cameras << "; mattes " << mattes << "; units "
             << project.units() << ".\nNext: sylva run " << setup.root.string() << "\n";
   return kExitOk;
 }
@@ -175,10 +199,11 @@ PipelineOptions ResolveOptions(Project* project, const ParsedArguments& args) {
 
 void PrintOutputs(const Project& project) {
   std::cout << "Outputs in " << project.OutDir().string() << "/:\n";
-  for (const char* name : {"density.vdb", "skeleton.json", "skeleton.ply", "tree.glb", "tree.obj",
-                           "report.json", "report.html", "run.json"}) {
+  for (const char* name : {"mattes", "cameras", "density.vdb", "skeleton.json", "skeleton.ply",
+                           "tree.glb", "tree.obj", "report.json", "report.html", "run.json"}) {
     std::error_code ec;
     if (fs::is_regular_file(project.OutDir() / name, ec)) std::cout << "  " << name << "\n";
+    if (fs::is_directory(project.OutDir() / name, ec)) std::cout << "  " << name << "/\n";
   }
 }
 

@@ -11,7 +11,7 @@ StageRun RunDensityStage(const StageContext& context) {
   DensitySummary summary;
   DensityGrid grid =
       ReconstructDensity(views, mattes, context.options.density, context.progress, &summary);
-  grid.SetMetadata("units", context.project.units());
+  grid.SetMetadata("units", context.Units());
   StageRun run;
   run.brief = summary.BriefReport();
   run.outputs = {context.Out("density.vdb")};

@@ -5,6 +5,7 @@
 #include <ctime>
 #include <sstream>
 
+#include "core/io/image_io.h"
 #include "core/io/json_util.h"
 #include "core/util/check.h"
 #include "core/util/file_util.h"
@@ -12,7 +13,7 @@
 namespace sylva {
 namespace {
 
-constexpr char kSylvaVersion[] = "0.2.0";
+constexpr char kSylvaVersion[] = "0.3.0";
 
 // What a stage is and what it depends on.
 struct StageDefinition {
@@ -25,27 +26,42 @@ struct StageDefinition {
   std::vector<Stage> upstream;
   bool reads_held_out_mattes;
   StageRun (*run)(const StageContext&);
+  // Whether the project needs the stage (the matte stage only when mattes
+  // are computed); a stage that does not apply is skipped, not stale.
+  bool (*applies)(const Project&);
 };
+
+bool Always(const Project&) { return true; }
+bool WhenComputingMattes(const Project& project) { return project.ComputesMattes(); }
 
 const std::vector<StageDefinition>& Definitions() {
   static const std::vector<StageDefinition> definitions = {
+      {{Stage::kMatte, "matte",
+        "alpha mattes from the photos: automatic trimap refined by alpha matting, painted "
+        "trimaps in edits/trimaps/ override it (out/mattes/)"},
+       "matte/1", {"Matting."}, {}, true, RunMatteStage, WhenComputingMattes},
+      {{Stage::kRegister, "register",
+        "cameras of the photos (given, COLMAP, or loose azimuths refined with Ceres) in "
+        "sylva's world frame: up +Z, tree base at the origin (out/cameras/)"},
+       "register/1", {"Colmap.", "WorldFrame.", "LooseCameras."}, {Stage::kMatte}, true,
+       RunRegisterStage, Always},
       {{Stage::kDensity, "density",
         "back-project the mattes into a voxel density grid (out/density.vdb)"},
-       "density/1", {"Density."}, {}, false, RunDensityStage},
+       "density/2", {"Density."}, {Stage::kRegister}, false, RunDensityStage, Always},
       {{Stage::kSkeleton, "skeleton",
         "particle flow from the density to the tree base; skeleton with allometric radii "
         "(out/skeleton.json, skeleton.ply)"},
        "skeleton/1", {"TreeBase.", "ParticleFlow.", "Skeleton.", "Allometry.", "General.seed"},
-       {Stage::kDensity}, false, RunSkeletonStage},
+       {Stage::kDensity}, false, RunSkeletonStage, Always},
       {{Stage::kMesh, "mesh",
         "branch tubes and leaves from the skeleton (out/tree.glb, tree.obj)"},
        "mesh/1", {"BranchMesh.", "Leaves.", "General.seed"}, {Stage::kDensity, Stage::kSkeleton},
-       false, RunMeshStage},
+       false, RunMeshStage, Always},
       {{Stage::kReport, "report",
         "per-view fidelity of the density and the mesh against the mattes, tree metrics "
         "(out/report.json, report.html)"},
        "report/2", {"Report."}, {Stage::kDensity, Stage::kSkeleton, Stage::kMesh}, true,
-       RunReportStage},
+       RunReportStage, Always},
   };
   return definitions;
 }
@@ -60,28 +76,6 @@ const StageDefinition& Definition(Stage stage) {
 
 double SecondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-
-// The values of the options a stage reads, as canonical text.
-std::string OptionsText(const PipelineOptions& options, const std::vector<std::string>& prefixes) {
-  PipelineOptions copy = options;
-  OptionRegistry registry;
-  RegisterPipelineOptions(&copy, &registry);
-  std::string text;
-  for (const auto& entry : registry.entries()) {
-    for (const std::string& prefix : prefixes) {
-      if (entry.key.rfind(prefix, 0) == 0) text += entry.key + "=" + entry.get() + ";";
-    }
-  }
-  return text;
-}
-
-// A file's identity in a stage key: its path (relative to the project for
-// files inside it, so a moved project stays up to date) and its stamp.
-std::string FileKey(const Project& project, const fs::path& file) {
-  const fs::path relative = file.lexically_relative(project.root());
-  const bool inside = !relative.empty() && *relative.begin() != "..";
-  return (inside ? relative : file).generic_string() + ":" + HexString(FileStamp(file));
 }
 
 std::string LocalTime() {
@@ -128,14 +122,33 @@ Pipeline::Pipeline(const Project& project, const PipelineOptions& options,
 
 std::string Pipeline::StageKey(Stage stage) const {
   const StageDefinition& definition = Definition(stage);
+  if (!definition.applies(project_)) return "not needed";
   std::string text = std::string(definition.version) + ";";
-  for (const fs::path& file : project_.CameraFiles()) text += FileKey(project_, file) + ";";
-  const ImageSet image_set = project_.LoadCameras();
-  for (const View& view : image_set.views) {
-    const bool held_out = project_.IsHeldOut(view.name);
-    if (held_out && !definition.reads_held_out_mattes) continue;
-    text += view.name + (held_out ? "(held out)" : "") + "=" +
-            FileKey(project_, project_.MattePath(view.name)) + ";";
+  if (stage == Stage::kMatte || stage == Stage::kRegister) {
+    // These stages read the photos (and the register stage the mattes and
+    // the camera source) by name, before any cameras exist.
+    for (const fs::path& file : project_.CameraSourceFiles()) {
+      if (stage == Stage::kRegister) text += FileKey(project_, file) + ";";
+    }
+    for (const std::string& name : project_.photo_names()) {
+      text += name + "=" + FileKey(project_, project_.PhotoPath(name));
+      if (stage == Stage::kMatte) {
+        const fs::path hint = project_.TrimapHintPath(name);
+        if (!hint.empty()) text += ",hint " + FileKey(project_, hint);
+      } else {
+        text += ",matte " + FileKey(project_, project_.MattePath(name));
+      }
+      text += ";";
+    }
+  } else {
+    for (const fs::path& file : project_.CameraFiles()) text += FileKey(project_, file) + ";";
+    const ImageSet image_set = project_.LoadCameras();
+    for (const View& view : image_set.views) {
+      const bool held_out = project_.IsHeldOut(view.name);
+      if (held_out && !definition.reads_held_out_mattes) continue;
+      text += view.name + (held_out ? "(held out)" : "") + "=" +
+              FileKey(project_, project_.MattePath(view.name)) + ";";
+    }
   }
   text += OptionsText(options_, definition.options);
   for (Stage upstream : definition.upstream) {
@@ -190,12 +203,17 @@ RunSummary Pipeline::Run(Stage until, bool force) {
   std::vector<Stage> to_run;
   for (const StageDefinition& definition : Definitions()) {
     const Stage stage = definition.info.stage;
-    // A stage re-runs when it is out of date or a stage it builds on re-runs.
-    bool stale = force || !IsUpToDate(stage);
-    for (Stage upstream : definition.upstream) {
-      stale = stale || std::find(to_run.begin(), to_run.end(), upstream) != to_run.end();
+    if (definition.applies(project_)) {
+      // A stage re-runs when a stage it builds on re-runs, or when it is out
+      // of date (its key is only computed when its upstream stages are up
+      // to date: before registration there are no cameras to key on).
+      bool stale = force;
+      for (Stage upstream : definition.upstream) {
+        stale = stale || std::find(to_run.begin(), to_run.end(), upstream) != to_run.end();
+      }
+      stale = stale || !IsUpToDate(stage);
+      if (stale) to_run.push_back(stage);
     }
-    if (stale) to_run.push_back(stage);
     if (stage == until) break;
   }
   // A bad held-out matte must fail the run before any stage writes: only
@@ -208,7 +226,7 @@ RunSummary Pipeline::Run(Stage until, bool force) {
     const Stage stage = definition.info.stage;
     if (std::find(to_run.begin(), to_run.end(), stage) != to_run.end()) {
       summary.stages.push_back(Execute(stage));
-    } else {
+    } else if (definition.applies(project_)) {
       StageRun skipped;
       skipped.stage = stage;
       skipped.up_to_date = true;
@@ -221,11 +239,13 @@ RunSummary Pipeline::Run(Stage until, bool force) {
 }
 
 void Pipeline::CheckHeldOutMattes() const {
-  const ImageSet image_set = project_.LoadCameras();
+  if (project_.ComputesMattes()) return;  // the matte stage makes them
   ProgressTask progress(progress_, "checking held-out mattes");
-  for (int v = 0; v < image_set.NumViews(); ++v) {
-    if (project_.IsHeldOut(image_set.views[v].name)) project_.LoadMatte(image_set, v);
-    progress.Update(static_cast<double>(v + 1) / image_set.NumViews());
+  const std::vector<std::string>& held_out = project_.held_out();
+  for (size_t i = 0; i < held_out.size(); ++i) {
+    const ImageHeader header = ReadImageHeader(project_.PhotoPath(held_out[i]));
+    project_.LoadMatte(held_out[i], header.width, header.height);
+    progress.Update(static_cast<double>(i + 1) / held_out.size());
   }
 }
 

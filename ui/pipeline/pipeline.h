@@ -2,8 +2,9 @@
 // desktop app: runs the stages of a project in order, re-running only those
 // whose inputs changed (COLMAP-controller style, with progress and cancel).
 //
-// Stages: density -> skeleton -> mesh -> report. Each stage's inputs (its
-// options, the camera and matte files it reads, the keys of the stages it
+// Stages: matte -> register -> density -> skeleton -> mesh -> report (the
+// matte stage only when the project computes its mattes). Each stage's inputs
+// (its options, the photo, camera and matte files it reads, the keys of the stages it
 // builds on) are hashed into a key recorded in PROJECT/cache/stages.json with
 // the stage's outputs; a stage is up to date when its key matches and its
 // outputs exist. Every run writes the effective options to PROJECT/out/run.json.

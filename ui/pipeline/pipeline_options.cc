@@ -39,6 +39,11 @@ void SkeletonOptions::Check() const {
 
 void PipelineOptions::Check() const {
   general.Check();
+  matting.Check();
+  colmap.Check();
+  world_frame.Check();
+  loose_init.Check();
+  loose_refine.Check();
   density.Check();
   tree_base.Check();
   particle_flow.Check();
@@ -210,10 +215,134 @@ void RegisterReport(ReportOptions* o, OptionRegistry* r) {
              "write per-view comparison pictures, renders and report.html");
 }
 
+void RegisterMatting(MattingOptions* o, MatteStageOptions* stage, OptionRegistry* r) {
+  r->AddString("Matting.trimap", &o->trimap,
+               "trimap source: auto (backdrop if the photo border is uniform, else grabcut), "
+               "backdrop, difference (needs Matting.background_photo) or grabcut");
+  r->AddString("Matting.background_photo", &stage->background_photo,
+               "photo of the backdrop without the tree, for trimap=difference (path, absolute "
+               "or relative to the project)");
+  r->AddDouble("Matting.auto_backdrop_fraction", &o->auto_backdrop_fraction, "fraction",
+               "trimap=auto uses the backdrop model when this share of the border agrees "
+               "with its median colour");
+  r->AddString("Matting.backdrop_color", &o->backdrop_color,
+               "backdrop colour: auto (median of the photo border) or R,G,B in 0..255");
+  r->AddDouble("Matting.border_fraction", &o->border_fraction, "fraction",
+               "width of the border strip sampled for the backdrop, of the shorter side");
+  r->AddDouble("Matting.chroma_tolerance", &o->chroma_tolerance, "sine",
+               "chroma difference to the backdrop still counted as backdrop");
+  r->AddDouble("Matting.luminance_tolerance", &o->luminance_tolerance, "luminance",
+               "brightness difference to the backdrop still counted as backdrop (0..1)");
+  r->AddDouble("Matting.dark_level", &o->dark_level, "luminance",
+               "below this brightness a pixel's chroma is treated as noise");
+  r->AddDouble("Matting.foreground_evidence", &o->foreground_evidence, "",
+               "evidence (difference / tolerance) from which a pixel is sure foreground");
+  r->AddDouble("Matting.backdrop_smoothness", &o->backdrop_smoothness, "fraction",
+               "smoothness of the estimated backdrop (Gaussian sigma, of the longer side)");
+  r->AddInt("Matting.band_px", &o->band_px, "pixels",
+            "pixels this close to both foreground and background are unknown");
+  r->AddString("Matting.reject_hues", &o->reject_hues,
+               "hue ranges never foreground, lo-hi[,lo-hi] in degrees (e.g. 330-30 for "
+               "orange calibration targets); empty = none");
+  r->AddDouble("Matting.reject_min_saturation", &o->reject_min_saturation, "fraction",
+               "minimum HSV saturation of a rejected hue");
+  r->AddDouble("Matting.reject_min_value", &o->reject_min_value, "fraction",
+               "minimum HSV value of a rejected hue");
+  r->AddInt("Matting.reject_margin_px", &o->reject_margin_px, "pixels",
+            "margin rejected around rejected objects");
+  r->AddDouble("Matting.reject_below_value", &o->reject_below_value, "fraction",
+               "pixels darker than this HSV value are never foreground; 0 = off");
+  r->AddString("Matting.region", &o->region,
+               "region of interest x0,y0,x1,y1 as fractions of the photo; outside is "
+               "background; empty = whole photo");
+  r->AddInt("Matting.grabcut_iterations", &o->grabcut_iterations, "iterations",
+            "GrabCut iterations (trimap=grabcut)");
+  r->AddDouble("Matting.grabcut_margin", &o->grabcut_margin, "fraction",
+               "border strip GrabCut assumes background, of each side");
+  r->AddDouble("Matting.grabcut_max_megapixels", &o->grabcut_max_megapixels, "MP",
+               "GrabCut runs on the photo downsampled to at most this size");
+  r->AddString("Matting.refine", &o->refine,
+               "alpha refinement of the unknown pixels: closed_form (Levin et al.), alphamat "
+               "(OpenCV information flow) or none");
+  r->AddDouble("Matting.max_megapixels", &o->max_megapixels, "MP",
+               "refinement runs at most at this size, then alpha is upsampled guided by "
+               "the photo");
+  r->AddDouble("Matting.closed_form_epsilon", &o->closed_form_epsilon, "",
+               "closed-form matting regulariser (colours in 0..1)");
+  r->AddInt("Matting.closed_form_max_iterations", &o->closed_form_max_iterations, "iterations",
+            "conjugate-gradient iterations of closed-form matting");
+  r->AddDouble("Matting.closed_form_tolerance", &o->closed_form_tolerance, "",
+               "conjugate-gradient relative tolerance");
+  r->AddInt("Matting.upsample_radius", &o->upsample_radius, "pixels",
+            "guided upsampling window radius (reduced image)");
+  r->AddDouble("Matting.upsample_epsilon", &o->upsample_epsilon, "",
+               "guided upsampling regulariser");
+  r->AddInt("Matting.seed", &o->seed, "", "seed of GrabCut's k-means initialisation");
+}
+
+void RegisterColmap(ColmapOptions* o, OptionRegistry* r) {
+  r->AddString("Colmap.executable", &o->executable,
+               "the COLMAP program (name on PATH or a path)");
+  r->AddString("Colmap.matcher", &o->matcher,
+               "exhaustive, sequential, or auto (exhaustive up to Colmap.exhaustive_max_photos)");
+  r->AddInt("Colmap.exhaustive_max_photos", &o->exhaustive_max_photos, "photos",
+            "matcher=auto matches exhaustively up to this many photos");
+  r->AddInt("Colmap.sequential_overlap", &o->sequential_overlap, "photos",
+            "sequential matcher: neighbours matched on each side");
+  r->AddBool("Colmap.use_masks", &o->use_masks,
+             "pass the mattes (dilated) as COLMAP masks: features only on the tree");
+  r->AddInt("Colmap.max_image_size", &o->max_image_size, "pixels",
+            "SIFT runs on photos downscaled to at most this size");
+  r->AddInt("Colmap.max_num_features", &o->max_num_features, "features",
+            "SIFT features per photo");
+  r->AddString("Colmap.camera_model", &o->camera_model,
+               "COLMAP camera model (SIMPLE_RADIAL, PINHOLE, OPENCV, ...)");
+  r->AddBool("Colmap.single_camera", &o->single_camera,
+             "one camera for all photos (forced off when photo sizes differ)");
+  r->AddInt("Colmap.num_threads", &o->num_threads, "threads", "COLMAP threads; -1 = all cores");
+  r->AddInt("Colmap.random_seed", &o->random_seed, "", "COLMAP's random seed");
+}
+
+void RegisterWorldFrame(WorldFrameOptions* o, OptionRegistry* r) {
+  r->AddString("WorldFrame.up", &o->up,
+               "the registration's axis that points up: auto (camera ring or the photos' "
+               "vertical), +x, -x, +y, -y, +z, -z, or keep");
+  r->AddString("WorldFrame.base", &o->base,
+               "tree base at the origin: auto (lowest matte region, triangulated) or keep");
+  r->AddDouble("WorldFrame.known_height", &o->known_height, "WorldFrame.units",
+               "the tree's height, to scale the world; 0 = unknown (units arbitrary)");
+  r->AddString("WorldFrame.units", &o->units, "units of WorldFrame.known_height");
+  r->AddDouble("WorldFrame.matte_threshold", &o->matte_threshold, "alpha",
+               "matte value from which a pixel is the tree");
+}
+
+void RegisterLoose(LooseInitOptions* init, LooseRefineOptions* refine, OptionRegistry* r) {
+  r->AddDouble("LooseCameras.assumed_tree_height", &init->assumed_tree_height, "units",
+               "tree height assumed when the loose-camera file gives none");
+  r->AddDouble("LooseCameras.default_focal_factor", &init->default_focal_factor, "",
+               "focal length of a perspective photo without one, times its longer side");
+  r->AddDouble("LooseCameras.click_sigma_px", &refine->click_sigma_px, "pixels",
+               "accuracy of a clicked correspondence");
+  r->AddDouble("LooseCameras.robust_loss_px", &refine->robust_loss_px, "pixels",
+               "reprojection error beyond which a click counts as an outlier (robust loss)");
+  r->AddDouble("LooseCameras.azimuth_sigma_deg", &refine->azimuth_sigma_deg, "degrees",
+               "how far the refinement may move a given azimuth (prior)");
+  r->AddDouble("LooseCameras.elevation_sigma_deg", &refine->elevation_sigma_deg, "degrees",
+               "prior on a given elevation");
+  r->AddDouble("LooseCameras.roll_sigma_deg", &refine->roll_sigma_deg, "degrees",
+               "prior on a given roll");
+  r->AddInt("LooseCameras.max_iterations", &refine->max_iterations, "iterations",
+            "Ceres iterations");
+}
+
 }  // namespace
 
 void RegisterPipelineOptions(PipelineOptions* options, OptionRegistry* registry) {
   RegisterGeneral(&options->general, registry);
+  RegisterMatting(&options->matting, &options->matte_stage, registry);
+  RegisterColmap(&options->colmap, registry);
+  RegisterWorldFrame(&options->world_frame, registry);
+  RegisterLoose(&options->loose_init, &options->loose_refine, registry);
   RegisterDensity(&options->density, registry);
   RegisterTreeBase(&options->tree_base, registry);
   RegisterParticleFlow(&options->particle_flow, registry);

@@ -12,6 +12,10 @@
 #include "mesh/branch_mesh.h"
 #include "mesh/leaves.h"
 #include "reconstruct/density/density_options.h"
+#include "reconstruct/matting/matting.h"
+#include "reconstruct/registration/colmap_runner.h"
+#include "reconstruct/registration/loose_registration.h"
+#include "reconstruct/registration/world_frame.h"
 #include "simulate/particle_flow.h"
 #include "simulate/skeleton_pruning.h"
 #include "ui/pipeline/option_registry.h"
@@ -60,8 +64,21 @@ struct ReportOptions {
   void Check() const;
 };
 
+// The matte stage's settings beyond the matting algorithm's own.
+struct MatteStageOptions {
+  // A photo of the backdrop without the tree (same size as the photos), for
+  // Matting.trimap=difference; a path absolute or relative to the project.
+  std::string background_photo;
+};
+
 struct PipelineOptions {
   GeneralOptions general;
+  MattingOptions matting;
+  MatteStageOptions matte_stage;
+  ColmapOptions colmap;
+  WorldFrameOptions world_frame;
+  LooseInitOptions loose_init;
+  LooseRefineOptions loose_refine;
   DensityOptions density;
   TreeBaseOptions tree_base;
   ParticleFlowOptions particle_flow;

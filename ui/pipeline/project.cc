@@ -29,29 +29,29 @@ ImageSet ReadCameraSource(const std::string& type, const fs::path& path, std::st
   return ReadCameraFile(path, units);
 }
 
-// Checks a view's photo (and matte) exist, decode and match its camera's
-// size, and that the matte is not empty. Everything is decoded in full, so a
-// truncated file is refused here rather than after minutes of work.
-void CheckViewFiles(const Project& project, const ImageSet& image_set, int view_idx,
-                    bool mattes_from_photos) {
-  const View& view = image_set.views[view_idx];
-  const Camera& camera = image_set.CameraOf(view);
-  const fs::path photo = project.PhotoPath(view.name);
+// Checks a photo exists and decodes in full (a truncated file is refused
+// here rather than after minutes of work), with the camera's size when there
+// is one, and that its matte (given or the alpha channel) is valid.
+void CheckPhotoFiles(const Project& project, const std::string& name, const Camera* camera) {
+  const fs::path photo = project.PhotoPath(name);
   std::error_code ec;
   SYLVA_CHECK_INPUT(fs::is_regular_file(photo, ec), photo.string())
-      << "photo '" << view.name << "' named by the camera model is missing";
+      << "photo '" << name << "' is missing";
   const ImageHeader header = ReadImageHeader(photo);
-  SYLVA_CHECK_INPUT(header.width == camera.width() && header.height == camera.height(),
-                    photo.string())
-      << "photo is " << header.width << "x" << header.height << " but its camera is "
-      << camera.width() << "x" << camera.height();
-  if (mattes_from_photos) {
-    SYLVA_CHECK_INPUT(header.alpha_channel >= 0, photo.string())
-        << "photo has no alpha channel and no matte folder was given (use --mattes DIR)";
-  } else {
-    ReadImage(photo);  // LoadMatte decodes it when the photo is the matte
+  if (camera != nullptr) {
+    SYLVA_CHECK_INPUT(header.width == camera->width() && header.height == camera->height(),
+                      photo.string())
+        << "photo is " << header.width << "x" << header.height << " but its camera is "
+        << camera->width() << "x" << camera->height();
   }
-  project.LoadMatte(image_set, view_idx);
+  SYLVA_CHECK_INPUT(header.channels >= 3 || !project.ComputesMattes(), photo.string())
+      << "photo has " << header.channels << " channel(s); matting needs colour photos";
+  if (project.ComputesMattes()) {
+    ReadImage(photo);
+    return;
+  }
+  if (project.MattePath(name) != photo) ReadImage(photo);  // else LoadMatte decodes it
+  project.LoadMatte(name, header.width, header.height);
 }
 
 // Copies the files of a COLMAP model (and nothing else from its folder).
@@ -66,15 +66,15 @@ void CopyColmapModel(const fs::path& from, const fs::path& to) {
   }
 }
 
-// Copies the photos and mattes the model names (keeping sub-folders).
-void CopyViewFiles(const ImageSet& image_set, const fs::path& photos_dir,
+// Copies the photos and mattes (keeping sub-folders).
+void CopyViewFiles(const std::vector<std::string>& names, const fs::path& photos_dir,
                    const fs::path& mattes_dir, const fs::path& project_root) {
-  for (const View& view : image_set.views) {
-    const fs::path target = project_root / "photos" / view.name;
+  for (const std::string& name : names) {
+    const fs::path target = project_root / "photos" / name;
     fs::create_directories(target.parent_path());
-    fs::copy_file(photos_dir / view.name, target, fs::copy_options::overwrite_existing);
+    fs::copy_file(photos_dir / name, target, fs::copy_options::overwrite_existing);
     if (mattes_dir.empty()) continue;
-    const fs::path matte = FindMatteFile(mattes_dir, view.name);
+    const fs::path matte = FindMatteFile(mattes_dir, name);
     const fs::path matte_target = project_root / "mattes" / fs::relative(matte, mattes_dir);
     fs::create_directories(matte_target.parent_path());
     fs::copy_file(matte, matte_target, fs::copy_options::overwrite_existing);
@@ -100,12 +100,29 @@ fs::path Project::PhotoPath(const std::string& view_name) const {
   return Resolve(photos_) / view_name;
 }
 
+fs::path Project::PhotosDir() const { return Resolve(photos_); }
+
 fs::path Project::MattePath(const std::string& view_name) const {
-  if (mattes_.empty()) return PhotoPath(view_name);
+  if (matte_source_ == "computed") return ComputedMattePath(view_name);
+  if (matte_source_ == "alpha") return PhotoPath(view_name);
   return FindMatteFile(Resolve(mattes_), view_name);
 }
 
-std::vector<fs::path> Project::CameraFiles() const {
+fs::path Project::ComputedMattePath(const std::string& view_name) const {
+  return OutDir() / "mattes" / fs::path(view_name).replace_extension(".png");
+}
+
+fs::path Project::TrimapHintPath(const std::string& view_name) const {
+  return FindMatteFile(EditsDir() / "trimaps", view_name);
+}
+
+fs::path Project::LooseCamerasPath() const {
+  SYLVA_CHECK(camera_type_ == "manual") << "not a manually registered project";
+  return Resolve(camera_path_);
+}
+
+std::vector<fs::path> Project::CameraSourceFiles() const {
+  if (camera_type_ == "sfm") return {};
   const fs::path path = Resolve(camera_path_);
   if (camera_type_ != "colmap") return {path};
   std::vector<fs::path> files;
@@ -115,27 +132,50 @@ std::vector<fs::path> Project::CameraFiles() const {
   return files;
 }
 
-ImageSet Project::LoadCameras() const {
-  ImageSet image_set = ReadCameraSource(camera_type_, Resolve(camera_path_), nullptr);
-  for (const std::string& name : held_out_) {
-    SYLVA_CHECK_INPUT(image_set.FindView(name) >= 0, SettingsPath().string())
-        << "held-out view '" << name << "' is not in the camera model";
+std::vector<fs::path> Project::CameraFiles() const {
+  std::vector<fs::path> files;
+  for (const char* name : {"cameras.txt", "images.txt", "points3D.txt"}) {
+    files.push_back(RegisteredCamerasDir() / name);
   }
-  return image_set;
+  return files;
+}
+
+ImageSet Project::LoadGivenCameras() const {
+  SYLVA_CHECK(camera_type_ == "colmap" || camera_type_ == "sylva")
+      << "the project's cameras are registered, not given";
+  return ReadCameraSource(camera_type_, Resolve(camera_path_), nullptr);
+}
+
+ImageSet Project::LoadCameras() const {
+  const fs::path dir = RegisteredCamerasDir();
+  std::error_code ec;
+  SYLVA_CHECK_INPUT(fs::is_regular_file(dir / "images.txt", ec), dir.string())
+      << "no registered cameras yet; run the register stage first ('sylva register "
+      << root_.string() << "' or 'sylva run')";
+  return ReadColmapModelText(dir);
 }
 
 FloatImage Project::LoadMatte(const ImageSet& image_set, int view_idx) const {
   const View& view = image_set.views.at(view_idx);
-  const fs::path path = MattePath(view.name);
-  SYLVA_CHECK_INPUT(!path.empty(), (Resolve(mattes_) / view.name).string())
-      << "no matte for photo '" << view.name
+  const Camera& camera = image_set.CameraOf(view);
+  return LoadMatte(view.name, camera.width(), camera.height());
+}
+
+FloatImage Project::LoadMatte(const std::string& view_name, int width, int height) const {
+  const fs::path path = MattePath(view_name);
+  if (matte_source_ == "computed") {
+    std::error_code ec;
+    SYLVA_CHECK_INPUT(fs::is_regular_file(path, ec), path.string())
+        << "matte of photo '" << view_name << "' not computed yet; run the matte stage first "
+        << "('sylva matte " << root_.string() << "' or 'sylva run')";
+  }
+  SYLVA_CHECK_INPUT(!path.empty(), (Resolve(mattes_) / view_name).string())
+      << "no matte for photo '" << view_name
       << "' in the matte folder (same relative name, any image extension)";
   FloatImage matte = ReadMatte(path);
-  const Camera& camera = image_set.CameraOf(view);
-  SYLVA_CHECK_INPUT(matte.width() == camera.width() && matte.height() == camera.height(),
-                    path.string())
-      << "matte is " << matte.width() << "x" << matte.height() << " but the camera is "
-      << camera.width() << "x" << camera.height();
+  SYLVA_CHECK_INPUT(matte.width() == width && matte.height() == height, path.string())
+      << "matte is " << matte.width() << "x" << matte.height() << " but the photo is " << width
+      << "x" << height;
   const bool has_foreground = std::any_of(matte.values().begin(), matte.values().end(),
                                           [](float a) { return a > kEmptyMatteAlpha; });
   SYLVA_CHECK_INPUT(has_foreground, path.string()) << "matte is empty (no foreground pixels)";
@@ -157,7 +197,9 @@ void Project::Write() const {
   json["format"] = kFormatName;
   json["version"] = kFormatVersion;
   json["photos"] = photos_;
+  json["photo_list"] = photo_names_;
   json["mattes"] = mattes_;
+  json["matte_source"] = matte_source_;
   json["cameras"] = {{"type", camera_type_}, {"path", camera_path_}};
   json["units"] = units_;
   json["held_out"] = held_out_;
@@ -179,10 +221,31 @@ Project Project::Open(const fs::path& root) {
   project.photos_ = root_json["photos"].AsString();
   project.mattes_ = root_json["mattes"].AsString();
   project.camera_type_ = root_json["cameras"]["type"].AsString();
-  if (project.camera_type_ != "colmap" && project.camera_type_ != "sylva") {
-    root_json["cameras"]["type"].Fail("expected 'colmap' or 'sylva'");
+  if (project.camera_type_ != "colmap" && project.camera_type_ != "sylva" &&
+      project.camera_type_ != "sfm" && project.camera_type_ != "manual") {
+    root_json["cameras"]["type"].Fail("expected 'colmap', 'sylva', 'sfm' or 'manual'");
   }
   project.camera_path_ = root_json["cameras"]["path"].AsString();
+  if (root_json.Has("matte_source")) {
+    project.matte_source_ = root_json["matte_source"].AsString();
+    if (project.matte_source_ != "given" && project.matte_source_ != "alpha" &&
+        project.matte_source_ != "computed") {
+      root_json["matte_source"].Fail("expected 'given', 'alpha' or 'computed'");
+    }
+  } else {
+    project.matte_source_ = project.mattes_.empty() ? "alpha" : "given";
+  }
+  if (root_json.Has("photo_list")) {
+    const JsonCursor list = root_json["photo_list"];
+    for (size_t i = 0; i < list.Size(); ++i) project.photo_names_.push_back(list[i].AsString());
+  } else {
+    if (project.camera_type_ == "sfm" || project.camera_type_ == "manual") {
+      root_json["photo_list"].Fail("missing (needed for registered cameras)");
+    }
+    for (const View& view : project.LoadGivenCameras().views) {
+      project.photo_names_.push_back(view.name);
+    }
+  }
   project.units_ = root_json["units"].AsString();
   const JsonCursor held_out = root_json["held_out"];
   for (size_t i = 0; i < held_out.Size(); ++i) project.held_out_.push_back(held_out[i].AsString());
@@ -202,9 +265,24 @@ Project Project::Create(const ProjectSetup& setup) {
   SYLVA_CHECK_INPUT(setup.mattes_dir.empty() || fs::is_directory(setup.mattes_dir, ec),
                     setup.mattes_dir.string())
       << "matte folder not found";
-  const bool colmap = !setup.colmap_model_dir.empty();
-  SYLVA_CHECK_INPUT(colmap != !setup.camera_file.empty(), "init")
-      << "give exactly one of --colmap MODEL_DIR and --cameras FILE.json";
+  const int num_sources = !setup.colmap_model_dir.empty() + !setup.camera_file.empty() +
+                          !setup.register_method.empty();
+  SYLVA_CHECK_INPUT(num_sources == 1, "init")
+      << "give exactly one of --colmap MODEL_DIR, --cameras FILE.json and --register "
+         "colmap|manual";
+  SYLVA_CHECK_INPUT(setup.register_method.empty() || setup.register_method == "colmap" ||
+                        setup.register_method == "manual",
+                    "--register")
+      << "expected 'colmap' or 'manual', got '" << setup.register_method << "'";
+  const bool manual = setup.register_method == "manual";
+  SYLVA_CHECK_INPUT(manual == !setup.loose_cameras_file.empty(), "--loose-cameras")
+      << (manual ? "--register manual needs --loose-cameras FILE.json (azimuths per photo)"
+                 : "--loose-cameras is only used with --register manual");
+  if (manual) {
+    SYLVA_CHECK_INPUT(fs::is_regular_file(setup.loose_cameras_file, ec),
+                      setup.loose_cameras_file.string())
+        << "loose-camera file not found";
+  }
 
   // Build the project in a temporary folder beside the target, then rename.
   const fs::path root = fs::absolute(setup.root);
@@ -213,37 +291,89 @@ Project Project::Create(const ProjectSetup& setup) {
   try {
     Project project;
     project.root_ = staging;
-    project.camera_type_ = colmap ? "colmap" : "sylva";
     project.held_out_ = setup.held_out;
-    std::string file_units;
-    const ImageSet image_set = ReadCameraSource(
-        project.camera_type_, colmap ? setup.colmap_model_dir : setup.camera_file, &file_units);
-    project.units_ = !setup.units.empty() ? setup.units
-                                          : (file_units.empty() ? "arbitrary" : file_units);
     project.photos_ = AbsoluteString(setup.photos_dir);
     project.mattes_ = setup.mattes_dir.empty() ? "" : AbsoluteString(setup.mattes_dir);
+    std::string file_units;
+    ImageSet given;
+    if (!setup.colmap_model_dir.empty() || !setup.camera_file.empty()) {
+      project.camera_type_ = !setup.colmap_model_dir.empty() ? "colmap" : "sylva";
+      given = ReadCameraSource(project.camera_type_,
+                               project.camera_type_ == "colmap" ? setup.colmap_model_dir
+                                                                : setup.camera_file,
+                               &file_units);
+      for (const View& view : given.views) project.photo_names_.push_back(view.name);
+      std::sort(project.photo_names_.begin(), project.photo_names_.end());
+    } else {
+      project.camera_type_ = manual ? "manual" : "sfm";
+      project.photo_names_ = ListImageFiles(setup.photos_dir);
+      SYLVA_CHECK_INPUT(project.photo_names_.size() >= 2, setup.photos_dir.string())
+          << "registration needs at least 2 photos; found " << project.photo_names_.size();
+    }
+    project.units_ = !setup.units.empty() ? setup.units
+                                          : (file_units.empty() ? "arbitrary" : file_units);
+    // Two photos whose computed mattes would share a file (a.jpg, a.png).
+    std::vector<std::string> matte_names;
+    for (const std::string& name : project.photo_names_) {
+      matte_names.push_back(fs::path(name).replace_extension().generic_string());
+    }
+    std::sort(matte_names.begin(), matte_names.end());
+    const auto duplicate = std::adjacent_find(matte_names.begin(), matte_names.end());
+    SYLVA_CHECK_INPUT(duplicate == matte_names.end(), setup.photos_dir.string())
+        << "two photos are named '" << *duplicate
+        << ".*' with different extensions; rename one (their mattes would clash)";
+
+    // The matte source: a folder, the photos' alpha channels, or computed.
+    if (!setup.mattes_dir.empty()) {
+      project.matte_source_ = "given";
+    } else {
+      int with_alpha = 0;
+      for (const std::string& name : project.photo_names_) {
+        const fs::path photo = project.PhotoPath(name);
+        SYLVA_CHECK_INPUT(fs::is_regular_file(photo, ec), photo.string())
+            << "photo '" << name << "' named by the camera model is missing";
+        with_alpha += ReadImageHeader(photo).alpha_channel >= 0;
+      }
+      project.matte_source_ = with_alpha == 0 ? "computed" : "alpha";
+      if (with_alpha > 0 && with_alpha < static_cast<int>(project.photo_names_.size())) {
+        for (const std::string& name : project.photo_names_) {
+          SYLVA_CHECK_INPUT(ReadImageHeader(project.PhotoPath(name)).alpha_channel >= 0,
+                            project.PhotoPath(name).string())
+              << "photo has no alpha channel while others have one; give --mattes DIR, or "
+                 "photos without alpha so that sylva computes the mattes";
+        }
+      }
+    }
     // Every photo and matte is decoded (a truncated file is caught now, not
-    // half-way through a run); in parallel, with the first view's error shown.
-    ParallelForFirstError(image_set.NumViews(), [&](int v) {
-      CheckViewFiles(project, image_set, v, setup.mattes_dir.empty());
+    // half-way through a run); in parallel, with the first photo's error shown.
+    ParallelForFirstError(static_cast<int>(project.photo_names_.size()), [&](int i) {
+      const std::string& name = project.photo_names_[i];
+      const int v = given.FindView(name);
+      CheckPhotoFiles(project, name, v >= 0 ? &given.CameraOf(v) : nullptr);
     });
     for (const std::string& name : setup.held_out) {
-      SYLVA_CHECK_INPUT(image_set.FindView(name) >= 0, "--held-out")
-          << "view '" << name << "' is not in the camera model";
+      SYLVA_CHECK_INPUT(std::binary_search(project.photo_names_.begin(),
+                                           project.photo_names_.end(), name),
+                        "--held-out")
+          << "view '" << name << "' is not one of the project's photos";
     }
-    SYLVA_CHECK_INPUT(image_set.NumViews() > static_cast<int>(setup.held_out.size()), "--held-out")
+    SYLVA_CHECK_INPUT(project.photo_names_.size() > setup.held_out.size(), "--held-out")
         << "every view is held out; at least one must remain for the reconstruction";
 
-    if (colmap) {
+    if (project.camera_type_ == "colmap") {
       CopyColmapModel(setup.colmap_model_dir, staging / "cameras" / "colmap");
       project.camera_path_ = "cameras/colmap";
-    } else {
+    } else if (project.camera_type_ == "sylva") {
       fs::create_directories(staging / "cameras");
       fs::copy_file(setup.camera_file, staging / "cameras" / "cameras.json");
       project.camera_path_ = "cameras/cameras.json";
+    } else if (manual) {
+      fs::create_directories(staging / "cameras");
+      fs::copy_file(setup.loose_cameras_file, staging / "cameras" / "loose.json");
+      project.camera_path_ = "cameras/loose.json";
     }
     if (setup.copy_inputs) {
-      CopyViewFiles(image_set, setup.photos_dir, setup.mattes_dir, staging);
+      CopyViewFiles(project.photo_names_, setup.photos_dir, setup.mattes_dir, staging);
       project.photos_ = "photos";
       project.mattes_ = setup.mattes_dir.empty() ? "" : "mattes";
     }

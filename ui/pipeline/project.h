@@ -1,22 +1,34 @@
 // The on-disk project shared by the CLI and the desktop app (one tree):
 //
-//   PROJECT/sylva.json   photo and matte folders, camera source, held-out
-//                        views, options that differ from the defaults
-//   PROJECT/cameras/     a copy of the camera model given at init
+//   PROJECT/sylva.json   photo list and folder, matte source, camera source,
+//                        held-out views, options that differ from the defaults
+//   PROJECT/cameras/     a copy of the camera model or loose-camera file
+//                        given at init (none when COLMAP registers the photos)
 //   PROJECT/photos/, mattes/  copies of the inputs (with --copy; otherwise
 //                        sylva.json refers to the original folders)
-//   PROJECT/edits/       what a person made (painted density, strokes)
-//   PROJECT/cache/       stage records keyed by a hash of their inputs
-//   PROJECT/out/         outputs (density.vdb, report.json, ...)
+//   PROJECT/edits/       what a person made: trimaps/<photo>.png (painted
+//                        matting hints), painted density, strokes
+//   PROJECT/cache/       stage records keyed by a hash of their inputs; the
+//                        COLMAP workspace (cache/colmap/)
+//   PROJECT/out/         outputs: cameras/ (the registered cameras in sylva's
+//                        world frame, COLMAP text), mattes/ (computed mattes,
+//                        8-bit PNG), density.vdb, skeleton, tree, report
 //
 // sylva.json:
 // { "format": "sylva-project", "version": 1,
-//   "photos": "photos" | "/abs/dir", "mattes": "mattes" | "/abs/dir" | "",
-//   "cameras": {"type": "colmap" | "sylva", "path": "cameras/..."},
+//   "photos": "photos" | "/abs/dir", "photo_list": ["a.jpg", "side/b.jpg"],
+//   "mattes": "mattes" | "/abs/dir" | "",
+//   "matte_source": "given" | "alpha" | "computed",
+//   "cameras": {"type": "colmap" | "sylva" | "sfm" | "manual", "path": "cameras/..."},
 //   "units": "arbitrary", "held_out": ["heldout_00.png"],
 //   "options": {"Density": {"resolution": 64}} }
-// Relative paths are relative to the project folder. An empty "mattes"
-// means the photos' alpha channels are the mattes.
+// Relative paths are relative to the project folder. Camera types: "colmap"
+// and "sylva" are given models; "sfm" registers the photos with COLMAP;
+// "manual" registers them from a loose-camera file (azimuths, correspondences).
+// Whatever the source, the register stage writes the cameras the later stages
+// use to out/cameras/. Projects written before "photo_list" and
+// "matte_source" existed take the list from the camera model and the source
+// from "mattes" ("" = the photos' alpha channels).
 #ifndef SYLVA_UI_PIPELINE_PROJECT_H_
 #define SYLVA_UI_PIPELINE_PROJECT_H_
 
@@ -36,9 +48,16 @@ namespace fs = std::filesystem;
 struct ProjectSetup {
   fs::path root;
   fs::path photos_dir;
-  fs::path colmap_model_dir;  // exactly one of colmap_model_dir, camera_file
+  // Exactly one camera source: a given COLMAP model or sylva camera file, or
+  // registration ("colmap": structure from motion on the photos; "manual":
+  // from loose_cameras_file).
+  fs::path colmap_model_dir;
   fs::path camera_file;
-  fs::path mattes_dir;        // optional
+  std::string register_method;
+  fs::path loose_cameras_file;
+  // Optional: a folder of mattes. Without it the photos' alpha channels are
+  // the mattes if every photo has one, else the matte stage computes them.
+  fs::path mattes_dir;
   std::vector<std::string> held_out;
   bool copy_inputs = false;   // copy photos and mattes into the project
   std::string units;          // empty: from the camera file, else "arbitrary"
@@ -61,17 +80,41 @@ class Project {
   const std::string& units() const { return units_; }
   const std::vector<std::string>& held_out() const { return held_out_; }
   bool IsHeldOut(const std::string& view_name) const;
+  // Every photo of the project (relative names, sorted).
+  const std::vector<std::string>& photo_names() const { return photo_names_; }
+  const std::string& camera_type() const { return camera_type_; }
+  bool RegistersWithColmap() const { return camera_type_ == "sfm"; }
+  bool RegistersManually() const { return camera_type_ == "manual"; }
+  bool ComputesMattes() const { return matte_source_ == "computed"; }
 
-  // The registered cameras (validated against the photos on disk).
+  // The cameras given at init (types "colmap" and "sylva"); the register
+  // stage takes them into sylva's world frame.
+  ImageSet LoadGivenCameras() const;
+  // The loose-camera file of a "manual" project.
+  fs::path LooseCamerasPath() const;
+  // Files of the camera source given at init (none for "sfm").
+  std::vector<fs::path> CameraSourceFiles() const;
+
+  // The registered cameras (out/cameras/, written by the register stage).
+  // InputError if the register stage has not run yet.
   ImageSet LoadCameras() const;
+  fs::path RegisteredCamerasDir() const { return OutDir() / "cameras"; }
   // Files whose change makes camera-dependent stages out of date.
   std::vector<fs::path> CameraFiles() const;
   fs::path PhotoPath(const std::string& view_name) const;
-  // The matte file of a view: in the matte folder, or the photo itself when
-  // the photos carry alpha.
+  fs::path PhotosDir() const;
+  // The matte file of a view: in the matte folder, the photo itself when
+  // the photos carry alpha, or out/mattes/<name>.png when computed.
   fs::path MattePath(const std::string& view_name) const;
+  // Where the matte stage writes a photo's matte (computed mattes only).
+  fs::path ComputedMattePath(const std::string& view_name) const;
+  // A painted trimap hint for a photo: edits/trimaps/<name>.png (any image
+  // extension); empty path if there is none.
+  fs::path TrimapHintPath(const std::string& view_name) const;
   // Reads and validates a view's matte: the camera's size, not empty.
   FloatImage LoadMatte(const ImageSet& image_set, int view_idx) const;
+  // Reads and validates the matte of a photo of the given size.
+  FloatImage LoadMatte(const std::string& view_name, int width, int height) const;
 
   // Options stored in sylva.json, applied over the registry's values.
   void ApplySavedOptions(OptionRegistry* registry) const;
@@ -84,8 +127,10 @@ class Project {
 
   fs::path root_;
   std::string photos_;
+  std::vector<std::string> photo_names_;
   std::string mattes_;
-  std::string camera_type_;  // "colmap" or "sylva"
+  std::string matte_source_ = "given";  // "given", "alpha" or "computed"
+  std::string camera_type_;  // "colmap", "sylva", "sfm" or "manual"
   std::string camera_path_;
   std::string units_ = "arbitrary";
   std::vector<std::string> held_out_;

@@ -2,6 +2,7 @@
 
 #include "core/io/json_util.h"
 #include "core/util/check.h"
+#include "core/util/file_util.h"
 #include "core/util/logging.h"
 #include "core/util/threading.h"
 
@@ -38,10 +39,39 @@ std::vector<FloatImage> StageContext::LoadMattes(const ImageSet& image_set,
   return mattes;
 }
 
+std::string StageContext::Units() const {
+  const fs::path path = project.RegisteredCamerasDir() / "registration.json";
+  std::error_code ec;
+  if (!fs::is_regular_file(path, ec)) return project.units();
+  const Json json = ReadJsonFile(path);
+  return json.is_object() && json.contains("units") && json["units"].is_string()
+             ? json["units"].get<std::string>()
+             : project.units();
+}
+
 std::string StageContext::RecordedBrief(const std::string& stage_name) const {
   const Json records = ParseJson(ReadStageRecordsText(project), "stage records");
   if (!records.contains(stage_name)) return "";
   return records[stage_name].value("summary", "");
+}
+
+std::string OptionsText(const PipelineOptions& options, const std::vector<std::string>& prefixes) {
+  PipelineOptions copy = options;
+  OptionRegistry registry;
+  RegisterPipelineOptions(&copy, &registry);
+  std::string text;
+  for (const auto& entry : registry.entries()) {
+    for (const std::string& prefix : prefixes) {
+      if (entry.key.rfind(prefix, 0) == 0) text += entry.key + "=" + entry.get() + ";";
+    }
+  }
+  return text;
+}
+
+std::string FileKey(const Project& project, const fs::path& file) {
+  const fs::path relative = file.lexically_relative(project.root());
+  const bool inside = !relative.empty() && *relative.begin() != "..";
+  return (inside ? relative : file).generic_string() + ":" + HexString(FileStamp(file));
 }
 
 std::string ReadStageRecordsText(const Project& project) {

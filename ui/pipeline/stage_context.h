@@ -19,7 +19,7 @@
 
 namespace sylva {
 
-enum class Stage { kDensity, kSkeleton, kMesh, kReport };
+enum class Stage { kMatte, kRegister, kDensity, kSkeleton, kMesh, kReport };
 
 struct StageRun {
   Stage stage = Stage::kDensity;
@@ -41,14 +41,29 @@ struct StageContext {
   ImageSet InputViews() const;
   // Every view's matte, decoded in parallel (first view's error thrown).
   std::vector<FloatImage> LoadMattes(const ImageSet& image_set, const std::string& task) const;
+  // The world units of the registered cameras: the register stage's (set by
+  // WorldFrame.known_height or a loose-camera file's height), else the
+  // project's.
+  std::string Units() const;
   // The BriefReport() recorded by an earlier stage ("" if none).
   std::string RecordedBrief(const std::string& stage_name) const;
 };
 
+StageRun RunMatteStage(const StageContext& context);
+StageRun RunRegisterStage(const StageContext& context);
 StageRun RunDensityStage(const StageContext& context);
 StageRun RunSkeletonStage(const StageContext& context);
 StageRun RunMeshStage(const StageContext& context);
 StageRun RunReportStage(const StageContext& context);
+
+// The values of the options under `prefixes` (Section. or Section.field), as
+// canonical text for cache keys.
+std::string OptionsText(const PipelineOptions& options, const std::vector<std::string>& prefixes);
+
+// A file's identity in a cache key: its path (relative to the project for
+// files inside it, so a moved project stays up to date) and its stamp (size
+// and modification time; 0 for a missing file).
+std::string FileKey(const Project& project, const std::filesystem::path& file);
 
 // cache/stages.json as JSON text ("{}" if missing or unreadable: the cache is
 // safe to delete, a corrupt one only means re-running).
