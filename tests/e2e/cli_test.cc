@@ -736,5 +736,202 @@ TEST_F(CliTest, BundledDemoMeetsItsFidelityTargets) {
   EXPECT_GT(bounds.max().z(), 5.5);
 }
 
+// ---- Real photos (issue 4): matting, registration, world frame ----
+
+const char kRomiSubset[] = SYLVA_SOURCE_DIR "/datasets/romi-real-plant-24";
+// Options for ROMI's black velvet: its orange calibration targets and clips
+// are never the plant.
+const char kRomiMatting[] = "--Matting.reject_hues=330-30";
+
+// Copies photos `indices` (0..23, in capture order) of the bundled ROMI set
+// into `dir`/images and writes the matching COLMAP text model to
+// `dir`/colmap. Returns the photo names.
+std::vector<std::string> MakeRomiSet(const fs::path& dir, const std::vector<int>& indices) {
+  const fs::path source(kRomiSubset);
+  std::vector<std::string> all;
+  for (const auto& entry : fs::directory_iterator(source / "images")) {
+    all.push_back(entry.path().filename().string());
+  }
+  std::sort(all.begin(), all.end());
+  std::vector<std::string> names;
+  fs::create_directories(dir / "images");
+  fs::create_directories(dir / "colmap");
+  for (int i : indices) {
+    names.push_back(all.at(i));
+    fs::copy_file(source / "images" / all.at(i), dir / "images" / all.at(i));
+  }
+  fs::copy_file(source / "colmap" / "cameras.txt", dir / "colmap" / "cameras.txt");
+  fs::copy_file(source / "colmap" / "points3D.txt", dir / "colmap" / "points3D.txt");
+  std::string images;
+  for (const std::string& line : Lines(ReadFileToString(source / "colmap" / "images.txt"))) {
+    if (line.empty() || line[0] == '#') continue;
+    for (const std::string& name : names) {
+      if (line.size() > name.size() && line.compare(line.size() - name.size(), name.size(),
+                                                    name) == 0) {
+        images += line + "\n\n";
+      }
+    }
+  }
+  WriteFile(dir / "colmap" / "images.txt", images);
+  return names;
+}
+
+// Real photos without mattes: the matte stage computes them, the register
+// stage takes ROMI's given cameras (+Z down, millimetres) into sylva's world
+// frame, and the tree comes out upright with its base at the origin. Mattes
+// are cached per photo: a painted trimap re-mattes that photo only.
+TEST_F(CliTest, RealPhotosAreMattedRegisteredAndReconstructed) {
+  const fs::path data = work_ / "romi";
+  const std::vector<std::string> names = MakeRomiSet(data, {0, 3, 6, 9, 12, 15, 18, 21, 1, 13});
+  const fs::path project = work_ / "plant";
+  const SubprocessResult init = Sylva({"init", project.string(), "--photos",
+                                       (data / "images").string(), "--colmap",
+                                       (data / "colmap").string(), "--held-out",
+                                       names[8] + "," + names[9]});
+  ASSERT_TRUE(Succeeded(init));
+  EXPECT_TRUE(Contains(init.out, "mattes computed by the matte stage")) << init.out;
+
+  const SubprocessResult run = Sylva({"run", project.string(), kRomiMatting, "--save"});
+  ASSERT_TRUE(Succeeded(run));
+  EXPECT_TRUE(Contains(run.out, "matte: 10 mattes in out/mattes/ (10 computed")) << run.out;
+  const fs::path out = project / "out";
+  for (const std::string& name : names) {
+    const fs::path matte = out / "mattes" / fs::path(name).replace_extension(".png");
+    ASSERT_TRUE(fs::is_regular_file(matte)) << matte;
+    const FloatImage alpha = ReadMatte(matte);
+    EXPECT_EQ(alpha.width(), 1616);
+    EXPECT_EQ(alpha.height(), 1080);
+    // The plant is a small part of each photo: thin stems, a pot.
+    double sum = 0.0;
+    for (float a : alpha.values()) sum += a;
+    const double fraction = sum / static_cast<double>(alpha.NumPixels());
+    EXPECT_GT(fraction, 0.005) << name;
+    EXPECT_LT(fraction, 0.2) << name;
+  }
+  // Upright world frame: the cameras (above the plant, looking down) have
+  // z > 0, the skeleton's root is at the origin and the plant grows up +Z.
+  const Json registration = ReadJsonFile(out / "cameras" / "registration.json");
+  EXPECT_EQ(registration.at("method").get<std::string>(), "given");
+  EXPECT_EQ(registration.at("registered").get<int>(), 10);
+  const SkeletonGraph skeleton = ReadSkeletonJson(out / "skeleton.json");
+  double top = 0.0;
+  for (const auto& node : skeleton.nodes) top = std::max(top, node.position.z());
+  const Eigen::Vector3d root = skeleton.nodes[skeleton.RootIdx()].position;
+  EXPECT_GT(top, 250.0) << "the plant is about 420 mm tall";
+  EXPECT_LT(root.norm(), 0.1 * top) << root.transpose();
+  const Json report = ReadJsonFile(out / "report.json");
+  EXPECT_GT(report.at("input_views").at("mean_iou").get<double>(), 0.5) << report.dump(2);
+  EXPECT_EQ(report.at("held_out_views").at("num_views").get<int>(), 2);
+
+  // Unchanged: nothing re-runs.
+  const SubprocessResult again = Sylva({"run", project.string()});
+  ASSERT_TRUE(Succeeded(again));
+  EXPECT_TRUE(Contains(again.out, "matte: up to date")) << again.out;
+  EXPECT_TRUE(Contains(again.out, "register: up to date")) << again.out;
+
+  // A painted trimap for one photo: foreground painted in the top-left
+  // corner (velvet), the rest unpainted (grey). Only that photo is re-matted.
+  const fs::path other_matte = out / "mattes" / fs::path(names[1]).replace_extension(".png");
+  const FileFacts other_before = Facts(other_matte);
+  FloatImage hint(1616, 1080, 1, 0.5f);
+  for (int y = 0; y < 40; ++y)
+    for (int x = 0; x < 40; ++x) hint.at(x, y) = 1.0f;
+  fs::create_directories(project / "edits" / "trimaps");
+  WriteImage(project / "edits" / "trimaps" / fs::path(names[0]).replace_extension(".png"), hint);
+  const SubprocessResult edited = Sylva({"run", project.string(), "--until", "matte"});
+  ASSERT_TRUE(Succeeded(edited));
+  EXPECT_TRUE(Contains(edited.out, "(1 computed, 9 unchanged)")) << edited.out;
+  const FloatImage painted = ReadMatte(out / "mattes" / fs::path(names[0]).replace_extension(".png"));
+  EXPECT_GT(painted.at(20, 20), 0.99f);
+  EXPECT_TRUE(Facts(other_matte) == other_before) << "an unchanged photo was re-matted";
+}
+
+// COLMAP registers real photos from the photos alone; its failures are clear
+// and change nothing.
+TEST_F(CliTest, ColmapRegistersRealPhotos) {
+  const fs::path data = work_ / "romi";
+  MakeRomiSet(data, {0, 1, 2, 3, 4, 5, 6, 7});
+  const fs::path project = work_ / "plant";
+  const SubprocessResult init = Sylva({"init", project.string(), "--photos",
+                                       (data / "images").string(), "--register", "colmap"});
+  ASSERT_TRUE(Succeeded(init));
+  EXPECT_TRUE(Contains(init.out, "registered by COLMAP")) << init.out;
+  ASSERT_TRUE(Succeeded(Sylva({"matte", project.string(), kRomiMatting, "--save"})));
+
+  ExpectRunFails(project, {"run", project.string(), "--Colmap.executable=/nonexistent/colmap"},
+                 {"/nonexistent/colmap"});
+
+  const SubprocessResult run = Sylva({"run", project.string(), "--until", "register",
+                                      "--Colmap.max_image_size=1000"});
+  ASSERT_TRUE(Succeeded(run));
+  const fs::path cameras = project / "out" / "cameras";
+  const Json registration = ReadJsonFile(cameras / "registration.json");
+  EXPECT_EQ(registration.at("method").get<std::string>(), "colmap");
+  EXPECT_GE(registration.at("registered").get<int>(), 6) << registration.dump(2);
+  EXPECT_EQ(registration.at("registered").get<int>() +
+                static_cast<int>(registration.at("unregistered").size()),
+            8);
+  EXPECT_TRUE(fs::is_regular_file(cameras / "unregistered.txt"));
+  EXPECT_TRUE(fs::is_regular_file(cameras / "images.txt"));
+}
+
+// Two orthographic photos at right angles and only their azimuths: the
+// thesis' set-up, registered by hand, reconstructed.
+TEST_F(CliTest, ManualRegistrationOfTwoOrthographicViews) {
+  const fs::path dataset = work_ / "ortho";
+  ASSERT_TRUE(Succeeded(Sylva({"synth", dataset.string(), "--camera", "ortho", "--size", "128",
+                               "--samples", "2", "--held-out", "1"})));
+  const fs::path loose = work_ / "loose.json";
+  WriteFile(loose, R"({"photos": [
+      {"name": "view_00.png", "azimuth_deg": 0, "projection": "orthographic"},
+      {"name": "view_01.png", "azimuth_deg": 93, "projection": "orthographic"}]})");
+  const fs::path project = work_ / "tree";
+  ASSERT_TRUE(Succeeded(Sylva({"init", project.string(), "--photos",
+                               (dataset / "photos").string(), "--mattes",
+                               (dataset / "mattes").string(), "--register", "manual",
+                               "--loose-cameras", loose.string()})));
+  const SubprocessResult run = Sylva({"run", project.string()});
+  ASSERT_TRUE(Succeeded(run));
+  const Json registration = ReadJsonFile(project / "out" / "cameras" / "registration.json");
+  EXPECT_EQ(registration.at("method").get<std::string>(), "manual");
+  EXPECT_EQ(registration.at("registered").get<int>(), 2);
+  // The held-out photo is not in the loose-camera file: reported, not used.
+  EXPECT_EQ(registration.at("unregistered").size(), 1u);
+  const Json report = ReadJsonFile(project / "out" / "report.json");
+  EXPECT_GT(report.at("input_views").at("mean_iou").get<double>(), 0.85) << report.dump(2);
+}
+
+// Bad real-photo input: a photo that does not decode, mixed alpha, a
+// loose-camera file naming a photo that is not there.
+TEST_F(CliTest, RealPhotoInputsAreValidated) {
+  const fs::path data = work_ / "romi";
+  const std::vector<std::string> names = MakeRomiSet(data, {0, 1, 2});
+  const fs::path broken = data / "images" / names[1];
+  Truncate(broken, 0.3);
+  const fs::path project = work_ / "plant";
+  ExpectInitFails({kSylva, "init", project.string(), "--photos", (data / "images").string(),
+                   "--register", "colmap"},
+                  project, {broken.string()});
+  fs::copy_file(fs::path(kRomiSubset) / "images" / names[1], broken,
+                fs::copy_options::overwrite_existing);
+  // A photo with an alpha channel among photos without.
+  WriteImage(data / "images" / "cutout.png", FloatImage(64, 48, 4, 1.0f));
+  ExpectInitFails({kSylva, "init", project.string(), "--photos", (data / "images").string(),
+                   "--register", "colmap"},
+                  project, {"alpha"});
+  fs::remove(data / "images" / "cutout.png");
+  // --register manual without, or with a wrong, loose-camera file.
+  ExpectInitFails({kSylva, "init", project.string(), "--photos", (data / "images").string(),
+                   "--register", "manual"},
+                  project, {"--loose-cameras"});
+  const fs::path loose = work_ / "loose.json";
+  WriteFile(loose, R"({"photos": [{"name": "nothere.jpg", "azimuth_deg": 0,
+      "projection": "perspective"}, {"name": ")" + names[0] + R"(", "azimuth_deg": 90,
+      "projection": "perspective"}]})");
+  ExpectInitFails({kSylva, "init", project.string(), "--photos", (data / "images").string(),
+                   "--register", "manual", "--loose-cameras", loose.string()},
+                  project, {loose.string(), "nothere.jpg"});
+}
+
 }  // namespace
 }  // namespace sylva

@@ -11,6 +11,7 @@
 #include "core/util/check.h"
 #include "core/util/file_util.h"
 #include "core/util/threading.h"
+#include "reconstruct/registration/loose_setup_io.h"
 
 namespace sylva {
 namespace {
@@ -360,6 +361,17 @@ Project Project::Create(const ProjectSetup& setup) {
     SYLVA_CHECK_INPUT(project.photo_names_.size() > setup.held_out.size(), "--held-out")
         << "every view is held out; at least one must remain for the reconstruction";
 
+    if (manual) {
+      // The loose-camera file must name photos of the folder.
+      const LooseSetup loose = ReadLooseSetup(setup.loose_cameras_file);
+      for (const LoosePhoto& photo : loose.photos) {
+        SYLVA_CHECK_INPUT(std::binary_search(project.photo_names_.begin(),
+                                             project.photo_names_.end(), photo.name),
+                          setup.loose_cameras_file.string())
+            << "photo '" << photo.name << "' is not in the photo folder "
+            << setup.photos_dir.string();
+      }
+    }
     if (project.camera_type_ == "colmap") {
       CopyColmapModel(setup.colmap_model_dir, staging / "cameras" / "colmap");
       project.camera_path_ = "cameras/colmap";
