@@ -206,6 +206,13 @@ Eigen::Vector3d Triangulate(const LoosePoint& point, const std::vector<CameraSta
   return normal.ldlt().solve(rhs);
 }
 
+bool InFrontOfAll(const Eigen::Vector3d& point, const ImageSet& image_set) {
+  for (const View& view : image_set.views) {
+    if (!image_set.CameraOf(view).IsInFront(view.cam_from_world * point)) return false;
+  }
+  return true;
+}
+
 // Pixel distance between a point's projection and its click (infinite
 // behind a camera).
 double PixelError(const ImageSet& image_set, const CameraState& camera, const Point& point,
@@ -239,7 +246,10 @@ class LooseProblem {
     }
     for (CameraState& camera : cameras_) camera.free = camera.num_points > 0;
     for (const LoosePoint& point : setup.points) {
-      const Eigen::Vector3d p = Triangulate(point, cameras_, initial);
+      Eigen::Vector3d p = Triangulate(point, cameras_, initial);
+      // A start behind a camera would stop the solver at once; the origin
+      // (the base, in front of every initial camera) is a safe one.
+      if (!InFrontOfAll(p, initial)) p.setZero();
       points_.push_back({p.x(), p.y(), p.z()});
     }
     Build();
@@ -493,6 +503,10 @@ void AddWarnings(const LooseProblem& problem, LooseRefineSummary* summary) {
     summary->warnings.push_back("fewer equations (" + std::to_string(summary->num_equations) +
                                 ") than unknowns (" + std::to_string(summary->num_unknowns) +
                                 "); click more points");
+  }
+  if (summary->termination != "CONVERGENCE") {
+    summary->warnings.push_back("the solver stopped without converging (" +
+                                summary->termination + ")");
   }
   if (summary->num_weak_directions > kTiltDirections) {
     summary->warnings.push_back(std::to_string(summary->num_weak_directions - kTiltDirections) +

@@ -319,11 +319,12 @@ ImageSet InitialLooseCameras(const LooseSetup& setup,
     const LoosePhoto& photo = setup.photos[i];
     const Anchors anchors =
         FindAnchors(setup, static_cast<int>(i), sizes[i], photo_mattes[i], options);
-    if (anchors.base_source == LooseAnchorSource::kGuess ||
-        anchors.top_source == LooseAnchorSource::kGuess) {
-      summary->warnings.push_back("photo '" + photo.name +
-                                  "' has no matte and no clicked base or top; the tree is "
-                                  "assumed to fill the middle of it");
+    for (const auto& [source, what] : {std::make_pair(anchors.base_source, "base"),
+                                       std::make_pair(anchors.top_source, "top")}) {
+      if (source != LooseAnchorSource::kGuess) continue;
+      summary->warnings.push_back("photo '" + photo.name + "': the tree's " + what +
+                                  " is neither clicked nor in a usable matte; guessed as if the "
+                                  "tree filled the middle of the photo");
     }
     const Eigen::Quaterniond rotation =
         LooseCamFromWorld(photo.azimuth_deg, photo.elevation_deg, photo.roll_deg);

@@ -166,6 +166,30 @@ TEST(InitialLooseCamerasTest, ClickedBaseAndTopGiveTheTrueCameras) {
   }
 }
 
+TEST(InitialLooseCamerasTest, FocalLengthFromTheDistanceOrTheDefault) {
+  const double height = 5.0, elevation = 12.0;
+  const ImageSet truth = PerspectiveTruth({30, 150}, elevation);
+  LooseSetup setup = SetupFor(truth, LooseProjection::kPerspective);
+  setup.tree_height = height;
+  setup.photos[0].focal_length_px = 0;
+  setup.photos[0].distance = 14.0 * std::cos(elevation * kDegree);  // to the trunk, horizontally
+  setup.photos[1].focal_length_px = 0;
+  RandomEngine random(1);
+  Click(truth, "base", Eigen::Vector3d::Zero(), 0.0, &random, &setup);
+  Click(truth, "top", Eigen::Vector3d(0, 0, height), 0.0, &random, &setup);
+  LooseInitOptions options;
+  const ImageSet initial = InitialLooseCameras(setup, Sizes(setup), {}, options);
+  // The distance rule is a far-away approximation: within 10 % here.
+  EXPECT_NEAR(initial.CameraOf(0).FocalLengthX() / truth.CameraOf(0).FocalLengthX(), 1.0, 0.1);
+  EXPECT_DOUBLE_EQ(initial.CameraOf(1).FocalLengthX(), options.default_focal_factor * kSize);
+  // Either way base and top land where they were clicked.
+  for (int v = 0; v < 2; ++v) {
+    for (const Eigen::Vector3d& p : {Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(0, 0, height)}) {
+      EXPECT_LT((ProjectOrDie(initial, v, p) - ProjectOrDie(truth, v, p)).norm(), 1e-6);
+    }
+  }
+}
+
 // A matte of a rotationally symmetric tree (trunk of radius 0.15 up to 2,
 // crown a sphere of radius 1.5 centred at 3.5, so 5 tall) seen by an
 // orthographic view at elevation 0.
@@ -211,7 +235,7 @@ TEST(InitialLooseCamerasTest, WithoutClicksOrMattesTheTreeFillsThePhoto) {
   LooseInitOptions options;
   LooseInitSummary summary;
   const ImageSet initial = InitialLooseCameras(setup, Sizes(setup), {}, options, &summary);
-  EXPECT_EQ(summary.warnings.size(), 2u);
+  EXPECT_EQ(summary.warnings.size(), 4u);  // base and top of both photos
   EXPECT_FALSE(summary.height_known);
   EXPECT_EQ(summary.units, "arbitrary");
   // The assumed height spans the middle 80 % of the photo.
