@@ -7,6 +7,8 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <limits>
+#include <set>
 #include <sstream>
 
 #include "core/util/check.h"
@@ -50,8 +52,11 @@ void CamFromWorld(const T* angles, const T* translation, bool has_z, const T* po
   if (has_z) out[2] += translation[2];
 }
 
-// Reprojection error of a clicked point, in units of the click sigma.
-struct OrthographicReprojection {
+// Reprojection error of a clicked point, in units of the click sigma, for an
+// orthographic camera (translation of size 2, scale in pixels per unit) or a
+// perspective one (translation of size 3, focal length in pixels).
+template <bool kPerspective>
+struct Reprojection {
   Eigen::Vector2d observed, principal_point;
   double inverse_sigma;
 
@@ -59,25 +64,14 @@ struct OrthographicReprojection {
   bool operator()(const T* angles, const T* translation, const T* scale, const T* point,
                   T* residual) const {
     T p[3];
-    CamFromWorld(angles, translation, false, point, p);
+    CamFromWorld(angles, translation, kPerspective, point, p);
+    if constexpr (kPerspective) {
+      if (!(p[2] > T(0))) return false;  // behind the camera: reject the step
+      p[0] /= p[2];
+      p[1] /= p[2];
+    }
     residual[0] = (scale[0] * p[0] + principal_point.x() - observed.x()) * inverse_sigma;
     residual[1] = (scale[0] * p[1] + principal_point.y() - observed.y()) * inverse_sigma;
-    return true;
-  }
-};
-
-struct PerspectiveReprojection {
-  Eigen::Vector2d observed, principal_point;
-  double inverse_sigma;
-
-  template <typename T>
-  bool operator()(const T* angles, const T* translation, const T* focal, const T* point,
-                  T* residual) const {
-    T p[3];
-    CamFromWorld(angles, translation, true, point, p);
-    if (!(p[2] > T(0))) return false;  // behind the camera: reject the step
-    residual[0] = (focal[0] * p[0] / p[2] + principal_point.x() - observed.x()) * inverse_sigma;
-    residual[1] = (focal[0] * p[1] / p[2] + principal_point.y() - observed.y()) * inverse_sigma;
     return true;
   }
 };
@@ -162,8 +156,8 @@ CameraState StateFromView(const LooseSetup& setup, int photo_idx, const ImageSet
   state.principal_point = camera.PrincipalPoint();
   state.given_angles =
       Eigen::Vector3d(photo.azimuth_deg, photo.elevation_deg, photo.roll_deg) * kDegree;
-  state.scale_sigma = photo.HasFocalLength() ? options.known_focal_sigma
-                                             : options.unknown_focal_sigma;
+  state.scale_sigma =
+      photo.HasFocalLength() ? options.known_focal_sigma : options.unknown_focal_sigma;
   return state;
 }
 
@@ -194,9 +188,8 @@ Eigen::Vector3d Triangulate(const LoosePoint& point, const std::vector<CameraSta
   Eigen::Matrix3d normal = Eigen::Matrix3d::Zero();
   Eigen::Vector3d rhs = Eigen::Vector3d::Zero();
   for (const LooseObservation& observation : point.observations) {
-    const Ray3d ray =
-        image_set.RayThroughPixel(cameras[observation.photo_idx].view_idx,
-                                  observation.point_in_image);
+    const Ray3d ray = image_set.RayThroughPixel(cameras[observation.photo_idx].view_idx,
+                                                observation.point_in_image);
     const Eigen::Matrix3d across =
         Eigen::Matrix3d::Identity() - ray.direction * ray.direction.transpose();
     normal += across;
@@ -236,8 +229,13 @@ class LooseProblem {
         robust_scale_(options.robust_loss_px / options.click_sigma_px),
         loss_(new ceres::HuberLoss(robust_scale_), ceres::TAKE_OWNERSHIP),
         problem_(ProblemOptions()) {
+    std::set<int> camera_ids;
     for (size_t i = 0; i < setup.photos.size(); ++i) {
       cameras_.push_back(StateFromView(setup, static_cast<int>(i), initial, options));
+      const View& view = initial.views[cameras_.back().view_idx];
+      SYLVA_CHECK_INPUT(camera_ids.insert(view.camera_id).second, setup.source)
+          << "photo '" << view.name << "' shares camera " << view.camera_id
+          << " with another photo; loose refinement needs one camera per photo";
     }
     for (const LoosePoint& point : setup.points) {
       for (const LooseObservation& observation : point.observations) {
@@ -269,8 +267,7 @@ class LooseProblem {
     loss_.Reset(new ceres::CauchyLoss(robust_scale_), ceres::TAKE_OWNERSHIP);
     ceres::Solve(SolverOptions(), &problem_, &cauchy);
     summary->termination = ceres::TerminationTypeToString(cauchy.termination_type);
-    summary->iterations =
-        static_cast<int>(huber.iterations.size() + cauchy.iterations.size()) - 2;
+    summary->iterations = static_cast<int>(huber.iterations.size() + cauchy.iterations.size()) - 2;
     summary->num_weak_directions = CountWeakDirections();
     summary->num_unknowns = NumUnknowns();
   }
@@ -339,15 +336,14 @@ class LooseProblem {
     const double inverse_sigma = 1.0 / options_.click_sigma_px;
     ceres::CostFunction* cost = nullptr;
     if (camera.orthographic) {
-      cost = new ceres::AutoDiffCostFunction<OrthographicReprojection, 2, 3, 2, 1, 3>(
-          new OrthographicReprojection{observed, camera.principal_point, inverse_sigma});
+      cost = new ceres::AutoDiffCostFunction<Reprojection<false>, 2, 3, 2, 1, 3>(
+          new Reprojection<false>{observed, camera.principal_point, inverse_sigma});
     } else {
-      cost = new ceres::AutoDiffCostFunction<PerspectiveReprojection, 2, 3, 3, 1, 3>(
-          new PerspectiveReprojection{observed, camera.principal_point, inverse_sigma});
+      cost = new ceres::AutoDiffCostFunction<Reprojection<true>, 2, 3, 3, 1, 3>(
+          new Reprojection<true>{observed, camera.principal_point, inverse_sigma});
     }
-    const ceres::ResidualBlockId block =
-        problem_.AddResidualBlock(cost, &loss_, camera.angles, camera.translation, camera.scale,
-                                  points_[point_idx].data());
+    const ceres::ResidualBlockId block = problem_.AddResidualBlock(
+        cost, &loss_, camera.angles, camera.translation, camera.scale, points_[point_idx].data());
     observations_.push_back({camera_idx, point_idx, observed, block});
     problem_.SetParameterLowerBound(camera.scale, 0, kMinScaleFraction * camera.initial_scale);
   }
@@ -378,8 +374,8 @@ class LooseProblem {
       points_[top_idx][2] = setup_.tree_height;
       problem_.SetManifold(points_[top_idx].data(), new ceres::SubsetManifold(3, {2}));
     }
-    const auto gauge = std::find_if(cameras_.begin(), cameras_.end(),
-                                    [](const CameraState& c) { return c.free; });
+    const auto gauge =
+        std::find_if(cameras_.begin(), cameras_.end(), [](const CameraState& c) { return c.free; });
     problem_.SetManifold(gauge->angles, new ceres::SubsetManifold(3, {0}));
     if (!height_gauge && gauge->orthographic) {
       scale_fixed_ = gauge->scale;
@@ -451,8 +447,8 @@ class LooseProblem {
   std::vector<Point> points_;
   std::vector<ObservationRef> observations_;
   std::vector<double> rms_before_;
-  double* scale_fixed_ = nullptr;  // a scale block held constant for the gauge
-  double robust_scale_;            // of the losses, in click sigmas
+  double* scale_fixed_ = nullptr;    // a scale block held constant for the gauge
+  double robust_scale_;              // of the losses, in click sigmas
   ceres::LossFunctionWrapper loss_;  // of every reprojection residual
   ceres::Problem problem_;
 };
@@ -505,8 +501,8 @@ void AddWarnings(const LooseProblem& problem, LooseRefineSummary* summary) {
                                 "); click more points");
   }
   if (summary->termination != "CONVERGENCE") {
-    summary->warnings.push_back("the solver stopped without converging (" +
-                                summary->termination + ")");
+    summary->warnings.push_back("the solver stopped without converging (" + summary->termination +
+                                ")");
   }
   if (summary->num_weak_directions > kTiltDirections) {
     summary->warnings.push_back(std::to_string(summary->num_weak_directions - kTiltDirections) +
@@ -537,8 +533,8 @@ void CheckRange(bool ok, const char* field, const std::string& requirement, doub
 }  // namespace
 
 void LooseRefineOptions::Check() const {
-  CheckRange(click_sigma_px > 0 && std::isfinite(click_sigma_px), "click_sigma_px",
-             "> 0 pixels", click_sigma_px);
+  CheckRange(click_sigma_px > 0 && std::isfinite(click_sigma_px), "click_sigma_px", "> 0 pixels",
+             click_sigma_px);
   CheckRange(robust_loss_px > 0 && std::isfinite(robust_loss_px), "robust_loss_px", "> 0 pixels",
              robust_loss_px);
   CheckRange(azimuth_sigma_deg > 0 && azimuth_sigma_deg <= 180, "azimuth_sigma_deg",
@@ -547,10 +543,10 @@ void LooseRefineOptions::Check() const {
              "in (0, 180] degrees", elevation_sigma_deg);
   CheckRange(roll_sigma_deg > 0 && roll_sigma_deg <= 180, "roll_sigma_deg", "in (0, 180] degrees",
              roll_sigma_deg);
-  CheckRange(known_focal_sigma > 0 && std::isfinite(known_focal_sigma), "known_focal_sigma",
-             "> 0", known_focal_sigma);
-  CheckRange(unknown_focal_sigma > 0 && std::isfinite(unknown_focal_sigma),
-             "unknown_focal_sigma", "> 0", unknown_focal_sigma);
+  CheckRange(known_focal_sigma > 0 && std::isfinite(known_focal_sigma), "known_focal_sigma", "> 0",
+             known_focal_sigma);
+  CheckRange(unknown_focal_sigma > 0 && std::isfinite(unknown_focal_sigma), "unknown_focal_sigma",
+             "> 0", unknown_focal_sigma);
   CheckRange(max_iterations >= 1 && max_iterations <= 100000, "max_iterations",
              "between 1 and 100000", max_iterations);
   CheckRange(weak_direction_threshold > 0 && weak_direction_threshold < 1,
@@ -573,8 +569,7 @@ std::string LooseRefineSummary::BriefReport() const {
       out << " " << camera.name << ": azimuth " << camera.angles_refined_deg.x() << " (moved "
           << delta.x() << "), elevation " << camera.angles_refined_deg.y() << " (" << delta.y()
           << "), roll " << camera.angles_refined_deg.z() << " (" << delta.z() << ") deg, scale "
-          << 100.0 * camera.relative_scale_change << " %, RMS " << camera.rms_after_px
-          << " px.";
+          << 100.0 * camera.relative_scale_change << " %, RMS " << camera.rms_after_px << " px.";
     }
   }
   for (const std::string& warning : warnings) out << " Warning: " << warning << ".";
@@ -614,8 +609,7 @@ LooseRefinement RefineLooseCameras(const LooseSetup& setup, const ImageSet& init
   }
   FindWorst(setup, problem, result.image_set, &summary);
   AddWarnings(problem, &summary);
-  summary.seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;
 }
 

@@ -117,8 +117,7 @@ struct InitialPose {
 
 InitialPose OrthographicPose(const LoosePhoto& photo, const Eigen::Vector2i& size,
                              const Anchors& anchors, const Eigen::Quaterniond& rotation,
-                             double height, const LooseInitOptions& options,
-                             double pixel_height) {
+                             double height, const LooseInitOptions& options, double pixel_height) {
   double up_length = 0.0;
   ImageUp(rotation.toRotationMatrix(), &up_length);
   InitialPose pose;
@@ -127,8 +126,7 @@ InitialPose OrthographicPose(const LoosePhoto& photo, const Eigen::Vector2i& siz
   const Eigen::Vector2d offset = (anchors.base - center) / pose.scale;
   pose.distance =
       photo.distance > 0 ? photo.distance : options.orthographic_distance_heights * height;
-  pose.cam_from_world =
-      Rigid3d(rotation, Eigen::Vector3d(offset.x(), offset.y(), pose.distance));
+  pose.cam_from_world = Rigid3d(rotation, Eigen::Vector3d(offset.x(), offset.y(), pose.distance));
   pose.camera = Camera::Orthographic(size.x(), size.y(), pose.scale);
   return pose;
 }
@@ -189,9 +187,9 @@ std::vector<const FloatImage*> PhotoMattes(const LooseSetup& setup,
     const auto it = mattes.find(setup.photos[i].name);
     if (it == mattes.end() || it->second.empty()) continue;
     const FloatImage& matte = it->second;
-    SYLVA_CHECK_INPUT(matte.channels() == 1 && matte.width() == sizes[i].x() &&
-                          matte.height() == sizes[i].y(),
-                      setup.source)
+    SYLVA_CHECK_INPUT(
+        matte.channels() == 1 && matte.width() == sizes[i].x() && matte.height() == sizes[i].y(),
+        setup.source)
         << "the matte of photo '" << setup.photos[i].name << "' is " << matte.width() << "x"
         << matte.height() << " with " << matte.channels() << " channel(s); expected "
         << sizes[i].x() << "x" << sizes[i].y() << " with 1";
@@ -240,7 +238,8 @@ Eigen::Quaterniond LooseCamFromWorld(double azimuth_deg, double elevation_deg, d
   const double angles[3] = {azimuth_deg * kDegree, elevation_deg * kDegree, roll_deg * kDegree};
   double r[9];
   LooseRotationFromAngles(angles, r);
-  const Eigen::Matrix3d rotation = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(r);
+  const Eigen::Matrix3d rotation =
+      Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(r);
   return Eigen::Quaterniond(rotation).normalized();
 }
 
@@ -256,18 +255,17 @@ Eigen::Vector3d LooseAnglesDeg(const Eigen::Quaterniond& cam_from_world) {
 }
 
 void LooseInitOptions::Check() const {
-  CheckRange(assumed_tree_height > 0 && std::isfinite(assumed_tree_height),
-             "assumed_tree_height", "> 0 world units", assumed_tree_height);
+  CheckRange(assumed_tree_height > 0 && std::isfinite(assumed_tree_height), "assumed_tree_height",
+             "> 0 world units", assumed_tree_height);
   CheckRange(default_focal_factor > 0 && std::isfinite(default_focal_factor),
              "default_focal_factor", "> 0", default_focal_factor);
   CheckRange(matte_threshold > 0 && matte_threshold < 1, "matte_threshold", "in (0, 1)",
              matte_threshold);
   CheckRange(min_row_fraction >= 0 && min_row_fraction < 1, "min_row_fraction", "in [0, 1)",
              min_row_fraction);
-  CheckRange(base_band_fraction > 0 && base_band_fraction <= 1, "base_band_fraction",
-             "in (0, 1]", base_band_fraction);
-  CheckRange(fallback_fill > 0 && fallback_fill <= 1, "fallback_fill", "in (0, 1]",
-             fallback_fill);
+  CheckRange(base_band_fraction > 0 && base_band_fraction <= 1, "base_band_fraction", "in (0, 1]",
+             base_band_fraction);
+  CheckRange(fallback_fill > 0 && fallback_fill <= 1, "fallback_fill", "in (0, 1]", fallback_fill);
   CheckRange(orthographic_distance_heights > 0 && std::isfinite(orthographic_distance_heights),
              "orthographic_distance_heights", "> 0", orthographic_distance_heights);
 }
@@ -285,8 +283,8 @@ std::string LooseAnchorSourceName(LooseAnchorSource source) {
 
 std::string LooseInitSummary::BriefReport() const {
   std::ostringstream out;
-  out << "Loose cameras: " << views.size() << " photos, tree height " << tree_height << " "
-      << units << (height_known ? "" : " (assumed)") << ".";
+  out << "Loose cameras: " << views.size() << " photos, tree height " << tree_height << " " << units
+      << (height_known ? "" : " (assumed)") << ".";
   for (const LooseInitView& view : views) {
     out << " " << view.name << ": base " << LooseAnchorSourceName(view.base_source) << ", top "
         << LooseAnchorSourceName(view.top_source) << ", "
@@ -319,8 +317,8 @@ ImageSet InitialLooseCameras(const LooseSetup& setup,
     const LoosePhoto& photo = setup.photos[i];
     const Anchors anchors =
         FindAnchors(setup, static_cast<int>(i), sizes[i], photo_mattes[i], options);
-    for (const auto& [source, what] : {std::make_pair(anchors.base_source, "base"),
-                                       std::make_pair(anchors.top_source, "top")}) {
+    for (const auto& [source, what] :
+         {std::make_pair(anchors.base_source, "base"), std::make_pair(anchors.top_source, "top")}) {
       if (source != LooseAnchorSource::kGuess) continue;
       summary->warnings.push_back("photo '" + photo.name + "': the tree's " + what +
                                   " is neither clicked nor in a usable matte; guessed as if the "

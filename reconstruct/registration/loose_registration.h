@@ -125,8 +125,7 @@ struct LooseInitSummary {
 ImageSet InitialLooseCameras(const LooseSetup& setup,
                              const std::map<std::string, Eigen::Vector2i>& image_sizes,
                              const std::map<std::string, FloatImage>& mattes,
-                             const LooseInitOptions& options,
-                             LooseInitSummary* summary = nullptr);
+                             const LooseInitOptions& options, LooseInitSummary* summary = nullptr);
 
 // --- Refinement ----------------------------------------------------------
 
@@ -164,8 +163,8 @@ struct LooseRefineOptions {
 // How one camera moved.
 struct LooseCameraChange {
   std::string name;
-  int num_points = 0;              // clicked points seen in this photo
-  Eigen::Vector3d angles_given_deg = Eigen::Vector3d::Zero();    // the user's
+  int num_points = 0;                                          // clicked points seen in this photo
+  Eigen::Vector3d angles_given_deg = Eigen::Vector3d::Zero();  // the user's
   Eigen::Vector3d angles_initial_deg = Eigen::Vector3d::Zero();  // azimuth, elevation, roll
   Eigen::Vector3d angles_refined_deg = Eigen::Vector3d::Zero();
   // Orthographic scale or focal length: refined / initial - 1.
@@ -180,8 +179,8 @@ struct LooseRefineSummary {
   bool refined = false;  // false without correspondences (cameras unchanged)
   int num_points = 0;
   int num_observations = 0;
-  int num_unknowns = 0;     // free parameters of cameras and points
-  int num_equations = 0;    // 2 per observation (priors not counted)
+  int num_unknowns = 0;   // free parameters of cameras and points
+  int num_equations = 0;  // 2 per observation (priors not counted)
   // Directions of the unknowns the correspondences do not determine (fixed
   // only by the priors); the world's tilt accounts for up to 2 of them.
   int num_weak_directions = 0;

@@ -21,9 +21,10 @@ double RotationErrorDeg(const Eigen::Quaterniond& a, const Eigen::Quaterniond& b
 View TrueView(int id, const std::string& name, double azimuth_deg, double elevation_deg,
               double distance, double target_height) {
   const Eigen::Vector3d target(0, 0, target_height);
-  const Eigen::Vector3d direction(std::cos(elevation_deg * kDegree) * std::cos(azimuth_deg * kDegree),
-                                  std::cos(elevation_deg * kDegree) * std::sin(azimuth_deg * kDegree),
-                                  std::sin(elevation_deg * kDegree));
+  const Eigen::Vector3d direction(
+      std::cos(elevation_deg * kDegree) * std::cos(azimuth_deg * kDegree),
+      std::cos(elevation_deg * kDegree) * std::sin(azimuth_deg * kDegree),
+      std::sin(elevation_deg * kDegree));
   View view;
   view.image_id = view.camera_id = id;
   view.name = name;
@@ -102,9 +103,9 @@ TEST(LooseAnglesTest, ZeroRollIsLookAtWithZUp) {
   for (double azimuth : {0.0, 37.0, 90.0, -150.0}) {
     for (double elevation : {-20.0, 0.0, 35.0}) {
       const View view = TrueView(1, "v", azimuth, elevation, 10, 0);
-      EXPECT_LT(RotationErrorDeg(LooseCamFromWorld(azimuth, elevation, 0),
-                                 view.cam_from_world.rotation),
-                1e-9);
+      EXPECT_LT(
+          RotationErrorDeg(LooseCamFromWorld(azimuth, elevation, 0), view.cam_from_world.rotation),
+          1e-9);
     }
   }
 }
@@ -129,8 +130,8 @@ TEST(LooseAnglesTest, PositiveRollTurnsThePictureCounterClockwise) {
   view.cam_from_world = Rigid3d(LooseCamFromWorld(0, 0, 10), Eigen::Vector3d(0, 0, 5));
   set.views.push_back(view);
   // The world's up direction in the picture: upwards and to the left.
-  const Eigen::Vector2d up =
-      ProjectOrDie(set, 0, Eigen::Vector3d::UnitZ()) - ProjectOrDie(set, 0, Eigen::Vector3d::Zero());
+  const Eigen::Vector2d up = ProjectOrDie(set, 0, Eigen::Vector3d::UnitZ()) -
+                             ProjectOrDie(set, 0, Eigen::Vector3d::Zero());
   EXPECT_LT(up.y(), 0);
   EXPECT_LT(up.x(), 0);
   EXPECT_NEAR(std::atan2(-up.x(), -up.y()) / kDegree, 10.0, 1e-9);
@@ -140,7 +141,8 @@ TEST(LooseAnglesTest, PositiveRollTurnsThePictureCounterClockwise) {
 
 TEST(InitialLooseCamerasTest, ClickedBaseAndTopGiveTheTrueCameras) {
   const double height = 5.0;
-  for (LooseProjection projection : {LooseProjection::kPerspective, LooseProjection::kOrthographic}) {
+  for (LooseProjection projection :
+       {LooseProjection::kPerspective, LooseProjection::kOrthographic}) {
     const ImageSet truth = projection == LooseProjection::kPerspective
                                ? PerspectiveTruth({30, 150}, 12)
                                : OrthographicTruth({0, 90});
@@ -332,8 +334,8 @@ double MaxRotationErrorDeg(const ImageSet& a, const ImageSet& b) {
 
 TEST(RefineLooseCamerasTest, ThreePerspectiveViewsRecoverTheirAzimuths) {
   // The first photo's azimuth is right (it is the gauge); the others are off.
-  const Scenario s = MakeScenario(PerspectiveTruth({0, 120, 240}, 8),
-                                  LooseProjection::kPerspective, {0, 8, -7}, 12, 0.5, 3);
+  const Scenario s = MakeScenario(PerspectiveTruth({0, 120, 240}, 8), LooseProjection::kPerspective,
+                                  {0, 8, -7}, 12, 0.5, 3);
   const ImageSet initial = InitialLooseCameras(s.setup, Sizes(s.setup), {}, {});
   const LooseRefinement refined = RefineLooseCameras(s.setup, initial, {});
   const LooseRefineSummary& summary = refined.summary;
@@ -364,8 +366,8 @@ TEST(RefineLooseCamerasTest, ThreePerspectiveViewsRecoverTheirAzimuths) {
 }
 
 TEST(RefineLooseCamerasTest, TwoOrthographicViewsWarnThatTheirAngleIsFree) {
-  const Scenario s = MakeScenario(OrthographicTruth({0, 90}), LooseProjection::kOrthographic,
-                                  {0, 6}, 8, 0.5, 4);
+  const Scenario s =
+      MakeScenario(OrthographicTruth({0, 90}), LooseProjection::kOrthographic, {0, 6}, 8, 0.5, 4);
   const ImageSet initial = InitialLooseCameras(s.setup, Sizes(s.setup), {}, {});
   const LooseRefinement refined = RefineLooseCameras(s.setup, initial, {});
   std::printf("%s\n", refined.summary.BriefReport().c_str());
@@ -398,12 +400,12 @@ TEST(RefineLooseCamerasTest, ARobustLossLimitsAWrongClick) {
   const ImageSet initial = InitialLooseCameras(s.setup, Sizes(s.setup), {}, {});
   LooseRefineOptions least_squares;
   least_squares.robust_loss_px = 1e6;
-  const double error_clean = MaxRotationErrorDeg(
-      RefineLooseCameras(clean.setup, initial, {}).image_set, s.truth);
+  const double error_clean =
+      MaxRotationErrorDeg(RefineLooseCameras(clean.setup, initial, {}).image_set, s.truth);
   const LooseRefinement robust = RefineLooseCameras(s.setup, initial, {});
   const double error_robust = MaxRotationErrorDeg(robust.image_set, s.truth);
-  const double error_least_squares = MaxRotationErrorDeg(
-      RefineLooseCameras(s.setup, initial, least_squares).image_set, s.truth);
+  const double error_least_squares =
+      MaxRotationErrorDeg(RefineLooseCameras(s.setup, initial, least_squares).image_set, s.truth);
   std::printf("max rotation error: clean %.2f, mis-click %.2f robust, %.2f least squares deg\n",
               error_clean, error_robust, error_least_squares);
   EXPECT_LT(error_robust, 0.2 * error_least_squares);
@@ -423,6 +425,9 @@ TEST(RefineLooseCamerasTest, RefusesMismatchedCameras) {
   EXPECT_THROW(RefineLooseCameras(setup, initial, {}), InputError);
   setup.photos[1].projection = LooseProjection::kOrthographic;
   initial.views[1].name = "other.png";
+  EXPECT_THROW(RefineLooseCameras(setup, initial, {}), InputError);
+  initial.views[1].name = "o1.png";
+  initial.views[1].camera_id = 1;  // shared with o0.png
   EXPECT_THROW(RefineLooseCameras(setup, initial, {}), InputError);
   LooseRefineOptions options;
   options.robust_loss_px = 0;

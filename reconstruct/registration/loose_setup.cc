@@ -26,8 +26,7 @@ void CheckPhoto(const LoosePhoto& photo, const std::string& source) {
   SYLVA_CHECK_INPUT(photo.focal_length_px >= 0 && std::isfinite(photo.focal_length_px), source)
       << label << ": focal_length_px must be a positive number of pixels, got "
       << photo.focal_length_px;
-  SYLVA_CHECK_INPUT(photo.focal_length_35mm >= 0 && std::isfinite(photo.focal_length_35mm),
-                    source)
+  SYLVA_CHECK_INPUT(photo.focal_length_35mm >= 0 && std::isfinite(photo.focal_length_35mm), source)
       << label << ": focal_length_35mm must be a positive number of millimetres, got "
       << photo.focal_length_35mm;
   SYLVA_CHECK_INPUT(photo.focal_length_px == 0 || photo.focal_length_35mm == 0, source)
@@ -45,9 +44,9 @@ void CheckPoint(const LooseSetup& setup, const LoosePoint& point) {
   const std::string label = "point '" + point.name + "'";
   std::set<int> photos;
   for (const LooseObservation& observation : point.observations) {
-    SYLVA_CHECK_INPUT(observation.photo_idx >= 0 &&
-                          observation.photo_idx < static_cast<int>(setup.photos.size()),
-                      source)
+    SYLVA_CHECK_INPUT(
+        observation.photo_idx >= 0 && observation.photo_idx < static_cast<int>(setup.photos.size()),
+        source)
         << label << ": refers to photo index " << observation.photo_idx << " of "
         << setup.photos.size();
     const std::string& photo = setup.photos[observation.photo_idx].name;
@@ -142,8 +141,8 @@ void LooseSetup::CheckPixels(const std::vector<Eigen::Vector2i>& image_sizes) co
       const Eigen::Vector2d& p = observation.point_in_image;
       SYLVA_CHECK_INPUT(p.x() <= size.x() && p.y() <= size.y(), source)
           << "point '" << point.name << "' in photo '" << photos[observation.photo_idx].name
-          << "': pixel position (" << p.x() << ", " << p.y() << ") is outside the "
-          << size.x() << "x" << size.y() << " image";
+          << "': pixel position (" << p.x() << ", " << p.y() << ") is outside the " << size.x()
+          << "x" << size.y() << " image";
     }
   }
 }

@@ -57,7 +57,7 @@ struct LoosePhoto {
 
 // Where a point was clicked in one photo.
 struct LooseObservation {
-  int photo_idx = 0;                     // index into LooseSetup::photos
+  int photo_idx = 0;                                         // index into LooseSetup::photos
   Eigen::Vector2d point_in_image = Eigen::Vector2d::Zero();  // pixels, COLMAP convention
 };
 

@@ -49,8 +49,8 @@ LoosePhoto ParsePhoto(const JsonCursor& json) {
   const JsonCursor projection = json["projection"];
   const std::string projection_name = projection.AsString();
   if (projection_name != "orthographic" && projection_name != "perspective") {
-    projection.Fail("projection must be 'orthographic' or 'perspective', got '" +
-                    projection_name + "'");
+    projection.Fail("projection must be 'orthographic' or 'perspective', got '" + projection_name +
+                    "'");
   }
   photo.projection = ParseLooseProjection(projection_name, json.source());
   photo.focal_length_px = OptionalPositive(json, "focal_length_px");

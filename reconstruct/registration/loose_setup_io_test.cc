@@ -105,7 +105,8 @@ TEST(LooseSetupIoTest, RefusesBadFiles) {
 }
 
 TEST(LooseSetupIoTest, RefusesBadPhotos) {
-  const std::string front = R"({"name": "front.jpg", "azimuth_deg": 0, "projection": "perspective"})";
+  const std::string front =
+      R"({"name": "front.jpg", "azimuth_deg": 0, "projection": "perspective"})";
   auto photos = [&](const std::string& second) {
     return "{\"photos\": [" + front + ", " + second + "]}";
   };
@@ -115,8 +116,7 @@ TEST(LooseSetupIoTest, RefusesBadPhotos) {
               {"/photos/1/azimuth_deg", "expected a number"});
   ExpectError(photos(R"({"name": "side.jpg", "projection": "perspective"})"),
               {"/photos/1", "missing key 'azimuth_deg'"});
-  ExpectError(photos(R"({"name": "side.jpg", "azimuth_deg": 90})"),
-              {"missing key 'projection'"});
+  ExpectError(photos(R"({"name": "side.jpg", "azimuth_deg": 90})"), {"missing key 'projection'"});
   ExpectError(photos(R"({"name": "side.jpg", "azimuth_deg": 90, "projection": "fisheye"})"),
               {"/photos/1/projection", "'fisheye'"});
   ExpectError(photos(R"({"name": "side.jpg", "azimuth_deg": 90, "elevation_deg": 95,
@@ -142,10 +142,10 @@ TEST(LooseSetupIoTest, RefusesBadPhotos) {
 }
 
 TEST(LooseSetupIoTest, RefusesBadPoints) {
-  ExpectError(File(R"("points": [
+  ExpectError(
+      File(R"("points": [
       {"name": "base", "seen": {"front.jpg": [1, 2], "back.jpg": [3, 4]}}])"),
-              {"/points/0/seen/back.jpg", "point 'base'", "photo 'back.jpg'",
-               "not among the photos"});
+      {"/points/0/seen/back.jpg", "point 'base'", "photo 'back.jpg'", "not among the photos"});
   ExpectError(File(R"("points": [{"name": "base", "seen": {"front.jpg": [1, 2]}}])"),
               {"point 'base'", "seen in 1 photo", "at least 2"});
   ExpectError(File(R"("points": [

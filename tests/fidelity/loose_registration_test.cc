@@ -57,7 +57,7 @@ const std::vector<Config>& Configs() {
 struct Truth {
   ImageSet cameras;
   SkeletonGraph skeleton;
-  double height = 0.0;  // of the highest mesh vertex
+  double height = 0.0;                                          // of the highest mesh vertex
   std::vector<std::pair<std::string, Eigen::Vector3d>> points;  // to click
 };
 
@@ -161,9 +161,8 @@ PoseErrors Compare(const ImageSet& estimate, const Truth& truth) {
   const ImageSet& true_cameras = truth.cameras;
   double sin_sum = 0.0, cos_sum = 0.0;
   for (int v = 0; v < estimate.NumViews(); ++v) {
-    const double difference =
-        LooseAnglesDeg(estimate.views[v].cam_from_world.rotation).x() -
-        LooseAnglesDeg(true_cameras.views[v].cam_from_world.rotation).x();
+    const double difference = LooseAnglesDeg(estimate.views[v].cam_from_world.rotation).x() -
+                              LooseAnglesDeg(true_cameras.views[v].cam_from_world.rotation).x();
     sin_sum += std::sin(difference * kDegree);
     cos_sum += std::cos(difference * kDegree);
   }
@@ -192,7 +191,8 @@ PoseErrors Compare(const ImageSet& estimate, const Truth& truth) {
     errors.position_pct = std::max(errors.position_pct, 100.0 * position);
     errors.scale_pct = std::max(
         errors.scale_pct,
-        100.0 * std::abs(camera.FocalLengthX() / true_cameras.CameraOf(true_view).FocalLengthX() - 1));
+        100.0 *
+            std::abs(camera.FocalLengthX() / true_cameras.CameraOf(true_view).FocalLengthX() - 1));
   }
   double sum = 0.0;
   int count = 0;
@@ -230,9 +230,10 @@ struct Statistics {
     image[i].push_back(errors.image_px);
   }
   void Print(const char* label) const {
-    std::printf("%s views, %d seeds, %d points, %d clicks per seed; median / max over seeds of "
-                "the worst view, initial -> refined:\n",
-                label, kNumSeeds, points, clicks);
+    std::printf(
+        "%s views, %d seeds, %d points, %d clicks per seed; median / max over seeds of "
+        "the worst view, initial -> refined:\n",
+        label, kNumSeeds, points, clicks);
     auto line = [](const char* name, const std::vector<double>* values, const char* unit) {
       std::printf("  %-22s %7.2f / %7.2f -> %7.2f / %7.2f %s\n", name, Median(values[0]),
                   Max(values[0]), Median(values[1]), Max(values[1]), unit);
