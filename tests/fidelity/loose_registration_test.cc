@@ -81,6 +81,15 @@ std::vector<Eigen::Vector3d> SectorTips(const SkeletonGraph& skeleton) {
   return tips;
 }
 
+// The tree's highest point (a leaf at the top of the crown).
+Eigen::Vector3d HighestVertex(const TriangleMesh& mesh) {
+  Eigen::Vector3d top = Eigen::Vector3d::Zero();
+  for (const Eigen::Vector3f& vertex : mesh.vertices) {
+    if (vertex.z() > top.z()) top = vertex.cast<double>();
+  }
+  return top;
+}
+
 Truth MakeTruth(const Config& config, uint64_t seed) {
   SyntheticDatasetOptions options;
   options.seed = seed;
@@ -93,10 +102,7 @@ Truth MakeTruth(const Config& config, uint64_t seed) {
   truth.cameras.cameras = all.cameras;
   for (int v : config.selected) truth.cameras.views.push_back(all.views[v]);
   truth.skeleton = tree.skeleton;
-  Eigen::Vector3d top = Eigen::Vector3d::Zero();
-  for (const Eigen::Vector3f& vertex : tree.mesh.vertices) {
-    if (vertex.z() > top.z()) top = vertex.cast<double>();
-  }
+  const Eigen::Vector3d top = HighestVertex(tree.mesh);
   truth.height = top.z();
   truth.points = {{"base", tree.skeleton.nodes[tree.skeleton.RootIdx()].position}, {"top", top}};
   const std::vector<Eigen::Vector3d> tips = SectorTips(tree.skeleton);
@@ -315,6 +321,21 @@ TEST(LooseRegistrationTest, FourPerspectiveViews) {
   EXPECT_LT(Median(s.image[1]), 0.2 * Median(s.image[0]));
 }
 
+// `loose` (the input views) followed by the true held-out views of `data`,
+// in data.image_set's order.
+ImageSet WithTrueHeldOutViews(const ImageSet& loose, const SyntheticDataset& data) {
+  ImageSet result = loose;
+  const int held_out_camera_id = 1 + result.cameras.rbegin()->first;
+  result.cameras[held_out_camera_id] = data.image_set.CameraOf(data.image_set.views.back());
+  for (const View& view : data.image_set.views) {
+    if (!data.IsHeldOut(view.name)) continue;
+    View held_out = view;
+    held_out.camera_id = held_out_camera_id;
+    result.views.push_back(held_out);
+  }
+  return result;
+}
+
 // The thesis' set-up: two orthographic views at a right angle, no clicks.
 // Cameras from the mattes alone, then the density stage, then the density's
 // projections against the mattes, in the input views through the loose
@@ -328,10 +349,7 @@ TEST(LooseRegistrationTest, TwoOrthographicViewsFromMattesReconstructTheDensity)
   options.num_views = 2;
   options.num_held_out = 2;
   const SyntheticDataset data = MakeSyntheticDataset(options);
-  double height = 0.0;
-  for (const Eigen::Vector3f& vertex : data.tree.mesh.vertices) {
-    height = std::max(height, static_cast<double>(vertex.z()));
-  }
+  const double height = HighestVertex(data.tree.mesh).z();
   LooseSetup setup;
   setup.tree_height = height;
   setup.units = "m";
@@ -375,23 +393,13 @@ TEST(LooseRegistrationTest, TwoOrthographicViewsFromMattesReconstructTheDensity)
     EXPECT_LT((a - b).norm(), 1e-6);
   }
 
-  // The loose input cameras plus the true held-out cameras.
-  ImageSet compared = loose;
-  const int held_out_camera_id = 100;
-  compared.cameras[held_out_camera_id] = data.image_set.CameraOf(data.image_set.views.back());
-  for (const View& view : data.image_set.views) {
-    if (!data.IsHeldOut(view.name)) continue;
-    View held_out = view;
-    held_out.camera_id = held_out_camera_id;
-    compared.views.push_back(held_out);
-  }
   DensitySummary density_summary;
   const DensityGrid grid =
       ReconstructDensity(loose, input_mattes, DensityOptions(), nullptr, &density_summary);
   ReportOptions report_options;
   report_options.write_images = false;
-  const FidelityReport report =
-      ComputeFidelity(grid, compared, data.mattes, data.HeldOutFlags(), report_options);
+  const FidelityReport report = ComputeFidelity(grid, WithTrueHeldOutViews(loose, data),
+                                                data.mattes, data.HeldOutFlags(), report_options);
   for (const ViewFidelity& view : report.views) {
     std::printf("  %-16s %s IoU %.3f precision %.3f recall %.3f\n", view.name.c_str(),
                 view.held_out ? "held-out" : "input   ", view.scores.iou, view.scores.precision,
