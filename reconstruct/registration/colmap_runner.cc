@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <chrono>
 #include <csignal>
@@ -431,6 +432,13 @@ bool CheckPhotos(const fs::path& photos_dir, const std::vector<std::string>& pho
   bool same_size = true;
   ImageHeader first;
   for (size_t i = 0; i < photo_names.size(); ++i) {
+    const fs::path name(photo_names[i]);
+    SYLVA_CHECK_INPUT(!photo_names[i].empty() && name.is_relative() &&
+                          photo_names[i].find('\n') == std::string::npos &&
+                          std::find(name.begin(), name.end(), "..") == name.end(),
+                      photos_dir.string())
+        << "photo name '" << photo_names[i]
+        << "' must be a path inside the photo folder (relative, without '..')";
     const ImageHeader header = ReadImageHeader(photos_dir / photo_names[i]);
     if (i == 0) first = header;
     same_size = same_size && header.width == first.width && header.height == first.height;
@@ -463,7 +471,9 @@ std::vector<ImageSet> ReadModels(const fs::path& sparse_dir) {
   std::vector<std::pair<int, fs::path>> folders;
   for (const fs::directory_entry& entry : fs::directory_iterator(sparse_dir)) {
     const std::string name = entry.path().filename().string();
-    const bool numeric = !name.empty() && std::all_of(name.begin(), name.end(), ::isdigit);
+    const bool numeric = !name.empty() && std::all_of(name.begin(), name.end(), [](char c) {
+      return std::isdigit(static_cast<unsigned char>(c)) != 0;
+    });
     if (entry.is_directory() && numeric && IsColmapModelDir(entry.path())) {
       folders.emplace_back(std::stoi(name), entry.path());
     }
@@ -486,16 +496,19 @@ void TakeLargestModel(std::vector<ImageSet> models, const std::vector<std::strin
   for (const std::string& name : photo_names) {
     if (result->cameras.FindView(name) < 0) result->unregistered.push_back(name);
   }
-  if (models.size() > 1) {
-    SYLVA_LOG(kWarning) << "COLMAP built " << models.size() << " separate models; keeping the "
-                        << "largest (" << result->cameras.NumViews() << " photos), the photos of "
+}
+
+void LogPartialSuccess(const ColmapResult& result) {
+  if (result.num_models > 1) {
+    SYLVA_LOG(kWarning) << "COLMAP built " << result.num_models << " separate models; keeping the "
+                        << "largest (" << result.cameras.NumViews() << " photos), the photos of "
                         << "the others count as unregistered";
   }
-  if (!result->unregistered.empty()) {
-    SYLVA_LOG(kWarning) << "COLMAP registered " << result->cameras.NumViews() << " of "
-                        << photo_names.size() << " photos; not registered: "
-                        << result->unregistered.size() << " (first: '"
-                        << result->unregistered.front() << "')";
+  if (!result.unregistered.empty()) {
+    SYLVA_LOG(kWarning) << "COLMAP registered " << result.cameras.NumViews() << " of "
+                        << result.cameras.NumViews() + result.unregistered.size()
+                        << " photos; not registered: " << result.unregistered.size()
+                        << " (first: '" << result.unregistered.front() << "')";
   }
 }
 
@@ -655,6 +668,7 @@ ColmapResult RunColmap(const fs::path& photos_dir, const std::vector<std::string
                                " photos; at least 2 are needed",
                            &mapping);
   }
+  LogPartialSuccess(result);
   result.sylva_seconds = SecondsSince(start) - result.colmap_seconds;
   return result;
 }

@@ -107,8 +107,7 @@ std::optional<Eigen::Vector3d> RingNormal(const ImageSet& cameras, const Eigen::
   }
   const auto solver = Eigen3(covariance);
   const Eigen::Vector3d spread = solver.eigenvalues().cwiseMax(0).cwiseSqrt();
-  if (!(spread(2) > 0) || spread(0) > options.ring_max_thickness * spread(1) ||
-      spread(1) < options.ring_min_roundness * spread(2)) {
+  if (!(spread(1) > 0) || spread(0) > options.ring_max_thickness * spread(1)) {
     return std::nullopt;
   }
   Eigen::Vector3d normal = solver.eigenvectors().col(0);
@@ -526,9 +525,6 @@ void WorldFrameOptions::Check() const {
   SYLVA_CHECK_INPUT(ring_max_thickness > 0 && ring_max_thickness <= 1,
                     "WorldFrame.ring_max_thickness")
       << "must be in (0, 1], got " << ring_max_thickness;
-  SYLVA_CHECK_INPUT(ring_min_roundness >= 0 && ring_min_roundness <= 1,
-                    "WorldFrame.ring_min_roundness")
-      << "must be in [0, 1], got " << ring_min_roundness;
   SYLVA_CHECK_INPUT(ring_max_tilt_degrees >= 0 && ring_max_tilt_degrees <= 90,
                     "WorldFrame.ring_max_tilt_degrees")
       << "must be in [0, 90], got " << ring_max_tilt_degrees;

@@ -13,12 +13,15 @@
 //   ImageSet upright = TransformCameras(cameras, frame);
 //
 // Up (options.up = "auto"):
-//   - a ring of cameras (photos taken walking around the tree at about the
-//     same height): the normal of the plane that fits the camera centres best,
-//     pointing the way the cameras' image-up vectors point;
-//   - otherwise (few photos, an arc): the direction perpendicular to all the
-//     cameras' x axes, which are level when photos are taken upright (no
-//     roll), whatever their pitch; with one camera, its image up (-y).
+//   - a ring of cameras, or an arc of one (photos taken walking around the
+//     tree at about the same height): the normal of the plane that fits the
+//     camera centres best, pointing the way the cameras' image-up vectors
+//     point;
+//   - otherwise (few photos, or centres not on a plane): the direction
+//     perpendicular to all the cameras' x axes, which are level when photos
+//     are taken upright (no roll), whatever their pitch; a systematic roll
+//     (ROMI's camera has ~4 degrees) biases it when the photos cover only an
+//     arc. With one camera, its image up (-y).
 // Base (options.base = "auto", needs mattes of at least 2 views):
 //   - in each matte, the lowest band of foreground along the image's up
 //     direction, as a pixel; the rays through those pixels are triangulated
@@ -79,14 +82,13 @@ struct WorldFrameOptions {
   // hull; lower tolerates loose registration and matting errors).
   double consensus = 0.8;
 
-  // The camera centres form a ring when there are at least ring_min_views,
-  // their spread across the best-fit plane is at most ring_max_thickness
-  // times their spread within it, and the ring's narrower in-plane spread is
-  // at least ring_min_roundness times its wider one (a quarter circle or
-  // more; a line of cameras is not a ring).
+  // The camera centres form a ring (or an arc of one) when there are at
+  // least ring_min_views and their spread across the best-fit plane is at
+  // most ring_max_thickness times their narrower spread within it: the
+  // plane's tilt is then known to about atan(ring_max_thickness). A line of
+  // cameras has no such plane.
   int ring_min_views = 5;
-  double ring_max_thickness = 0.25;
-  double ring_min_roundness = 0.2;
+  double ring_max_thickness = 0.1;
   // A ring whose normal leans more than this from the cameras' upright
   // direction (degrees) is not horizontal: the cameras' direction is used.
   double ring_max_tilt_degrees = 45.0;
