@@ -74,8 +74,8 @@ double ExtractionProgress(const std::string& line) {
 // "Matching block [2/3, 1/3] in 1.2s".
 double ExhaustiveProgress(const std::string& line) {
   int row = 0, rows = 0, column = 0, columns = 0;
-  if (std::sscanf(line.c_str(), "Matching block [%d/%d, %d/%d]", &row, &rows, &column,
-                  &columns) != 4 ||
+  if (std::sscanf(line.c_str(), "Matching block [%d/%d, %d/%d]", &row, &rows, &column, &columns) !=
+          4 ||
       rows <= 0 || columns <= 0) {
     return -1;
   }
@@ -223,7 +223,11 @@ bool ChildProcess::Read(int max_wait_ms, std::string* output) {
 }
 
 bool ChildProcess::Exited(int* status) {
-  if (!reaped_ && waitpid(pid_, status, WNOHANG) == pid_) reaped_ = true;
+  if (reaped_) return true;
+  const pid_t done = waitpid(pid_, status, WNOHANG);
+  // ECHILD: the host ignores SIGCHLD, so children are reaped unseen; the
+  // exit status is lost (reported as success, the model check follows).
+  if (done == pid_ || (done < 0 && errno == ECHILD)) reaped_ = true;
   return reaped_;
 }
 
@@ -251,6 +255,7 @@ CommandOutcome RunCommand(const fs::path& executable, const std::vector<std::str
   const Clock::time_point start = Clock::now();
   ChildProcess child(executable, argv);
   CommandOutcome outcome;
+  int status = 0;
   std::string pending;
   const auto consume = [&](const std::string& text) {
     *log << text << std::flush;
@@ -263,7 +268,6 @@ CommandOutcome RunCommand(const fs::path& executable, const std::vector<std::str
     }
   };
   std::string chunk;
-  int status = 0;
   bool open = true;
   while (true) {
     task->CheckCancelled();  // ~ChildProcess kills COLMAP on the way out
@@ -327,12 +331,62 @@ bool OutputMentions(const CommandOutcome& outcome, const std::string& text) {
                      [&](const std::string& line) { return line.find(text) != std::string::npos; });
 }
 
+// A command's options, as (--name, value) pairs.
+using Flags = std::vector<std::pair<std::string, std::string>>;
+
+// Flags every command gets: the seed, and all output on stderr (glog would
+// otherwise write log files into /tmp), without Ceres' per-iteration lines.
+Flags CommonFlags(const ColmapOptions& options) {
+  return {{"--random_seed", std::to_string(options.random_seed)},
+          {"--log_to_stderr", "1"},
+          {"--log_level", "0"}};
+}
+
+Flags ExtractionFlags(const RunContext& context, const fs::path& image_list,
+                      const fs::path& masks_dir, bool single_camera, const ColmapOptions& options) {
+  Flags flags = {{"--database_path", context.database.string()},
+                 {"--image_path", context.photos_dir.string()},
+                 {"--image_list_path", image_list.string()},
+                 {"--ImageReader.camera_model", options.camera_model},
+                 {"--ImageReader.single_camera", single_camera ? "1" : "0"},
+                 {"--SiftExtraction.use_gpu", "0"},
+                 {"--SiftExtraction.num_threads", std::to_string(options.num_threads)},
+                 {"--SiftExtraction.max_image_size", std::to_string(options.max_image_size)},
+                 {"--SiftExtraction.max_num_features", std::to_string(options.max_num_features)}};
+  if (options.use_masks) flags.emplace_back("--ImageReader.mask_path", masks_dir.string());
+  return flags;
+}
+
+Flags MatchingFlags(const RunContext& context, const std::string& matcher,
+                    const ColmapOptions& options) {
+  Flags flags = {{"--database_path", context.database.string()},
+                 {"--SiftMatching.use_gpu", "0"},
+                 {"--SiftMatching.num_threads", std::to_string(options.num_threads)}};
+  if (matcher == "sequential") {
+    flags.emplace_back("--SequentialMatching.overlap", std::to_string(options.sequential_overlap));
+    flags.emplace_back("--SequentialMatching.loop_detection", "0");
+  }
+  return flags;
+}
+
+Flags MappingFlags(const RunContext& context, const fs::path& image_list,
+                   const fs::path& sparse_dir, const ColmapOptions& options) {
+  return {{"--database_path", context.database.string()},
+          {"--image_path", context.photos_dir.string()},
+          {"--image_list_path", image_list.string()},
+          {"--output_path", sparse_dir.string()},
+          {"--Mapper.num_threads", std::to_string(options.num_threads)},
+          {"--Mapper.min_model_size", std::to_string(kMinModelSize)}};
+}
+
 // Runs COLMAP's `command` with `args`; throws RegistrationError if it fails.
-CommandOutcome RunStep(RunContext* context, const std::string& command,
-                       const std::vector<std::string>& args, const ProgressParser& parse,
+CommandOutcome RunStep(RunContext* context, const std::string& command, Flags flags,
+                       const ColmapOptions& options, const ProgressParser& parse,
                        ProgressTask task) {
+  const Flags common = CommonFlags(options);
+  flags.insert(flags.end(), common.begin(), common.end());
   std::vector<std::string> argv = {context->executable.string(), command};
-  argv.insert(argv.end(), args.begin(), args.end());
+  for (const auto& [name, value] : flags) argv.insert(argv.end(), {name, value});
   CommandOutcome outcome = RunCommand(context->executable, argv, &context->log, parse, &task);
   if (outcome.term_signal != 0) {
     ThrowRegistrationError(*context,
@@ -342,8 +396,8 @@ CommandOutcome RunStep(RunContext* context, const std::string& command,
                            &outcome);
   }
   if (outcome.exit_code != 0) {
-    std::string message = "COLMAP " + command + " failed with exit code " +
-                          std::to_string(outcome.exit_code);
+    std::string message =
+        "COLMAP " + command + " failed with exit code " + std::to_string(outcome.exit_code);
     if (command == "mapper" && OutputMentions(outcome, "No images with matches")) {
       message = "COLMAP found no matches between the " + std::to_string(context->num_photos) +
                 " photos (too little overlap or texture?), so no model could be built";
@@ -359,62 +413,6 @@ std::string ChooseMatcher(const ColmapOptions& options, int num_photos) {
   return num_photos <= options.exhaustive_max_photos ? "exhaustive" : "sequential";
 }
 
-std::vector<std::string> CommonArgs(const ColmapOptions& options) {
-  return {"--random_seed", std::to_string(options.random_seed), "--log_to_stderr", "1",
-          "--log_level", "0"};
-}
-
-std::vector<std::string> ExtractionArgs(const RunContext& context, const fs::path& image_list,
-                                        const fs::path& masks_dir, bool single_camera,
-                                        const ColmapOptions& options) {
-  std::vector<std::string> args = {
-      "--database_path", context.database.string(),
-      "--image_path", context.photos_dir.string(),
-      "--image_list_path", image_list.string(),
-      "--ImageReader.camera_model", options.camera_model,
-      "--ImageReader.single_camera", single_camera ? "1" : "0",
-      "--SiftExtraction.use_gpu", "0",
-      "--SiftExtraction.num_threads", std::to_string(options.num_threads),
-      "--SiftExtraction.max_image_size", std::to_string(options.max_image_size),
-      "--SiftExtraction.max_num_features", std::to_string(options.max_num_features)};
-  if (options.use_masks) {
-    args.insert(args.end(), {"--ImageReader.mask_path", masks_dir.string()});
-  }
-  const std::vector<std::string> common = CommonArgs(options);
-  args.insert(args.end(), common.begin(), common.end());
-  return args;
-}
-
-std::vector<std::string> MatchingArgs(const RunContext& context, const std::string& matcher,
-                                      const ColmapOptions& options) {
-  std::vector<std::string> args = {"--database_path", context.database.string(),
-                                   "--SiftMatching.use_gpu", "0",
-                                   "--SiftMatching.num_threads",
-                                   std::to_string(options.num_threads)};
-  if (matcher == "sequential") {
-    args.insert(args.end(),
-                {"--SequentialMatching.overlap", std::to_string(options.sequential_overlap),
-                 "--SequentialMatching.loop_detection", "0"});
-  }
-  const std::vector<std::string> common = CommonArgs(options);
-  args.insert(args.end(), common.begin(), common.end());
-  return args;
-}
-
-std::vector<std::string> MappingArgs(const RunContext& context, const fs::path& image_list,
-                                     const fs::path& sparse_dir, const ColmapOptions& options) {
-  std::vector<std::string> args = {
-      "--database_path", context.database.string(),
-      "--image_path", context.photos_dir.string(),
-      "--image_list_path", image_list.string(),
-      "--output_path", sparse_dir.string(),
-      "--Mapper.num_threads", std::to_string(options.num_threads),
-      "--Mapper.min_model_size", std::to_string(kMinModelSize)};
-  const std::vector<std::string> common = CommonArgs(options);
-  args.insert(args.end(), common.begin(), common.end());
-  return args;
-}
-
 // Checks every photo (and mask) and returns whether all photos have one size.
 bool CheckPhotos(const fs::path& photos_dir, const std::vector<std::string>& photo_names,
                  const fs::path& masks_dir, bool use_masks) {
@@ -427,8 +425,7 @@ bool CheckPhotos(const fs::path& photos_dir, const std::vector<std::string>& pho
   SYLVA_CHECK_INPUT(duplicate == sorted.end(), photos_dir.string())
       << "photo '" << *duplicate << "' is listed twice";
   SYLVA_CHECK_INPUT(!use_masks || fs::is_directory(masks_dir), "Colmap.use_masks")
-      << "masks were asked for, but the mask folder '" << masks_dir.string()
-      << "' does not exist";
+      << "masks were asked for, but the mask folder '" << masks_dir.string() << "' does not exist";
   bool same_size = true;
   ImageHeader first;
   for (size_t i = 0; i < photo_names.size(); ++i) {
@@ -507,8 +504,8 @@ void LogPartialSuccess(const ColmapResult& result) {
   if (!result.unregistered.empty()) {
     SYLVA_LOG(kWarning) << "COLMAP registered " << result.cameras.NumViews() << " of "
                         << result.cameras.NumViews() + result.unregistered.size()
-                        << " photos; not registered: " << result.unregistered.size()
-                        << " (first: '" << result.unregistered.front() << "')";
+                        << " photos; not registered: " << result.unregistered.size() << " (first: '"
+                        << result.unregistered.front() << "')";
   }
 }
 
@@ -531,22 +528,21 @@ void ColmapOptions::Check() const {
                            camera_model == "SIMPLE_RADIAL" || camera_model == "RADIAL" ||
                            camera_model == "OPENCV";
   SYLVA_CHECK_INPUT(known_model, "Colmap.camera_model")
-      << "must be SIMPLE_PINHOLE, PINHOLE, SIMPLE_RADIAL, RADIAL or OPENCV, got '"
-      << camera_model << "'";
+      << "must be SIMPLE_PINHOLE, PINHOLE, SIMPLE_RADIAL, RADIAL or OPENCV, got '" << camera_model
+      << "'";
   SYLVA_CHECK_INPUT(num_threads == -1 || num_threads >= 1, "Colmap.num_threads")
       << "must be -1 (all cores) or >= 1, got " << num_threads;
-  SYLVA_CHECK_INPUT(random_seed >= 0, "Colmap.random_seed")
-      << "must be >= 0, got " << random_seed;
+  SYLVA_CHECK_INPUT(random_seed >= 0, "Colmap.random_seed") << "must be >= 0, got " << random_seed;
 }
 
 std::string ColmapResult::BriefReport() const {
   std::ostringstream text;
   text.precision(3);
   const size_t total = cameras.views.size() + unregistered.size();
-  text << "COLMAP registered " << cameras.NumViews() << " of " << total << " photos ("
-       << num_models << (num_models == 1 ? " model; " : " models; ") << matcher
-       << " matching; extraction " << extraction_seconds << " s, matching " << matching_seconds
-       << " s, mapping " << mapping_seconds << " s; sylva " << sylva_seconds << " s)";
+  text << "COLMAP registered " << cameras.NumViews() << " of " << total << " photos (" << num_models
+       << (num_models == 1 ? " model; " : " models; ") << matcher << " matching; extraction "
+       << extraction_seconds << " s, matching " << matching_seconds << " s, mapping "
+       << mapping_seconds << " s; sylva " << sylva_seconds << " s)";
   return text.str();
 }
 
@@ -631,22 +627,26 @@ ColmapResult RunColmap(const fs::path& photos_dir, const std::vector<std::string
   result.matcher = ChooseMatcher(options, context.num_photos);
   result.single_camera = options.single_camera && same_size;
   const ProgressTask task(progress, "register: COLMAP");
+  const ProgressTask extraction =
+      task.SubTask("register: COLMAP feature extraction", 0.0, kExtractionEnd);
+  const ProgressTask matching =
+      task.SubTask("register: COLMAP matching", kExtractionEnd, kMatchingEnd);
+  const ProgressTask mapping_task = task.SubTask("register: COLMAP mapping", kMatchingEnd, 1.0);
+  const ProgressParser matching_progress =
+      result.matcher == "exhaustive" ? ExhaustiveProgress : SequentialProgress;
+
   result.extraction_seconds =
       RunStep(&context, "feature_extractor",
-              ExtractionArgs(context, image_list, masks_dir, result.single_camera, options),
-              ExtractionProgress,
-              task.SubTask("register: COLMAP feature extraction", 0.0, kExtractionEnd))
+              ExtractionFlags(context, image_list, masks_dir, result.single_camera, options),
+              options, ExtractionProgress, extraction)
           .seconds;
   result.matching_seconds =
-      RunStep(&context, result.matcher + "_matcher", MatchingArgs(context, result.matcher, options),
-              result.matcher == "exhaustive" ? ProgressParser(ExhaustiveProgress)
-                                             : ProgressParser(SequentialProgress),
-              task.SubTask("register: COLMAP matching", kExtractionEnd, kMatchingEnd))
+      RunStep(&context, result.matcher + "_matcher",
+              MatchingFlags(context, result.matcher, options), options, matching_progress, matching)
           .seconds;
   const CommandOutcome mapping =
-      RunStep(&context, "mapper", MappingArgs(context, image_list, sparse_dir, options),
-              MapperProgress(context.num_photos),
-              task.SubTask("register: COLMAP mapping", kMatchingEnd, 1.0));
+      RunStep(&context, "mapper", MappingFlags(context, image_list, sparse_dir, options), options,
+              MapperProgress(context.num_photos), mapping_task);
   result.mapping_seconds = mapping.seconds;
   result.colmap_seconds =
       result.extraction_seconds + result.matching_seconds + result.mapping_seconds;

@@ -34,7 +34,9 @@ class ScratchDir {
     fs::remove_all(path_);
     fs::create_directories(path_);
   }
-  ~ScratchDir() { if (!std::getenv("SYLVA_KEEP_SCRATCH")) fs::remove_all(path_); }
+  ~ScratchDir() {
+    if (!std::getenv("SYLVA_KEEP_SCRATCH")) fs::remove_all(path_);
+  }
   const fs::path& path() const { return path_; }
 
  private:
@@ -133,9 +135,9 @@ TEST(ColmapRunnerTest, BadPhotosAreInputErrors) {
                InputError);
   // Names must stay inside the photo folder.
   for (const std::string& name : {std::string("../x.jpg"), std::string("/etc/passwd")}) {
-    EXPECT_THROW(RunColmap(kDataset / "images", {name}, "", scratch.path() / "ws", options,
-                           nullptr),
-                 InputError)
+    EXPECT_THROW(
+        RunColmap(kDataset / "images", {name}, "", scratch.path() / "ws", options, nullptr),
+        InputError)
         << name;
   }
   // An empty file where a photo should be: named in the error.
@@ -179,8 +181,8 @@ TEST(ColmapRunnerTest, RegistersRealPhotosLikeTheGivenCameras) {
   ScratchDir scratch("real");
   const std::vector<std::string> names = DatasetPhotos(0, 8);
   RecordingProgress progress;
-  const ColmapResult result = RunColmap(kDataset / "images", names, "", scratch.path(),
-                                        FastOptions(), &progress);
+  const ColmapResult result =
+      RunColmap(kDataset / "images", names, "", scratch.path(), FastOptions(), &progress);
   SCOPED_TRACE(result.BriefReport());
   EXPECT_EQ(result.cameras.NumViews(), 8);
   EXPECT_TRUE(result.unregistered.empty());
@@ -198,8 +200,8 @@ TEST(ColmapRunnerTest, RegistersRealPhotosLikeTheGivenCameras) {
 
   const ImageSet truth = ReadColmapModelText(kDataset / "colmap");
   const PoseErrors errors = ComparePoses(result.cameras, truth);
-  std::cout << "8 ROMI photos: rotation error median " << Median(errors.rotation_degrees)
-            << " max " << Max(errors.rotation_degrees) << " deg; position error median "
+  std::cout << "8 ROMI photos: rotation error median " << Median(errors.rotation_degrees) << " max "
+            << Max(errors.rotation_degrees) << " deg; position error median "
             << Median(errors.position) << " max " << Max(errors.position) << " mm\n";
   EXPECT_LT(Median(errors.rotation_degrees), 0.5);
   EXPECT_LT(Max(errors.rotation_degrees), 1.0);
@@ -230,8 +232,8 @@ TEST(ColmapRunnerTest, RegistersPhotosInSubfoldersWithMasks) {
     fs::create_directories((scratch.path() / "photos" / name).parent_path());
     fs::create_directories((scratch.path() / "masks" / name).parent_path());
     fs::copy_file(kDataset / "images" / originals[i], scratch.path() / "photos" / name);
-    const FloatImage mask = ColmapMaskFromMatte(
-        RomiMatte(ReadImage(kDataset / "images" / originals[i])), 0.5f, 8);
+    const FloatImage mask =
+        ColmapMaskFromMatte(RomiMatte(ReadImage(kDataset / "images" / originals[i])), 0.5f, 8);
     WriteImage(ColmapMaskPath(scratch.path() / "masks", name), mask);
     names.push_back(name);
   }
@@ -382,7 +384,7 @@ bool ProcessGone(pid_t pid) {
     const fs::path stat_path = "/proc/" + std::to_string(pid) + "/stat";
     if (!fs::exists(stat_path)) return true;
     const std::string stat = ReadFileToString(stat_path);
-    const size_t state = stat.rfind(')') + 2;  // "pid (name) S ..."
+    const size_t state = stat.rfind(')') + 2;                    // "pid (name) S ..."
     if (state < stat.size() && stat[state] == 'Z') return true;  // killed, awaiting its reaper
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
   }

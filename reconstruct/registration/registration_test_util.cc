@@ -20,7 +20,8 @@ PoseErrors ComparePoses(const ImageSet& estimate, const ImageSet& truth) {
   PoseErrors errors;
   errors.truth_from_estimate = EstimateSim3(estimated_centres, true_centres);
   for (size_t i = 0; i < estimate.views.size(); ++i) {
-    const Rigid3d aligned = errors.truth_from_estimate.TransformPose(estimate.views[i].cam_from_world);
+    const Rigid3d aligned =
+        errors.truth_from_estimate.TransformPose(estimate.views[i].cam_from_world);
     errors.rotation_degrees.push_back(
         aligned.rotation.angularDistance(true_views[i]->cam_from_world.rotation) * 180 / M_PI);
     errors.position.push_back((aligned.Inverse().translation - true_centres[i]).norm());

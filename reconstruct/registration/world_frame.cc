@@ -161,8 +161,8 @@ class MatteView {
   int width_ = 0;
   int height_ = 0;
   Eigen::Vector2d mask_from_camera_ = Eigen::Vector2d::Ones();  // scale per axis
-  std::vector<uint8_t> foreground_;  // kept parts
-  std::vector<uint8_t> covered_;     // kept parts dilated by one pixel
+  std::vector<uint8_t> foreground_;                             // kept parts
+  std::vector<uint8_t> covered_;                                // kept parts dilated by one pixel
   Eigen::Vector2d bottom_ = Eigen::Vector2d::Zero();
   Eigen::Vector2d top_ = Eigen::Vector2d::Zero();
 };
@@ -218,8 +218,7 @@ MatteView::MatteView(const ImageSet& cameras, int view_idx, const FloatImage& ma
   }
   if (count == 0) return;
   centroid /= count;
-  FindBands(ImageUpDirection(cameras, view_idx, centroid, up, scene_scale),
-            options.band_fraction);
+  FindBands(ImageUpDirection(cameras, view_idx, centroid, up, scene_scale), options.band_fraction);
   usable_ = true;
 }
 
@@ -250,7 +249,8 @@ void MatteView::KeepLargeParts(const WorldFrameOptions& options) {
       }
     }
   }
-  const int largest = part_sizes.empty() ? 0 : *std::max_element(part_sizes.begin(), part_sizes.end());
+  const int largest =
+      part_sizes.empty() ? 0 : *std::max_element(part_sizes.begin(), part_sizes.end());
   for (size_t i = 0; i < foreground_.size(); ++i) {
     if (foreground_[i] && part_sizes[label[i]] < options.min_part_fraction * largest) {
       foreground_[i] = 0;
@@ -286,7 +286,8 @@ void MatteView::FindBands(const Eigen::Vector2d& image_up, double band_fraction)
     }
   }
   // At least one working pixel thick.
-  const double band = std::max(band_fraction * (highest - lowest), 1.0 / mask_from_camera_.minCoeff());
+  const double band =
+      std::max(band_fraction * (highest - lowest), 1.0 / mask_from_camera_.minCoeff());
   Eigen::Vector2d bottom_sum = Eigen::Vector2d::Zero(), top_sum = Eigen::Vector2d::Zero();
   double bottom_count = 0, top_count = 0;
   for (int y = 0; y < height_; ++y) {
@@ -318,7 +319,8 @@ std::optional<Eigen::Vector3d> Triangulate(const std::vector<Ray3d>& rays) {
   Eigen::Matrix3d normal = Eigen::Matrix3d::Zero();
   Eigen::Vector3d rhs = Eigen::Vector3d::Zero();
   for (const Ray3d& ray : rays) {
-    const Eigen::Matrix3d across = Eigen::Matrix3d::Identity() - ray.direction * ray.direction.transpose();
+    const Eigen::Matrix3d across =
+        Eigen::Matrix3d::Identity() - ray.direction * ray.direction.transpose();
     normal += across;
     rhs += across * ray.origin;
   }
@@ -373,8 +375,8 @@ double PixelFootprint(const Analysis& analysis, const Eigen::Vector3d& point,
   for (const int view_idx : analysis.usable) {
     const View& view = analysis.cameras->views[view_idx];
     const Camera& camera = analysis.cameras->CameraOf(view);
-    const double camera_pixels = static_cast<double>(std::max(camera.width(), camera.height())) /
-                                 options.matte_working_size;
+    const double camera_pixels =
+        static_cast<double>(std::max(camera.width(), camera.height())) / options.matte_working_size;
     const double depth =
         camera.IsOrthographic() ? 1.0 : std::abs((view.cam_from_world * point).z());
     footprints.push_back(std::max(1.0, camera_pixels) * depth / camera.FocalLengthX());
@@ -434,17 +436,19 @@ void BaseFromMattes(const Analysis& analysis, const Eigen::Vector3d& up,
                     const WorldFrameOptions& options, BaseEstimate* estimate) {
   std::vector<Ray3d> bottom_rays, top_rays;
   for (const int view_idx : analysis.usable) {
-    bottom_rays.push_back(analysis.cameras->RayThroughPixel(view_idx, analysis.mattes[view_idx].bottom()));
-    top_rays.push_back(analysis.cameras->RayThroughPixel(view_idx, analysis.mattes[view_idx].top()));
+    bottom_rays.push_back(
+        analysis.cameras->RayThroughPixel(view_idx, analysis.mattes[view_idx].bottom()));
+    top_rays.push_back(
+        analysis.cameras->RayThroughPixel(view_idx, analysis.mattes[view_idx].top()));
   }
   const std::optional<Eigen::Vector3d> bottom = Triangulate(bottom_rays);
   if (!bottom) return;
   const std::string views = std::to_string(analysis.usable.size()) + " views";
   const std::optional<double> slide = LowestConsistent(analysis, *bottom, up, options);
   estimate->base = *bottom + slide.value_or(0.0) * up;
-  estimate->source = slide ? "mattes (" + views + ")"
-                           : "mattes' lowest points (" + views +
-                                 "; no consistent region found along up)";
+  estimate->source =
+      slide ? "mattes (" + views + ")"
+            : "mattes' lowest points (" + views + "; no consistent region found along up)";
   if (const std::optional<Eigen::Vector3d> top = Triangulate(top_rays)) {
     estimate->height = std::max(0.0, (*top - estimate->base).dot(up));
   }
@@ -499,8 +503,8 @@ Eigen::Quaterniond HeadingFromFirstView(const ImageSet& cameras,
 }  // namespace
 
 void WorldFrameOptions::Check() const {
-  const bool axis = std::find(std::begin(kAxisNames), std::end(kAxisNames), up) !=
-                    std::end(kAxisNames);
+  const bool axis =
+      std::find(std::begin(kAxisNames), std::end(kAxisNames), up) != std::end(kAxisNames);
   SYLVA_CHECK_INPUT(up == "auto" || up == "keep" || axis, "WorldFrame.up")
       << "must be 'auto', 'keep' or an axis (+x, -x, +y, -y, +z, -z), got '" << up << "'";
   SYLVA_CHECK_INPUT(base == "auto" || base == "keep", "WorldFrame.base")

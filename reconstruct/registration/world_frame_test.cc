@@ -34,7 +34,8 @@ bool HitsSphere(const Ray3d& ray) {
 bool HitsTrunk(const Ray3d& ray) {
   // |origin_xy + t direction_xy| = r: a quadratic in t.
   const Eigen::Vector2d o = ray.origin.head<2>(), d = ray.direction.head<2>();
-  const double a = d.squaredNorm(), b = 2 * o.dot(d), c = o.squaredNorm() - kTrunkRadius * kTrunkRadius;
+  const double a = d.squaredNorm(), b = 2 * o.dot(d),
+               c = o.squaredNorm() - kTrunkRadius * kTrunkRadius;
   const double discriminant = b * b - 4 * a * c;
   if (a == 0 || discriminant < 0) return false;
   for (const double sign : {-1.0, 1.0}) {
@@ -78,14 +79,17 @@ ImageSet RingOfCameras(const Ring& ring) {
   const int steps = ring.arc_degrees >= 360 ? ring.num_views : std::max(1, ring.num_views - 1);
   for (int i = 0; i < ring.num_views; ++i) {
     const double angle = ring.arc_degrees * kDegree * i / steps;
-    const Eigen::Vector3d centre(kRadius * std::cos(angle), kRadius * std::sin(angle),
-                                 kEyeHeight + random.Uniform(-ring.height_jitter, ring.height_jitter));
+    const Eigen::Vector3d centre(
+        kRadius * std::cos(angle), kRadius * std::sin(angle),
+        kEyeHeight + random.Uniform(-ring.height_jitter, ring.height_jitter));
     View view;
     view.image_id = i + 1;
     view.name = "view" + std::to_string(i) + ".jpg";
     view.camera_id = 1;
-    const Rigid3d upright = LookAt(centre, Eigen::Vector3d(0, 0, kTrunkTop), Eigen::Vector3d::UnitZ());
-    const double roll = ring.roll_degrees + random.Uniform(-ring.roll_jitter_degrees, ring.roll_jitter_degrees);
+    const Rigid3d upright =
+        LookAt(centre, Eigen::Vector3d(0, 0, kTrunkTop), Eigen::Vector3d::UnitZ());
+    const double roll =
+        ring.roll_degrees + random.Uniform(-ring.roll_jitter_degrees, ring.roll_jitter_degrees);
     const Eigen::Quaterniond turn(Eigen::AngleAxisd(roll * kDegree, Eigen::Vector3d::UnitZ()));
     view.cam_from_world = Rigid3d(turn * upright.rotation, turn * upright.translation);
     cameras.views.push_back(view);
@@ -120,17 +124,18 @@ Sim3d RomiLike() {
 }
 
 Sim3d Arbitrary() {
-  const Eigen::Quaterniond rotation(Eigen::AngleAxisd(2.1, Eigen::Vector3d(0.3, -0.8, 0.5).normalized()));
+  const Eigen::Quaterniond rotation(
+      Eigen::AngleAxisd(2.1, Eigen::Vector3d(0.3, -0.8, 0.5).normalized()));
   return Sim3d(0.37, rotation, Eigen::Vector3d(-2, 5, 1.5));
 }
 
 // How far the estimated frame is from the truth, all in the estimated world
 // frame's units.
 struct FrameErrors {
-  double up_degrees = 0;      // world up vs the truth's up
-  double base_offset = 0;     // the true base's distance from the origin
-  double height_ratio = 0;    // estimated / true height
-  double scale = 0;           // world units per truth unit
+  double up_degrees = 0;    // world up vs the truth's up
+  double base_offset = 0;   // the true base's distance from the origin
+  double height_ratio = 0;  // estimated / true height
+  double scale = 0;         // world units per truth unit
 };
 
 FrameErrors Compare(const WorldFrame& frame, const Sim3d& model_from_truth) {
@@ -144,18 +149,33 @@ FrameErrors Compare(const WorldFrame& frame, const Sim3d& model_from_truth) {
   return errors;
 }
 
+// The frame estimated on `truth`'s cameras moved by `model_from_truth`, with
+// the true mattes, and its errors.
+struct Trial {
+  WorldFrame frame;
+  FrameErrors errors;
+};
+
+Trial RunTrial(const ImageSet& truth, const Sim3d& model_from_truth,
+               const WorldFrameOptions& options = WorldFrameOptions()) {
+  Trial trial;
+  trial.frame =
+      EstimateWorldFrame(MoveCameras(truth, model_from_truth), RenderMattes(truth), options);
+  trial.errors = Compare(trial.frame, model_from_truth);
+  return trial;
+}
+
 TEST(WorldFrameTest, FullRingRomiLikeFrame) {
   const ImageSet truth = RingOfCameras(12, 360);
-  const std::vector<FloatImage> mattes = RenderMattes(truth);
   const Sim3d model_from_truth = RomiLike();
-  WorldFrameOptions options;
-  const WorldFrame frame = EstimateWorldFrame(MoveCameras(truth, model_from_truth), mattes, options);
+  const Trial trial = RunTrial(truth, model_from_truth);
+  const WorldFrame& frame = trial.frame;
   SCOPED_TRACE(frame.BriefReport());
   EXPECT_EQ(frame.up_source, "camera ring (12 views)");
   EXPECT_EQ(frame.base_source, "mattes (12 views)");
   EXPECT_EQ(frame.units, "arbitrary");
   EXPECT_GT(frame.up_in_model.dot(Eigen::Vector3d(0, 0, -1)), std::cos(0.1 * kDegree));
-  const FrameErrors errors = Compare(frame, model_from_truth);
+  const FrameErrors& errors = trial.errors;
   EXPECT_LT(errors.up_degrees, 0.1);
   EXPECT_NEAR(errors.scale, 100.0, 1e-9);  // scale kept
   EXPECT_LT(errors.base_offset, 0.03 * kTreeHeight * errors.scale);
@@ -172,12 +192,12 @@ TEST(WorldFrameTest, KnownHeightSetsTheScale) {
   const Sim3d model_from_truth = Arbitrary();
   WorldFrameOptions options;
   options.known_height = 12.0;  // metres: a tree 3x the toy's model units
-  const WorldFrame frame =
-      EstimateWorldFrame(MoveCameras(truth, model_from_truth), RenderMattes(truth), options);
+  const Trial trial = RunTrial(truth, model_from_truth, options);
+  const WorldFrame& frame = trial.frame;
   SCOPED_TRACE(frame.BriefReport());
   EXPECT_EQ(frame.units, "m");
   EXPECT_DOUBLE_EQ(frame.tree_height, 12.0);
-  const FrameErrors errors = Compare(frame, model_from_truth);
+  const FrameErrors& errors = trial.errors;
   EXPECT_NEAR(errors.scale, 3.0, 0.03 * 3.0);
   EXPECT_LT(errors.up_degrees, 0.1);
   EXPECT_LT(errors.base_offset, 0.03 * 12.0);
@@ -192,11 +212,11 @@ TEST(WorldFrameTest, JitteredRing) {
   ring.seed = 5;
   const ImageSet truth = RingOfCameras(ring);
   const Sim3d model_from_truth = Arbitrary();
-  const WorldFrame frame = EstimateWorldFrame(MoveCameras(truth, model_from_truth),
-                                              RenderMattes(truth), WorldFrameOptions());
+  const Trial trial = RunTrial(truth, model_from_truth);
+  const WorldFrame& frame = trial.frame;
   SCOPED_TRACE(frame.BriefReport());
   EXPECT_EQ(frame.up_source, "camera ring (10 views)");
-  const FrameErrors errors = Compare(frame, model_from_truth);
+  const FrameErrors& errors = trial.errors;
   EXPECT_LT(errors.up_degrees, 2.0);
   EXPECT_LT(errors.base_offset, 0.05 * kTreeHeight * errors.scale);
   EXPECT_NEAR(errors.height_ratio, 1.0, 0.05);
@@ -212,20 +232,19 @@ TEST(WorldFrameTest, ArcOfARingWithRolledCameras) {
   ring.roll_degrees = 4.0;
   const ImageSet truth = RingOfCameras(ring);
   const Sim3d model_from_truth = Arbitrary();
-  const WorldFrame frame = EstimateWorldFrame(MoveCameras(truth, model_from_truth),
-                                              RenderMattes(truth), WorldFrameOptions());
+  const Trial trial = RunTrial(truth, model_from_truth);
+  const WorldFrame& frame = trial.frame;
   SCOPED_TRACE(frame.BriefReport());
   EXPECT_EQ(frame.up_source, "camera ring (6 views)");
-  const FrameErrors errors = Compare(frame, model_from_truth);
+  const FrameErrors& errors = trial.errors;
   EXPECT_LT(errors.up_degrees, 0.1);
   EXPECT_LT(errors.base_offset, 0.05 * kTreeHeight * errors.scale);
 
   WorldFrameOptions no_ring;
   no_ring.ring_min_views = 100;
-  const WorldFrame level = EstimateWorldFrame(MoveCameras(truth, model_from_truth),
-                                              RenderMattes(truth), no_ring);
-  EXPECT_EQ(level.up_source, "level camera x axes (6 views)");
-  EXPECT_GT(Compare(level, model_from_truth).up_degrees, 2.0);
+  const Trial level = RunTrial(truth, model_from_truth, no_ring);
+  EXPECT_EQ(level.frame.up_source, "level camera x axes (6 views)");
+  EXPECT_GT(level.errors.up_degrees, 2.0);
 }
 
 // Three photos over 60 degrees are no ring: up comes from the level x axes,
@@ -233,11 +252,11 @@ TEST(WorldFrameTest, ArcOfARingWithRolledCameras) {
 TEST(WorldFrameTest, FewPhotosUseLevelCameraAxes) {
   const ImageSet truth = RingOfCameras(3, 60);
   const Sim3d model_from_truth = Arbitrary();
-  const WorldFrame frame = EstimateWorldFrame(MoveCameras(truth, model_from_truth),
-                                              RenderMattes(truth), WorldFrameOptions());
+  const Trial trial = RunTrial(truth, model_from_truth);
+  const WorldFrame& frame = trial.frame;
   SCOPED_TRACE(frame.BriefReport());
   EXPECT_EQ(frame.up_source, "level camera x axes (3 views)");
-  const FrameErrors errors = Compare(frame, model_from_truth);
+  const FrameErrors& errors = trial.errors;
   EXPECT_LT(errors.up_degrees, 1e-6);
   EXPECT_LT(errors.base_offset, 0.05 * kTreeHeight * errors.scale);
   EXPECT_NEAR(errors.height_ratio, 1.0, 0.05);
@@ -277,8 +296,12 @@ TEST(WorldFrameTest, ExplicitAxesAndKeep) {
   const WorldFrame frame = EstimateWorldFrame(model, RenderMattes(truth), options);
   EXPECT_EQ(frame.up_source, "option -z");
   // Half a turn about x: x kept, y and z flipped.
-  EXPECT_LT((frame.world_from_model.rotation * Eigen::Vector3d::UnitX() - Eigen::Vector3d::UnitX()).norm(), 1e-12);
-  EXPECT_LT((frame.world_from_model.rotation * Eigen::Vector3d::UnitZ() + Eigen::Vector3d::UnitZ()).norm(), 1e-12);
+  EXPECT_LT((frame.world_from_model.rotation * Eigen::Vector3d::UnitX() - Eigen::Vector3d::UnitX())
+                .norm(),
+            1e-12);
+  EXPECT_LT((frame.world_from_model.rotation * Eigen::Vector3d::UnitZ() + Eigen::Vector3d::UnitZ())
+                .norm(),
+            1e-12);
   EXPECT_LT(Compare(frame, model_from_truth).base_offset, 0.03 * kTreeHeight * 100);
 
   // Each axis option turns that axis to +Z.
@@ -286,7 +309,9 @@ TEST(WorldFrameTest, ExplicitAxesAndKeep) {
     options.up = axis;
     options.base = "keep";
     const WorldFrame turned = EstimateWorldFrame(model, {}, options);
-    EXPECT_LT((turned.world_from_model.rotation * turned.up_in_model - Eigen::Vector3d::UnitZ()).norm(), 1e-12)
+    EXPECT_LT(
+        (turned.world_from_model.rotation * turned.up_in_model - Eigen::Vector3d::UnitZ()).norm(),
+        1e-12)
         << axis;
     EXPECT_EQ(turned.world_from_model.translation, Eigen::Vector3d::Zero());
   }
@@ -307,8 +332,8 @@ TEST(WorldFrameTest, WithoutMattesTheBaseIsWhereTheCamerasLook) {
 TEST(WorldFrameTest, BadInputIsAnInputError) {
   const ImageSet truth = RingOfCameras(4, 360);
   std::vector<FloatImage> mattes = RenderMattes(truth);
-  const auto expect_error = [&](const std::vector<FloatImage>& these, const WorldFrameOptions& options,
-                                const std::string& source_start) {
+  const auto expect_error = [&](const std::vector<FloatImage>& these,
+                                const WorldFrameOptions& options, const std::string& source_start) {
     try {
       EstimateWorldFrame(truth, these, options);
       ADD_FAILURE() << "accepted";
@@ -395,7 +420,8 @@ TEST(WorldFrameTest, RomiRealPlantStandsUp) {
   EXPECT_NEAR(frame.tree_height, frame.base_in_model.z() + 22.0, 15.0);
   // Upright in the new frame: the top above the base.
   const ImageSet world = TransformCameras(cameras, frame);
-  EXPECT_NEAR((frame.world_from_model * Eigen::Vector3d(400, 420, -22)).z(), frame.tree_height, 15.0);
+  EXPECT_NEAR((frame.world_from_model * Eigen::Vector3d(400, 420, -22)).z(), frame.tree_height,
+              15.0);
   for (const View& view : world.views) EXPECT_GT(view.ProjectionCenter().z(), 400.0);
 }
 

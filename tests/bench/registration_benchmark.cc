@@ -46,18 +46,30 @@ struct Settings {
 
 // Applies one --name=value flag; false if unknown.
 bool ApplyFlag(const std::string& name, const std::string& value, Settings* settings) {
-  if (name == "photos") settings->photos = value;
-  else if (name == "truth") settings->truth = value;
-  else if (name == "workspace") settings->workspace = value;
-  else if (name == "every") settings->every = std::stoi(value);
-  else if (name == "first") settings->first = std::stoi(value);
-  else if (name == "masks") settings->masks = value;
-  else if (name == "mask_dilation") settings->mask_dilation = std::stoi(value);
-  else if (name == "max_image_size") settings->colmap.max_image_size = std::stoi(value);
-  else if (name == "matcher") settings->colmap.matcher = value;
-  else if (name == "threads") settings->colmap.num_threads = std::stoi(value);
-  else if (name == "world_frame_only") settings->world_frame_only = value != "0";
-  else return false;
+  if (name == "photos")
+    settings->photos = value;
+  else if (name == "truth")
+    settings->truth = value;
+  else if (name == "workspace")
+    settings->workspace = value;
+  else if (name == "every")
+    settings->every = std::stoi(value);
+  else if (name == "first")
+    settings->first = std::stoi(value);
+  else if (name == "masks")
+    settings->masks = value;
+  else if (name == "mask_dilation")
+    settings->mask_dilation = std::stoi(value);
+  else if (name == "max_image_size")
+    settings->colmap.max_image_size = std::stoi(value);
+  else if (name == "matcher")
+    settings->colmap.matcher = value;
+  else if (name == "threads")
+    settings->colmap.num_threads = std::stoi(value);
+  else if (name == "world_frame_only")
+    settings->world_frame_only = value != "0";
+  else
+    return false;
   return true;
 }
 
@@ -114,8 +126,7 @@ WorldFrame RunWorldFrame(const ImageSet& truth, const std::vector<FloatImage>& m
   const auto start = std::chrono::steady_clock::now();
   const WorldFrame frame = EstimateWorldFrame(truth, mattes, WorldFrameOptions());
   PrintWorldFrame("world frame on the given cameras", frame, Seconds(start));
-  const double up_error =
-      std::acos(std::clamp(-frame.up_in_model.z(), -1.0, 1.0)) * 180 / M_PI;
+  const double up_error = std::acos(std::clamp(-frame.up_in_model.z(), -1.0, 1.0)) * 180 / M_PI;
   std::printf("  up vs the given frame's -Z: %.3f deg\n", up_error);
   return frame;
 }
@@ -124,7 +135,8 @@ WorldFrame RunWorldFrame(const ImageSet& truth, const std::vector<FloatImage>& m
 void CompareWorldFrames(const ColmapResult& result, const ImageSet& truth,
                         const std::vector<FloatImage>& all_mattes, const WorldFrame& given) {
   std::vector<FloatImage> mattes;
-  for (const View& view : result.cameras.views) mattes.push_back(all_mattes[truth.FindView(view.name)]);
+  for (const View& view : result.cameras.views)
+    mattes.push_back(all_mattes[truth.FindView(view.name)]);
   const auto start = std::chrono::steady_clock::now();
   const WorldFrame frame = EstimateWorldFrame(result.cameras, mattes, WorldFrameOptions());
   PrintWorldFrame("  world frame on COLMAP's cameras", frame, Seconds(start));
@@ -132,12 +144,13 @@ void CompareWorldFrames(const ColmapResult& result, const ImageSet& truth,
   const Sim3d& truth_from_colmap = errors.truth_from_estimate;
   const Eigen::Vector3d up_in_truth = (truth_from_colmap.rotation * frame.up_in_model).normalized();
   const Eigen::Vector3d base_in_truth = truth_from_colmap * frame.base_in_model;
-  std::printf("  in the given frame: up %.3f deg from the given cameras' up; base %.1f %.1f %.1f "
-              "(%.1f from the given cameras' base); height %.1f (given cameras: %.1f)\n",
-              std::acos(std::clamp(up_in_truth.dot(given.up_in_model), -1.0, 1.0)) * 180 / M_PI,
-              base_in_truth.x(), base_in_truth.y(), base_in_truth.z(),
-              (base_in_truth - given.base_in_model).norm(),
-              frame.tree_height * truth_from_colmap.scale, given.tree_height);
+  std::printf(
+      "  in the given frame: up %.3f deg from the given cameras' up; base %.1f %.1f %.1f "
+      "(%.1f from the given cameras' base); height %.1f (given cameras: %.1f)\n",
+      std::acos(std::clamp(up_in_truth.dot(given.up_in_model), -1.0, 1.0)) * 180 / M_PI,
+      base_in_truth.x(), base_in_truth.y(), base_in_truth.z(),
+      (base_in_truth - given.base_in_model).norm(), frame.tree_height * truth_from_colmap.scale,
+      given.tree_height);
 }
 
 void RunOnce(const Settings& settings, bool use_masks, const std::vector<std::string>& names,
@@ -158,11 +171,12 @@ void RunOnce(const Settings& settings, bool use_masks, const std::vector<std::st
       RunColmap(settings.photos, names, masks_dir, workspace, options, nullptr);
   const double total = Seconds(start);
   std::printf("\n[masks %s] %s\n", use_masks ? "on" : "off", result.BriefReport().c_str());
-  std::printf("  time: COLMAP %.2f s (extraction %.2f, matching %.2f, mapping %.2f); sylva "
-              "overhead %.3f s (%.2f%%); RunColmap wall %.2f s; writing masks %.2f s\n",
-              result.colmap_seconds, result.extraction_seconds, result.matching_seconds,
-              result.mapping_seconds, result.sylva_seconds,
-              100 * result.sylva_seconds / result.colmap_seconds, total, mask_seconds);
+  std::printf(
+      "  time: COLMAP %.2f s (extraction %.2f, matching %.2f, mapping %.2f); sylva "
+      "overhead %.3f s (%.2f%%); RunColmap wall %.2f s; writing masks %.2f s\n",
+      result.colmap_seconds, result.extraction_seconds, result.matching_seconds,
+      result.mapping_seconds, result.sylva_seconds,
+      100 * result.sylva_seconds / result.colmap_seconds, total, mask_seconds);
   if (result.cameras.NumViews() < 3) {
     std::printf("  registered %d of %zu: too few to compare poses\n", result.cameras.NumViews(),
                 names.size());
@@ -170,19 +184,20 @@ void RunOnce(const Settings& settings, bool use_masks, const std::vector<std::st
   }
   const PoseErrors errors = ComparePoses(result.cameras, truth);
   const double radius = RingRadius(truth);
-  std::printf("  registered %d of %zu; models %d; rotation error median %.3f max %.3f deg; "
-              "position error median %.3f%% max %.3f%% of the ring radius (%.1f)\n",
-              result.cameras.NumViews(), names.size(), result.num_models,
-              Median(errors.rotation_degrees), Max(errors.rotation_degrees),
-              100 * Median(errors.position) / radius, 100 * Max(errors.position) / radius, radius);
+  std::printf(
+      "  registered %d of %zu; models %d; rotation error median %.3f max %.3f deg; "
+      "position error median %.3f%% max %.3f%% of the ring radius (%.1f)\n",
+      result.cameras.NumViews(), names.size(), result.num_models, Median(errors.rotation_degrees),
+      Max(errors.rotation_degrees), 100 * Median(errors.position) / radius,
+      100 * Max(errors.position) / radius, radius);
   CompareWorldFrames(result, truth, mattes, given);
 }
 
 int Run(const Settings& settings) {
   const std::vector<std::string> names = ChoosePhotos(settings);
   const ImageSet truth = ReadColmapModel(settings.truth);
-  std::printf("%zu photos from %s; truth %s (%d views)\n", names.size(),
-              settings.photos.c_str(), settings.truth.c_str(), truth.NumViews());
+  std::printf("%zu photos from %s; truth %s (%d views)\n", names.size(), settings.photos.c_str(),
+              settings.truth.c_str(), truth.NumViews());
   const auto start = std::chrono::steady_clock::now();
   const std::vector<FloatImage> mattes = MakeMattes(truth, settings.photos);
   std::printf("mattes of %d views: %.2f s\n", truth.NumViews(), Seconds(start));
@@ -224,7 +239,8 @@ int Main(int argc, char** argv) {
     }
   }
   if (settings.photos.empty() || settings.truth.empty() || settings.workspace.empty()) {
-    std::fprintf(stderr, "usage: %s --photos=DIR --truth=MODEL_DIR --workspace=DIR [...] | --quick\n",
+    std::fprintf(stderr,
+                 "usage: %s --photos=DIR --truth=MODEL_DIR --workspace=DIR [...] | --quick\n",
                  argv[0]);
     return 2;
   }
