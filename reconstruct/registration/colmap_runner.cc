@@ -1,0 +1,676 @@
+#include "reconstruct/registration/colmap_runner.h"
+
+#include <fcntl.h>
+#include <poll.h>
+#include <spawn.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <deque>
+#include <fstream>
+#include <functional>
+#include <sstream>
+
+#include "core/io/colmap_model.h"
+#include "core/io/image_io.h"
+#include "core/util/file_util.h"
+#include "core/util/logging.h"
+
+extern char** environ;
+
+namespace sylva {
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+constexpr char kDatabaseName[] = "database.db";
+constexpr char kSparseFolder[] = "sparse";
+constexpr char kImageListName[] = "image_list.txt";
+constexpr char kLogName[] = "colmap.log";
+
+// COLMAP's mapper drops models with fewer images than
+// min(Mapper.min_model_size, 0.8 x photos); its default (10) would drop the
+// only model of a small photo set, so every model of 2 or more photos is
+// kept here and the largest is chosen afterwards.
+constexpr int kMinModelSize = 2;
+// The fewest registered photos that make a usable model.
+constexpr int kMinRegisteredPhotos = 2;
+// Lines of COLMAP's output quoted in error messages.
+constexpr size_t kQuotedLogLines = 12;
+// How often a running command is checked for cancellation (milliseconds).
+constexpr int kPollIntervalMs = 100;
+// The share of the whole run given to extraction and matching in progress
+// reports (mapping takes the rest).
+constexpr double kExtractionEnd = 0.25;
+constexpr double kMatchingEnd = 0.7;
+
+double SecondsSince(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+// ---------------------------------------------------------------------------
+// Progress parsed from COLMAP's output lines. Each parser returns the
+// command's completed fraction, or a negative value if the line carries none.
+
+using ProgressParser = std::function<double(const std::string& line)>;
+
+// "Processed file [3/24]".
+double ExtractionProgress(const std::string& line) {
+  int done = 0, total = 0;
+  if (std::sscanf(line.c_str(), "Processed file [%d/%d]", &done, &total) != 2) return -1;
+  return total > 0 ? static_cast<double>(done) / total : -1;
+}
+
+// "Matching block [2/3, 1/3] in 1.2s".
+double ExhaustiveProgress(const std::string& line) {
+  int row = 0, rows = 0, column = 0, columns = 0;
+  if (std::sscanf(line.c_str(), "Matching block [%d/%d, %d/%d]", &row, &rows, &column, &columns) !=
+          4 ||
+      rows <= 0 || columns <= 0) {
+    return -1;
+  }
+  return static_cast<double>((row - 1) * columns + column) / (rows * columns);
+}
+
+// "Matching image [5/24] in 0.3s".
+double SequentialProgress(const std::string& line) {
+  int done = 0, total = 0;
+  if (std::sscanf(line.c_str(), "Matching image [%d/%d]", &done, &total) != 2) return -1;
+  return total > 0 ? static_cast<double>(done) / total : -1;
+}
+
+// "Registering image #7 (5)": the 5th photo of the current model. A later
+// model restarts the count, so progress keeps its highest value.
+ProgressParser MapperProgress(int num_photos) {
+  return [num_photos, best = 0.0](const std::string& line) mutable {
+    int image_id = 0, registered = 0;
+    if (std::sscanf(line.c_str(), "Registering image #%d (%d)", &image_id, &registered) != 2) {
+      return -1.0;
+    }
+    best = std::max(best, static_cast<double>(registered) / num_photos);
+    return best;
+  };
+}
+
+// ---------------------------------------------------------------------------
+// Child processes.
+
+struct CommandOutcome {
+  int exit_code = -1;   // exit status, or -1 if killed by a signal
+  int term_signal = 0;  // the signal that ended it, or 0
+  double seconds = 0.0;
+  std::deque<std::string> last_lines;  // the end of its output
+};
+
+// The environment of COLMAP: ours, with Qt told there is no display.
+std::vector<std::string> ChildEnvironment() {
+  constexpr char kQtPlatform[] = "QT_QPA_PLATFORM=";
+  std::vector<std::string> environment;
+  for (char** entry = environ; entry != nullptr && *entry != nullptr; ++entry) {
+    if (std::strncmp(*entry, kQtPlatform, sizeof(kQtPlatform) - 1) != 0) {
+      environment.emplace_back(*entry);
+    }
+  }
+  environment.push_back(std::string(kQtPlatform) + "offscreen");
+  return environment;
+}
+
+std::vector<char*> CStrings(std::vector<std::string>& strings) {
+  std::vector<char*> pointers;
+  for (std::string& text : strings) pointers.push_back(text.data());
+  pointers.push_back(nullptr);
+  return pointers;
+}
+
+// One running command, in its own process group, its stdout and stderr on one
+// pipe. The destructor kills the group and reaps the child if it still runs,
+// so an exception (Cancelled included) never leaves COLMAP behind.
+class ChildProcess {
+ public:
+  ChildProcess(const fs::path& executable, std::vector<std::string> argv);
+  ~ChildProcess();
+  ChildProcess(const ChildProcess&) = delete;
+  ChildProcess& operator=(const ChildProcess&) = delete;
+
+  // Appends what the child wrote (waiting at most `max_wait_ms`) to `output`;
+  // false once the child closed its output.
+  bool Read(int max_wait_ms, std::string* output);
+  // True (and the status set) once the child has exited.
+  bool Exited(int* status);
+  void KillGroup();
+
+ private:
+  pid_t pid_ = -1;
+  int read_fd_ = -1;
+  bool reaped_ = false;
+};
+
+ChildProcess::ChildProcess(const fs::path& executable, std::vector<std::string> argv) {
+  int pipe_fds[2];
+  SYLVA_CHECK(pipe2(pipe_fds, O_CLOEXEC) == 0) << "pipe2: " << std::strerror(errno);
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
+  posix_spawn_file_actions_adddup2(&actions, pipe_fds[1], STDOUT_FILENO);
+  posix_spawn_file_actions_adddup2(&actions, pipe_fds[1], STDERR_FILENO);
+  // Its own process group (so that a kill reaches anything it starts), no
+  // blocked signals, and default handlers for those a front end may catch.
+  posix_spawnattr_t attributes;
+  posix_spawnattr_init(&attributes);
+  posix_spawnattr_setflags(&attributes,
+                           POSIX_SPAWN_SETPGROUP | POSIX_SPAWN_SETSIGMASK | POSIX_SPAWN_SETSIGDEF);
+  posix_spawnattr_setpgroup(&attributes, 0);
+  sigset_t signals;
+  sigemptyset(&signals);
+  posix_spawnattr_setsigmask(&attributes, &signals);
+  for (const int signal : {SIGINT, SIGTERM, SIGQUIT, SIGPIPE, SIGHUP}) sigaddset(&signals, signal);
+  posix_spawnattr_setsigdefault(&attributes, &signals);
+
+  std::vector<std::string> environment = ChildEnvironment();
+  const std::vector<char*> argv_pointers = CStrings(argv);
+  const std::vector<char*> environment_pointers = CStrings(environment);
+  const int error = posix_spawn(&pid_, executable.c_str(), &actions, &attributes,
+                                argv_pointers.data(), environment_pointers.data());
+  posix_spawn_file_actions_destroy(&actions);
+  posix_spawnattr_destroy(&attributes);
+  close(pipe_fds[1]);
+  read_fd_ = pipe_fds[0];
+  if (error != 0) {
+    close(read_fd_);
+    SYLVA_INPUT_ERROR("Colmap.executable")
+        << "cannot run " << executable << ": " << std::strerror(error);
+  }
+}
+
+ChildProcess::~ChildProcess() {
+  if (!reaped_) {
+    KillGroup();
+    int status = 0;
+    while (waitpid(pid_, &status, 0) < 0 && errno == EINTR) {
+    }
+  }
+  if (read_fd_ >= 0) close(read_fd_);
+}
+
+void ChildProcess::KillGroup() {
+  if (!reaped_) kill(-pid_, SIGKILL);
+}
+
+bool ChildProcess::Read(int max_wait_ms, std::string* output) {
+  if (read_fd_ < 0) return false;
+  pollfd fd = {read_fd_, POLLIN, 0};
+  if (poll(&fd, 1, max_wait_ms) <= 0) return true;
+  char buffer[65536];
+  const ssize_t count = read(read_fd_, buffer, sizeof(buffer));
+  if (count > 0) {
+    output->append(buffer, static_cast<size_t>(count));
+    return true;
+  }
+  if (count < 0 && errno == EINTR) return true;
+  close(read_fd_);
+  read_fd_ = -1;
+  return false;
+}
+
+bool ChildProcess::Exited(int* status) {
+  if (reaped_) return true;
+  const pid_t done = waitpid(pid_, status, WNOHANG);
+  // ECHILD: the host ignores SIGCHLD, so children are reaped unseen; the
+  // exit status is lost (reported as success, the model check follows).
+  if (done == pid_ || (done < 0 && errno == ECHILD)) reaped_ = true;
+  return reaped_;
+}
+
+// Splits complete lines (ended by '\n' or '\r') off the front of `pending`.
+std::vector<std::string> TakeLines(std::string* pending) {
+  std::vector<std::string> lines;
+  size_t start = 0;
+  for (size_t i = 0; i < pending->size(); ++i) {
+    const char c = (*pending)[i];
+    if (c != '\n' && c != '\r') continue;
+    if (i > start) lines.push_back(pending->substr(start, i - start));
+    start = i + 1;
+  }
+  pending->erase(0, start);
+  return lines;
+}
+
+// Runs one COLMAP command to its end: its output goes to `log`, progress
+// parsed from it to `task`. Throws Cancelled (after killing it) on request.
+CommandOutcome RunCommand(const fs::path& executable, const std::vector<std::string>& argv,
+                          std::ofstream* log, const ProgressParser& parse, ProgressTask* task) {
+  *log << "\n$";
+  for (const std::string& arg : argv) *log << ' ' << arg;
+  *log << '\n' << std::flush;
+  const Clock::time_point start = Clock::now();
+  ChildProcess child(executable, argv);
+  CommandOutcome outcome;
+  int status = 0;
+  std::string pending;
+  const auto consume = [&](const std::string& text) {
+    *log << text << std::flush;
+    pending += text;
+    for (std::string& line : TakeLines(&pending)) {
+      const double fraction = parse(line);
+      if (fraction >= 0) task->Update(fraction);
+      outcome.last_lines.push_back(std::move(line));
+      if (outcome.last_lines.size() > kQuotedLogLines) outcome.last_lines.pop_front();
+    }
+  };
+  std::string chunk;
+  bool open = true;
+  while (true) {
+    task->CheckCancelled();  // ~ChildProcess kills COLMAP on the way out
+    chunk.clear();
+    if (open) {
+      open = child.Read(kPollIntervalMs, &chunk);
+    } else {
+      poll(nullptr, 0, kPollIntervalMs);
+    }
+    consume(chunk);
+    if (child.Exited(&status)) {
+      // What it wrote before exiting; a process it left behind may keep the
+      // pipe open, so nothing more is awaited.
+      while (open) {
+        chunk.clear();
+        open = child.Read(0, &chunk);
+        if (chunk.empty()) break;
+        consume(chunk);
+      }
+      break;
+    }
+  }
+  if (!pending.empty()) outcome.last_lines.push_back(pending);
+  outcome.seconds = SecondsSince(start);
+  if (WIFEXITED(status)) outcome.exit_code = WEXITSTATUS(status);
+  if (WIFSIGNALED(status)) outcome.term_signal = WTERMSIG(status);
+  *log << std::flush;
+  return outcome;
+}
+
+// ---------------------------------------------------------------------------
+// The run.
+
+struct RunContext {
+  fs::path executable;
+  fs::path photos_dir;
+  fs::path database;
+  fs::path log_path;
+  std::ofstream log;
+  int num_photos = 0;
+};
+
+std::string JoinLines(const std::deque<std::string>& lines) {
+  std::string text;
+  for (const std::string& line : lines) text += "\n  | " + line;
+  return text;
+}
+
+[[noreturn]] void ThrowRegistrationError(const RunContext& context, const std::string& message,
+                                         const CommandOutcome* outcome) {
+  std::string text = message;
+  if (outcome != nullptr && !outcome->last_lines.empty()) {
+    text += "\nlast lines of COLMAP's output:" + JoinLines(outcome->last_lines);
+  }
+  text += "\nfull log: " + context.log_path.string();
+  throw RegistrationError(context.photos_dir.string(), text, context.log_path);
+}
+
+bool OutputMentions(const CommandOutcome& outcome, const std::string& text) {
+  return std::any_of(outcome.last_lines.begin(), outcome.last_lines.end(),
+                     [&](const std::string& line) { return line.find(text) != std::string::npos; });
+}
+
+// A command's options, as (--name, value) pairs.
+using Flags = std::vector<std::pair<std::string, std::string>>;
+
+// Flags every command gets: the seed, and all output on stderr (glog would
+// otherwise write log files into /tmp), without Ceres' per-iteration lines.
+Flags CommonFlags(const ColmapOptions& options) {
+  return {{"--random_seed", std::to_string(options.random_seed)},
+          {"--log_to_stderr", "1"},
+          {"--log_level", "0"}};
+}
+
+Flags ExtractionFlags(const RunContext& context, const fs::path& image_list,
+                      const fs::path& masks_dir, bool single_camera, const ColmapOptions& options) {
+  Flags flags = {{"--database_path", context.database.string()},
+                 {"--image_path", context.photos_dir.string()},
+                 {"--image_list_path", image_list.string()},
+                 {"--ImageReader.camera_model", options.camera_model},
+                 {"--ImageReader.single_camera", single_camera ? "1" : "0"},
+                 {"--SiftExtraction.use_gpu", "0"},
+                 {"--SiftExtraction.num_threads", std::to_string(options.num_threads)},
+                 {"--SiftExtraction.max_image_size", std::to_string(options.max_image_size)},
+                 {"--SiftExtraction.max_num_features", std::to_string(options.max_num_features)}};
+  if (options.use_masks) flags.emplace_back("--ImageReader.mask_path", masks_dir.string());
+  return flags;
+}
+
+Flags MatchingFlags(const RunContext& context, const std::string& matcher,
+                    const ColmapOptions& options) {
+  Flags flags = {{"--database_path", context.database.string()},
+                 {"--SiftMatching.use_gpu", "0"},
+                 {"--SiftMatching.num_threads", std::to_string(options.num_threads)}};
+  if (matcher == "sequential") {
+    flags.emplace_back("--SequentialMatching.overlap", std::to_string(options.sequential_overlap));
+    flags.emplace_back("--SequentialMatching.loop_detection", "0");
+  }
+  return flags;
+}
+
+Flags MappingFlags(const RunContext& context, const fs::path& image_list,
+                   const fs::path& sparse_dir, const ColmapOptions& options) {
+  return {{"--database_path", context.database.string()},
+          {"--image_path", context.photos_dir.string()},
+          {"--image_list_path", image_list.string()},
+          {"--output_path", sparse_dir.string()},
+          {"--Mapper.num_threads", std::to_string(options.num_threads)},
+          {"--Mapper.min_model_size", std::to_string(kMinModelSize)}};
+}
+
+// Runs COLMAP's `command` with `args`; throws RegistrationError if it fails.
+CommandOutcome RunStep(RunContext* context, const std::string& command, Flags flags,
+                       const ColmapOptions& options, const ProgressParser& parse,
+                       ProgressTask task) {
+  const Flags common = CommonFlags(options);
+  flags.insert(flags.end(), common.begin(), common.end());
+  std::vector<std::string> argv = {context->executable.string(), command};
+  for (const auto& [name, value] : flags) argv.insert(argv.end(), {name, value});
+  CommandOutcome outcome = RunCommand(context->executable, argv, &context->log, parse, &task);
+  if (outcome.term_signal != 0) {
+    ThrowRegistrationError(*context,
+                           "COLMAP " + command + " crashed (signal " +
+                               std::to_string(outcome.term_signal) + ", " +
+                               strsignal(outcome.term_signal) + ")",
+                           &outcome);
+  }
+  if (outcome.exit_code != 0) {
+    std::string message =
+        "COLMAP " + command + " failed with exit code " + std::to_string(outcome.exit_code);
+    if (command == "mapper" && OutputMentions(outcome, "No images with matches")) {
+      message = "COLMAP found no matches between the " + std::to_string(context->num_photos) +
+                " photos (too little overlap or texture?), so no model could be built";
+    }
+    ThrowRegistrationError(*context, message, &outcome);
+  }
+  task.Update(1.0);
+  return outcome;
+}
+
+std::string ChooseMatcher(const ColmapOptions& options, int num_photos) {
+  if (options.matcher != "auto") return options.matcher;
+  return num_photos <= options.exhaustive_max_photos ? "exhaustive" : "sequential";
+}
+
+// Checks every photo (and mask) and returns whether all photos have one size.
+bool CheckPhotos(const fs::path& photos_dir, const std::vector<std::string>& photo_names,
+                 const fs::path& masks_dir, bool use_masks) {
+  SYLVA_CHECK_INPUT(!photo_names.empty(), photos_dir.string()) << "no photos to register";
+  SYLVA_CHECK_INPUT(fs::is_directory(photos_dir), photos_dir.string())
+      << "the photo folder does not exist";
+  std::vector<std::string> sorted = photo_names;
+  std::sort(sorted.begin(), sorted.end());
+  const auto duplicate = std::adjacent_find(sorted.begin(), sorted.end());
+  SYLVA_CHECK_INPUT(duplicate == sorted.end(), photos_dir.string())
+      << "photo '" << *duplicate << "' is listed twice";
+  SYLVA_CHECK_INPUT(!use_masks || fs::is_directory(masks_dir), "Colmap.use_masks")
+      << "masks were asked for, but the mask folder '" << masks_dir.string() << "' does not exist";
+  bool same_size = true;
+  ImageHeader first;
+  for (size_t i = 0; i < photo_names.size(); ++i) {
+    const fs::path name(photo_names[i]);
+    SYLVA_CHECK_INPUT(!photo_names[i].empty() && name.is_relative() &&
+                          photo_names[i].find('\n') == std::string::npos &&
+                          std::find(name.begin(), name.end(), "..") == name.end(),
+                      photos_dir.string())
+        << "photo name '" << photo_names[i]
+        << "' must be a path inside the photo folder (relative, without '..')";
+    const ImageHeader header = ReadImageHeader(photos_dir / photo_names[i]);
+    if (i == 0) first = header;
+    same_size = same_size && header.width == first.width && header.height == first.height;
+    if (!use_masks) continue;
+    const fs::path mask_path = ColmapMaskPath(masks_dir, photo_names[i]);
+    const ImageHeader mask = ReadImageHeader(mask_path);
+    SYLVA_CHECK_INPUT(mask.width == header.width && mask.height == header.height,
+                      mask_path.string())
+        << "the mask is " << mask.width << "x" << mask.height << " but its photo is "
+        << header.width << "x" << header.height;
+  }
+  return same_size;
+}
+
+// Removes what an earlier run left, so COLMAP starts afresh.
+void PrepareWorkspace(const fs::path& workspace, const std::vector<std::string>& photo_names) {
+  fs::create_directories(workspace);
+  for (const char* name : {"database.db", "database.db-shm", "database.db-wal"}) {
+    fs::remove(workspace / name);
+  }
+  fs::remove_all(workspace / kSparseFolder);
+  fs::create_directories(workspace / kSparseFolder);
+  std::string list;
+  for (const std::string& name : photo_names) list += name + "\n";
+  AtomicWriteString(workspace / kImageListName, list);
+}
+
+// The models in `sparse_dir` (folders 0, 1, ...) in COLMAP's order.
+std::vector<ImageSet> ReadModels(const fs::path& sparse_dir) {
+  std::vector<std::pair<int, fs::path>> folders;
+  for (const fs::directory_entry& entry : fs::directory_iterator(sparse_dir)) {
+    const std::string name = entry.path().filename().string();
+    const bool numeric = !name.empty() && std::all_of(name.begin(), name.end(), [](char c) {
+      return std::isdigit(static_cast<unsigned char>(c)) != 0;
+    });
+    if (entry.is_directory() && numeric && IsColmapModelDir(entry.path())) {
+      folders.emplace_back(std::stoi(name), entry.path());
+    }
+  }
+  std::sort(folders.begin(), folders.end());
+  std::vector<ImageSet> models;
+  for (const auto& folder : folders) models.push_back(ReadColmapModel(folder.second));
+  return models;
+}
+
+// Keeps the largest model (the first of equals); the others' photos count as
+// unregistered.
+void TakeLargestModel(std::vector<ImageSet> models, const std::vector<std::string>& photo_names,
+                      ColmapResult* result) {
+  result->num_models = static_cast<int>(models.size());
+  const auto largest = std::max_element(
+      models.begin(), models.end(),
+      [](const ImageSet& a, const ImageSet& b) { return a.NumViews() < b.NumViews(); });
+  result->cameras = std::move(*largest);
+  for (const std::string& name : photo_names) {
+    if (result->cameras.FindView(name) < 0) result->unregistered.push_back(name);
+  }
+}
+
+void LogPartialSuccess(const ColmapResult& result) {
+  if (result.num_models > 1) {
+    SYLVA_LOG(kWarning) << "COLMAP built " << result.num_models << " separate models; keeping the "
+                        << "largest (" << result.cameras.NumViews() << " photos), the photos of "
+                        << "the others count as unregistered";
+  }
+  if (!result.unregistered.empty()) {
+    SYLVA_LOG(kWarning) << "COLMAP registered " << result.cameras.NumViews() << " of "
+                        << result.cameras.NumViews() + result.unregistered.size()
+                        << " photos; not registered: " << result.unregistered.size() << " (first: '"
+                        << result.unregistered.front() << "')";
+  }
+}
+
+}  // namespace
+
+void ColmapOptions::Check() const {
+  SYLVA_CHECK_INPUT(!executable.empty(), "Colmap.executable") << "must not be empty";
+  SYLVA_CHECK_INPUT(matcher == "auto" || matcher == "exhaustive" || matcher == "sequential",
+                    "Colmap.matcher")
+      << "must be 'auto', 'exhaustive' or 'sequential', got '" << matcher << "'";
+  SYLVA_CHECK_INPUT(exhaustive_max_photos >= 2, "Colmap.exhaustive_max_photos")
+      << "must be >= 2, got " << exhaustive_max_photos;
+  SYLVA_CHECK_INPUT(sequential_overlap >= 1, "Colmap.sequential_overlap")
+      << "must be >= 1, got " << sequential_overlap;
+  SYLVA_CHECK_INPUT(max_image_size >= 100 && max_image_size <= 20000, "Colmap.max_image_size")
+      << "must be between 100 and 20000 pixels, got " << max_image_size;
+  SYLVA_CHECK_INPUT(max_num_features >= 100, "Colmap.max_num_features")
+      << "must be >= 100, got " << max_num_features;
+  const bool known_model = camera_model == "SIMPLE_PINHOLE" || camera_model == "PINHOLE" ||
+                           camera_model == "SIMPLE_RADIAL" || camera_model == "RADIAL" ||
+                           camera_model == "OPENCV";
+  SYLVA_CHECK_INPUT(known_model, "Colmap.camera_model")
+      << "must be SIMPLE_PINHOLE, PINHOLE, SIMPLE_RADIAL, RADIAL or OPENCV, got '" << camera_model
+      << "'";
+  SYLVA_CHECK_INPUT(num_threads == -1 || num_threads >= 1, "Colmap.num_threads")
+      << "must be -1 (all cores) or >= 1, got " << num_threads;
+  SYLVA_CHECK_INPUT(random_seed >= 0, "Colmap.random_seed") << "must be >= 0, got " << random_seed;
+}
+
+std::string ColmapResult::BriefReport() const {
+  std::ostringstream text;
+  text.precision(3);
+  const size_t total = cameras.views.size() + unregistered.size();
+  text << "COLMAP registered " << cameras.NumViews() << " of " << total << " photos (" << num_models
+       << (num_models == 1 ? " model; " : " models; ") << matcher << " matching; extraction "
+       << extraction_seconds << " s, matching " << matching_seconds << " s, mapping "
+       << mapping_seconds << " s; sylva " << sylva_seconds << " s)";
+  return text.str();
+}
+
+fs::path ColmapMaskPath(const fs::path& masks_dir, const std::string& photo_name) {
+  return masks_dir / (photo_name + ".png");
+}
+
+FloatImage ColmapMaskFromMatte(const FloatImage& matte, float threshold, int dilation_px) {
+  SYLVA_CHECK(matte.channels() == 1) << "a matte has one channel, got " << matte.channels();
+  SYLVA_CHECK(dilation_px >= 0) << "dilation must be >= 0";
+  const int width = matte.width(), height = matte.height();
+  // Square dilation as two running-maximum passes (rows, then columns).
+  FloatImage rows(width, height, 1), mask(width, height, 1);
+  for (int y = 0; y < height; ++y) {
+    int last_on = -(dilation_px + 1) - 1;  // last foreground x seen
+    std::vector<int> next_on(width + 1, width + dilation_px + 1);
+    for (int x = width - 1; x >= 0; --x) {
+      next_on[x] = matte.at(x, y) > threshold ? x : next_on[x + 1];
+    }
+    for (int x = 0; x < width; ++x) {
+      if (matte.at(x, y) > threshold) last_on = x;
+      const bool on = x - last_on <= dilation_px || next_on[x] - x <= dilation_px;
+      rows.at(x, y) = on ? 1.0f : 0.0f;
+    }
+  }
+  for (int x = 0; x < width; ++x) {
+    int last_on = -(dilation_px + 1) - 1;
+    std::vector<int> next_on(height + 1, height + dilation_px + 1);
+    for (int y = height - 1; y >= 0; --y) next_on[y] = rows.at(x, y) > 0 ? y : next_on[y + 1];
+    for (int y = 0; y < height; ++y) {
+      if (rows.at(x, y) > 0) last_on = y;
+      const bool on = y - last_on <= dilation_px || next_on[y] - y <= dilation_px;
+      mask.at(x, y) = on ? 1.0f : 0.0f;
+    }
+  }
+  return mask;
+}
+
+fs::path FindColmapExecutable(const std::string& executable) {
+  const auto runnable = [](const fs::path& path) {
+    return fs::is_regular_file(path) && access(path.c_str(), X_OK) == 0;
+  };
+  const char* kHint = "install the Debian package colmap, or set Colmap.executable";
+  if (executable.find('/') != std::string::npos) {
+    SYLVA_CHECK_INPUT(runnable(executable), "Colmap.executable")
+        << "colmap not found: '" << executable << "' is not an executable file; " << kHint;
+    return executable;
+  }
+  const char* path_variable = std::getenv("PATH");
+  std::istringstream folders(path_variable != nullptr ? path_variable : "");
+  std::string folder;
+  while (std::getline(folders, folder, ':')) {
+    const fs::path candidate = fs::path(folder.empty() ? "." : folder) / executable;
+    if (runnable(candidate)) return candidate;
+  }
+  SYLVA_INPUT_ERROR("Colmap.executable")
+      << "colmap not found: no '" << executable << "' in PATH; " << kHint;
+  return {};
+}
+
+ColmapResult RunColmap(const fs::path& photos_dir, const std::vector<std::string>& photo_names,
+                       const fs::path& masks_dir, const fs::path& workspace,
+                       const ColmapOptions& options, ProgressReporter* progress) {
+  const Clock::time_point start = Clock::now();
+  options.Check();
+  RunContext context;
+  context.executable = FindColmapExecutable(options.executable);
+  context.photos_dir = photos_dir;
+  context.num_photos = static_cast<int>(photo_names.size());
+  const bool same_size = CheckPhotos(photos_dir, photo_names, masks_dir, options.use_masks);
+
+  PrepareWorkspace(workspace, photo_names);
+  context.database = workspace / kDatabaseName;
+  context.log_path = workspace / kLogName;
+  context.log.open(context.log_path, std::ios::trunc);
+  SYLVA_CHECK_INPUT(context.log.good(), context.log_path.string()) << "cannot write the log";
+  const fs::path image_list = workspace / kImageListName;
+  const fs::path sparse_dir = workspace / kSparseFolder;
+
+  ColmapResult result;
+  result.log_path = context.log_path;
+  result.matcher = ChooseMatcher(options, context.num_photos);
+  result.single_camera = options.single_camera && same_size;
+  const ProgressTask task(progress, "register: COLMAP");
+  const ProgressTask extraction =
+      task.SubTask("register: COLMAP feature extraction", 0.0, kExtractionEnd);
+  const ProgressTask matching =
+      task.SubTask("register: COLMAP matching", kExtractionEnd, kMatchingEnd);
+  const ProgressTask mapping_task = task.SubTask("register: COLMAP mapping", kMatchingEnd, 1.0);
+  const ProgressParser matching_progress =
+      result.matcher == "exhaustive" ? ExhaustiveProgress : SequentialProgress;
+
+  result.extraction_seconds =
+      RunStep(&context, "feature_extractor",
+              ExtractionFlags(context, image_list, masks_dir, result.single_camera, options),
+              options, ExtractionProgress, extraction)
+          .seconds;
+  result.matching_seconds =
+      RunStep(&context, result.matcher + "_matcher",
+              MatchingFlags(context, result.matcher, options), options, matching_progress, matching)
+          .seconds;
+  const CommandOutcome mapping =
+      RunStep(&context, "mapper", MappingFlags(context, image_list, sparse_dir, options), options,
+              MapperProgress(context.num_photos), mapping_task);
+  result.mapping_seconds = mapping.seconds;
+  result.colmap_seconds =
+      result.extraction_seconds + result.matching_seconds + result.mapping_seconds;
+
+  std::vector<ImageSet> models = ReadModels(sparse_dir);
+  if (models.empty()) {
+    ThrowRegistrationError(context,
+                           "COLMAP built no model: no pair of the " +
+                               std::to_string(context.num_photos) +
+                               " photos has enough matches to start one (too little overlap "
+                               "or texture?)",
+                           &mapping);
+  }
+  TakeLargestModel(std::move(models), photo_names, &result);
+  if (result.cameras.NumViews() < kMinRegisteredPhotos) {
+    ThrowRegistrationError(context,
+                           "COLMAP registered only " + std::to_string(result.cameras.NumViews()) +
+                               " of " + std::to_string(context.num_photos) +
+                               " photos; at least 2 are needed",
+                           &mapping);
+  }
+  LogPartialSuccess(result);
+  result.sylva_seconds = SecondsSince(start) - result.colmap_seconds;
+  return result;
+}
+
+}  // namespace sylva
