@@ -75,7 +75,7 @@ struct MattingOptions {
   double chroma_tolerance = 0.12;
   // Luminance tolerance: the absolute difference of mean RGB (in [0, 1]) to
   // the clean plate that the backdrop may show (shading, velvet folds).
-  double luminance_tolerance = 0.2;
+  double luminance_tolerance = 0.15;
   // Below this luminance (mean RGB in [0, 1]) a pixel's chroma is mostly
   // noise: its chroma distance is divided by this level instead of by its
   // own brightness.
@@ -96,16 +96,19 @@ struct MattingOptions {
   // Hue ranges that are never foreground, in degrees on the HSV wheel: ""
   // (none, the default) or "lo-hi[,lo-hi...]" with 0 <= lo, hi <= 360; a
   // range with lo > hi wraps through 0 ("330-30" is red to orange). Pixels
-  // at least reject_min_saturation saturated (HSV S) and reject_min_value
-  // bright (HSV V) in a range are rejected; fringes one or two pixels wide
-  // are ignored (tan stems over black velvet have orange-ish edges), small
-  // holes (highlights, stitching) are filled, and a margin of
-  // reject_margin_px pixels around the objects (their blended edges) is
-  // rejected too. For the orange calibration targets and clips of ROMI scans
-  // and the orange frame of the PhenoArch cabin: "330-30".
+  // in a range at least reject_min_saturation saturated (HSV S) and
+  // reject_min_value bright (HSV V) form the rejected objects, if they are at
+  // least reject_min_width_px wide (pixels; thinner structures of those hues
+  // such as tan stems, or the orange-tinged edges of stems over black, are
+  // kept); less saturated pixels of the same hues (0.6 x) within 3 pixels
+  // join them (highlights), holes of a few pixels are filled, and a margin of
+  // reject_margin_px pixels around them (their blended edges) is rejected too.
+  // For the orange calibration targets, clips (and the brown support rod) of
+  // ROMI scans and the orange frame of the PhenoArch cabin: "330-35".
   std::string reject_hues;
-  double reject_min_saturation = 0.5;
+  double reject_min_saturation = 0.35;
   double reject_min_value = 0.15;
+  int reject_min_width_px = 7;
   int reject_margin_px = 2;
   // Pixels darker than this HSV value (max of R, G, B in [0, 1]) are never
   // foreground either (with the same fringe, hole and margin treatment): the

@@ -124,6 +124,9 @@ void MattingOptions::Check() const {
       << "must be in [0, 1], got " << reject_min_saturation;
   SYLVA_CHECK_INPUT(reject_min_value >= 0 && reject_min_value <= 1, "Matting.reject_min_value")
       << "must be in [0, 1], got " << reject_min_value;
+  SYLVA_CHECK_INPUT(reject_min_width_px >= 1 && reject_min_width_px <= 101,
+                    "Matting.reject_min_width_px")
+      << "must be between 1 and 101 pixels, got " << reject_min_width_px;
   SYLVA_CHECK_INPUT(reject_margin_px >= 0 && reject_margin_px <= 100, "Matting.reject_margin_px")
       << "must be between 0 and 100 pixels, got " << reject_margin_px;
   SYLVA_CHECK_INPUT(reject_below_value >= 0 && reject_below_value < 1,

@@ -20,7 +20,7 @@ constexpr uchar kLabelForeground = 255;
 // hues join them within this radius (pixels), and holes up to about the
 // closing radius are filled.
 constexpr double kRejectWeakSaturationFactor = 0.6;
-constexpr int kRejectGrowRadius = 6;
+constexpr int kRejectGrowRadius = 3;
 constexpr int kRejectCloseRadius = 3;
 
 cv::Mat Disk(int radius) {
@@ -62,10 +62,12 @@ cv::Mat HueMask(const cv::Mat& hsv, const std::vector<HueRange>& ranges, double 
   return mask;
 }
 
-// Drops fringes a pixel or two wide, fills holes, adds the margin.
+// Drops structures thinner than reject_min_width_px, grows into
+// `near_rejected_extra` close by, fills holes, adds the margin.
 cv::Mat CleanRejected(cv::Mat rejected, const cv::Mat& near_rejected_extra,
                       const MattingOptions& options) {
-  cv::morphologyEx(rejected, rejected, cv::MORPH_OPEN, Disk(1));
+  const int open_radius = (options.reject_min_width_px - 1) / 2;
+  if (open_radius > 0) cv::morphologyEx(rejected, rejected, cv::MORPH_OPEN, Disk(open_radius));
   if (!near_rejected_extra.empty()) {
     cv::Mat near;
     cv::dilate(rejected, near, Disk(kRejectGrowRadius));

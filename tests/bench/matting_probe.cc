@@ -22,6 +22,7 @@
 
 #include "core/io/image_io.h"
 #include "core/util/check.h"
+#include "reconstruct/matting/matte_tools.h"
 #include "reconstruct/matting/matting.h"
 #include "reconstruct/matting/trimap_io.h"
 
@@ -48,6 +49,7 @@ bool ApplyMattingFlag(const std::string& name, const std::string& value, Matting
   else if (name == "reject_hues") o->reject_hues = value;
   else if (name == "reject_min_saturation") o->reject_min_saturation = std::stod(value);
   else if (name == "reject_min_value") o->reject_min_value = std::stod(value);
+  else if (name == "reject_min_width_px") o->reject_min_width_px = std::stoi(value);
   else if (name == "reject_margin_px") o->reject_margin_px = std::stoi(value);
   else if (name == "reject_below_value") o->reject_below_value = std::stod(value);
   else if (name == "region") o->region = value;
@@ -80,20 +82,6 @@ bool ApplyFlag(const std::string& name, const std::string& value, ProbeFlags* fl
   else if (name == "scale") flags->scale = std::stoi(value);
   else return ApplyMattingFlag(name, value, options);
   return true;
-}
-
-// Box-downsamples every channel by `factor` (1 = unchanged).
-FloatImage Reduce(const FloatImage& image, int factor) {
-  if (factor <= 1 || image.empty()) return image;
-  FloatImage reduced;
-  for (int c = 0; c < image.channels(); ++c) {
-    const FloatImage channel = DownsampleBox(image.Channel(c), factor);
-    if (reduced.empty()) reduced = FloatImage(channel.width(), channel.height(), image.channels());
-    for (size_t i = 0; i < channel.NumPixels(); ++i) {
-      reduced.values()[i * image.channels() + c] = channel.values()[i];
-    }
-  }
-  return reduced;
 }
 
 FloatImage Overlay(const FloatImage& photo, const FloatImage& alpha, const FloatImage& truth) {
@@ -175,17 +163,17 @@ int Main(int argc, char** argv) {
       return 2;
     }
   }
-  const FloatImage photo = Reduce(ReadImage(argv[1]), flags.scale);
-  const FloatImage hint = flags.hint.empty() ? FloatImage() : Reduce(ReadHintTrimap(flags.hint), flags.scale);
+  const FloatImage photo = DownsampleChannels(ReadImage(argv[1]), flags.scale);
+  const FloatImage hint = flags.hint.empty() ? FloatImage() : DownsampleChannels(ReadHintTrimap(flags.hint), flags.scale);
   const FloatImage background =
-      flags.background.empty() ? FloatImage() : Reduce(ReadImage(flags.background), flags.scale);
+      flags.background.empty() ? FloatImage() : DownsampleChannels(ReadImage(flags.background), flags.scale);
   MattingSummary summary;
   FloatImage trimap;
   FloatImage alpha;
   if (flags.given_trimap.empty()) {
     alpha = ComputeMatte(photo, hint, background, options, nullptr, &summary);
   } else {
-    trimap = Reduce(ReadMatte(flags.given_trimap), flags.scale);
+    trimap = DownsampleChannels(ReadMatte(flags.given_trimap), flags.scale);
     const auto start = std::chrono::steady_clock::now();
     alpha = RefineMatte(photo, trimap, options, nullptr, &summary);
     summary.trimap_source = "given";
@@ -194,7 +182,7 @@ int Main(int argc, char** argv) {
   }
   int64_t foreground = 0, intersection = 0, uni = 0;
   const FloatImage truth =
-      flags.silhouette.empty() ? FloatImage() : Reduce(ReadMatte(flags.silhouette), flags.scale);
+      flags.silhouette.empty() ? FloatImage() : DownsampleChannels(ReadMatte(flags.silhouette), flags.scale);
   for (size_t i = 0; i < alpha.NumPixels(); ++i) {
     const bool ours = alpha.values()[i] >= 0.5f;
     foreground += ours;
@@ -208,7 +196,7 @@ int Main(int argc, char** argv) {
   if (!truth.empty()) std::printf(" IoU %.4f", uni > 0 ? static_cast<double>(intersection) / uni : 1.0);
   std::printf("\n  %s\n", summary.BriefReport().c_str());
   const FloatImage reference =
-      flags.reference.empty() ? FloatImage() : Reduce(ReadMatte(flags.reference), flags.scale);
+      flags.reference.empty() ? FloatImage() : DownsampleChannels(ReadMatte(flags.reference), flags.scale);
   if (!reference.empty()) ReportDifference(alpha, reference, trimap);
   if (trimap.empty() && (!flags.trimap.empty() || !flags.side_by_side.empty())) {
     trimap = CombineHintTrimap(ComputeTrimap(photo, options, background), hint);
