@@ -4,8 +4,8 @@
 
 #include <algorithm>
 #include <cctype>
-#include <iterator>
 #include <cmath>
+#include <iterator>
 
 #include "core/util/check.h"
 #include "core/util/file_util.h"
@@ -61,9 +61,13 @@ FloatImage ReadImage(const fs::path& path) {
       << "image has no pixels";
   FloatImage image(header.width, header.height, header.channels);
   const bool ok = input->read_image(0, 0, 0, header.channels, OIIO::TypeDesc::FLOAT, image.data());
-  std::string reason = ok ? std::string() : input->geterror();
+  // Some decoders succeed on damaged data and only leave a message: libjpeg
+  // fills a truncated JPEG with grey ("Premature end of JPEG file"). A photo
+  // with such a message is refused too.
+  const std::string reason = input->geterror();
   input->close();
-  SYLVA_CHECK_INPUT(ok, path.string()) << "cannot decode image: " << reason;
+  SYLVA_CHECK_INPUT(ok && reason.empty(), path.string())
+      << "cannot decode image: " << (reason.empty() ? "read failed" : reason);
   for (float& value : image.values()) {
     SYLVA_CHECK_INPUT(std::isfinite(value), path.string()) << "image contains NaN or infinity";
   }
@@ -127,8 +131,8 @@ void WriteImage(const fs::path& path, const FloatImage& image, PixelFormat forma
     // The pixels are straight alpha; without this OpenImageIO would divide the
     // colour by alpha when writing PNG (which stores unassociated alpha).
     spec.attribute("oiio:UnassociatedAlpha", 1);
-    SYLVA_CHECK(output->open(temp.string(), spec)) << "cannot write " << path << ": "
-                                                   << output->geterror();
+    SYLVA_CHECK(output->open(temp.string(), spec))
+        << "cannot write " << path << ": " << output->geterror();
     const bool ok = output->write_image(OIIO::TypeDesc::FLOAT, image.data());
     const std::string reason = ok ? std::string() : output->geterror();
     output->close();
@@ -167,8 +171,8 @@ std::vector<std::string> ListImageFiles(const fs::path& folder) {
     std::string extension = path.extension().string();
     std::transform(extension.begin(), extension.end(), extension.begin(),
                    [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-    static const char* const kExtensions[] = {".jpg", ".jpeg", ".png", ".tif",
-                                              ".tiff", ".exr", ".bmp"};
+    static const char* const kExtensions[] = {".jpg",  ".jpeg", ".png", ".tif",
+                                              ".tiff", ".exr",  ".bmp"};
     if (std::none_of(std::begin(kExtensions), std::end(kExtensions),
                      [&](const char* e) { return extension == e; })) {
       continue;

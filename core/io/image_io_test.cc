@@ -115,6 +115,25 @@ TEST(ImageIoTest, MissingAndCorruptFilesAreInputErrors) {
   EXPECT_THROW(ReadImage(TestDir() / "half.png"), InputError);
 }
 
+TEST(ImageIoTest, TruncatedJpegIsRefused) {
+  // libjpeg decodes a truncated JPEG "successfully", padding it with grey.
+  const fs::path path = TestDir() / "truncated.jpg";
+  FloatImage image(64, 64, 3);
+  for (int y = 0; y < 64; ++y)
+    for (int x = 0; x < 64; ++x)
+      for (int c = 0; c < 3; ++c) image.at(x, y, c) = ((x * 7 + y * 13 + c * 5) % 17) / 16.0f;
+  WriteImage(path, image);
+  EXPECT_NO_THROW(ReadImage(path));
+  const std::string bytes = ReadFileToString(path);
+  AtomicWriteString(path, bytes.substr(0, bytes.size() / 2));
+  try {
+    ReadImage(path);
+    FAIL() << "a truncated JPEG was read";
+  } catch (const InputError& error) {
+    EXPECT_NE(std::string(error.what()).find(path.string()), std::string::npos) << error.what();
+  }
+}
+
 TEST(ImageIoTest, FindMatteFileBySameRelativeName) {
   const fs::path mattes = TestDir() / "mattes";
   fs::create_directories(mattes / "side");

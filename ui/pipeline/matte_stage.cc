@@ -89,9 +89,9 @@ StageRun RunMatteStage(const StageContext& context) {
   };
   ProgressTask progress(context.progress, "matte: computing mattes");
   progress.Update(0.0);
+  std::atomic<int> done{0};
+  std::vector<double> foreground(names.size(), -1.0);
   try {
-    std::atomic<int> done{0};
-    std::vector<double> foreground(names.size(), -1.0);
     ParallelForFirstError(static_cast<int>(todo.size()), [&](int t) {
       progress.CheckCancelled();
       const int i = todo[t];

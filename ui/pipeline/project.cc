@@ -134,11 +134,7 @@ std::vector<fs::path> Project::CameraSourceFiles() const {
 }
 
 std::vector<fs::path> Project::CameraFiles() const {
-  std::vector<fs::path> files;
-  for (const char* name : {"cameras.txt", "images.txt", "points3D.txt"}) {
-    files.push_back(RegisteredCamerasDir() / name);
-  }
-  return files;
+  return {RegisteredCamerasDir() / "cameras.json"};
 }
 
 ImageSet Project::LoadGivenCameras() const {
@@ -150,10 +146,10 @@ ImageSet Project::LoadGivenCameras() const {
 ImageSet Project::LoadCameras() const {
   const fs::path dir = RegisteredCamerasDir();
   std::error_code ec;
-  SYLVA_CHECK_INPUT(fs::is_regular_file(dir / "images.txt", ec), dir.string())
+  SYLVA_CHECK_INPUT(fs::is_regular_file(dir / "cameras.json", ec), dir.string())
       << "no registered cameras yet; run the register stage first ('sylva register "
       << root_.string() << "' or 'sylva run')";
-  return ReadColmapModelText(dir);
+  return ReadCameraFile(dir / "cameras.json");
 }
 
 FloatImage Project::LoadMatte(const ImageSet& image_set, int view_idx) const {

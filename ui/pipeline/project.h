@@ -11,8 +11,11 @@
 //   PROJECT/cache/       stage records keyed by a hash of their inputs; the
 //                        COLMAP workspace (cache/colmap/)
 //   PROJECT/out/         outputs: cameras/ (the registered cameras in sylva's
-//                        world frame, COLMAP text), mattes/ (computed mattes,
-//                        8-bit PNG), density.vdb, skeleton, tree, report
+//                        world frame: cameras.json, and colmap/ as a COLMAP
+//                        text model unless a camera is orthographic;
+//                        registration.json, unregistered.txt), mattes/
+//                        (computed mattes, 8-bit PNG), density.vdb, skeleton,
+//                        tree, report
 //
 // sylva.json:
 // { "format": "sylva-project", "version": 1,
@@ -95,7 +98,8 @@ class Project {
   // Files of the camera source given at init (none for "sfm").
   std::vector<fs::path> CameraSourceFiles() const;
 
-  // The registered cameras (out/cameras/, written by the register stage).
+  // The registered cameras (out/cameras/cameras.json, written by the
+  // register stage).
   // InputError if the register stage has not run yet.
   ImageSet LoadCameras() const;
   fs::path RegisteredCamerasDir() const { return OutDir() / "cameras"; }

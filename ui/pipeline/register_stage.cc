@@ -10,6 +10,7 @@
 #include <map>
 #include <sstream>
 
+#include "core/io/camera_file.h"
 #include "core/io/colmap_model.h"
 #include "core/io/image_io.h"
 #include "core/io/json_util.h"
@@ -147,22 +148,37 @@ StageRun RunRegisterStage(const StageContext& context) {
   details["unregistered"] = unregistered;
   details["units"] = units;
 
+  // The cameras the later stages read (sylva's camera file holds every
+  // model), and the same as a COLMAP text model when COLMAP can hold them
+  // (not for orthographic cameras).
   const fs::path dir = project.RegisteredCamerasDir();
-  WriteColmapModelText(cameras, dir);
+  bool colmap_compatible = true;
+  for (const auto& [id, camera] : cameras.cameras) {
+    colmap_compatible = colmap_compatible && camera.model() != CameraModel::kOrthographic;
+  }
+  details["colmap_model"] = colmap_compatible ? "out/cameras/colmap/" : "";
   std::string list;
   for (const std::string& name : unregistered) list += name + "\n";
+  StageRun run;
+  run.outputs = {dir / "cameras.json", dir / "unregistered.txt", dir / "registration.json"};
+  if (colmap_compatible) {
+    WriteColmapModelText(cameras, dir / "colmap");
+    for (const char* name : {"cameras.txt", "images.txt", "points3D.txt"}) {
+      run.outputs.push_back(dir / "colmap" / name);
+    }
+  } else {
+    std::error_code ec;
+    fs::remove_all(dir / "colmap", ec);
+  }
   AtomicWriteString(dir / "unregistered.txt", list);
   WriteJsonFile(dir / "registration.json", details);
+  WriteCameraFile(dir / "cameras.json", cameras, units);
 
   std::ostringstream brief;
   brief << cameras.NumViews() << " of " << project.photo_names().size() << " photos registered ("
         << details["method"].get<std::string>() << ")";
   if (!unregistered.empty()) brief << "; not registered: see out/cameras/unregistered.txt";
-  StageRun run;
   run.brief = brief.str();
-  for (const fs::path& file : project.CameraFiles()) run.outputs.push_back(file);
-  run.outputs.push_back(dir / "unregistered.txt");
-  run.outputs.push_back(dir / "registration.json");
   return run;
 }
 
