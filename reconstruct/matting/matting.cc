@@ -49,8 +49,8 @@ void CheckHint(const FloatImage& hint, int width, int height) {
 std::string MattingSummary::BriefReport() const {
   std::ostringstream out;
   out << "matte: trimap " << trimap_source;
-  if (trimap_source == "backdrop") {
-    out << " (seed RGB " << std::lround(255 * backdrop_rgb[0]) << ","
+  if (trimap_source == "backdrop" || trimap_source == "grabcut") {
+    out << " (border seed RGB " << std::lround(255 * backdrop_rgb[0]) << ","
         << std::lround(255 * backdrop_rgb[1]) << "," << std::lround(255 * backdrop_rgb[2])
         << ", border agreement " << std::lround(100 * border_agreement) << " %)";
   }

@@ -194,9 +194,9 @@ void RunSpeed(bool quick) {
   const FloatImage full =
       ReadImage(kData + "romi-real-plant-24/images/pict20190201_110110_0.jpg");
   MattingOptions options;  // the recommended ROMI set (see matting.h)
-  options.reject_hues = "330-30";
+  options.reject_hues = "330-35";
   std::printf("\nPart 2: ComputeMatte on romi-real-plant-24 pict20190201_110110_0.jpg "
-              "(reject_hues=330-30)\n");
+              "(reject_hues=330-35)\n");
   std::printf("%-10s %7s | %-22s | %-24s | %-14s | %s\n", "size", "MP", "ComputeMatte s (s/MP)",
               "reference s (s/MP) iters", "ratio ref/ours", "MAD ours-ref | alphamat s");
   const std::vector<int> factors = quick ? std::vector<int>{8} : std::vector<int>{1, 2, 4};
