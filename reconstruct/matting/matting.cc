@@ -12,6 +12,9 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
+// Share of the progress bar given to the trimap (the refinement gets the rest).
+constexpr double kTrimapShare = 0.2;
+
 double SecondsSince(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
@@ -93,11 +96,12 @@ FloatImage ComputeMatte(const FloatImage& photo, const FloatImage& hint_trimap,
   local.hint_used = !hint_trimap.empty();
   CountLabels(trimap, &local);
   local.seconds_trimap = SecondsSince(start);
+  if (progress != nullptr) progress->Update(kTrimapShare);
 
   const Clock::time_point refine_start = Clock::now();
   FloatImage alpha;
   if (progress != nullptr) {
-    ProgressTask refine_task = progress->SubTask("matte: refine", 0.2, 1.0);
+    ProgressTask refine_task = progress->SubTask("matte: refine", kTrimapShare, 1.0);
     alpha = RefineMatte(photo, trimap, options, &refine_task, &local);
   } else {
     alpha = RefineMatte(photo, trimap, options, nullptr, &local);

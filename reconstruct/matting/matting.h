@@ -18,9 +18,11 @@
 //       "auto"       "difference" when a background photo is given, else
 //                    "backdrop" when the border looks like one backdrop colour,
 //                    else "grabcut".
-//     Then, for every source: hue ranges to reject (orange calibration
-//     targets), a region of interest, and an unknown band of band_px pixels
-//     around every foreground/background boundary.
+//     Then, for every source: an unknown band of band_px pixels around every
+//     foreground/background boundary; and hard background where hues are
+//     rejected (orange calibration targets), where pixels are too dark
+//     (black cabin fittings) and outside a region of interest (all off by
+//     default).
 //  2. Refinement: the unknown pixels get a fractional alpha from the colours
 //     of the known ones, by information-flow matting (Aksoy et al. 2017,
 //     OpenCV's alphamat module) or closed-form matting (Levin et al. 2008,
@@ -29,6 +31,12 @@
 //
 // A painted hint trimap (the user's PNG in PROJECT/edits/) overrides the
 // automatic trimap wherever it is painted; see CombineHintTrimap.
+//
+// Limits: colour cannot separate what looks like the backdrop. Dark foliage
+// on black velvet loses its shadowed inside (the holm-oak cut-out: IoU 0.41
+// over black, 0.93 over white; tests/bench/matting_benchmark.cc), green
+// over green clutter is lost, cast shadows on a white floor are kept. Use a
+// contrasting backdrop, a background photo, or paint hints.
 //
 // Images: photos are RGB or RGBA FloatImages in [0, 1] (alpha is ignored);
 // trimaps and mattes have one channel. Trimap values are read as
@@ -39,6 +47,7 @@
 #define SYLVA_RECONSTRUCT_MATTING_MATTING_H_
 
 #include <array>
+#include <cstdint>
 #include <string>
 
 #include "core/types/float_image.h"

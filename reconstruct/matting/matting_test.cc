@@ -300,6 +300,7 @@ TEST(MattingTest, BadInputsThrowNamingTheProblem) {
   trimap.at(5, 7) = std::nanf("");
   ExpectInputError([&] { RefineMatte(photo, trimap, options); }, "trimap");
   ExpectInputError([&] { ComputeMatte(photo.Channel(0), {}, {}, options); }, "photo");
+  ExpectInputError([&] { ComputeMatte(FloatImage(4, 4, 3), {}, {}, options); }, "photo");
   ExpectInputError([&] { ComputeMatte(photo, FloatImage(3, 3, 1), {}, options); },
                    "hint trimap");
   ExpectInputError([&] { ComputeMatte(photo, {}, FloatImage(3, 3, 3), options); },
@@ -337,6 +338,16 @@ TEST(MattingTest, SameInputsAndSeedGiveTheSameMatte) {
   const FloatImage first = ComputeMatte(photo, {}, {}, options);
   const FloatImage second = ComputeMatte(photo, {}, {}, options);
   EXPECT_EQ(first.values(), second.values());
+}
+
+// GrabCut with nothing left to decide (all painted) does not call OpenCV.
+TEST(MattingTest, GrabCutWithEverythingPaintedKeepsThePaint) {
+  const FloatImage photo = Clutter(FloatImage(64, 48, 3));
+  MattingOptions options;
+  options.trimap = "grabcut";
+  const FloatImage all_foreground(photo.width(), photo.height(), 1, kTrimapForeground);
+  const FloatImage alpha = ComputeMatte(photo, all_foreground, {}, options);
+  for (float a : alpha.values()) ASSERT_EQ(a, 1.0f);
 }
 
 TEST(MattingTest, RefineNoneLeavesUnknownAtOneHalf) {
