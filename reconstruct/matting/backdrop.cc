@@ -6,7 +6,6 @@
 #include <cmath>
 #include <vector>
 
-#include "reconstruct/matting/cv_image.h"
 #include "reconstruct/matting/option_parsing.h"
 
 namespace sylva {
@@ -157,8 +156,7 @@ cv::Mat EstimatePlate(const cv::Mat& rgb, const cv::Vec3f& seed,
 
 }  // namespace
 
-BackdropKey EstimateBackdropKey(const FloatImage& photo, const MattingOptions& options) {
-  const cv::Mat rgb = RgbToMat(photo);
+BackdropKey EstimateBackdropKey(const cv::Mat& rgb, const MattingOptions& options) {
   const std::vector<cv::Vec3f> border = BorderPixels(rgb, options.border_fraction);
   const std::optional<std::array<double, 3>> given = ParseBackdropColor(options.backdrop_color);
   const cv::Vec3f seed = given ? cv::Vec3f((*given)[0], (*given)[1], (*given)[2])
@@ -172,17 +170,16 @@ BackdropKey EstimateBackdropKey(const FloatImage& photo, const MattingOptions& o
   return key;
 }
 
-FloatImage BackdropEvidence(const FloatImage& photo, const MattingOptions& options,
-                            const BackdropKey& key, const FloatImage& background_photo) {
-  const cv::Mat rgb = RgbToMat(photo);
+cv::Mat BackdropEvidence(const cv::Mat& rgb, const MattingOptions& options,
+                         const BackdropKey& key, const cv::Mat& background_rgb) {
   cv::Mat plate;
-  if (!background_photo.empty()) {
-    plate = RgbToMat(background_photo);
+  if (!background_rgb.empty()) {
+    plate = background_rgb;
   } else {
     const cv::Vec3f seed(key.seed_rgb[0], key.seed_rgb[1], key.seed_rgb[2]);
     plate = EstimatePlate(rgb, seed, BorderPixels(rgb, options.border_fraction), options);
   }
-  return MatToImage(EvidenceMap(rgb, plate, MakeParams(options)));
+  return EvidenceMap(rgb, plate, MakeParams(options));
 }
 
 }  // namespace sylva

@@ -1,5 +1,5 @@
 // Backdrop keying for the "backdrop" and "difference" trimaps (internal to
-// reconstruct/matting).
+// reconstruct/matting; includes OpenCV). Images are CV_32FC3 RGB in [0, 1].
 //
 // A pixel p is compared with the backdrop colour b behind it (the "clean
 // plate") by its evidence of being foreground,
@@ -20,9 +20,10 @@
 #ifndef SYLVA_RECONSTRUCT_MATTING_BACKDROP_H_
 #define SYLVA_RECONSTRUCT_MATTING_BACKDROP_H_
 
+#include <opencv2/core.hpp>
+
 #include <array>
 
-#include "core/types/float_image.h"
 #include "reconstruct/matting/matting.h"
 
 namespace sylva {
@@ -34,12 +35,12 @@ struct BackdropKey {
 };
 
 // The seed colour and how well it explains the photo's border.
-BackdropKey EstimateBackdropKey(const FloatImage& photo, const MattingOptions& options);
+BackdropKey EstimateBackdropKey(const cv::Mat& rgb, const MattingOptions& options);
 
-// Per-pixel evidence E (one channel) against the estimated clean plate, or
-// against `background_photo` if it is not empty.
-FloatImage BackdropEvidence(const FloatImage& photo, const MattingOptions& options,
-                            const BackdropKey& key, const FloatImage& background_photo);
+// Per-pixel evidence E (CV_32F) against the estimated clean plate, or
+// against `background_rgb` if it is not empty.
+cv::Mat BackdropEvidence(const cv::Mat& rgb, const MattingOptions& options,
+                         const BackdropKey& key, const cv::Mat& background_rgb);
 
 }  // namespace sylva
 

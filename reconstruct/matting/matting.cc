@@ -12,6 +12,9 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
+// Share of the progress bar given to the trimap (the refinement gets the rest).
+constexpr double kTrimapShare = 0.2;
+
 double SecondsSince(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
@@ -49,8 +52,8 @@ void CheckHint(const FloatImage& hint, int width, int height) {
 std::string MattingSummary::BriefReport() const {
   std::ostringstream out;
   out << "matte: trimap " << trimap_source;
-  if (trimap_source == "backdrop") {
-    out << " (seed RGB " << std::lround(255 * backdrop_rgb[0]) << ","
+  if (trimap_source == "backdrop" || trimap_source == "grabcut") {
+    out << " (border seed RGB " << std::lround(255 * backdrop_rgb[0]) << ","
         << std::lround(255 * backdrop_rgb[1]) << "," << std::lround(255 * backdrop_rgb[2])
         << ", border agreement " << std::lround(100 * border_agreement) << " %)";
   }
@@ -93,11 +96,12 @@ FloatImage ComputeMatte(const FloatImage& photo, const FloatImage& hint_trimap,
   local.hint_used = !hint_trimap.empty();
   CountLabels(trimap, &local);
   local.seconds_trimap = SecondsSince(start);
+  if (progress != nullptr) progress->Update(kTrimapShare);
 
   const Clock::time_point refine_start = Clock::now();
   FloatImage alpha;
   if (progress != nullptr) {
-    ProgressTask refine_task = progress->SubTask("matte: refine", 0.2, 1.0);
+    ProgressTask refine_task = progress->SubTask("matte: refine", kTrimapShare, 1.0);
     alpha = RefineMatte(photo, trimap, options, &refine_task, &local);
   } else {
     alpha = RefineMatte(photo, trimap, options, nullptr, &local);

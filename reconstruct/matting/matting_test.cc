@@ -182,8 +182,8 @@ void Hsv(const FloatImage& photo, int x, int y, double* hue, double* saturation,
 // of the dataset's own crude matte, whose min > 95 also takes the dim blended
 // edges) and drops the strongly orange ones.
 TEST(MattingTest, RomiKeepsStemsAndRejectsOrange) {
-  const FloatImage photo = DownsampleChannels(
-      ReadImage(kData + "romi-real-plant-24/images/pict20190201_110110_0.jpg"), 2);
+  const FloatImage photo =
+      ReadImage(kData + "romi-real-plant-24/images/pict20190201_110110_0.jpg");
   MattingOptions options;
   options.reject_hues = "330-35";
   MattingSummary summary;
@@ -209,14 +209,14 @@ TEST(MattingTest, RomiKeepsStemsAndRejectsOrange) {
   }
   const double pale_recall = static_cast<double>(pale_kept) / pale;
   const double orange_kept_fraction = static_cast<double>(orange_kept) / orange;
-  std::printf("ROMI /2: %lld foreground px; pale kept %.4f of %lld; orange kept %.4f of %lld\n  %s\n",
+  std::printf("ROMI: %lld foreground px; pale kept %.4f of %lld; orange kept %.4f of %lld\n  %s\n",
               static_cast<long long>(foreground), pale_recall, static_cast<long long>(pale),
               orange_kept_fraction, static_cast<long long>(orange), summary.BriefReport().c_str());
-  EXPECT_GE(pale_recall, 0.93);
+  EXPECT_GE(pale_recall, 0.95);
   EXPECT_LE(orange_kept_fraction, 0.01);
-  EXPECT_GT(orange, 1000);  // the photo does show the targets
+  EXPECT_GT(orange, 4000);  // the photo does show the targets
   // Not much more than the pale pixels and their blended edges.
-  EXPECT_LE(foreground, 2 * pale);
+  EXPECT_LE(foreground, 3 * pale);
 }
 
 // Phenomenal: a maize plant in a white cabin (orange frame, black rails and
@@ -300,6 +300,7 @@ TEST(MattingTest, BadInputsThrowNamingTheProblem) {
   trimap.at(5, 7) = std::nanf("");
   ExpectInputError([&] { RefineMatte(photo, trimap, options); }, "trimap");
   ExpectInputError([&] { ComputeMatte(photo.Channel(0), {}, {}, options); }, "photo");
+  ExpectInputError([&] { ComputeMatte(FloatImage(4, 4, 3), {}, {}, options); }, "photo");
   ExpectInputError([&] { ComputeMatte(photo, FloatImage(3, 3, 1), {}, options); },
                    "hint trimap");
   ExpectInputError([&] { ComputeMatte(photo, {}, FloatImage(3, 3, 3), options); },
@@ -331,12 +332,22 @@ TEST(MattingTest, ReadHintTrimapReadsPaintAndRejectsColour) {
 TEST(MattingTest, SameInputsAndSeedGiveTheSameMatte) {
   const FloatImage cutout = Stamp("tree336");
   const FloatImage photo =
-      DownsampleChannels(CompositeOver(cutout, Clutter(cutout)), 2);  // GrabCut: random init
+      DownsampleChannels(CompositeOver(cutout, Clutter(cutout)), 3);  // GrabCut: random init
   MattingOptions options;
   options.seed = 7;
   const FloatImage first = ComputeMatte(photo, {}, {}, options);
   const FloatImage second = ComputeMatte(photo, {}, {}, options);
   EXPECT_EQ(first.values(), second.values());
+}
+
+// GrabCut with nothing left to decide (all painted) does not call OpenCV.
+TEST(MattingTest, GrabCutWithEverythingPaintedKeepsThePaint) {
+  const FloatImage photo = Clutter(FloatImage(64, 48, 3));
+  MattingOptions options;
+  options.trimap = "grabcut";
+  const FloatImage all_foreground(photo.width(), photo.height(), 1, kTrimapForeground);
+  const FloatImage alpha = ComputeMatte(photo, all_foreground, {}, options);
+  for (float a : alpha.values()) ASSERT_EQ(a, 1.0f);
 }
 
 TEST(MattingTest, RefineNoneLeavesUnknownAtOneHalf) {

@@ -5,8 +5,6 @@
 
 #include <chrono>
 #include <cmath>
-#include <iostream>
-#include <sstream>
 
 #include "core/util/check.h"
 #include "reconstruct/matting/closed_form.h"
@@ -66,17 +64,6 @@ cv::Rect UnknownCrop(const cv::Mat& unknown) {
   return grown & cv::Rect(0, 0, unknown.cols, unknown.rows);
 }
 
-// Silences std::cout for a scope: some OpenCV alphamat builds print progress.
-class ScopedSilentCout {
- public:
-  ScopedSilentCout() : saved_(std::cout.rdbuf(sink_.rdbuf())) {}
-  ~ScopedSilentCout() { std::cout.rdbuf(saved_); }
-
- private:
-  std::ostringstream sink_;
-  std::streambuf* saved_;
-};
-
 // Information-flow alpha (Aksoy et al. 2017) through cv::alphamat::infoFlow.
 cv::Mat InfoFlowAlpha(const cv::Mat& rgb, const cv::Mat& classified) {
   const cv::Mat unknown = classified == kTrimapUnknown;
@@ -102,11 +89,10 @@ cv::Mat InfoFlowAlpha(const cv::Mat& rgb, const cv::Mat& classified) {
   }
   cv::Mat tmap8;
   classified(crop).convertTo(tmap8, CV_8U, 255.0);  // 0 / 128 / 255
+  // infoFlow logs its progress through OpenCV's logger (INFO level, off by
+  // default) and overwrites its trimap argument: tmap8 is our own copy.
   cv::Mat result8;
-  {
-    ScopedSilentCout silent;
-    cv::alphamat::infoFlow(RgbToBgr8(rgb(crop)), tmap8, result8);
-  }
+  cv::alphamat::infoFlow(RgbToBgr8(rgb(crop)), tmap8, result8);
   cv::Mat result;
   result8.convertTo(result, CV_32F, 1.0 / 255.0);
   result.copyTo(alpha(crop), unknown(crop));

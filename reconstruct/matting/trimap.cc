@@ -12,6 +12,8 @@
 namespace sylva {
 namespace {
 
+// Smallest photo side (pixels) the trimap and refinement work on.
+constexpr int kMinPhotoSide = 8;
 // Labels are CV_8U while the trimap is built.
 constexpr uchar kLabelBackground = 0;
 constexpr uchar kLabelUnknown = 128;
@@ -27,8 +29,7 @@ cv::Mat Disk(int radius) {
   return cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * radius + 1, 2 * radius + 1));
 }
 
-cv::Mat LabelsFromEvidence(const FloatImage& evidence, double foreground_evidence) {
-  const cv::Mat e = GrayToMat(evidence);
+cv::Mat LabelsFromEvidence(const cv::Mat& e, double foreground_evidence) {
   cv::Mat labels(e.size(), CV_8U, cv::Scalar(kLabelUnknown));
   labels.setTo(kLabelBackground, e < 1.0f);
   labels.setTo(kLabelForeground, e >= static_cast<float>(foreground_evidence));
@@ -164,7 +165,10 @@ cv::Mat GrabCutForeground(const cv::Mat& rgb, const cv::Mat& hard_background,
     mask.setTo(cv::GC_BGD, small_hint == kLabelBackground);
     mask.setTo(cv::GC_FGD, small_hint == kLabelForeground);
   }
+  // GrabCut needs samples of both labels; painted or rejected everywhere,
+  // the answer is already known.
   if (cv::countNonZero(mask != cv::GC_BGD) == 0) return cv::Mat(rgb.size(), CV_8U, cv::Scalar(0));
+  if (cv::countNonZero(mask != cv::GC_FGD) == 0) return cv::Mat(rgb.size(), CV_8U, cv::Scalar(255));
   {
     ScopedCvSeed seed(options.seed);
     cv::Mat background_model, foreground_model;
@@ -196,6 +200,9 @@ std::string ResolveSource(const MattingOptions& options, const FloatImage& backg
 
 void CheckPhoto(const FloatImage& photo, const char* what) {
   SYLVA_CHECK_INPUT(!photo.empty(), what) << "is empty";
+  SYLVA_CHECK_INPUT(photo.width() >= kMinPhotoSide && photo.height() >= kMinPhotoSide, what)
+      << "is " << photo.width() << "x" << photo.height() << " pixels; at least "
+      << kMinPhotoSide << "x" << kMinPhotoSide << " are needed";
   SYLVA_CHECK_INPUT(photo.channels() == 3 || photo.channels() == 4, what)
       << "must be RGB or RGBA, got " << photo.channels() << " channels";
   for (float v : photo.values()) {
@@ -217,11 +224,11 @@ void CheckPhotos(const FloatImage& photo, const FloatImage& background_photo) {
 FloatImage ComputeAutomaticTrimap(const FloatImage& photo, const MattingOptions& options,
                                   const FloatImage& background_photo, const FloatImage& hint,
                                   MattingSummary* summary) {
-  const BackdropKey key = EstimateBackdropKey(photo, options);
+  const cv::Mat rgb = RgbToMat(photo);
+  const BackdropKey key = EstimateBackdropKey(rgb, options);
   const std::string source = ResolveSource(options, background_photo, key);
   SYLVA_CHECK_INPUT(source != "difference" || !background_photo.empty(), "Matting.trimap")
       << "'difference' needs a background photo";
-  const cv::Mat rgb = RgbToMat(photo);
   const cv::Mat hard_background = RejectedMask(rgb, options) | OutsideRegionMask(rgb.size(), options);
   cv::Mat labels;
   if (source == "grabcut") {
@@ -233,8 +240,8 @@ FloatImage ComputeAutomaticTrimap(const FloatImage& photo, const MattingOptions&
     // GrabCut's edges are only as fine as its reduced image.
     AddUnknownBand(std::max(options.band_px, factor), &labels);
   } else {
-    const FloatImage evidence = BackdropEvidence(
-        photo, options, key, source == "difference" ? background_photo : FloatImage());
+    const cv::Mat evidence = BackdropEvidence(
+        rgb, options, key, source == "difference" ? RgbToMat(background_photo) : cv::Mat());
     labels = LabelsFromEvidence(evidence, options.foreground_evidence);
     AddUnknownBand(options.band_px, &labels);
   }

@@ -8,8 +8,8 @@
 
 namespace sylva {
 
-// Throws InputError naming `what` unless `photo` is a non-empty RGB or RGBA
-// image with finite values.
+// Throws InputError naming `what` unless `photo` is an RGB or RGBA image of
+// at least 8x8 pixels with finite values.
 void CheckPhoto(const FloatImage& photo, const char* what);
 // CheckPhoto for the photo and, if not empty, the background photo, which
 // must also have the photo's size.

@@ -22,6 +22,7 @@
 
 #include "core/io/image_io.h"
 #include "core/util/check.h"
+#include "datasets/eval/silhouette_metrics.h"
 #include "reconstruct/matting/matte_tools.h"
 #include "reconstruct/matting/matting.h"
 #include "reconstruct/matting/trimap_io.h"
@@ -164,9 +165,11 @@ int Main(int argc, char** argv) {
     }
   }
   const FloatImage photo = DownsampleChannels(ReadImage(argv[1]), flags.scale);
-  const FloatImage hint = flags.hint.empty() ? FloatImage() : DownsampleChannels(ReadHintTrimap(flags.hint), flags.scale);
-  const FloatImage background =
-      flags.background.empty() ? FloatImage() : DownsampleChannels(ReadImage(flags.background), flags.scale);
+  const FloatImage hint =
+      flags.hint.empty() ? FloatImage() : DownsampleChannels(ReadHintTrimap(flags.hint), flags.scale);
+  const FloatImage background = flags.background.empty()
+                                    ? FloatImage()
+                                    : DownsampleChannels(ReadImage(flags.background), flags.scale);
   MattingSummary summary;
   FloatImage trimap;
   FloatImage alpha;
@@ -180,23 +183,22 @@ int Main(int argc, char** argv) {
     summary.seconds_refine = summary.seconds_total =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   }
-  int64_t foreground = 0, intersection = 0, uni = 0;
-  const FloatImage truth =
-      flags.silhouette.empty() ? FloatImage() : DownsampleChannels(ReadMatte(flags.silhouette), flags.scale);
-  for (size_t i = 0; i < alpha.NumPixels(); ++i) {
-    const bool ours = alpha.values()[i] >= 0.5f;
-    foreground += ours;
-    if (truth.empty()) continue;
-    const bool theirs = truth.values()[i] >= 0.5f;
-    intersection += ours && theirs;
-    uni += ours || theirs;
-  }
+  const FloatImage truth = flags.silhouette.empty()
+                               ? FloatImage()
+                               : DownsampleChannels(ReadMatte(flags.silhouette), flags.scale);
+  const SilhouetteScores empty_truth =
+      CompareSilhouettes(alpha, FloatImage(alpha.width(), alpha.height(), 1, 0.0f));
   std::printf("%s %dx%d foreground_px %lld", argv[1], photo.width(), photo.height(),
-              static_cast<long long>(foreground));
-  if (!truth.empty()) std::printf(" IoU %.4f", uni > 0 ? static_cast<double>(intersection) / uni : 1.0);
+              static_cast<long long>(empty_truth.false_positive));
+  if (!truth.empty()) {
+    const SilhouetteScores scores = CompareSilhouettes(alpha, truth);
+    std::printf(" IoU %.4f precision %.4f recall %.4f", scores.iou, scores.precision,
+                scores.recall);
+  }
   std::printf("\n  %s\n", summary.BriefReport().c_str());
-  const FloatImage reference =
-      flags.reference.empty() ? FloatImage() : DownsampleChannels(ReadMatte(flags.reference), flags.scale);
+  const FloatImage reference = flags.reference.empty()
+                                   ? FloatImage()
+                                   : DownsampleChannels(ReadMatte(flags.reference), flags.scale);
   if (!reference.empty()) ReportDifference(alpha, reference, trimap);
   if (trimap.empty() && (!flags.trimap.empty() || !flags.side_by_side.empty())) {
     trimap = CombineHintTrimap(ComputeTrimap(photo, options, background), hint);
