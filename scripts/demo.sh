@@ -43,7 +43,7 @@ else
   # rejected by hue. The stems are 1-2 mm thick: a finer grid than default,
   # and the stem's radius given (the mattes' widest part near the base is
   # the pot, which would be measured as the trunk).
-  "$sylva" run "$project" --Matting.reject_hues=330-30 --Density.resolution=256 \
+  "$sylva" run "$project" --Matting.reject_hues=330-35 --Density.resolution=256 \
     --Skeleton.trunk_radius=1.5 --save
 fi
 sylva_log "Done. Outputs: $project/out/ (tree.glb opens in Blender or any glTF viewer; report.html in a browser)"

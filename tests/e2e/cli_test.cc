@@ -745,7 +745,7 @@ TEST_F(CliTest, BundledDemoMeetsItsFidelityTargets) {
 const char kRomiSubset[] = SYLVA_SOURCE_DIR "/datasets/romi-real-plant-24";
 // Options for ROMI's black velvet: its orange calibration targets and clips
 // are never the plant.
-const char kRomiMatting[] = "--Matting.reject_hues=330-30";
+const char kRomiMatting[] = "--Matting.reject_hues=330-35";
 
 // Copies photos `indices` (0..23, in capture order) of the bundled ROMI set
 // into `dir`/images and writes the matching COLMAP text model to

@@ -242,7 +242,7 @@ void RegisterMatting(MattingOptions* o, MatteStageOptions* stage, OptionRegistry
   r->AddInt("Matting.band_px", &o->band_px, "pixels",
             "pixels this close to both foreground and background are unknown");
   r->AddString("Matting.reject_hues", &o->reject_hues,
-               "hue ranges never foreground, lo-hi[,lo-hi] in degrees (e.g. 330-30 for "
+               "hue ranges never foreground, lo-hi[,lo-hi] in degrees (e.g. 330-35 for "
                "orange calibration targets); empty = none");
   r->AddDouble("Matting.reject_min_saturation", &o->reject_min_saturation, "fraction",
                "minimum HSV saturation of a rejected hue");
