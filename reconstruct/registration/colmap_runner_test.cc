@@ -376,7 +376,12 @@ TEST(ColmapRunnerTest, SeveralModelsKeepTheLargest) {
   ASSERT_EQ(result.cameras.NumViews(), 3);
   EXPECT_EQ(result.cameras.views[0].name, names[2]);
   EXPECT_EQ(result.unregistered, (std::vector<std::string>{names[0], names[1], names[4]}));
-  EXPECT_NE(ReadFileToString(result.log_path).find("stand-in mapper"), std::string::npos);
+  // Photos stayed unregistered, so the mapper ran again with other seeds.
+  EXPECT_EQ(result.mapper_runs, options.mapper_attempts);
+  const std::string log = ReadFileToString(result.log_path);
+  EXPECT_NE(log.find("--random_seed " + std::to_string(options.mapper_attempts - 1)),
+            std::string::npos);
+  EXPECT_FALSE(fs::exists(scratch.path() / "ws" / "sparse_retry"));
 }
 
 bool ProcessGone(pid_t pid) {

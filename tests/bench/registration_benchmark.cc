@@ -41,7 +41,7 @@ struct Settings {
   int every = 1;
   int first = 0;  // 0 = all
   std::string masks = "0";
-  int mask_dilation = 8;
+  int mask_dilation = 60;  // ColmapMaskFromMatte's default
   bool world_frame_only = false;
   ColmapOptions colmap;
 };
