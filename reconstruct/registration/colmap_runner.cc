@@ -35,6 +35,7 @@ using Clock = std::chrono::steady_clock;
 
 constexpr char kDatabaseName[] = "database.db";
 constexpr char kSparseFolder[] = "sparse";
+constexpr char kRetryFolder[] = "sparse_retry";
 constexpr char kImageListName[] = "image_list.txt";
 constexpr char kLogName[] = "colmap.log";
 
@@ -307,6 +308,7 @@ struct RunContext {
   fs::path database;
   fs::path log_path;
   std::ofstream log;
+  std::vector<std::string> photo_names;
   int num_photos = 0;
 };
 
@@ -457,6 +459,7 @@ void PrepareWorkspace(const fs::path& workspace, const std::vector<std::string>&
     fs::remove(workspace / name);
   }
   fs::remove_all(workspace / kSparseFolder);
+  fs::remove_all(workspace / kRetryFolder);
   fs::create_directories(workspace / kSparseFolder);
   std::string list;
   for (const std::string& name : photo_names) list += name + "\n";
@@ -479,6 +482,12 @@ std::vector<ImageSet> ReadModels(const fs::path& sparse_dir) {
   std::vector<ImageSet> models;
   for (const auto& folder : folders) models.push_back(ReadColmapModel(folder.second));
   return models;
+}
+
+int LargestModelSize(const std::vector<ImageSet>& models) {
+  int largest = 0;
+  for (const ImageSet& model : models) largest = std::max(largest, model.NumViews());
+  return largest;
 }
 
 // Keeps the largest model (the first of equals); the others' photos count as
@@ -509,6 +518,55 @@ void LogPartialSuccess(const ColmapResult& result) {
   }
 }
 
+// Runs the mapper, and again with other seeds (up to options.mapper_attempts
+// runs) while photos stay unregistered: incremental mapping depends on its
+// initial pair and RANSAC draws, and costs little beside matching. The
+// attempt that registers the most photos is kept in <workspace>/sparse and
+// in `result`. A retry that fails ends the retries; the first must succeed.
+// Returns the kept attempt's outcome.
+CommandOutcome MapWithRetries(RunContext* context, const fs::path& image_list,
+                              const fs::path& workspace, const ColmapOptions& options,
+                              const ProgressTask& task, ColmapResult* result) {
+  const fs::path sparse_dir = workspace / kSparseFolder;
+  const fs::path retry_dir = workspace / kRetryFolder;
+  const ProgressParser progress = MapperProgress(context->num_photos);  // kept across attempts
+  CommandOutcome kept;
+  for (int attempt = 0; attempt < options.mapper_attempts; ++attempt) {
+    const fs::path output = attempt == 0 ? sparse_dir : retry_dir;
+    fs::remove_all(output);
+    fs::create_directories(output);
+    ColmapOptions seeded = options;
+    seeded.random_seed = options.random_seed + attempt;
+    CommandOutcome outcome;
+    try {
+      outcome = RunStep(context, "mapper", MappingFlags(*context, image_list, output, seeded),
+                        seeded, progress, task);
+    } catch (const RegistrationError&) {
+      if (attempt == 0) throw;
+      SYLVA_LOG(kWarning) << "COLMAP mapper retry " << attempt << " failed; keeping the "
+                          << "earlier model (see " << context->log_path.string() << ")";
+      break;
+    }
+    result->mapping_seconds += outcome.seconds;
+    ++result->mapper_runs;
+    std::vector<ImageSet> models = ReadModels(output);
+    const int registered = models.empty() ? 0 : LargestModelSize(models);
+    if (attempt == 0 || registered > result->cameras.NumViews()) {
+      if (attempt > 0) {
+        fs::remove_all(sparse_dir);
+        fs::rename(output, sparse_dir);
+      }
+      result->cameras = ImageSet();
+      result->unregistered.clear();
+      if (!models.empty()) TakeLargestModel(std::move(models), context->photo_names, result);
+      kept = std::move(outcome);
+    }
+    fs::remove_all(retry_dir);
+    if (result->cameras.NumViews() == context->num_photos) break;
+  }
+  return kept;
+}
+
 }  // namespace
 
 void ColmapOptions::Check() const {
@@ -532,6 +590,8 @@ void ColmapOptions::Check() const {
       << "'";
   SYLVA_CHECK_INPUT(num_threads == -1 || num_threads >= 1, "Colmap.num_threads")
       << "must be -1 (all cores) or >= 1, got " << num_threads;
+  SYLVA_CHECK_INPUT(mapper_attempts >= 1 && mapper_attempts <= 20, "Colmap.mapper_attempts")
+      << "must be between 1 and 20, got " << mapper_attempts;
   SYLVA_CHECK_INPUT(random_seed >= 0, "Colmap.random_seed") << "must be >= 0, got " << random_seed;
 }
 
@@ -611,6 +671,7 @@ ColmapResult RunColmap(const fs::path& photos_dir, const std::vector<std::string
   RunContext context;
   context.executable = FindColmapExecutable(options.executable);
   context.photos_dir = photos_dir;
+  context.photo_names = photo_names;
   context.num_photos = static_cast<int>(photo_names.size());
   const bool same_size = CheckPhotos(photos_dir, photo_names, masks_dir, options.use_masks);
 
@@ -644,15 +705,12 @@ ColmapResult RunColmap(const fs::path& photos_dir, const std::vector<std::string
       RunStep(&context, result.matcher + "_matcher",
               MatchingFlags(context, result.matcher, options), options, matching_progress, matching)
           .seconds;
+  result.colmap_seconds = result.extraction_seconds + result.matching_seconds;
   const CommandOutcome mapping =
-      RunStep(&context, "mapper", MappingFlags(context, image_list, sparse_dir, options), options,
-              MapperProgress(context.num_photos), mapping_task);
-  result.mapping_seconds = mapping.seconds;
-  result.colmap_seconds =
-      result.extraction_seconds + result.matching_seconds + result.mapping_seconds;
+      MapWithRetries(&context, image_list, workspace, options, mapping_task, &result);
+  result.colmap_seconds += result.mapping_seconds;
 
-  std::vector<ImageSet> models = ReadModels(sparse_dir);
-  if (models.empty()) {
+  if (result.cameras.NumViews() == 0) {
     ThrowRegistrationError(context,
                            "COLMAP built no model: no pair of the " +
                                std::to_string(context.num_photos) +
@@ -660,7 +718,6 @@ ColmapResult RunColmap(const fs::path& photos_dir, const std::vector<std::string
                                "or texture?)",
                            &mapping);
   }
-  TakeLargestModel(std::move(models), photo_names, &result);
   if (result.cameras.NumViews() < kMinRegisteredPhotos) {
     ThrowRegistrationError(context,
                            "COLMAP registered only " + std::to_string(result.cameras.NumViews()) +

@@ -15,6 +15,8 @@
 // orange, registration_test_util.h), so this tool is meant for ROMI's
 // real_plant photos. Position errors are given in % of the truth's camera
 // ring radius (mean distance of its camera centres from their centroid).
+#include <sys/resource.h>
+
 #include <chrono>
 #include <cstdio>
 #include <cstring>
@@ -39,7 +41,7 @@ struct Settings {
   int every = 1;
   int first = 0;  // 0 = all
   std::string masks = "0";
-  int mask_dilation = 8;
+  int mask_dilation = 60;  // ColmapMaskFromMatte's default
   bool world_frame_only = false;
   ColmapOptions colmap;
 };
@@ -71,6 +73,15 @@ bool ApplyFlag(const std::string& name, const std::string& value, Settings* sett
   else
     return false;
   return true;
+}
+
+// CPU time (user + system) this process has used so far, in seconds: what
+// RunColmap itself costs, apart from the COLMAP processes it waits for.
+double ProcessCpuSeconds() {
+  rusage usage;
+  getrusage(RUSAGE_SELF, &usage);
+  return usage.ru_utime.tv_sec + usage.ru_stime.tv_sec +
+         1e-6 * (usage.ru_utime.tv_usec + usage.ru_stime.tv_usec);
 }
 
 double Seconds(std::chrono::steady_clock::time_point start) {
@@ -127,7 +138,7 @@ WorldFrame RunWorldFrame(const ImageSet& truth, const std::vector<FloatImage>& m
   const WorldFrame frame = EstimateWorldFrame(truth, mattes, WorldFrameOptions());
   PrintWorldFrame("world frame on the given cameras", frame, Seconds(start));
   const double up_error = std::acos(std::clamp(-frame.up_in_model.z(), -1.0, 1.0)) * 180 / M_PI;
-  std::printf("  up vs the given frame's -Z: %.3f deg\n", up_error);
+  std::printf("  up vs the given frame's -Z: %.4f deg\n", up_error);
   return frame;
 }
 
@@ -145,7 +156,7 @@ void CompareWorldFrames(const ColmapResult& result, const ImageSet& truth,
   const Eigen::Vector3d up_in_truth = (truth_from_colmap.rotation * frame.up_in_model).normalized();
   const Eigen::Vector3d base_in_truth = truth_from_colmap * frame.base_in_model;
   std::printf(
-      "  in the given frame: up %.3f deg from the given cameras' up; base %.1f %.1f %.1f "
+      "  in the given frame: up %.4f deg from the given cameras' up; base %.1f %.1f %.1f "
       "(%.1f from the given cameras' base); height %.1f (given cameras: %.1f)\n",
       std::acos(std::clamp(up_in_truth.dot(given.up_in_model), -1.0, 1.0)) * 180 / M_PI,
       base_in_truth.x(), base_in_truth.y(), base_in_truth.z(),
@@ -167,16 +178,19 @@ void RunOnce(const Settings& settings, bool use_masks, const std::vector<std::st
   ColmapOptions options = settings.colmap;
   options.use_masks = use_masks;
   const auto start = std::chrono::steady_clock::now();
+  const double cpu_start = ProcessCpuSeconds();
   const ColmapResult result =
       RunColmap(settings.photos, names, masks_dir, workspace, options, nullptr);
   const double total = Seconds(start);
+  const double sylva_cpu = ProcessCpuSeconds() - cpu_start;
   std::printf("\n[masks %s] %s\n", use_masks ? "on" : "off", result.BriefReport().c_str());
   std::printf(
       "  time: COLMAP %.2f s (extraction %.2f, matching %.2f, mapping %.2f); sylva "
-      "overhead %.3f s (%.2f%%); RunColmap wall %.2f s; writing masks %.2f s\n",
+      "overhead %.3f s wall (%.2f%%), %.3f s CPU in sylva's process; RunColmap wall %.2f s; "
+      "writing masks %.2f s\n",
       result.colmap_seconds, result.extraction_seconds, result.matching_seconds,
       result.mapping_seconds, result.sylva_seconds,
-      100 * result.sylva_seconds / result.colmap_seconds, total, mask_seconds);
+      100 * result.sylva_seconds / result.colmap_seconds, sylva_cpu, total, mask_seconds);
   if (result.cameras.NumViews() < 3) {
     std::printf("  registered %d of %zu: too few to compare poses\n", result.cameras.NumViews(),
                 names.size());
