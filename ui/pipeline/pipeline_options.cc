@@ -301,6 +301,8 @@ void RegisterColmap(ColmapOptions* o, OptionRegistry* r) {
              "one camera for all photos (forced off when photo sizes differ)");
   r->AddInt("Colmap.num_threads", &o->num_threads, "threads", "COLMAP threads; -1 = all cores");
   r->AddInt("Colmap.random_seed", &o->random_seed, "", "COLMAP's random seed");
+  r->AddInt("Colmap.mapper_attempts", &o->mapper_attempts, "runs",
+            "mapper runs (next seed each) while photos stay unregistered");
 }
 
 void RegisterWorldFrame(WorldFrameOptions* o, OptionRegistry* r) {
