@@ -50,7 +50,7 @@ std::vector<std::string> DatasetPhotos(int first, int count) {
 
 ColmapOptions FastOptions() {
   ColmapOptions options;
-  options.executable = "/usr/bin/colmap";
+  options.executable = "colmap";  // found in PATH (Debian: /usr/bin/colmap)
   options.max_image_size = 640;
   options.num_threads = 2;
   return options;
