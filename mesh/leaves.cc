@@ -126,8 +126,8 @@ void AddLeafQuad(const Leaf& leaf, double length, double width, int material, Tr
 }  // namespace
 
 void LeafOptions::Check() const {
-  SYLVA_CHECK_INPUT(num_leaves >= 0 && num_leaves <= 10000000, "Leaves.num_leaves")
-      << "must be between 0 (from the leaf area) and 10^7, got " << num_leaves;
+  SYLVA_CHECK_INPUT(num_leaves >= -1 && num_leaves <= 10000000, "Leaves.num_leaves")
+      << "must be -1 (no leaves), 0 (from the leaf area) or up to 10^7, got " << num_leaves;
   SYLVA_CHECK_INPUT(max_leaves >= 1 && max_leaves <= 10000000, "Leaves.max_leaves")
       << "must be between 1 and 10^7, got " << max_leaves;
   SYLVA_CHECK_INPUT(max_draws_factor >= 1, "Leaves.max_draws_factor")

@@ -17,7 +17,8 @@
 namespace sylva {
 
 struct LeafOptions {
-  // Leaves to place. 0 (the default) = as many as the density's leaf area
+  // Leaves to place; -1 = none (leafless plants). 0 (the default) = as many
+  // as the density's leaf area
   // implies: by Beer-Lambert with randomly oriented leaves (projection
   // factor G = 0.5), a voxel of side s and optical depth x (per voxel length)
   // holds a leaf area of x s^2 / G. Leaves are drawn in proportion to the

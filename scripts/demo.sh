@@ -42,8 +42,9 @@ else
   # Black velvet backdrop; the orange calibration targets and clips are
   # rejected by hue. The stems are 1-2 mm thick: a finer grid than default,
   # and the stem's radius given (the mattes' widest part near the base is
-  # the pot, which would be measured as the trunk).
+  # the pot, which would be measured as the trunk). The dry stem has no
+  # leaves.
   "$sylva" run "$project" --Matting.reject_hues=330-35 --Density.resolution=256 \
-    --Skeleton.trunk_radius=1.5 --save
+    --Skeleton.trunk_radius=1.5 --Leaves.num_leaves=-1 --save
 fi
 sylva_log "Done. Outputs: $project/out/ (tree.glb opens in Blender or any glTF viewer; report.html in a browser)"

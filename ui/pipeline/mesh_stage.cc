@@ -22,7 +22,7 @@ StageRun RunMeshStage(const StageContext& context) {
       BuildTreeMesh(skeleton, density, views, mattes, context.options, &run.brief);
   progress.Update(0.8);
   GltfExportOptions gltf;
-  gltf.extras["units"] = context.project.units();
+  gltf.extras["units"] = context.Units();
   gltf.extras["branch_radii"] = "allometric prior (pipe model), not a measurement";
   run.outputs = {context.Out("tree.glb"), context.Out("tree.obj")};
   WriteGlb(run.outputs[0], mesh, gltf);

@@ -193,7 +193,7 @@ void Pipeline::WriteRunRecord() const {
   RegisterPipelineOptions(&copy, &registry);
   const Json record = {{"sylva_version", kSylvaVersion},
                        {"finished", LocalTime()},
-                       {"units", project_.units()},
+                       {"units", StageContext{project_, options_, progress_}.Units()},
                        {"held_out", project_.held_out()},
                        {"options", registry.ToJson(/*only_changed=*/false)}};
   WriteJsonFile(project_.OutDir() / "run.json", record);

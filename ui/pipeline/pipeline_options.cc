@@ -184,7 +184,7 @@ void RegisterBranchMesh(BranchMeshOptions* o, OptionRegistry* r) {
 void RegisterLeaves(LeafOptions* o, OptionRegistry* r) {
   r->AddInt("Leaves.num_leaves", &o->num_leaves, "leaves",
             "leaves placed in proportion to density; 0 = from the density's leaf area "
-            "(Beer-Lambert)");
+            "(Beer-Lambert); -1 = no leaves (leafless plants)");
   r->AddInt("Leaves.max_leaves", &o->max_leaves, "leaves", "upper bound on the automatic count");
   r->AddDouble("Leaves.leaf_length", &o->leaf_length, "world units",
                "leaf length; 0 = leaf_length_fraction x tree height");

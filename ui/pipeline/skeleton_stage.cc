@@ -15,7 +15,7 @@ StageRun RunSkeletonStage(const StageContext& context) {
   const std::vector<FloatImage> mattes = context.LoadMattes(views, "skeleton: reading mattes");
   const BuiltSkeleton built =
       BuildSkeleton(density, views, mattes, context.options, context.progress);
-  const std::string& units = context.project.units();
+  const std::string units = context.Units();
   StageRun run;
   run.brief = built.brief;
   run.outputs = {context.Out("skeleton.json"), context.Out("skeleton.ply"),

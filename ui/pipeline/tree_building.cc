@@ -58,8 +58,8 @@ BuiltSkeleton BuildSkeleton(const DensityGrid& density, const ImageSet& input_vi
   const SkeletonGraph flowed = SimulateParticleFlow(density, built.base, ConstantDirectionField(),
                                                     flow, progress, &flow_summary, &built.raw);
   MattePruningSummary pruning;
-  built.skeleton = PruneBranchesOutsideMattes(flowed, input_views, mattes,
-                                              options.skeleton.pruning, &pruning);
+  built.skeleton =
+      PruneBranchesOutsideMattes(flowed, input_views, mattes, options.skeleton.pruning, &pruning);
   const double height = std::max(SkeletonHeight(built.skeleton, built.base), density.voxel_size());
   std::string how;
   AllometryOptions allometry = options.allometry;
@@ -70,9 +70,8 @@ BuiltSkeleton BuildSkeleton(const DensityGrid& density, const ImageSet& input_vi
   built.trunk_radius = allometry.trunk_radius;
   std::ostringstream brief;
   brief << flow_summary.BriefReport() << " " << pruning.BriefReport() << " Base ("
-        << built.base.transpose() << "); trunk radius "
-        << allometry.trunk_radius << " (" << how << "; radii are an allometric prior, Delta "
-        << allometry.diameter_exponent << ").";
+        << built.base.transpose() << "); trunk radius " << allometry.trunk_radius << " (" << how
+        << "; radii are an allometric prior, Delta " << allometry.diameter_exponent << ").";
   built.brief = brief.str();
   return built;
 }
@@ -84,6 +83,11 @@ TriangleMesh BuildTreeMesh(const SkeletonGraph& skeleton, const DensityGrid& den
   TriangleMesh mesh = MeshBranches(skeleton, options.branch_mesh, &branch_summary);
   LeafOptions leaf_options = options.leaves;
   leaf_options.seed = DeriveSeed(options.general.seed, kLeafSeedStream);
+  if (leaf_options.num_leaves < 0) {  // a leafless plant
+    if (brief != nullptr)
+      *brief = branch_summary.BriefReport() + " No leaves (Leaves.num_leaves=-1).";
+    return mesh;
+  }
   LeafSummary leaf_summary;
   mesh.Append(GenerateLeaves(skeleton, density, input_views, mattes, leaf_options, &leaf_summary));
   if (brief != nullptr) *brief = branch_summary.BriefReport() + " " + leaf_summary.BriefReport();
