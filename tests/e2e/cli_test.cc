@@ -356,6 +356,12 @@ TEST_F(CliTest, InitRunAndCachedReruns) {
   const Json run_record = ReadJsonFile(out / "run.json");
   EXPECT_EQ(run_record.at("options").at("Density").at("resolution").get<int>(), 32);
   EXPECT_TRUE(TempFilesUnder(project).empty());
+
+  // Given mattes: the matte stage has nothing to do and computes nothing.
+  const SubprocessResult matte = Sylva({"matte", project.string()});
+  ASSERT_TRUE(Succeeded(matte));
+  EXPECT_TRUE(Contains(matte.out, "matte: not needed")) << matte.out;
+  EXPECT_FALSE(fs::exists(out / "mattes"));
 }
 
 // 2. A photo named by the camera model is missing.

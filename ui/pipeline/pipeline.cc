@@ -250,6 +250,12 @@ void Pipeline::CheckHeldOutMattes() const {
 }
 
 StageRun Pipeline::RunStage(Stage stage) {
+  if (!Definition(stage).applies(project_)) {
+    StageRun run;
+    run.stage = stage;
+    run.brief = "not needed (the project's mattes are given, not computed)";
+    return run;
+  }
   StageRun run = Execute(stage);
   WriteRunRecord();
   return run;
