@@ -64,7 +64,7 @@ StageRun RunMatteStage(const StageContext& context) {
   // Which photos need a new matte.
   const Json previous = ReadMatteRecords(project);
   std::vector<std::string> keys(names.size());
-  std::vector<int> todo;
+  std::vector<int> to_compute;
   for (size_t i = 0; i < names.size(); ++i) {
     const fs::path hint = project.TrimapHintPath(names[i]);
     keys[i] = HexString(Fnv1a64(std::string(kMatteVersion) + ";" +
@@ -75,7 +75,7 @@ StageRun RunMatteStage(const StageContext& context) {
     const bool cached = previous.contains(names[i]) && previous[names[i]].is_string() &&
                         previous[names[i]].get<std::string>() == keys[i] &&
                         fs::is_regular_file(project.ComputedMattePath(names[i]), exists_ec);
-    if (!cached) todo.push_back(static_cast<int>(i));
+    if (!cached) to_compute.push_back(static_cast<int>(i));
   }
 
   // New mattes are written to a staging folder and moved into out/mattes/
@@ -92,9 +92,9 @@ StageRun RunMatteStage(const StageContext& context) {
   std::atomic<int> done{0};
   std::vector<double> foreground(names.size(), -1.0);
   try {
-    ParallelForFirstError(static_cast<int>(todo.size()), [&](int t) {
+    ParallelForFirstError(static_cast<int>(to_compute.size()), [&](int t) {
       progress.CheckCancelled();
-      const int i = todo[t];
+      const int i = to_compute[t];
       const fs::path photo_path = project.PhotoPath(names[i]);
       const FloatImage photo = ReadImage(photo_path);
       SYLVA_CHECK_INPUT(photo.channels() >= 3, photo_path.string())
@@ -121,13 +121,13 @@ StageRun RunMatteStage(const StageContext& context) {
       foreground[i] = sum / static_cast<double>(matte.NumPixels());
       fs::create_directories(staged(names[i]).parent_path());
       WriteImage(staged(names[i]), matte, PixelFormat::kUint8);
-      progress.Update(static_cast<double>(++done) / todo.size());
+      progress.Update(static_cast<double>(++done) / to_compute.size());
     });
   } catch (...) {
     fs::remove_all(staging, ec);
     throw;
   }
-  for (int i : todo) {
+  for (int i : to_compute) {
     const fs::path target = project.ComputedMattePath(names[i]);
     fs::create_directories(target.parent_path());
     fs::rename(staged(names[i]), target);
@@ -147,8 +147,8 @@ StageRun RunMatteStage(const StageContext& context) {
     ++computed;
   }
   std::ostringstream brief;
-  brief << names.size() << " mattes in out/mattes/ (" << todo.size() << " computed, "
-        << names.size() - todo.size() << " unchanged)";
+  brief << names.size() << " mattes in out/mattes/ (" << to_compute.size() << " computed, "
+        << names.size() - to_compute.size() << " unchanged)";
   if (computed > 0) {
     brief << "; mean foreground " << 100.0 * mean_foreground / computed << " % of the pixels";
   }

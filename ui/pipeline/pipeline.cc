@@ -127,8 +127,10 @@ std::string Pipeline::StageKey(Stage stage) const {
   if (stage == Stage::kMatte || stage == Stage::kRegister) {
     // These stages read the photos (and the register stage the mattes and
     // the camera source) by name, before any cameras exist.
-    for (const fs::path& file : project_.CameraSourceFiles()) {
-      if (stage == Stage::kRegister) text += FileKey(project_, file) + ";";
+    if (stage == Stage::kRegister) {
+      for (const fs::path& file : project_.CameraSourceFiles()) {
+        text += FileKey(project_, file) + ";";
+      }
     }
     for (const std::string& name : project_.photo_names()) {
       text += name + "=" + FileKey(project_, project_.PhotoPath(name));

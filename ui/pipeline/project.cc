@@ -180,8 +180,7 @@ FloatImage Project::LoadMatte(const std::string& view_name, int width, int heigh
 }
 
 void Project::ApplySavedOptions(OptionRegistry* registry) const {
-  registry->SetFromJson(ParseJson(options_json_, SettingsPath().string()),
-                        SettingsPath().string());
+  registry->SetFromJson(ParseJson(options_json_, SettingsPath().string()), SettingsPath().string());
 }
 
 void Project::SaveOptions(const OptionRegistry& registry) {
@@ -213,8 +212,10 @@ Project Project::Open(const fs::path& root) {
       << "not a sylva project (no sylva.json); create one with 'sylva init'";
   const Json json = ReadJsonFile(settings);
   const JsonCursor root_json(json, settings.string());
-  if (root_json["format"].AsString() != kFormatName) root_json["format"].Fail("not a sylva project");
-  if (root_json["version"].AsInt() != kFormatVersion) root_json["version"].Fail("unsupported version");
+  if (root_json["format"].AsString() != kFormatName)
+    root_json["format"].Fail("not a sylva project");
+  if (root_json["version"].AsInt() != kFormatVersion)
+    root_json["version"].Fail("unsupported version");
   project.photos_ = root_json["photos"].AsString();
   project.mattes_ = root_json["mattes"].AsString();
   project.camera_type_ = root_json["cameras"]["type"].AsString();
@@ -262,8 +263,8 @@ Project Project::Create(const ProjectSetup& setup) {
   SYLVA_CHECK_INPUT(setup.mattes_dir.empty() || fs::is_directory(setup.mattes_dir, ec),
                     setup.mattes_dir.string())
       << "matte folder not found";
-  const int num_sources = !setup.colmap_model_dir.empty() + !setup.camera_file.empty() +
-                          !setup.register_method.empty();
+  const int num_sources =
+      !setup.colmap_model_dir.empty() + !setup.camera_file.empty() + !setup.register_method.empty();
   SYLVA_CHECK_INPUT(num_sources == 1, "init")
       << "give exactly one of --colmap MODEL_DIR, --cameras FILE.json and --register "
          "colmap|manual";
@@ -295,10 +296,10 @@ Project Project::Create(const ProjectSetup& setup) {
     ImageSet given;
     if (!setup.colmap_model_dir.empty() || !setup.camera_file.empty()) {
       project.camera_type_ = !setup.colmap_model_dir.empty() ? "colmap" : "sylva";
-      given = ReadCameraSource(project.camera_type_,
-                               project.camera_type_ == "colmap" ? setup.colmap_model_dir
-                                                                : setup.camera_file,
-                               &file_units);
+      given = ReadCameraSource(
+          project.camera_type_,
+          project.camera_type_ == "colmap" ? setup.colmap_model_dir : setup.camera_file,
+          &file_units);
       for (const View& view : given.views) project.photo_names_.push_back(view.name);
       std::sort(project.photo_names_.begin(), project.photo_names_.end());
     } else {
@@ -307,8 +308,8 @@ Project Project::Create(const ProjectSetup& setup) {
       SYLVA_CHECK_INPUT(project.photo_names_.size() >= 2, setup.photos_dir.string())
           << "registration needs at least 2 photos; found " << project.photo_names_.size();
     }
-    project.units_ = !setup.units.empty() ? setup.units
-                                          : (file_units.empty() ? "arbitrary" : file_units);
+    project.units_ =
+        !setup.units.empty() ? setup.units : (file_units.empty() ? "arbitrary" : file_units);
     // Two photos whose computed mattes would share a file (a.jpg, a.png).
     std::vector<std::string> matte_names;
     for (const std::string& name : project.photo_names_) {
@@ -325,21 +326,19 @@ Project Project::Create(const ProjectSetup& setup) {
       project.matte_source_ = "given";
     } else {
       int with_alpha = 0;
+      fs::path without_alpha;  // the first photo without an alpha channel
       for (const std::string& name : project.photo_names_) {
         const fs::path photo = project.PhotoPath(name);
         SYLVA_CHECK_INPUT(fs::is_regular_file(photo, ec), photo.string())
             << "photo '" << name << "' named by the camera model is missing";
-        with_alpha += ReadImageHeader(photo).alpha_channel >= 0;
+        const bool has_alpha = ReadImageHeader(photo).alpha_channel >= 0;
+        with_alpha += has_alpha;
+        if (!has_alpha && without_alpha.empty()) without_alpha = photo;
       }
+      SYLVA_CHECK_INPUT(with_alpha == 0 || without_alpha.empty(), without_alpha.string())
+          << "photo has no alpha channel while others have one; give --mattes DIR, or "
+             "photos without alpha so that sylva computes the mattes";
       project.matte_source_ = with_alpha == 0 ? "computed" : "alpha";
-      if (with_alpha > 0 && with_alpha < static_cast<int>(project.photo_names_.size())) {
-        for (const std::string& name : project.photo_names_) {
-          SYLVA_CHECK_INPUT(ReadImageHeader(project.PhotoPath(name)).alpha_channel >= 0,
-                            project.PhotoPath(name).string())
-              << "photo has no alpha channel while others have one; give --mattes DIR, or "
-                 "photos without alpha so that sylva computes the mattes";
-        }
-      }
     }
     // Every photo and matte is decoded (a truncated file is caught now, not
     // half-way through a run); in parallel, with the first photo's error shown.
@@ -349,9 +348,9 @@ Project Project::Create(const ProjectSetup& setup) {
       CheckPhotoFiles(project, name, v >= 0 ? &given.CameraOf(v) : nullptr);
     });
     for (const std::string& name : setup.held_out) {
-      SYLVA_CHECK_INPUT(std::binary_search(project.photo_names_.begin(),
-                                           project.photo_names_.end(), name),
-                        "--held-out")
+      SYLVA_CHECK_INPUT(
+          std::binary_search(project.photo_names_.begin(), project.photo_names_.end(), name),
+          "--held-out")
           << "view '" << name << "' is not one of the project's photos";
     }
     SYLVA_CHECK_INPUT(project.photo_names_.size() > setup.held_out.size(), "--held-out")

@@ -27,11 +27,6 @@
 namespace sylva {
 namespace {
 
-// The mattes of the views of `cameras`, in parallel.
-std::vector<FloatImage> LoadViewMattes(const StageContext& context, const ImageSet& cameras) {
-  return context.LoadMattes(cameras, "register: reading mattes");
-}
-
 // COLMAP masks (black = no features) from the mattes: foreground dilated so
 // that features on the tree's silhouette edge are kept.
 void WriteMasks(const StageContext& context, const fs::path& masks_dir) {
@@ -44,7 +39,7 @@ void WriteMasks(const StageContext& context, const fs::path& masks_dir) {
     const FloatImage matte = project.LoadMatte(names[i], header.width, header.height);
     const fs::path path = ColmapMaskPath(masks_dir, names[i]);
     fs::create_directories(path.parent_path());
-    WriteImage(path, ColmapMaskFromMatte(matte, 0.5f), PixelFormat::kUint8);
+    WriteImage(path, ColmapMaskFromMatte(matte), PixelFormat::kUint8);
   });
 }
 
@@ -122,7 +117,7 @@ StageRun RunRegisterStage(const StageContext& context) {
   }
 
   if (needs_world_frame) {
-    const std::vector<FloatImage> mattes = LoadViewMattes(context, cameras);
+    const std::vector<FloatImage> mattes = context.LoadMattes(cameras, "register: reading mattes");
     const WorldFrame frame = EstimateWorldFrame(cameras, mattes, options.world_frame);
     cameras = TransformCameras(cameras, frame);
     const Sim3d& sim = frame.world_from_model;
