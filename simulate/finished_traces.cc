@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/geometry/polyline.h"
 #include "core/util/check.h"
 
 namespace sylva {
@@ -14,16 +15,6 @@ constexpr double kCellsPerJoinDistance = 2.0;
 constexpr double kSamplesPerJoinDistance = 2.0;
 // Limits the dense grid of cells (about 16^3 cells per million).
 constexpr int64_t kMaxCells = int64_t{1} << 26;
-
-// Squared distance from p to the segment [a, b]; `*t` in [0, 1] receives
-// where the nearest point lies.
-double SegmentDistance2(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
-                        const Eigen::Vector3d& b, double* t) {
-  const Eigen::Vector3d ab = b - a;
-  const double length2 = ab.squaredNorm();
-  *t = length2 > 0 ? std::clamp((p - a).dot(ab) / length2, 0.0, 1.0) : 0.0;
-  return (a + *t * ab - p).squaredNorm();
-}
 
 }  // namespace
 

@@ -4,20 +4,10 @@
 #include <limits>
 #include <utility>
 
+#include "core/geometry/polyline.h"
 #include "core/util/check.h"
 
 namespace sylva {
-namespace {
-
-double SegmentDistance2(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
-                        const Eigen::Vector3d& b) {
-  const Eigen::Vector3d ab = b - a;
-  const double length2 = ab.squaredNorm();
-  const double t = length2 > 0 ? std::clamp((p - a).dot(ab) / length2, 0.0, 1.0) : 0.0;
-  return (a + t * ab - p).squaredNorm();
-}
-
-}  // namespace
 
 TraceGraph::TraceGraph(const Eigen::Vector3d& root_in_sim) { AddNode(root_in_sim, 0); }
 
@@ -124,7 +114,7 @@ std::vector<char> TraceGraph::KeptNodes(double tolerance) const {
   }
   for (int i = 0; i < n; ++i) kept[i] = (i == kRoot || num_children[i] != 1);
   std::vector<int> chain;
-  std::vector<std::pair<int, int>> ranges;
+  std::vector<char> keep;
   for (int start = 0; start < n; ++start) {
     if (start == kRoot || !kept[start]) continue;
     // The chain from this key node up to the next key node.
@@ -135,23 +125,13 @@ std::vector<char> TraceGraph::KeptNodes(double tolerance) const {
       node = parents_[node];
     }
     chain.push_back(node);
-    // Douglas-Peucker, with an explicit stack of index ranges.
-    ranges.assign(1, {0, static_cast<int>(chain.size()) - 1});
-    while (!ranges.empty()) {
-      const auto [first, last] = ranges.back();
-      ranges.pop_back();
-      const Eigen::Vector3d a = positions_[chain[first]].cast<double>();
-      const Eigen::Vector3d b = positions_[chain[last]].cast<double>();
-      double worst2 = tolerance * tolerance;
-      int worst = -1;
-      for (int k = first + 1; k < last; ++k) {
-        const double d2 = SegmentDistance2(positions_[chain[k]].cast<double>(), a, b);
-        if (d2 > worst2) worst2 = d2, worst = k;
-      }
-      if (worst < 0) continue;
-      kept[chain[worst]] = 1;
-      ranges.push_back({first, worst});
-      ranges.push_back({worst, last});
+    keep.assign(chain.size(), 0);
+    DouglasPeucker(
+        static_cast<int>(chain.size()),
+        [&](int k) { return Eigen::Vector3d(positions_[chain[k]].cast<double>()); }, tolerance,
+        &keep);
+    for (size_t k = 0; k < chain.size(); ++k) {
+      if (keep[k]) kept[chain[k]] = 1;
     }
   }
   return kept;

@@ -1,0 +1,62 @@
+// Small polyline helpers shared by the 2D attractor graphs and the 3D
+// particle traces: closest points on segments and Douglas-Peucker
+// simplification, for any fixed-size Eigen vector type.
+#ifndef SYLVA_CORE_GEOMETRY_POLYLINE_H_
+#define SYLVA_CORE_GEOMETRY_POLYLINE_H_
+
+#include <Eigen/Core>
+#include <algorithm>
+#include <utility>
+#include <vector>
+
+namespace sylva {
+
+// Parameter t in [0, 1] of the point of segment [a, b] closest to p (0 for
+// a degenerate segment).
+template <typename Vector>
+double ClosestSegmentParameter(const Vector& p, const Vector& a, const Vector& b) {
+  const Vector ab = b - a;
+  const double length2 = ab.squaredNorm();
+  return length2 > 0 ? std::clamp((p - a).dot(ab) / length2, 0.0, 1.0) : 0.0;
+}
+
+// Squared distance from p to segment [a, b]; `t` (optional) receives the
+// closest point's parameter.
+template <typename Vector>
+double SegmentDistance2(const Vector& p, const Vector& a, const Vector& b, double* t = nullptr) {
+  const double s = ClosestSegmentParameter(p, a, b);
+  if (t != nullptr) *t = s;
+  return (a + s * (b - a) - p).squaredNorm();
+}
+
+// Douglas-Peucker on a chain of `count` points, point(k) giving the k-th:
+// sets keep[k] = 1 for the points kept so that every dropped point lies
+// within `tolerance` of the kept polyline. The two ends are always kept;
+// other entries of `keep` that are already 1 stay 1 (but do not split the
+// chain). `keep` must have `count` entries.
+template <typename PointAt>
+void DouglasPeucker(int count, const PointAt& point, double tolerance, std::vector<char>* keep) {
+  if (count <= 0) return;
+  (*keep)[0] = (*keep)[count - 1] = 1;
+  std::vector<std::pair<int, int>> ranges = {{0, count - 1}};
+  while (!ranges.empty()) {
+    const auto [first, last] = ranges.back();
+    ranges.pop_back();
+    const auto a = point(first);
+    const auto b = point(last);
+    double worst2 = tolerance * tolerance;
+    int worst = -1;
+    for (int k = first + 1; k < last; ++k) {
+      const double d2 = SegmentDistance2(point(k), a, b);
+      if (d2 > worst2) worst2 = d2, worst = k;
+    }
+    if (worst < 0) continue;
+    (*keep)[worst] = 1;
+    ranges.push_back({first, worst});
+    ranges.push_back({worst, last});
+  }
+}
+
+}  // namespace sylva
+
+#endif  // SYLVA_CORE_GEOMETRY_POLYLINE_H_
