@@ -36,7 +36,7 @@ TreeResult ReconstructTree(uint64_t seed) {
   const PipelineOptions options;
   const DensityGrid density = ReconstructDensity(inputs, input_mattes, options.density, nullptr, nullptr);
   const BuiltSkeleton built =
-      BuildSkeleton(density, inputs, input_mattes, options, nullptr);
+      BuildSkeleton(density, inputs, input_mattes, {}, options, nullptr);
   std::string mesh_brief;
   const TriangleMesh mesh =
       BuildTreeMesh(built.skeleton, density, inputs, input_mattes, options, &mesh_brief);

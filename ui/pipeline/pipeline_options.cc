@@ -46,6 +46,7 @@ void PipelineOptions::Check() const {
   loose_refine.Check();
   density.Check();
   tree_base.Check();
+  direction_field.Check();
   particle_flow.Check();
   skeleton.Check();
   // Allometry sizes are set by the skeleton stage; check the exponent here.
@@ -111,6 +112,23 @@ void RegisterTreeBase(TreeBaseOptions* o, OptionRegistry* r) {
             "low layers among which the densest is the reference");
   r->AddInt("TreeBase.slab_voxels", &o->slab_voxels, "voxels",
             "layers above the base whose centre gives the base's x and y");
+}
+
+void RegisterDirectionField(AttractorFieldOptions* o, OptionRegistry* r) {
+  r->AddInt("DirectionField.resolution", &o->resolution, "cells",
+            "cells of each photo's 2D direction field along its longer side (thesis: 100)");
+  r->AddString("DirectionField.blend", &o->blend,
+               "blend h(d) of eq. 3.7: linear (towards the graph far, along it near) or "
+               "constant (a fixed approach angle)");
+  r->AddDouble("DirectionField.falloff", &o->falloff, "fraction of the image size",
+               "linear blend: distance from the graph at which particles head straight for it");
+  r->AddDouble("DirectionField.constant_h", &o->constant_h, "",
+               "constant blend: h in (0, 1); approach angle atan(h / (1 - h))");
+  r->AddString("DirectionField.combine", &o->combine,
+               "how the views' lifted directions combine: average (least-squares mean, the "
+               "thesis) or intersect (the direction whose projections agree with every view)");
+  r->AddInt("DirectionField.resolution_3d", &o->resolution_3d, "cells",
+            "samples of the 3D field along the longest side of the tree's box");
 }
 
 void RegisterParticleFlow(ParticleFlowOptions* o, OptionRegistry* r) {
@@ -347,6 +365,7 @@ void RegisterPipelineOptions(PipelineOptions* options, OptionRegistry* registry)
   RegisterLoose(&options->loose_init, &options->loose_refine, registry);
   RegisterDensity(&options->density, registry);
   RegisterTreeBase(&options->tree_base, registry);
+  RegisterDirectionField(&options->direction_field, registry);
   RegisterParticleFlow(&options->particle_flow, registry);
   RegisterSkeleton(&options->skeleton, &options->allometry, registry);
   RegisterBranchMesh(&options->branch_mesh, registry);

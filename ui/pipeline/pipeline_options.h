@@ -16,6 +16,7 @@
 #include "reconstruct/registration/colmap_runner.h"
 #include "reconstruct/registration/loose_registration.h"
 #include "reconstruct/registration/world_frame.h"
+#include "simulate/attractor_field.h"
 #include "simulate/particle_flow.h"
 #include "simulate/skeleton_pruning.h"
 #include "ui/pipeline/option_registry.h"
@@ -81,6 +82,7 @@ struct PipelineOptions {
   LooseRefineOptions loose_refine;
   DensityOptions density;
   TreeBaseOptions tree_base;
+  AttractorFieldOptions direction_field;
   ParticleFlowOptions particle_flow;
   SkeletonOptions skeleton;
   AllometryOptions allometry;

@@ -14,7 +14,7 @@ StageRun RunSkeletonStage(const StageContext& context) {
   const ImageSet views = context.InputViews();
   const std::vector<FloatImage> mattes = context.LoadMattes(views, "skeleton: reading mattes");
   const BuiltSkeleton built =
-      BuildSkeleton(density, views, mattes, context.options, context.progress);
+      BuildSkeleton(density, views, mattes, {}, context.options, context.progress);
   const std::string units = context.Units();
   StageRun run;
   run.brief = built.brief;

@@ -1,6 +1,7 @@
 #include "ui/pipeline/tree_building.h"
 
 #include <algorithm>
+#include <memory>
 #include <sstream>
 
 #include "core/util/random.h"
@@ -8,6 +9,7 @@
 #include "mesh/branch_mesh.h"
 #include "mesh/leaves.h"
 #include "mesh/trunk_width.h"
+#include "simulate/attractor_field.h"
 #include "simulate/direction_field.h"
 #include "simulate/particle_flow.h"
 #include "simulate/skeleton_pruning.h"
@@ -47,16 +49,36 @@ double TrunkRadius(const ImageSet& views, const std::vector<FloatImage>& mattes,
 }  // namespace
 
 BuiltSkeleton BuildSkeleton(const DensityGrid& density, const ImageSet& input_views,
-                            const std::vector<FloatImage>& mattes, const PipelineOptions& options,
-                            ProgressReporter* progress) {
+                            const std::vector<FloatImage>& mattes,
+                            const std::vector<AttractorGraph2D>& attractors,
+                            const PipelineOptions& options, ProgressReporter* progress) {
   BuiltSkeleton built;
   built.base = options.skeleton.base.allFinite() ? options.skeleton.base
                                                  : EstimateTreeBase(density, options.tree_base);
   ParticleFlowOptions flow = options.particle_flow;
   flow.seed = DeriveSeed(options.general.seed, kParticleSeedStream);
+  const bool steered = std::any_of(attractors.begin(), attractors.end(),
+                                   [](const AttractorGraph2D& graph) { return !graph.IsEmpty(); });
+  std::unique_ptr<DirectionField> field;
+  std::string field_brief = "No attractor graphs (the flow follows the density alone).";
+  if (steered) {
+    Eigen::AlignedBox3d bounds = density.ActiveWorldBounds();
+    bounds.extend(built.base);
+    auto attractor_field = std::make_unique<AttractorDirectionField>(
+        input_views, attractors, bounds, options.direction_field, progress);
+    std::ostringstream text;
+    text << "Direction field from the attractor graphs of " << attractor_field->NumViewsWithGraphs()
+         << " of " << input_views.NumViews() << " views (" << options.direction_field.blend
+         << " blend, " << options.direction_field.combine << ", weight " << flow.field_weight
+         << ").";
+    field_brief = text.str();
+    field = std::move(attractor_field);
+  } else {
+    field = std::make_unique<ConstantDirectionField>();
+  }
   ParticleFlowSummary flow_summary;
-  const SkeletonGraph flowed = SimulateParticleFlow(density, built.base, ConstantDirectionField(),
-                                                    flow, progress, &flow_summary, &built.raw);
+  const SkeletonGraph flowed =
+      SimulateParticleFlow(density, built.base, *field, flow, progress, &flow_summary, &built.raw);
   MattePruningSummary pruning;
   built.skeleton =
       PruneBranchesOutsideMattes(flowed, input_views, mattes, options.skeleton.pruning, &pruning);
@@ -69,7 +91,7 @@ BuiltSkeleton BuildSkeleton(const DensityGrid& density, const ImageSet& input_vi
   AssignPipeModelRadii(allometry, &built.skeleton);
   built.trunk_radius = allometry.trunk_radius;
   std::ostringstream brief;
-  brief << flow_summary.BriefReport() << " " << pruning.BriefReport() << " Base ("
+  brief << field_brief << " " << flow_summary.BriefReport() << " " << pruning.BriefReport() << " Base ("
         << built.base.transpose() << "); trunk radius " << allometry.trunk_radius << " (" << how
         << "; radii are an allometric prior, Delta " << allometry.diameter_exponent << ").";
   built.brief = brief.str();

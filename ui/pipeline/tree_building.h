@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "core/types/attractor_graph.h"
 #include "core/types/density_grid.h"
 #include "core/types/float_image.h"
 #include "core/types/image_set.h"
@@ -24,13 +25,15 @@ struct BuiltSkeleton {
   std::string brief;
 };
 
-// Base (Skeleton.base or estimated), particle flow, pruning of thin branches
-// that leave the mattes, trunk radius (Skeleton.trunk_radius, or measured in
-// the mattes, or a fraction of the height) and radii. `mattes` are the input
-// views'.
+// Base (Skeleton.base or estimated), particle flow steered by the direction
+// field of the attractor graphs (one per input view, empty = none; an empty
+// list = no field), pruning of thin branches that leave the mattes, trunk
+// radius (Skeleton.trunk_radius, or measured in the mattes, or a fraction of
+// the height) and radii. `mattes` are the input views'.
 BuiltSkeleton BuildSkeleton(const DensityGrid& density, const ImageSet& input_views,
-                            const std::vector<FloatImage>& mattes, const PipelineOptions& options,
-                            ProgressReporter* progress);
+                            const std::vector<FloatImage>& mattes,
+                            const std::vector<AttractorGraph2D>& attractors,
+                            const PipelineOptions& options, ProgressReporter* progress);
 
 // Branch tubes and leaves; `brief` receives both summaries.
 TriangleMesh BuildTreeMesh(const SkeletonGraph& skeleton, const DensityGrid& density,

@@ -1,0 +1,320 @@
+#include "simulate/attractor_field.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "core/geometry/polyline.h"
+#include "core/util/check.h"
+
+namespace sylva {
+namespace {
+
+// Segment buckets along the longer image side (at most).
+constexpr int kMaxBuckets = 64;
+// Below this fraction of the eigenvalue sum, the second smallest eigenvalue
+// of the plane normals' scatter means the planes do not pin a line down.
+constexpr double kDegenerateEigenFraction = 1e-3;
+
+int LongerSide(int width, int height) { return std::max(width, height); }
+
+}  // namespace
+
+void AttractorFieldOptions::Check() const {
+  SYLVA_CHECK_INPUT(resolution >= 2 && resolution <= 4096, "Attractors.field_resolution")
+      << "must be between 2 and 4096 cells, got " << resolution;
+  SYLVA_CHECK_INPUT(blend == "linear" || blend == "constant", "Attractors.blend")
+      << "must be 'linear' or 'constant', got '" << blend << "'";
+  SYLVA_CHECK_INPUT(falloff > 0 && std::isfinite(falloff), "Attractors.falloff")
+      << "must be a positive fraction of the image size, got " << falloff;
+  SYLVA_CHECK_INPUT(constant_h > 0 && constant_h < 1, "Attractors.constant_h")
+      << "must be in (0, 1), got " << constant_h;
+  SYLVA_CHECK_INPUT(combine == "average" || combine == "intersect", "Attractors.combine")
+      << "must be 'average' or 'intersect', got '" << combine << "'";
+  SYLVA_CHECK_INPUT(resolution_3d >= 2 && resolution_3d <= 1024, "Attractors.field_resolution_3d")
+      << "must be between 2 and 1024 cells, got " << resolution_3d;
+}
+
+// ---------------------------------------------------------------------------
+// DirectionField2D
+
+DirectionField2D::DirectionField2D(const AttractorGraph2D& graph,
+                                   const AttractorFieldOptions& options)
+    : options_(options), width_(graph.width), height_(graph.height) {
+  options.Check();
+  graph.Check("attractor graph");
+  const int longer = LongerSide(width_, height_);
+  cell_size_ = static_cast<double>(longer) / options.resolution;
+  cols_ = std::max(1, static_cast<int>(std::ceil(width_ / cell_size_)));
+  rows_ = std::max(1, static_cast<int>(std::ceil(height_ / cell_size_)));
+  falloff_px_ = options.falloff * longer;
+  for (const auto& [a, b] : graph.Segments()) {
+    const Eigen::Vector2d ab = b - a;
+    const double length = ab.norm();
+    segments_.push_back({a, b, length > 0 ? Eigen::Vector2d(ab / length) : Eigen::Vector2d::Zero()});
+  }
+  // A graph of lone nodes (no edge) attracts without a tangent.
+  if (segments_.empty()) {
+    for (const AttractorNode& node : graph.nodes) {
+      segments_.push_back({node.position, node.position, Eigen::Vector2d::Zero()});
+    }
+  }
+  values_.assign(static_cast<size_t>(cols_) * rows_, Eigen::Vector2f::Zero());
+  empty_ = segments_.empty();
+  if (empty_) return;
+
+  // Bucket the segments (each into every bucket its bounding box touches).
+  const int buckets_along = std::clamp(static_cast<int>(std::sqrt(segments_.size())) * 2, 1,
+                                       kMaxBuckets);
+  bucket_size_ = static_cast<double>(longer) / buckets_along;
+  bucket_cols_ = std::max(1, static_cast<int>(std::ceil(width_ / bucket_size_)));
+  bucket_rows_ = std::max(1, static_cast<int>(std::ceil(height_ / bucket_size_)));
+  const auto bucket_range = [&](const Segment& s, int* c0, int* c1, int* r0, int* r1) {
+    const Eigen::Vector2d lo = s.a.cwiseMin(s.b) / bucket_size_;
+    const Eigen::Vector2d hi = s.a.cwiseMax(s.b) / bucket_size_;
+    *c0 = std::clamp(static_cast<int>(std::floor(lo.x())), 0, bucket_cols_ - 1);
+    *c1 = std::clamp(static_cast<int>(std::floor(hi.x())), 0, bucket_cols_ - 1);
+    *r0 = std::clamp(static_cast<int>(std::floor(lo.y())), 0, bucket_rows_ - 1);
+    *r1 = std::clamp(static_cast<int>(std::floor(hi.y())), 0, bucket_rows_ - 1);
+  };
+  std::vector<int> counts(static_cast<size_t>(bucket_cols_) * bucket_rows_ + 1, 0);
+  for (const Segment& s : segments_) {
+    int c0, c1, r0, r1;
+    bucket_range(s, &c0, &c1, &r0, &r1);
+    for (int r = r0; r <= r1; ++r) {
+      for (int c = c0; c <= c1; ++c) ++counts[static_cast<size_t>(r) * bucket_cols_ + c + 1];
+    }
+  }
+  for (size_t k = 1; k < counts.size(); ++k) counts[k] += counts[k - 1];
+  bucket_start_ = counts;
+  bucket_items_.resize(bucket_start_.back());
+  for (int i = 0; i < static_cast<int>(segments_.size()); ++i) {
+    int c0, c1, r0, r1;
+    bucket_range(segments_[i], &c0, &c1, &r0, &r1);
+    for (int r = r0; r <= r1; ++r) {
+      for (int c = c0; c <= c1; ++c) bucket_items_[counts[static_cast<size_t>(r) * bucket_cols_ + c]++] = i;
+    }
+  }
+
+  tbb::parallel_for(tbb::blocked_range<int>(0, rows_), [&](const tbb::blocked_range<int>& range) {
+    for (int row = range.begin(); row < range.end(); ++row) {
+      for (int col = 0; col < cols_; ++col) {
+        const Eigen::Vector2d centre((col + 0.5) * cell_size_, (row + 0.5) * cell_size_);
+        values_[static_cast<size_t>(row) * cols_ + col] = Evaluate(centre).cast<float>();
+      }
+    }
+  });
+}
+
+void DirectionField2D::Closest(const Eigen::Vector2d& p, Eigen::Vector2d* closest,
+                               Eigen::Vector2d* tangent, double* distance) const {
+  const int pc = std::clamp(static_cast<int>(std::floor(p.x() / bucket_size_)), 0, bucket_cols_ - 1);
+  const int pr = std::clamp(static_cast<int>(std::floor(p.y() / bucket_size_)), 0, bucket_rows_ - 1);
+  double best2 = std::numeric_limits<double>::infinity();
+  int best = -1;
+  double best_t = 0;
+  const int max_ring = std::max(bucket_cols_, bucket_rows_);
+  for (int ring = 0; ring <= max_ring; ++ring) {
+    // Segments not seen yet lie in buckets of this ring or farther, at least
+    // this far from p (from its projection onto the grid if p is outside).
+    const double reach = std::max(0.0, (ring - 1) * bucket_size_);
+    if (best >= 0 && best2 <= reach * reach) break;
+    for (int r = pr - ring; r <= pr + ring; ++r) {
+      if (r < 0 || r >= bucket_rows_) continue;
+      const bool edge_row = r == pr - ring || r == pr + ring;
+      for (int c = pc - ring; c <= pc + ring; c += (edge_row ? 1 : 2 * ring)) {
+        if (c >= 0 && c < bucket_cols_) {
+          const size_t bucket = static_cast<size_t>(r) * bucket_cols_ + c;
+          for (int k = bucket_start_[bucket]; k < bucket_start_[bucket + 1]; ++k) {
+            const int i = bucket_items_[k];
+            double t;
+            const double d2 = SegmentDistance2(p, segments_[i].a, segments_[i].b, &t);
+            // Ties go to the lower segment index, whatever the visiting order.
+            if (d2 < best2 || (d2 == best2 && i < best)) best2 = d2, best = i, best_t = t;
+          }
+        }
+        if (ring == 0) break;
+      }
+    }
+  }
+  const Segment& s = segments_[best];
+  *closest = s.a + best_t * (s.b - s.a);
+  *tangent = s.tangent;
+  *distance = std::sqrt(best2);
+}
+
+Eigen::Vector2d DirectionField2D::Blend(const Eigen::Vector2d& p, const Eigen::Vector2d& closest,
+                                        const Eigen::Vector2d& tangent, double distance) const {
+  if (!(distance > 0)) return tangent;
+  const Eigen::Vector2d toward = (closest - p) / distance;
+  const double h = options_.blend == "linear" ? std::min(distance / falloff_px_, 1.0)
+                                              : options_.constant_h;
+  return h * toward + (1 - h) * tangent;
+}
+
+Eigen::Vector2d DirectionField2D::Evaluate(const Eigen::Vector2d& point_in_image) const {
+  if (empty_) return Eigen::Vector2d::Zero();
+  Eigen::Vector2d closest, tangent;
+  double distance;
+  Closest(point_in_image, &closest, &tangent, &distance);
+  return Blend(point_in_image, closest, tangent, distance);
+}
+
+Eigen::Vector2d DirectionField2D::At(const Eigen::Vector2d& point_in_image) const {
+  if (empty_) return Eigen::Vector2d::Zero();
+  // Cell centres at (k + 0.5) * cell_size.
+  const double x = std::clamp(point_in_image.x() / cell_size_ - 0.5, 0.0, cols_ - 1.0);
+  const double y = std::clamp(point_in_image.y() / cell_size_ - 0.5, 0.0, rows_ - 1.0);
+  const int c0 = std::min(static_cast<int>(x), cols_ - 1), r0 = std::min(static_cast<int>(y), rows_ - 1);
+  const int c1 = std::min(c0 + 1, cols_ - 1), r1 = std::min(r0 + 1, rows_ - 1);
+  const double fx = x - c0, fy = y - r0;
+  return (1 - fy) * ((1 - fx) * Cell(c0, r0) + fx * Cell(c1, r0)) +
+         fy * ((1 - fx) * Cell(c0, r1) + fx * Cell(c1, r1));
+}
+
+// ---------------------------------------------------------------------------
+// AttractorDirectionField
+
+AttractorDirectionField::AttractorDirectionField(const ImageSet& image_set,
+                                                 const std::vector<AttractorGraph2D>& graphs,
+                                                 const Eigen::AlignedBox3d& bounds,
+                                                 const AttractorFieldOptions& options,
+                                                 ProgressReporter* progress)
+    : image_set_(image_set), options_(options) {
+  options.Check();
+  SYLVA_CHECK_INPUT(static_cast<int>(graphs.size()) == image_set.NumViews(), "attractor graphs")
+      << graphs.size() << " graphs for " << image_set.NumViews() << " views";
+  SYLVA_CHECK_INPUT(!bounds.isEmpty() && bounds.min().allFinite() && bounds.max().allFinite(),
+                    "attractor field bounds")
+      << "the 3D field needs a non-empty, finite box";
+  ProgressTask task(progress, "simulate: attractor direction fields");
+  for (int v = 0; v < image_set.NumViews(); ++v) {
+    if (graphs[v].IsEmpty()) continue;
+    const Camera& camera = image_set.CameraOf(v);
+    const std::string name = "attractor graph of " + image_set.views[v].name;
+    AttractorGraph2D graph = graphs[v];
+    if (graph.width != camera.width() || graph.height != camera.height()) {
+      // A graph drawn on a resized copy of the photo: same aspect, rescaled.
+      const double sx = static_cast<double>(camera.width()) / graph.width;
+      const double sy = static_cast<double>(camera.height()) / graph.height;
+      SYLVA_CHECK_INPUT(graph.width > 0 && graph.height > 0 && std::abs(sx - sy) < 0.01 * sx, name)
+          << "is for a " << graph.width << " x " << graph.height << " image, the photo is "
+          << camera.width() << " x " << camera.height();
+      graph = graph.Scaled(sx);
+      graph.width = camera.width();
+      graph.height = camera.height();
+    }
+    const View& view = image_set.views[v];
+    views_.push_back({v, view.cam_from_world.rotation.inverse().toRotationMatrix(),
+                      view.ProjectionCenter(), camera.IsOrthographic(), camera.FocalLengthX(),
+                      camera.FocalLengthY(), camera.width(), camera.height(),
+                      DirectionField2D(graph, options)});
+  }
+
+  // Sample points at origin + spacing * (i, j, k), covering the bounds grown
+  // by one spacing.
+  const Eigen::Vector3d extent = bounds.sizes();
+  spacing_ = std::max(extent.maxCoeff() / options.resolution_3d, 1e-9);
+  origin_ = bounds.min().array() - spacing_;
+  dims_ = ((extent.array() / spacing_).ceil() + 3).cast<int>().max(2);
+  samples_.assign(static_cast<size_t>(dims_.x()) * dims_.y() * dims_.z(), Eigen::Vector3f::Zero());
+  if (views_.empty()) return;
+  const int layers = dims_.z();
+  tbb::parallel_for(tbb::blocked_range<int>(0, layers), [&](const tbb::blocked_range<int>& range) {
+    for (int k = range.begin(); k < range.end(); ++k) {
+      for (int j = 0; j < dims_.y(); ++j) {
+        for (int i = 0; i < dims_.x(); ++i) {
+          const Eigen::Vector3d point = origin_ + spacing_ * Eigen::Vector3d(i, j, k);
+          samples_[(static_cast<size_t>(k) * dims_.y() + j) * dims_.x() + i] =
+              Lifted(point).cast<float>();
+        }
+      }
+    }
+  });
+  task.Update(1.0);
+}
+
+const DirectionField2D* AttractorDirectionField::Field2D(int view_idx) const {
+  for (const ViewField& view : views_) {
+    if (view.view_idx == view_idx) return &view.field;
+  }
+  return nullptr;
+}
+
+Eigen::Vector3d AttractorDirectionField::Lifted(const Eigen::Vector3d& point_in_world) const {
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d planes = Eigen::Matrix3d::Zero();   // sum of the image-plane projectors
+  Eigen::Matrix3d normals = Eigen::Matrix3d::Zero();  // sum of w n n^T ("intersect")
+  for (const ViewField& view : views_) {
+    Eigen::Vector2d pixel;
+    if (!image_set_.Project(view.view_idx, point_in_world, &pixel)) continue;
+    if (!(pixel.x() >= 0 && pixel.y() >= 0 && pixel.x() <= view.width && pixel.y() <= view.height)) {
+      continue;
+    }
+    const Eigen::Vector3d viewing = view.orthographic
+                                        ? Eigen::Vector3d(view.world_from_cam.col(2))
+                                        : (point_in_world - view.center).normalized();
+    // The lifted vectors lie in the image plane, normal to the optical axis.
+    const Eigen::Vector3d axis = view.world_from_cam.col(2);
+    planes += Eigen::Matrix3d::Identity() - axis * axis.transpose();
+    const Eigen::Vector2d f = view.field.At(pixel);
+    const double length = f.norm();
+    if (!(length > 0)) continue;
+    const Eigen::Vector3d lifted =
+        (view.world_from_cam * Eigen::Vector3d(f.x() / view.fx, f.y() / view.fy, 0)).normalized();
+    sum += length * lifted;
+    const Eigen::Vector3d normal = viewing.cross(lifted);
+    const double n = normal.norm();
+    if (n > 0) normals += length * (normal / n) * (normal / n).transpose();
+  }
+  if (!(planes.trace() > 0)) return Eigen::Vector3d::Zero();
+  // The least-squares mean: the v whose projections onto the image planes
+  // best match the lifted vectors, (sum P_k) v = sum l_k; a pseudo-inverse
+  // where a direction is seen by no view.
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> plane_solver;
+  plane_solver.computeDirect(planes);
+  const Eigen::Vector3d plane_values = plane_solver.eigenvalues();
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (int k = 0; k < 3; ++k) {
+    if (plane_values(k) > kDegenerateEigenFraction * plane_values.sum()) {
+      const Eigen::Vector3d e = plane_solver.eigenvectors().col(k);
+      mean += e * (e.dot(sum) / plane_values(k));
+    }
+  }
+  if (mean.norm() > 1) mean.normalize();
+  if (options_.combine == "average") return mean;
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver;
+  solver.computeDirect(normals);
+  const Eigen::Vector3d values = solver.eigenvalues();  // ascending
+  if (!(values.sum() > 0) || values(1) < kDegenerateEigenFraction * values.sum() ||
+      !(mean.norm() > 0)) {
+    return mean;
+  }
+  const Eigen::Vector3d direction = solver.eigenvectors().col(0);
+  return direction.dot(mean) >= 0 ? direction : Eigen::Vector3d(-direction);
+}
+
+Eigen::Vector3d AttractorDirectionField::Direction(const Eigen::Vector3d& point_in_world) const {
+  if (views_.empty()) return Eigen::Vector3d::Zero();
+  const Eigen::Vector3d g = ((point_in_world - origin_) / spacing_)
+                                .cwiseMax(Eigen::Vector3d::Zero())
+                                .cwiseMin((dims_.array() - 1).cast<double>().matrix());
+  const Eigen::Vector3i i0 = g.cast<int>().cwiseMin(dims_ - Eigen::Vector3i::Constant(2));
+  const Eigen::Vector3d t = g - i0.cast<double>();
+  const auto at = [&](int dx, int dy, int dz) {
+    return samples_[(static_cast<size_t>(i0.z() + dz) * dims_.y() + i0.y() + dy) * dims_.x() +
+                    i0.x() + dx]
+        .cast<double>();
+  };
+  const Eigen::Vector3d x00 = (1 - t.x()) * at(0, 0, 0) + t.x() * at(1, 0, 0);
+  const Eigen::Vector3d x10 = (1 - t.x()) * at(0, 1, 0) + t.x() * at(1, 1, 0);
+  const Eigen::Vector3d x01 = (1 - t.x()) * at(0, 0, 1) + t.x() * at(1, 0, 1);
+  const Eigen::Vector3d x11 = (1 - t.x()) * at(0, 1, 1) + t.x() * at(1, 1, 1);
+  return (1 - t.z()) * ((1 - t.y()) * x00 + t.y() * x10) + t.z() * ((1 - t.y()) * x01 + t.y() * x11);
+}
+
+}  // namespace sylva

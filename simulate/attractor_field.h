@@ -1,0 +1,182 @@
+// Direction fields from 2D attractor graphs (thesis 3.5, eq. 3.7), and their
+// lifting into the 3D direction field that steers the particle flow.
+//
+// Per photo, a 2D grid embedded in the image plane (by default 100 cells
+// along the longer image side, square cells) holds at each cell centre x
+//
+//   f(x) = h(d) * unit(g - x) + (1 - h(d)) * t(g)                 (eq. 3.7)
+//
+// with g the point of the attractor graph closest to x (an exact vector
+// distance transform of the graph's segments), d = |g - x| in pixels, and
+// t(g) the graph's unit tangent at g pointing down the tree (along the edge
+// towards its parent). The blend h is
+//   - "linear":   h(d) = min(d / falloff, 1): far from the graph particles
+//                 head for it, on it they follow it down (fig. 3.8a);
+//   - "constant": h(d) = h0 for d > 0: particles approach the graph at a
+//                 fixed angle atan(h0 / (1 - h0)) from its tangent (fig. 3.8b).
+// On the graph (d = 0) f = t. Between cell centres f is interpolated
+// bilinearly.
+//
+// In 3D (thesis 3.5: "we project the particle position into each of the
+// image planes ... and compute the average"), a world point X is projected
+// into every view with a graph; each view's f, a direction in pixels, is
+// lifted to the world direction it depicts at X: the displacement parallel to
+// the image plane at X's depth that moves X's projection along f, i.e.
+// R^T (f_x / fx, f_y / fy, 0) normalised and scaled by |f| (the same
+// formula for orthographic and pinhole cameras; lens distortion is ignored
+// for the lifting). The views' lifted vectors are combined by
+//   - "average":   their mean (the thesis), taken in the least-squares sense:
+//                 the v whose projections onto the views' image planes best
+//                 match the lifted vectors, (sum_k P_k) v = sum_k l_k with
+//                 P_k = I - z_k z_k^T (z_k the optical axis). The
+//                 plain mean would shorten every component a view cannot
+//                 see (with views around a ring, halve horizontal ones);
+//                 length at most 1;
+//   - "intersect": the unit direction whose projection agrees with every
+//                 view's f: each view restricts it to the plane through the
+//                 viewing ray at X and the lifted f, and the least-squares
+//                 intersection of these planes (the eigenvector of the
+//                 smallest eigenvalue of sum n n^T, n the planes' normals)
+//                 is taken, unit length, signed to agree with the mean. It
+//                 recovers a 3D direction exactly from views that see it
+//                 consistently, whatever the lengths of their 2D vectors.
+//                 Where the planes do not pin a line down (one view, or
+//                 parallel viewing directions) it falls back to the mean.
+// Views in which X projects outside the image, or behind a pinhole camera,
+// do not take part; where no view does, the direction is zero.
+//
+// The flow evaluates the field about ten times per particle and step, so the
+// 3D field is sampled once on a regular grid over the tree's bounds and
+// interpolated trilinearly: its cost per particle step is a constant,
+// independent of the number of views and particles.
+#ifndef SYLVA_SIMULATE_ATTRACTOR_FIELD_H_
+#define SYLVA_SIMULATE_ATTRACTOR_FIELD_H_
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <string>
+#include <vector>
+
+#include "core/types/attractor_graph.h"
+#include "core/types/image_set.h"
+#include "core/util/progress.h"
+#include "simulate/direction_field.h"
+
+namespace sylva {
+
+struct AttractorFieldOptions {
+  // Cells of each 2D field along the longer image side (the thesis: 100).
+  int resolution = 100;
+  // The blend h(d) of eq. 3.7: "linear" or "constant".
+  std::string blend = "linear";
+  // "linear": the distance at which h reaches 1, as a fraction of the longer
+  // image side (0.05 gave the closest skeletons on synthetic trees; 0.03 and
+  // 0.1 were within a few per cent).
+  double falloff = 0.05;
+  // "constant": h0 in (0, 1).
+  double constant_h = 0.5;
+  // How the views' lifted directions combine: "average" or "intersect".
+  std::string combine = "average";
+  // Cells of the sampled 3D field along the longest side of its box.
+  int resolution_3d = 96;
+
+  // Throws InputError("Attractors.<field>", ...).
+  void Check() const;
+};
+
+// The 2D direction field of one attractor graph.
+class DirectionField2D {
+ public:
+  // Builds the field over the graph's image (graph.width x graph.height);
+  // an empty graph gives a zero field. Throws InputError if the options or
+  // the graph are invalid.
+  DirectionField2D(const AttractorGraph2D& graph, const AttractorFieldOptions& options);
+
+  int cols() const { return cols_; }
+  int rows() const { return rows_; }
+  double cell_size() const { return cell_size_; }  // pixels
+  bool IsEmpty() const { return empty_; }
+  // The field at a pixel position (bilinear between cell centres, clamped
+  // at the border); length <= 1.
+  Eigen::Vector2d At(const Eigen::Vector2d& point_in_image) const;
+  // Eq. 3.7 evaluated exactly at a point (no grid): for tests and the
+  // benchmark's reference.
+  Eigen::Vector2d Evaluate(const Eigen::Vector2d& point_in_image) const;
+  // The stored value of cell (col, row).
+  Eigen::Vector2d Cell(int col, int row) const {
+    return values_[static_cast<size_t>(row) * cols_ + col].cast<double>();
+  }
+
+ private:
+  struct Segment {
+    Eigen::Vector2d a, b;  // child, parent
+    Eigen::Vector2d tangent;  // unit(b - a), or zero
+  };
+  // The closest point of the graph to p, the tangent there, and the
+  // distance, using the bucket grid of segments (exact).
+  void Closest(const Eigen::Vector2d& p, Eigen::Vector2d* closest, Eigen::Vector2d* tangent,
+               double* distance) const;
+  Eigen::Vector2d Blend(const Eigen::Vector2d& p, const Eigen::Vector2d& closest,
+                        const Eigen::Vector2d& tangent, double distance) const;
+
+  AttractorFieldOptions options_;
+  int width_ = 0, height_ = 0;
+  int cols_ = 0, rows_ = 0;
+  double cell_size_ = 1.0;
+  double falloff_px_ = 1.0;
+  bool empty_ = true;
+  std::vector<Segment> segments_;
+  // Segments bucketed on a coarse grid for the closest-point search.
+  double bucket_size_ = 1.0;
+  int bucket_cols_ = 1, bucket_rows_ = 1;
+  std::vector<int> bucket_start_;  // CSR offsets, bucket_cols_ * bucket_rows_ + 1
+  std::vector<int> bucket_items_;
+  std::vector<Eigen::Vector2f> values_;  // rows_ x cols_
+};
+
+// The 3D direction field lifted from per-view 2D fields.
+class AttractorDirectionField : public DirectionField {
+ public:
+  // `graphs` holds one graph per view of `image_set` (empty graphs: the view
+  // has none and does not take part); each graph's size must match its
+  // camera's image size (a graph for a scaled image is rescaled). The 3D
+  // field is sampled over `bounds` (world frame); outside it, the nearest
+  // sample is used. Throws InputError on a size mismatch or bad options.
+  AttractorDirectionField(const ImageSet& image_set, const std::vector<AttractorGraph2D>& graphs,
+                          const Eigen::AlignedBox3d& bounds, const AttractorFieldOptions& options,
+                          ProgressReporter* progress = nullptr);
+
+  // Trilinear interpolation of the sampled field.
+  Eigen::Vector3d Direction(const Eigen::Vector3d& point_in_world) const override;
+  // The lifted and combined direction computed exactly at a point (no 3D
+  // grid, but the views' 2D grids): for tests and the benchmark's reference.
+  Eigen::Vector3d Lifted(const Eigen::Vector3d& point_in_world) const;
+
+  int NumViewsWithGraphs() const { return static_cast<int>(views_.size()); }
+  Eigen::Vector3i SampleDims() const { return dims_; }
+  // The 2D field of view `view_idx`, or null if it has no graph.
+  const DirectionField2D* Field2D(int view_idx) const;
+
+ private:
+  struct ViewField {
+    int view_idx;
+    Eigen::Matrix3d world_from_cam;  // rotation
+    Eigen::Vector3d center;          // projection centre (pinhole)
+    bool orthographic;
+    double fx, fy;
+    int width, height;
+    DirectionField2D field;
+  };
+
+  ImageSet image_set_;
+  AttractorFieldOptions options_;
+  std::vector<ViewField> views_;
+  Eigen::Vector3d origin_ = Eigen::Vector3d::Zero();  // centre of sample (0, 0, 0)
+  double spacing_ = 1.0;
+  Eigen::Vector3i dims_ = Eigen::Vector3i::Ones();
+  std::vector<Eigen::Vector3f> samples_;  // x fastest
+};
+
+}  // namespace sylva
+
+#endif  // SYLVA_SIMULATE_ATTRACTOR_FIELD_H_
