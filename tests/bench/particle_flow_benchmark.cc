@@ -23,10 +23,18 @@
 //      flows all 200 steps (they pile up on the trunk axis, which no real run
 //      does: there they would merge); 10^5 with both structures, 10^6 with the
 //      default one.
+//   5. Attractor direction fields (thesis 3.5): a trunk and four main branches
+//      projected into 8 pinhole views as attractor graphs; the build of the
+//      2D fields and the sampled 3D field; then the flow with the field at
+//      2*10^3, 10^5 and 10^6 particles beside the same flow without one
+//      (the overhead ratio), and at 2*10^3 beside a brute-force reference
+//      (O(N^2) neighbours and the field lifted from the 8 views at every
+//      evaluation instead of the sampled grid).
 #include <sys/resource.h>
 #include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -35,6 +43,7 @@
 #include <vector>
 
 #include "core/util/random.h"
+#include "simulate/attractor_field.h"
 #include "simulate/neighbor_search.h"
 #include "simulate/particle_flow.h"
 
@@ -131,12 +140,13 @@ struct Run {
   int skeleton_nodes = 0;
 };
 
-Run Flow(const DensityGrid& density, ParticleFlowOptions options, const char* search) {
+Run Flow(const DensityGrid& density, ParticleFlowOptions options, const char* search,
+         const DirectionField& field = ConstantDirectionField()) {
   options.neighbor_search = search;
   Run run;
   const Clock::time_point start = Clock::now();
-  const SkeletonGraph skeleton = SimulateParticleFlow(density, kBase, ConstantDirectionField(),
-                                                      options, nullptr, &run.summary);
+  const SkeletonGraph skeleton =
+      SimulateParticleFlow(density, kBase, field, options, nullptr, &run.summary);
   run.seconds = Seconds(start);
   run.skeleton_nodes = skeleton.NumNodes();
   return run;
@@ -199,6 +209,126 @@ void WorstCase(const DensityGrid& density, bool quick) {
   }
 }
 
+// ---- Part 5: attractor direction fields -------------------------------------
+
+// 8 pinhole views (512 x 512, 47 degrees) around the unit-high crown, 10
+// degrees up, looking at its centre.
+ImageSet RingOfViews() {
+  ImageSet set;
+  set.cameras[1] = Camera::Pinhole(512, 512, 256 / std::tan(23.5 * M_PI / 180));
+  const Eigen::Vector3d target(0, 0, 0.5);
+  for (int k = 0; k < 8; ++k) {
+    const double azimuth = k * M_PI / 4, elevation = 10 * M_PI / 180;
+    const Eigen::Vector3d centre =
+        target + 1.6 * Eigen::Vector3d(std::cos(azimuth) * std::cos(elevation),
+                                       std::sin(azimuth) * std::cos(elevation), std::sin(elevation));
+    const Eigen::Vector3d z = (target - centre).normalized();
+    const Eigen::Vector3d x = z.cross(Eigen::Vector3d::UnitZ()).normalized();
+    const Eigen::Vector3d y = z.cross(x);
+    Eigen::Matrix3d rotation;
+    rotation << x.transpose(), y.transpose(), z.transpose();
+    const Eigen::Quaterniond q(rotation);
+    set.views.push_back({k + 1, "view_" + std::to_string(k) + ".png", 1,
+                         Rigid3d(q, -(q * centre))});
+  }
+  return set;
+}
+
+// A trunk to the crown's centre and four main branches up and out, projected.
+std::vector<AttractorGraph2D> MainBranchGraphs(const ImageSet& set) {
+  const Eigen::Vector3d base(0, 0, 0), fork(0, 0, 0.55);
+  std::vector<Eigen::Vector3d> tips;
+  for (int b = 0; b < 4; ++b) {
+    const double angle = b * M_PI / 2 + 0.4;
+    tips.emplace_back(0.3 * std::cos(angle), 0.3 * std::sin(angle), 0.85);
+  }
+  std::vector<AttractorGraph2D> graphs;
+  for (int v = 0; v < set.NumViews(); ++v) {
+    AttractorGraph2D graph;
+    graph.width = graph.height = 512;
+    Eigen::Vector2d p;
+    set.Project(v, base, &p);
+    graph.root = graph.AddNode(p, -1);
+    set.Project(v, fork, &p);
+    const int fork_node = graph.AddNode(p, graph.root);
+    for (const Eigen::Vector3d& tip : tips) {
+      set.Project(v, tip, &p);
+      graph.AddNode(p, fork_node);
+    }
+    graphs.push_back(graph);
+  }
+  return graphs;
+}
+
+// The reference field: lifted from the views at every evaluation.
+class LiftedEveryTime : public DirectionField {
+ public:
+  explicit LiftedEveryTime(const AttractorDirectionField& field) : field_(field) {}
+  Eigen::Vector3d Direction(const Eigen::Vector3d& point) const override {
+    return field_.Lifted(point);
+  }
+
+ private:
+  const AttractorDirectionField& field_;
+};
+
+void AttractorFields(const DensityGrid& density, bool quick) {
+  std::printf("5. Attractor direction fields: 8 pinhole views, trunk + 4 main branches\n");
+  const ImageSet views = RingOfViews();
+  const std::vector<AttractorGraph2D> graphs = MainBranchGraphs(views);
+  const Eigen::AlignedBox3d bounds = density.ActiveWorldBounds();
+  AttractorFieldOptions options;
+  Clock::time_point start = Clock::now();
+  for (int repeat = 0; repeat < 10; ++repeat) DirectionField2D(graphs[0], options);
+  const double one_2d = Seconds(start) / 10;
+  start = Clock::now();
+  const AttractorDirectionField field(views, graphs, bounds, options);
+  const double build = Seconds(start);
+  const Eigen::Vector3i dims = field.SampleDims();
+  std::printf("  2D field %dx%d: %.2f ms per view; 8 views + 3D field %dx%dx%d samples: %.3f s\n",
+              options.resolution, options.resolution, 1e3 * one_2d, dims.x(), dims.y(), dims.z(),
+              build);
+  // Look-ups alone: sampled grid vs lifting from the views.
+  const std::vector<Eigen::Vector3d> points = SeedPoints(density, 100000);
+  std::vector<Eigen::Vector3d> sampled(points.size()), lifted(points.size());
+  start = Clock::now();
+  for (size_t i = 0; i < points.size(); ++i) sampled[i] = field.Direction(points[i] * density.voxel_size());
+  const double t_sampled = Seconds(start);
+  start = Clock::now();
+  for (size_t i = 0; i < points.size(); ++i) lifted[i] = field.Lifted(points[i] * density.voxel_size());
+  const double t_lifted = Seconds(start);
+  double mean_angle = 0;
+  for (size_t i = 0; i < points.size(); ++i) {
+    if (sampled[i].norm() > 1e-6 && lifted[i].norm() > 1e-6) {
+      mean_angle += std::acos(std::clamp(sampled[i].normalized().dot(lifted[i].normalized()), -1.0, 1.0));
+    }
+  }
+  std::printf("  one look-up (1 thread): sampled grid %.0f ns, lifted from 8 views %.0f ns (%.1fx); "
+              "mean angle between them %.2f deg\n",
+              1e9 * t_sampled / points.size(), 1e9 * t_lifted / points.size(), t_lifted / t_sampled,
+              mean_angle / points.size() * 180 / M_PI);
+  const LiftedEveryTime reference(field);
+  for (int count : {2000, 100000, 1000000}) {
+    if (quick && count > 2000) break;
+    ParticleFlowOptions flow_options;
+    flow_options.num_particles = count;
+    const Run without = Flow(density, flow_options, "uniform_grid");
+    const Run with = Flow(density, flow_options, "uniform_grid", field);
+    PrintRun("no field", count, without, 0.0);
+    PrintRun("field", count, with, 0.0);
+    std::printf("  field/no field %.2fx time, %.2fx per particle-step\n", with.seconds / without.seconds,
+                (with.seconds / with.summary.particle_steps) /
+                    (without.seconds / without.summary.particle_steps));
+    if (count <= 2000) {
+      const Run brute = Flow(density, flow_options, "brute_force", reference);
+      PrintRun("brute+lifted", count, brute, 0.0);
+      std::printf("  brute force with the lifted field / field: %.1fx\n", brute.seconds / with.seconds);
+    }
+    std::printf("  %s\n", with.summary.BriefReport().c_str());
+  }
+  std::printf("\n");
+}
+
 int Main(bool quick) {
   const int threads = static_cast<int>(
       tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
@@ -213,6 +343,7 @@ int Main(bool quick) {
   WholeFlow(density, quick);
   FinerCrown(quick);
   WorstCase(density, quick);
+  AttractorFields(density, quick);
   struct rusage usage;
   getrusage(RUSAGE_SELF, &usage);
   std::printf("\nProcess peak RSS %.1f MB.\n", usage.ru_maxrss / 1e3);
