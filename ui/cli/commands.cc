@@ -65,7 +65,7 @@ CommandSpec RunSpec() {
           "writes the outputs under PROJECT/out/. Options given here apply to this run (and\n"
           "are saved in the project's sylva.json with --save); the effective options of every\n"
           "run are written to PROJECT/out/run.json.",
-          {{"until", "STAGE", "stop after this stage (matte, register, density, skeleton, mesh, "
+          {{"until", "STAGE", "stop after this stage (matte, register, density, attract, skeleton, mesh, "
                               "report)"},
            {"force", "", "re-run stages even if up to date"},
            {"save", "", "save the options given here in the project's sylva.json"},

@@ -48,11 +48,17 @@ const std::vector<StageDefinition>& Definitions() {
       {{Stage::kDensity, "density",
         "back-project the mattes into a voxel density grid (out/density.vdb)"},
        "density/2", {"Density."}, {Stage::kRegister}, false, RunDensityStage, Always},
+      {{Stage::kAttract, "attract",
+        "attractor graphs per photo: edited graphs or drawn strokes in edits/, else traced by "
+        "livewire to the tree base (out/attractors/)"},
+       "attract/1", {"Attractors.", "TreeBase.", "Skeleton.base"}, {Stage::kDensity}, false,
+       RunAttractStage, Always},
       {{Stage::kSkeleton, "skeleton",
-        "particle flow from the density to the tree base; skeleton with allometric radii "
-        "(out/skeleton.json, skeleton.ply)"},
-       "skeleton/1", {"TreeBase.", "ParticleFlow.", "Skeleton.", "Allometry.", "General.seed"},
-       {Stage::kDensity}, false, RunSkeletonStage, Always},
+        "particle flow from the density to the tree base, steered by the attractor graphs' "
+        "direction fields; skeleton with allometric radii (out/skeleton.json, skeleton.ply)"},
+       "skeleton/2",
+       {"TreeBase.", "DirectionField.", "ParticleFlow.", "Skeleton.", "Allometry.", "General.seed"},
+       {Stage::kDensity, Stage::kAttract}, false, RunSkeletonStage, Always},
       {{Stage::kMesh, "mesh",
         "branch tubes and leaves from the skeleton (out/tree.glb, tree.obj)"},
        "mesh/1", {"BranchMesh.", "Leaves.", "General.seed"}, {Stage::kDensity, Stage::kSkeleton},
@@ -150,6 +156,12 @@ std::string Pipeline::StageKey(Stage stage) const {
       if (held_out && !definition.reads_held_out_mattes) continue;
       text += view.name + (held_out ? "(held out)" : "") + "=" +
               FileKey(project_, project_.MattePath(view.name)) + ";";
+      if (stage == Stage::kAttract && !held_out) {
+        // The attract stage also reads the photos and what a person drew.
+        text += "photo " + FileKey(project_, project_.PhotoPath(view.name)) + ",edit " +
+                FileKey(project_, project_.AttractorEditPath(view.name)) + ",strokes " +
+                FileKey(project_, project_.StrokesPath(view.name)) + ";";
+      }
     }
   }
   text += OptionsText(options_, definition.options);

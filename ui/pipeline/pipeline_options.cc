@@ -37,6 +37,13 @@ void SkeletonOptions::Check() const {
   pruning.Check();
 }
 
+void AttractStageOptions::Check() const {
+  SYLVA_CHECK_INPUT(mode == "auto" || mode == "edits" || mode == "off", "Attractors.mode")
+      << "must be auto, edits or off, got '" << mode << "'";
+  strokes.Check();
+  livewire.Check();
+}
+
 void PipelineOptions::Check() const {
   general.Check();
   matting.Check();
@@ -46,6 +53,7 @@ void PipelineOptions::Check() const {
   loose_refine.Check();
   density.Check();
   tree_base.Check();
+  attract.Check();
   direction_field.Check();
   particle_flow.Check();
   skeleton.Check();
@@ -112,6 +120,19 @@ void RegisterTreeBase(TreeBaseOptions* o, OptionRegistry* r) {
             "low layers among which the densest is the reference");
   r->AddInt("TreeBase.slab_voxels", &o->slab_voxels, "voxels",
             "layers above the base whose centre gives the base's x and y");
+}
+
+void RegisterAttract(AttractStageOptions* o, OptionRegistry* r) {
+  r->AddString("Attractors.mode", &o->mode,
+               "auto (graphs a person drew in edits/, else traced by livewire), edits (only drawn "
+               "ones) or off (no attractor graphs)");
+  r->AddBool("Attractors.snap_strokes", &o->snap_strokes,
+             "snap drawn strokes onto the photo's structures by livewire");
+  r->AddBool("Attractors.write_overlays", &o->write_overlays,
+             "draw each graph on its photo (out/attractors/<photo>.png)");
+  r->AddDouble("Attractors.stroke_snap_distance", &o->strokes.snap_distance, "pixels",
+               "a stroke's end this close to another stroke joins it");
+  RegisterLivewire(&o->livewire, r);
 }
 
 void RegisterDirectionField(AttractorFieldOptions* o, OptionRegistry* r) {
@@ -365,6 +386,7 @@ void RegisterPipelineOptions(PipelineOptions* options, OptionRegistry* registry)
   RegisterLoose(&options->loose_init, &options->loose_refine, registry);
   RegisterDensity(&options->density, registry);
   RegisterTreeBase(&options->tree_base, registry);
+  RegisterAttract(&options->attract, registry);
   RegisterDirectionField(&options->direction_field, registry);
   RegisterParticleFlow(&options->particle_flow, registry);
   RegisterSkeleton(&options->skeleton, &options->allometry, registry);

@@ -11,6 +11,7 @@
 #include "mesh/allometry.h"
 #include "mesh/branch_mesh.h"
 #include "mesh/leaves.h"
+#include "reconstruct/attractors/livewire.h"
 #include "reconstruct/density/density_options.h"
 #include "reconstruct/matting/matting.h"
 #include "reconstruct/registration/colmap_runner.h"
@@ -19,6 +20,7 @@
 #include "simulate/attractor_field.h"
 #include "simulate/particle_flow.h"
 #include "simulate/skeleton_pruning.h"
+#include "sketch/stroke_graph.h"
 #include "ui/pipeline/option_registry.h"
 
 namespace sylva {
@@ -72,6 +74,21 @@ struct MatteStageOptions {
   std::string background_photo;
 };
 
+// The attract stage's settings (ui/pipeline/attract_stage.cc).
+struct AttractStageOptions {
+  // "auto": graphs from edits/ where a person made them, else traced by
+  // livewire; "edits": only those made by a person (the other views have
+  // none); "off": no attractor graphs (the flow follows the density alone).
+  std::string mode = "auto";
+  // Snap drawn strokes onto the photo's structures by livewire.
+  bool snap_strokes = false;
+  // Draw every graph on its photo (out/attractors/<photo>.png).
+  bool write_overlays = true;
+  StrokeGraphOptions strokes;
+  LivewireOptions livewire;
+  void Check() const;
+};
+
 struct PipelineOptions {
   GeneralOptions general;
   MattingOptions matting;
@@ -82,6 +99,7 @@ struct PipelineOptions {
   LooseRefineOptions loose_refine;
   DensityOptions density;
   TreeBaseOptions tree_base;
+  AttractStageOptions attract;
   AttractorFieldOptions direction_field;
   ParticleFlowOptions particle_flow;
   SkeletonOptions skeleton;

@@ -117,6 +117,36 @@ fs::path Project::TrimapHintPath(const std::string& view_name) const {
   return FindMatteFile(EditsDir() / "trimaps", view_name);
 }
 
+fs::path Project::AttractorGraphPath(const std::string& view_name) const {
+  return OutDir() / "attractors" / fs::path(view_name).replace_extension(".json");
+}
+
+fs::path Project::AttractorOverlayPath(const std::string& view_name) const {
+  return OutDir() / "attractors" / fs::path(view_name).replace_extension(".png");
+}
+
+namespace {
+
+// edits/<name without extension><suffix> if it is a file, else empty.
+fs::path ExistingEdit(const fs::path& edits_dir, const std::string& view_name,
+                      const char* suffix) {
+  fs::path path = edits_dir / fs::path(view_name).replace_extension();
+  path += suffix;
+  std::error_code ec;
+  return fs::is_regular_file(path, ec) ? path : fs::path();
+}
+
+}  // namespace
+
+fs::path Project::AttractorEditPath(const std::string& view_name) const {
+  return ExistingEdit(EditsDir(), view_name, ".attractors.json");
+}
+
+fs::path Project::StrokesPath(const std::string& view_name) const {
+  const fs::path svg = ExistingEdit(EditsDir(), view_name, ".strokes.svg");
+  return svg.empty() ? ExistingEdit(EditsDir(), view_name, ".strokes.json") : svg;
+}
+
 fs::path Project::LooseCamerasPath() const {
   SYLVA_CHECK(camera_type_ == "manual") << "not a manually registered project";
   return Resolve(camera_path_);

@@ -7,15 +7,18 @@
 //   PROJECT/photos/, mattes/  copies of the inputs (with --copy; otherwise
 //                        sylva.json refers to the original folders)
 //   PROJECT/edits/       what a person made: trimaps/<photo>.png (painted
-//                        matting hints), painted density, strokes
+//                        matting hints), <photo>.strokes.svg|json (drawn
+//                        attractor strokes), <photo>.attractors.json (a whole
+//                        attractor graph), painted density
 //   PROJECT/cache/       stage records keyed by a hash of their inputs; the
 //                        COLMAP workspace (cache/colmap/)
 //   PROJECT/out/         outputs: cameras/ (the registered cameras in sylva's
 //                        world frame: cameras.json, and colmap/ as a COLMAP
 //                        text model unless a camera is orthographic;
 //                        registration.json, unregistered.txt), mattes/
-//                        (computed mattes, 8-bit PNG), density.vdb, skeleton,
-//                        tree, report
+//                        (computed mattes, 8-bit PNG), density.vdb,
+//                        attractors/ (graphs and overlays), skeleton, tree,
+//                        report
 //
 // sylva.json:
 // { "format": "sylva-project", "version": 1,
@@ -115,6 +118,18 @@ class Project {
   // A painted trimap hint for a photo: edits/trimaps/<name>.png (any image
   // extension); empty path if there is none.
   fs::path TrimapHintPath(const std::string& view_name) const;
+  // Attractor graphs (issue 5). What the attract stage writes for a photo:
+  // out/attractors/<name>.json (the graph) and <name>.png (the overlay),
+  // <name> the photo's name without extension; and the index
+  // out/attractors/attractors.json.
+  fs::path AttractorGraphPath(const std::string& view_name) const;
+  fs::path AttractorOverlayPath(const std::string& view_name) const;
+  fs::path AttractorIndexPath() const { return OutDir() / "attractors" / "attractors.json"; }
+  // What a person made for a photo: a whole graph, edits/<name>.attractors.json
+  // (overrides everything else), or drawn strokes, edits/<name>.strokes.svg
+  // or edits/<name>.strokes.json (SVG first); empty paths if none exist.
+  fs::path AttractorEditPath(const std::string& view_name) const;
+  fs::path StrokesPath(const std::string& view_name) const;
   // Reads and validates a view's matte: the camera's size, not empty.
   FloatImage LoadMatte(const ImageSet& image_set, int view_idx) const;
   // Reads and validates the matte of a photo of the given size.

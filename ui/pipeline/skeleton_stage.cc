@@ -1,5 +1,6 @@
-// The skeleton stage (thesis 3.4 and 5.1): out/density.vdb -> particle flow
-// to the tree base -> skeleton with pipe-model radii scaled to the trunk
+// The skeleton stage (thesis 3.4, 3.5 and 5.1): out/density.vdb -> particle
+// flow to the tree base, steered by the direction field of the attract
+// stage's graphs (out/attractors/) -> skeleton with pipe-model radii scaled to the trunk
 // width seen in the mattes. Writes out/skeleton.json, out/skeleton.ply
 // (AdTree layout) and out/skeleton_raw.json (traces before simplification).
 #include "core/io/skeleton_io.h"
@@ -14,7 +15,8 @@ StageRun RunSkeletonStage(const StageContext& context) {
   const ImageSet views = context.InputViews();
   const std::vector<FloatImage> mattes = context.LoadMattes(views, "skeleton: reading mattes");
   const BuiltSkeleton built =
-      BuildSkeleton(density, views, mattes, {}, context.options, context.progress);
+      BuildSkeleton(density, views, mattes, LoadAttractorGraphs(context.project, views),
+                    context.options, context.progress);
   const std::string units = context.Units();
   StageRun run;
   run.brief = built.brief;

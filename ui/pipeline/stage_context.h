@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "core/types/attractor_graph.h"
 #include "core/types/float_image.h"
 #include "core/types/image_set.h"
 #include "core/util/progress.h"
@@ -19,7 +20,7 @@
 
 namespace sylva {
 
-enum class Stage { kMatte, kRegister, kDensity, kSkeleton, kMesh, kReport };
+enum class Stage { kMatte, kRegister, kDensity, kAttract, kSkeleton, kMesh, kReport };
 
 struct StageRun {
   Stage stage = Stage::kDensity;
@@ -52,9 +53,14 @@ struct StageContext {
 StageRun RunMatteStage(const StageContext& context);
 StageRun RunRegisterStage(const StageContext& context);
 StageRun RunDensityStage(const StageContext& context);
+StageRun RunAttractStage(const StageContext& context);
 StageRun RunSkeletonStage(const StageContext& context);
 StageRun RunMeshStage(const StageContext& context);
 StageRun RunReportStage(const StageContext& context);
+
+// The attractor graphs the attract stage wrote, one per view of `views`
+// (empty where a view has none), from out/attractors/attractors.json.
+std::vector<AttractorGraph2D> LoadAttractorGraphs(const Project& project, const ImageSet& views);
 
 // The values of the options under `prefixes` (Section. or Section.field), as
 // canonical text for cache keys.

@@ -1,0 +1,159 @@
+// The attract stage (thesis 3.2.2): one 2D attractor graph per input view,
+// the trunk and main branches the particle flow is steered by. For each
+// photo, the first that exists:
+//   1. edits/<photo>.attractors.json: a whole graph a person made (same
+//      format as the output), used as it is;
+//   2. edits/<photo>.strokes.svg or .strokes.json: strokes a person drew,
+//      joined into a graph (sketch/stroke_graph.h) and, with
+//      Attractors.snap_strokes, snapped onto the photo by livewire;
+//   3. with Attractors.mode=auto: a graph traced by livewire on the photo
+//      from automatic seeds to the tree base (Skeleton.base, or estimated
+//      from the density as the skeleton stage does) projected into it.
+// Attractors.mode=edits uses only 1 and 2; off writes no graph. Outputs:
+// out/attractors/<photo>.json and <photo>.png (the graph drawn on the photo),
+// and the index out/attractors/attractors.json naming every input view's
+// graph file and source ("edited", "strokes", "livewire" or "none"), which
+// the skeleton stage reads.
+#include <mutex>
+#include <sstream>
+
+#include "core/io/attractor_io.h"
+#include "core/io/image_io.h"
+#include "core/io/json_util.h"
+#include "core/io/vdb_io.h"
+#include "core/util/check.h"
+#include "core/util/file_util.h"
+#include "core/util/threading.h"
+#include "reconstruct/attractors/livewire.h"
+#include "reconstruct/attractors/overlay.h"
+#include "simulate/particle_flow.h"
+#include "sketch/stroke_graph.h"
+#include "sketch/strokes.h"
+#include "ui/pipeline/stage_context.h"
+
+namespace sylva {
+namespace {
+
+struct ViewAttractors {
+  AttractorGraph2D graph;
+  std::string source = "none";
+};
+
+}  // namespace
+
+StageRun RunAttractStage(const StageContext& context) {
+  const Project& project = context.project;
+  const AttractStageOptions& options = context.options.attract;
+  const ImageSet views = context.InputViews();
+  const int n = views.NumViews();
+  std::vector<ViewAttractors> results(n);
+  StageRun run;
+  if (options.mode != "off") {
+    // The tree base, as the skeleton stage finds it.
+    const Eigen::Vector3d base =
+        context.options.skeleton.base.allFinite()
+            ? context.options.skeleton.base
+            : EstimateTreeBase(ReadDensityGrid(context.RequireOutput("density.vdb", "density")),
+                               context.options.tree_base);
+    ProgressTask task(context.progress, "attract: attractor graphs");
+    std::mutex mutex;
+    int done = 0;
+    ParallelForFirstError(n, [&](int v) {
+      task.CheckCancelled();
+      const std::string& name = views.views[v].name;
+      const Camera& camera = views.CameraOf(v);
+      ViewAttractors& result = results[v];
+      const fs::path edit = project.AttractorEditPath(name);
+      const fs::path strokes_path = project.StrokesPath(name);
+      if (!edit.empty()) {
+        result.graph = ReadAttractorGraphJson(edit);
+        result.source = "edited";
+      } else if (!strokes_path.empty()) {
+        const StrokeSet strokes = ReadStrokes(strokes_path, camera.width(), camera.height());
+        result.graph = GraphFromStrokes(strokes, options.strokes);
+        result.source = "strokes";
+      } else if (options.mode == "auto") {
+        result.source = "livewire";
+      }
+      if (result.source == "none") return;
+      const bool needs_photo = result.source == "livewire" || options.snap_strokes ||
+                               options.write_overlays;
+      FloatImage photo;
+      FloatImage matte;
+      if (needs_photo) photo = ReadImage(project.PhotoPath(name));
+      if (result.source == "livewire" || (result.source == "strokes" && options.snap_strokes)) {
+        matte = project.LoadMatte(views, v);
+        SYLVA_CHECK_INPUT(photo.width() == camera.width() && photo.height() == camera.height(),
+                          project.PhotoPath(name).string())
+            << "the photo is " << photo.width() << "x" << photo.height() << " but its camera is "
+            << camera.width() << "x" << camera.height();
+      }
+      if (result.source == "livewire") {
+        Eigen::Vector2d target;
+        SYLVA_CHECK_INPUT(views.Project(v, base, &target) && target.x() >= 0 &&
+                              target.y() >= 0 && target.x() <= camera.width() &&
+                              target.y() <= camera.height(),
+                          name)
+            << "the tree base (" << base.transpose() << ") is not inside this photo; draw "
+            << "strokes for it (edits/<photo>.strokes.svg) or set Attractors.mode=edits";
+        result.graph = TraceAttractorGraph(photo, matte, target, {}, options.livewire);
+      } else if (result.source == "strokes" && options.snap_strokes) {
+        result.graph = SnapGraphToImage(result.graph, photo, matte, options.livewire);
+        result.source = "strokes+livewire";
+      }
+      if (options.write_overlays) {
+        WriteImage(project.AttractorOverlayPath(name), DrawAttractorOverlay(photo, result.graph));
+      }
+      std::lock_guard<std::mutex> lock(mutex);
+      task.Update(static_cast<double>(++done) / n);
+    });
+  }
+  // Graphs, then the index (so the index never names a graph not written).
+  Json index = {{"format", "sylva-attractor-index"}, {"version", 1}, {"mode", options.mode}};
+  Json entries = Json::object();
+  std::map<std::string, int> counts;
+  for (int v = 0; v < n; ++v) {
+    const std::string& name = views.views[v].name;
+    ++counts[results[v].source];
+    Json entry = {{"source", results[v].source}};
+    if (results[v].source != "none") {
+      const fs::path path = project.AttractorGraphPath(name);
+      WriteAttractorGraphJson(path, results[v].graph, name);
+      entry["graph"] = fs::relative(path, project.AttractorIndexPath().parent_path()).generic_string();
+      entry["nodes"] = results[v].graph.NumNodes();
+      entry["length_px"] = results[v].graph.TotalLength();
+      run.outputs.push_back(path);
+      if (options.write_overlays) run.outputs.push_back(project.AttractorOverlayPath(name));
+    }
+    entries[name] = entry;
+  }
+  index["views"] = entries;
+  WriteJsonFile(project.AttractorIndexPath(), index);
+  run.outputs.push_back(project.AttractorIndexPath());
+  std::ostringstream brief;
+  brief << "Attractor graphs (mode " << options.mode << ") for " << n << " input views:";
+  for (const auto& [source, count] : counts) brief << " " << count << " " << source << ";";
+  brief << " written to out/attractors/.";
+  run.brief = brief.str();
+  return run;
+}
+
+std::vector<AttractorGraph2D> LoadAttractorGraphs(const Project& project, const ImageSet& views) {
+  std::vector<AttractorGraph2D> graphs(views.NumViews());
+  const fs::path index_path = project.AttractorIndexPath();
+  const Json index = ReadJsonFile(index_path);
+  SYLVA_CHECK_INPUT(index.is_object() && index.value("format", "") == "sylva-attractor-index" &&
+                        index.contains("views") && index["views"].is_object(),
+                    index_path.string())
+      << "not a sylva attractor index; re-run 'sylva attract'";
+  for (int v = 0; v < views.NumViews(); ++v) {
+    const std::string& name = views.views[v].name;
+    if (!index["views"].contains(name)) continue;
+    const Json& entry = index["views"][name];
+    if (!entry.is_object() || !entry.contains("graph") || !entry["graph"].is_string()) continue;
+    graphs[v] = ReadAttractorGraphJson(index_path.parent_path() / entry["graph"].get<std::string>());
+  }
+  return graphs;
+}
+
+}  // namespace sylva
