@@ -21,8 +21,9 @@ find_package(embree 3.13 REQUIRED)
 find_package(TinyGLTF CONFIG REQUIRED)
 
 # Matting (reconstruct/matting): OpenCV 4.6 core + imgproc, and the alphamat
-# contrib module (libopencv-contrib-dev) for information-flow matting.
-find_package(OpenCV 4.6 REQUIRED COMPONENTS core imgproc alphamat)
+# contrib module (libopencv-contrib-dev) for information-flow matting; livewire
+# (reconstruct/attractors) also uses ximgproc's thinning (same package).
+find_package(OpenCV 4.6 REQUIRED COMPONENTS core imgproc alphamat ximgproc)
 
 # Loose / manual registration (reconstruct/registration): Ceres 2.1. Found
 # after TBB (see above) so its exported targets see the full TBB::tbb.
