@@ -23,6 +23,7 @@
 #include "core/io/vdb_io.h"
 #include "core/util/check.h"
 #include "core/util/file_util.h"
+#include "core/util/random.h"
 #include "core/util/threading.h"
 #include "reconstruct/attractors/livewire.h"
 #include "reconstruct/attractors/overlay.h"
@@ -34,6 +35,9 @@
 namespace sylva {
 namespace {
 
+// Stream id for DeriveSeed(General.seed, stream) (tree_building.cc uses 1, 2).
+constexpr uint64_t kLivewireSeedStream = 3;
+
 struct ViewAttractors {
   AttractorGraph2D graph;
   std::string source = "none";
@@ -43,7 +47,8 @@ struct ViewAttractors {
 
 StageRun RunAttractStage(const StageContext& context) {
   const Project& project = context.project;
-  const AttractStageOptions& options = context.options.attract;
+  AttractStageOptions options = context.options.attract;
+  options.livewire.seed = DeriveSeed(context.options.general.seed, kLivewireSeedStream);
   const ImageSet views = context.InputViews();
   const int n = views.NumViews();
   std::vector<ViewAttractors> results(n);

@@ -51,7 +51,7 @@ const std::vector<StageDefinition>& Definitions() {
       {{Stage::kAttract, "attract",
         "attractor graphs per photo: edited graphs or drawn strokes in edits/, else traced by "
         "livewire to the tree base (out/attractors/)"},
-       "attract/1", {"Attractors.", "TreeBase.", "Skeleton.base"}, {Stage::kDensity}, false,
+       "attract/1", {"Attractors.", "TreeBase.", "Skeleton.base", "General.seed"}, {Stage::kDensity}, false,
        RunAttractStage, Always},
       {{Stage::kSkeleton, "skeleton",
         "particle flow from the density to the tree base, steered by the attractor graphs' "

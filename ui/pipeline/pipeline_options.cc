@@ -122,6 +122,29 @@ void RegisterTreeBase(TreeBaseOptions* o, OptionRegistry* r) {
             "layers above the base whose centre gives the base's x and y");
 }
 
+void RegisterLivewire(LivewireOptions* o, OptionRegistry* r) {
+  r->AddString("Attractors.seeds", &o->seeds,
+               "automatic livewire seeds: silhouette (random outline points, the thesis), "
+               "farthest_point or skeleton_tips");
+  r->AddInt("Attractors.num_seeds", &o->num_seeds, "seeds", "automatic seeds per photo");
+  r->AddInt("Attractors.max_image_size", &o->max_image_size, "pixels",
+            "trace on a copy at most this large (longest side)");
+  r->AddDouble("Attractors.matte_threshold", &o->matte_threshold, "alpha",
+               "a pixel belongs to the tree at this matte value or more");
+  r->AddDouble("Attractors.simplify_tolerance", &o->simplify_tolerance, "pixels",
+               "Douglas-Peucker tolerance of the traced graphs");
+  r->AddDouble("Attractors.weight_outside", &o->weight_outside, "",
+               "livewire cost per step off the matte");
+  r->AddDouble("Attractors.weight_direction", &o->weight_direction, "",
+               "livewire cost of turning against the branch axis");
+  r->AddDouble("Attractors.weight_centerline", &o->weight_centerline, "",
+               "livewire cost of leaving the branches' centre lines");
+  r->AddDouble("Attractors.photo_weight", &o->photo_weight, "",
+               "share of the photo's luminance in the centre-line cost (0 = matte only)");
+  r->AddDouble("Attractors.snap_radius", &o->snap_radius, "pixels",
+               "snapped strokes: drawn nodes move to the best centre-line pixel this close");
+}
+
 void RegisterAttract(AttractStageOptions* o, OptionRegistry* r) {
   r->AddString("Attractors.mode", &o->mode,
                "auto (graphs a person drew in edits/, else traced by livewire), edits (only drawn "
