@@ -11,8 +11,10 @@ namespace sylva {
 Json ParseJson(const std::string& text, const std::string& source) {
   try {
     return Json::parse(text);
-  } catch (const Json::parse_error& error) {
-    // nlohmann's message starts with "[json.exception.parse_error.101] ".
+  } catch (const Json::exception& error) {
+    // A syntax error (parse_error) or a number too large for a double
+    // (out_of_range.406, "number overflow parsing '1e999'"). nlohmann's
+    // message starts with "[json.exception.parse_error.101] ".
     std::string message = error.what();
     const size_t bracket = message.find("] ");
     if (bracket != std::string::npos) message = message.substr(bracket + 2);
