@@ -189,6 +189,12 @@ class SvgStrokeCollector {
     if (stroke.points.size() < 2) {
       throw InputError("", what + " has fewer than two distinct points: not a stroke");
     }
+    for (const Eigen::Vector2d& p : stroke.points) {
+      if (!set_->NearPhoto(p)) {
+        throw InputError("", what + " reaches (" + std::to_string(p.x()) + ", " +
+                                 std::to_string(p.y()) + "), far outside the photo");
+      }
+    }
     set_->strokes.push_back(std::move(stroke));
   }
 
@@ -214,6 +220,10 @@ Eigen::Vector2d JsonPoint(const JsonCursor& json, const Eigen::Vector2d& scale) 
 
 }  // namespace
 
+bool StrokeSet::NearPhoto(const Eigen::Vector2d& p) const {
+  return p.x() >= -width && p.x() <= 2.0 * width && p.y() >= -height && p.y() <= 2.0 * height;
+}
+
 void StrokeSet::Check(const std::string& source_name) const {
   SYLVA_CHECK_INPUT(width > 0 && height > 0, source_name)
       << "the photo size must be positive, got " << width << " x " << height;
@@ -223,13 +233,15 @@ void StrokeSet::Check(const std::string& source_name) const {
     SYLVA_CHECK_INPUT(points.size() >= 2, source_name)
         << "stroke " << k << " has " << points.size() << " points; a stroke needs at least 2";
     for (size_t i = 0; i < points.size(); ++i) {
-      SYLVA_CHECK_INPUT(points[i].allFinite(), source_name)
-          << "stroke " << k << " point " << i << " is not finite";
+      SYLVA_CHECK_INPUT(NearPhoto(points[i]), source_name)
+          << "stroke " << k << " point " << i << " (" << points[i].x() << ", " << points[i].y()
+          << ") is not finite or lies far outside the " << width << " x " << height << " photo";
       SYLVA_CHECK_INPUT(i == 0 || points[i] != points[i - 1], source_name)
           << "stroke " << k << " repeats point " << i - 1;
     }
   }
-  SYLVA_CHECK_INPUT(!root || root->allFinite(), source_name) << "the root point is not finite";
+  SYLVA_CHECK_INPUT(!root || NearPhoto(*root), source_name)
+      << "the root point is not finite or lies far outside the photo";
 }
 
 StrokeSet ReadStrokesSvg(const std::filesystem::path& path, int photo_width, int photo_height) {
@@ -261,15 +273,7 @@ StrokeSet ReadStrokesJson(const std::filesystem::path& path, int photo_width, in
   SYLVA_CHECK(photo_width > 0 && photo_height > 0);
   const Json json = ReadJsonFile(path);
   const JsonCursor top(json, path.string());
-  if (!top.IsObject()) top.Fail("expected an object");
-  if (top["format"].AsString() != kJsonFormatName) {
-    top["format"].Fail(std::string("expected '") + kJsonFormatName + "'");
-  }
-  const int version = top["version"].AsInt();
-  if (version != kJsonFormatVersion) {
-    top["version"].Fail("unsupported version " + std::to_string(version) + " (this sylva reads " +
-                        std::to_string(kJsonFormatVersion) + ")");
-  }
+  CheckJsonFormat(top, kJsonFormatName, kJsonFormatVersion);
   const int width = PositiveInt(top["width"]);
   const int height = PositiveInt(top["height"]);
   const Eigen::Vector2d scale(static_cast<double>(photo_width) / width,

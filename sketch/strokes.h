@@ -83,9 +83,14 @@ struct StrokeSet {
   // one, in photo pixels.
   std::optional<Eigen::Vector2d> root;
 
+  // Whether p lies within the photo extended by its own size on every side
+  // ([-width, 2 width] x [-height, 2 height]). Points beyond that mean a
+  // broken file or a drawing made for another photo (false for NaN).
+  bool NearPhoto(const Eigen::Vector2d& p) const;
+
   // Throws InputError naming `source_name` if the size is not positive,
   // there are no strokes, a stroke has fewer than 2 points or two equal
-  // consecutive points, or a coordinate is not finite.
+  // consecutive points, or a point (or the root) is not NearPhoto.
   void Check(const std::string& source_name) const;
 };
 

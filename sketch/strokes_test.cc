@@ -4,8 +4,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <fstream>
 
 #include "core/util/check.h"
+#include "core/util/random.h"
+#include "sketch/stroke_graph.h"
 #include "core/util/file_util.h"
 
 namespace sylva {
@@ -143,6 +146,10 @@ TEST(StrokesTest, MalformedSvgFilesNameTheFileAndTheProblem) {
             std::string::npos);
   EXPECT_NE(ReadError("a.svg", "<svg><defs><path d='M 5 5 L 6 6'/></defs></svg>").find("no strokes"),
             std::string::npos);
+  EXPECT_NE(ReadError("a.svg", "<svg><path id='far' d='M 0 0 L 3000 0'/></svg>")
+                .find("<path id=\"far\"> on line 1: subpath 1 reaches (3000.000000, 0.000000), "
+                      "far outside the photo"),
+            std::string::npos);
   EXPECT_NE(ReadError("a.svg", "<svg viewBox='0 0 0 10'><path d='M0 0 L1 1'/></svg>").find("viewBox"),
             std::string::npos);
   EXPECT_NE(ReadError("a.svg",
@@ -175,6 +182,9 @@ TEST(StrokesTest, MalformedJsonFilesNameTheFileAndTheLocation) {
   EXPECT_NE(ReadError("a.json", head + R"("strokes": [[[1, 2], [3, 1e400]]]})")
                 .find("number overflow"),
             std::string::npos);
+  EXPECT_NE(ReadError("a.json", head + R"("strokes": [[[1, 2], [21, 4]]]})")
+                .find("stroke 0 point 1 (3024, 432) is not finite or lies far outside"),
+            std::string::npos);
   EXPECT_NE(ReadError("a.json", head + R"("strokes": [[[1, 2], [3, 4]]], "root": [1]})")
                 .find("at /root: expected 2 numbers"),
             std::string::npos);
@@ -202,6 +212,52 @@ TEST(StrokesTest, CheckRejectsBadSetsBuiltInCode) {
   EXPECT_THROW(set.Check("test"), InputError);
   set.strokes.back().points.push_back({0, std::nan("")});
   EXPECT_THROW(set.Check("test"), InputError);
+}
+
+// Randomly damaged files (fixed seed): every read either succeeds or throws
+// InputError, and every set that reads becomes a valid graph.
+TEST(StrokesTest, DamagedFilesNeverCrash) {
+  const std::string svg = R"svg(<svg viewBox="0 0 144 108"><g transform="rotate(5 70 50) scale(1.5)">
+<path d="M 70 100 C 72 90 68 70 70 60 s 10 -5 20 -20 Q 60 40 50 30 t -10 -10 A 5 8 30 1 0 40 20 Z"/>
+<polyline points="70,60 60,50 55,40"/><line x1="70" y1="60" x2="80" y2="45"/>
+<circle id="root" cx="70" cy="100" r="2"/></g></svg>)svg";
+  const std::string json = R"({"format": "sylva-strokes", "version": 1, "width": 144,
+"height": 108, "strokes": [[[70, 100], [70, 60]], [[70, 60], [50, 30], [45, 20]]], "root": [70, 101]})";
+  const std::string alphabet = "<>/=\"' -+.,e0123456789MmLlHhCcSsQqTtAaZz()[]{}:";
+  RandomEngine random(20240611);
+  const fs::path dir = WriteTestFile("damaged.svg", svg).parent_path();
+  int read = 0, rejected = 0;
+  for (int trial = 0; trial < 600; ++trial) {
+    std::string text = trial % 2 == 0 ? svg : json;
+    for (int edits = 1 + random.UniformInt(2); edits > 0 && !text.empty(); --edits) {
+      const size_t at = random.UniformInt(static_cast<uint32_t>(text.size()));
+      const uint32_t kind = random.UniformInt(8);
+      if (kind < 4) {
+        text[at] = alphabet[random.UniformInt(static_cast<uint32_t>(alphabet.size()))];
+      } else if (kind < 6) {
+        text.erase(at, 1 + random.UniformInt(8));
+      } else if (kind < 7) {
+        text.insert(at, text.substr(random.UniformInt(static_cast<uint32_t>(text.size())), 6));
+      } else {
+        text.resize(at);
+      }
+    }
+    const fs::path path = fs::path(dir) / (trial % 2 == 0 ? "damaged.svg" : "damaged.json");
+    std::ofstream(path, std::ios::binary) << text;  // faster than an atomic write
+    StrokeSet set;
+    try {
+      set = ReadStrokes(path, 1440, 1080);
+    } catch (const InputError& error) {
+      EXPECT_EQ(error.source(), path.string());
+      ++rejected;
+      continue;
+    }
+    ++read;
+    const AttractorGraph2D graph = GraphFromStrokes(set, StrokeGraphOptions());
+    EXPECT_NO_THROW(graph.Check("damaged")) << text;
+  }
+  EXPECT_GT(read, 30);  // the damage leaves many files readable...
+  EXPECT_GT(rejected, 50);  // ...and breaks many
 }
 
 }  // namespace

@@ -17,9 +17,9 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kDegrees = kPi / 180;
 // Upper bound on the pieces of one flattened curve, so that absurd
-// coordinates (1e300) cannot exhaust memory; far above what any drawn curve
-// needs at a quarter pixel.
-constexpr int kMaxPiecesPerCurve = 100000;
+// coordinates (1e300) cannot exhaust memory. A cubic spanning 1e6 pixels
+// needs ~1700 pieces for a quarter pixel, an arc of radius 1e5 pixels ~5000.
+constexpr int kMaxPiecesPerCurve = 10000;
 
 bool IsSvgSpace(char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r'; }
 bool IsDigit(char c) { return c >= '0' && c <= '9'; }

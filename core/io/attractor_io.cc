@@ -93,15 +93,7 @@ AttractorGraph2D ReadAttractorGraphJson(const std::filesystem::path& path,
                                         std::string* image_name) {
   const Json json = ReadJsonFile(path);
   const JsonCursor top(json, path.string());
-  if (!top.IsObject()) top.Fail("expected an object");
-  if (top["format"].AsString() != kFormatName) {
-    top["format"].Fail(std::string("expected '") + kFormatName + "'");
-  }
-  const int version = top["version"].AsInt();
-  if (version != kFormatVersion) {
-    top["version"].Fail("unsupported version " + std::to_string(version) + " (this sylva reads " +
-                        std::to_string(kFormatVersion) + ")");
-  }
+  CheckJsonFormat(top, kFormatName, kFormatVersion);
   const std::string image = top["image"].AsString();
   if (image_name != nullptr) *image_name = image;
 

@@ -108,4 +108,14 @@ Eigen::Vector3d JsonCursor::AsVector3() const {
   return Eigen::Vector3d(v[0], v[1], v[2]);
 }
 
+void CheckJsonFormat(const JsonCursor& root, const std::string& format, int version) {
+  if (!root.IsObject()) root.Fail("expected an object");
+  if (root["format"].AsString() != format) root["format"].Fail("expected '" + format + "'");
+  const int found = root["version"].AsInt();
+  if (found != version) {
+    root["version"].Fail("unsupported version " + std::to_string(found) + " (this sylva reads " +
+                         std::to_string(version) + ")");
+  }
+}
+
 }  // namespace sylva
