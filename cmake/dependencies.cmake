@@ -29,6 +29,10 @@ find_package(OpenCV 4.6 REQUIRED COMPONENTS core imgproc alphamat ximgproc)
 # after TBB (see above) so its exported targets see the full TBB::tbb.
 find_package(Ceres 2.1 REQUIRED)
 
+# SVG stroke files (sketch/strokes.cc): tinyxml2 9 (libtinyxml2-dev), whose
+# CMake config defines the imported target tinyxml2::tinyxml2.
+find_package(tinyxml2 9 CONFIG REQUIRED)
+
 if(SYLVA_BUILD_TESTS)
   find_package(GTest REQUIRED)
   find_package(benchmark REQUIRED)

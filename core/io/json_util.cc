@@ -11,8 +11,10 @@ namespace sylva {
 Json ParseJson(const std::string& text, const std::string& source) {
   try {
     return Json::parse(text);
-  } catch (const Json::parse_error& error) {
-    // nlohmann's message starts with "[json.exception.parse_error.101] ".
+  } catch (const Json::exception& error) {
+    // A syntax error (parse_error) or a number too large for a double
+    // (out_of_range.406, "number overflow parsing '1e999'"). nlohmann's
+    // message starts with "[json.exception.parse_error.101] ".
     std::string message = error.what();
     const size_t bracket = message.find("] ");
     if (bracket != std::string::npos) message = message.substr(bracket + 2);
@@ -104,6 +106,16 @@ std::vector<double> JsonCursor::AsDoubles(size_t expected_size) const {
 Eigen::Vector3d JsonCursor::AsVector3() const {
   const std::vector<double> v = AsDoubles(3);
   return Eigen::Vector3d(v[0], v[1], v[2]);
+}
+
+void CheckJsonFormat(const JsonCursor& root, const std::string& format, int version) {
+  if (!root.IsObject()) root.Fail("expected an object");
+  if (root["format"].AsString() != format) root["format"].Fail("expected '" + format + "'");
+  const int found = root["version"].AsInt();
+  if (found != version) {
+    root["version"].Fail("unsupported version " + std::to_string(found) + " (this sylva reads " +
+                         std::to_string(version) + ")");
+  }
 }
 
 }  // namespace sylva

@@ -59,6 +59,11 @@ class JsonCursor {
   std::string pointer_;
 };
 
+// Checks the header of a sylva JSON file: `root` is an object whose
+// "format" is `format` and whose "version" is `version`; throws InputError at
+// the offending key otherwise.
+void CheckJsonFormat(const JsonCursor& root, const std::string& format, int version);
+
 }  // namespace sylva
 
 #endif  // SYLVA_CORE_IO_JSON_UTIL_H_
