@@ -5,7 +5,7 @@
 // the 2D Chamfer distance between the projected skeletons' main branches
 // (orders 0-2) in pixels, the 3D skeleton Chamfer (% of height) and the mesh
 // silhouette IoU.
-//   sylva_attractor_probe [--seeds=1,2,3,4,5] [--name=value ...]
+//   sylva_attractor_probe [--seeds=1,2,3,4,5] [--graphs=truth|livewire] [--name=value ...]
 // with names of DirectionField.* / ParticleFlow.* options (e.g.
 // --DirectionField.falloff=0.05 --ParticleFlow.field_weight=2).
 #include <cstdio>
@@ -14,6 +14,9 @@
 #include <vector>
 
 #include "core/util/check.h"
+#include "core/util/random.h"
+#include "reconstruct/attractors/livewire.h"
+#include "simulate/particle_flow.h"
 #include "datasets/eval/point_metrics.h"
 #include "datasets/synthetic/synthetic_dataset.h"
 #include "reconstruct/density/density_reconstruction.h"
@@ -88,6 +91,7 @@ Result Evaluate(const SyntheticDataset& data, const BuiltSkeleton& built, const 
 int Main(int argc, char** argv) {
   std::vector<uint64_t> seeds = {1, 2, 3, 4, 5};
   int graph_order = 2;
+  bool livewire = false;  // --graphs=livewire: traced graphs, else the truth projected
   PipelineOptions options;
   OptionRegistry registry;
   RegisterPipelineOptions(&options, &registry);
@@ -101,6 +105,8 @@ int Main(int argc, char** argv) {
       std::stringstream list(value);
       std::string item;
       while (std::getline(list, item, ',')) seeds.push_back(std::stoull(item));
+    } else if (name == "graphs") {
+      livewire = value == "livewire";
     } else if (name == "graph_order") {
       graph_order = std::stoi(value);
     } else {
@@ -119,7 +125,15 @@ int Main(int argc, char** argv) {
     const std::vector<FloatImage> mattes = data.InputMattes();
     const DensityGrid density = ReconstructDensity(inputs, mattes, options.density, nullptr, nullptr);
     std::vector<AttractorGraph2D> graphs;
-    for (int v = 0; v < inputs.NumViews(); ++v) graphs.push_back(Project(data.tree.skeleton, inputs, v, graph_order));
+    const Eigen::Vector3d base = EstimateTreeBase(density, options.tree_base);
+    LivewireOptions livewire_options = options.attract.livewire;
+    livewire_options.seed = DeriveSeed(seed, 3);
+    for (int v = 0; v < inputs.NumViews(); ++v) {
+      Eigen::Vector2d target;
+      inputs.Project(v, base, &target);
+      graphs.push_back(livewire ? TraceAttractorGraph(data.photos[v], mattes[v], target, {}, livewire_options)
+                                : Project(data.tree.skeleton, inputs, v, graph_order));
+    }
     const BuiltSkeleton without = BuildSkeleton(density, inputs, mattes, {}, options, nullptr);
     const BuiltSkeleton with = BuildSkeleton(density, inputs, mattes, graphs, options, nullptr);
     const Result a = Evaluate(data, without, density, options);

@@ -18,6 +18,7 @@
 #include <thread>
 #include <vector>
 
+#include "core/io/attractor_io.h"
 #include "core/io/image_io.h"
 #include "core/io/json_util.h"
 #include "core/io/mesh_io.h"
@@ -715,6 +716,62 @@ TEST_F(CliTest, TreeStagesRefuseBadInputs) {
   // An empty density grid (say, every voxel carved away by hand edits).
   WriteDensityGrid(project / "out" / "density.vdb", DensityGrid());
   ExpectRunFails(project, {"skeleton", p}, {"density"});
+}
+
+// Attractor graphs: traced by livewire on every input photo by default; drawn
+// strokes and whole edited graphs in edits/ take over their photo's graph;
+// a broken strokes file is refused naming it; mode off writes none.
+TEST_F(CliTest, AttractorGraphsFromLivewireStrokesAndEdits) {
+  const fs::path project = CopyBaseProject();
+  const std::string p = project.string();
+  const fs::path attractors = project / "out" / "attractors";
+  const Json index = ReadJsonFile(attractors / "attractors.json");
+  ASSERT_EQ(index.at("views").size(), 6u) << index.dump(2);
+  for (const auto& [name, entry] : index.at("views").items()) {
+    EXPECT_EQ(entry.at("source"), "livewire") << name;
+    const fs::path stem = fs::path(name).replace_extension();
+    const AttractorGraph2D graph = ReadAttractorGraphJson(attractors / (stem.string() + ".json"));
+    EXPECT_GT(graph.NumEdges(), 3) << name;
+    EXPECT_EQ(graph.width, kImageSize);
+    const FloatImage overlay = ReadImage(attractors / (stem.string() + ".png"));
+    EXPECT_EQ(overlay.width(), kImageSize);
+  }
+  const std::string skeleton_brief = ReadJsonFile(project / "cache" / "stages.json")
+                                         .at("skeleton").at("summary").get<std::string>();
+  EXPECT_TRUE(Contains(skeleton_brief, "attractor graphs of 6 of 6 views")) << skeleton_brief;
+
+  // A stroke down the middle of view_00, a whole graph for view_01.
+  const int s = kImageSize;
+  WriteFile(project / "edits" / "view_00.strokes.json",
+            "{\"format\": \"sylva-strokes\", \"version\": 1, \"width\": " + std::to_string(s) +
+                ", \"height\": " + std::to_string(s) + ", \"strokes\": [[[" +
+                std::to_string(s / 2) + ", " + std::to_string(s / 5) + "], [" +
+                std::to_string(s / 2) + ", " + std::to_string(s * 9 / 10) + "]]]}");
+  fs::copy_file(attractors / "view_01.json", project / "edits" / "view_01.attractors.json");
+  const SubprocessResult run = Sylva({"run", p});
+  ASSERT_TRUE(Succeeded(run));
+  EXPECT_FALSE(Contains(run.out, "skeleton: up to date")) << run.out;
+  const Json edited = ReadJsonFile(attractors / "attractors.json");
+  EXPECT_EQ(edited.at("views").at("view_00.png").at("source"), "strokes");
+  EXPECT_EQ(edited.at("views").at("view_01.png").at("source"), "edited");
+  const AttractorGraph2D stroke_graph = ReadAttractorGraphJson(attractors / "view_00.json");
+  EXPECT_NEAR(stroke_graph.TotalLength(), 0.7 * s, 1.0);
+  EXPECT_NEAR(stroke_graph.nodes[stroke_graph.root].position.y(), s * 9 / 10, 1e-6)
+      << "the stroke's lowest point is its root";
+
+  // A broken SVG: refused, naming the file; nothing changes.
+  WriteFile(project / "edits" / "view_02.strokes.svg", "<svg><path d=\"M 10 10 L 20\"></svg");
+  ExpectRunFails(project, {"attract", p}, {"view_02.strokes.svg"});
+  fs::remove(project / "edits" / "view_02.strokes.svg");
+
+  const SubprocessResult off = Sylva({"run", p, "--Attractors.mode=off"});
+  ASSERT_TRUE(Succeeded(off));
+  for (const auto& [name, entry] : ReadJsonFile(attractors / "attractors.json").at("views").items()) {
+    EXPECT_EQ(entry.at("source"), "none") << name;
+  }
+  EXPECT_TRUE(Contains(off.out, "No attractor graphs")) << off.out;
+  ExpectRunFails(project, {"attract", p, "--Attractors.mode=sometimes"}, {"Attractors.mode"});
+  EXPECT_TRUE(TempFilesUnder(project).empty());
 }
 
 // The bundled demo, initialised the way scripts/demo.sh does it (COLMAP model,

@@ -81,12 +81,12 @@ StageRun RunAttractStage(const StageContext& context) {
         result.source = "livewire";
       }
       if (result.source == "none") return;
-      const bool needs_photo = result.source == "livewire" || options.snap_strokes ||
-                               options.write_overlays;
-      FloatImage photo;
+      const bool needs_photo =
+          result.source == "livewire" || (result.source == "strokes" && options.snap_strokes);
+      if (!needs_photo) return;
+      FloatImage photo = ReadImage(project.PhotoPath(name));
       FloatImage matte;
-      if (needs_photo) photo = ReadImage(project.PhotoPath(name));
-      if (result.source == "livewire" || (result.source == "strokes" && options.snap_strokes)) {
+      {
         matte = project.LoadMatte(views, v);
         SYLVA_CHECK_INPUT(photo.width() == camera.width() && photo.height() == camera.height(),
                           project.PhotoPath(name).string())
@@ -106,12 +106,20 @@ StageRun RunAttractStage(const StageContext& context) {
         result.graph = SnapGraphToImage(result.graph, photo, matte, options.livewire);
         result.source = "strokes+livewire";
       }
-      if (options.write_overlays) {
-        WriteImage(project.AttractorOverlayPath(name), DrawAttractorOverlay(photo, result.graph));
-      }
       std::lock_guard<std::mutex> lock(mutex);
       task.Update(static_cast<double>(++done) / n);
     });
+    // Every graph is known: now the overlays (photos decoded again rather
+    // than all held, so a failure above leaves the old outputs untouched).
+    if (options.write_overlays) {
+      ParallelForFirstError(n, [&](int v) {
+        task.CheckCancelled();
+        if (results[v].source == "none") return;
+        const std::string& name = views.views[v].name;
+        WriteImage(project.AttractorOverlayPath(name),
+                   DrawAttractorOverlay(ReadImage(project.PhotoPath(name)), results[v].graph));
+      });
+    }
   }
   // Graphs, then the index (so the index never names a graph not written).
   Json index = {{"format", "sylva-attractor-index"}, {"version", 1}, {"mode", options.mode}};
