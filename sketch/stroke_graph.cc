@@ -26,7 +26,8 @@ class StrokeNetwork {
     for (const Stroke& stroke : strokes.strokes) {
       const int count = static_cast<int>(stroke.points.size());
       std::vector<char> keep(count, simplify_tolerance > 0 ? 0 : 1);
-      DouglasPeucker(count, [&](int k) { return stroke.points[k]; }, simplify_tolerance, &keep);
+      DouglasPeucker(
+          count, [&](int k) { return stroke.points[k]; }, simplify_tolerance, &keep);
       chains_.emplace_back();
       for (int k = 0; k < count; ++k) {
         if (keep[k]) chains_.back().push_back(NewNode(stroke.points[k]));
@@ -210,7 +211,8 @@ int NodeNearest(UndirectedGraph* graph, const Eigen::Vector2d& point) {
     if (d2 < best2) best2 = d2, best_edge = e, best_t = t;
   }
   const auto [a, b] = graph->edges[best_edge];
-  const Eigen::Vector2d q = graph->positions[a] + best_t * (graph->positions[b] - graph->positions[a]);
+  const Eigen::Vector2d q =
+      graph->positions[a] + best_t * (graph->positions[b] - graph->positions[a]);
   if ((q - graph->positions[a]).norm() <= kSameNodeDistance) return a;
   if ((q - graph->positions[b]).norm() <= kSameNodeDistance) return b;
   const int node = graph->AddNode(q);
@@ -240,7 +242,8 @@ std::vector<int> Components(const std::vector<std::vector<int>>& adjacency, int*
 }
 
 // Step 4: one root per component, the main root first.
-std::vector<int> ComponentRoots(UndirectedGraph* graph, const std::optional<Eigen::Vector2d>& root) {
+std::vector<int> ComponentRoots(UndirectedGraph* graph,
+                                const std::optional<Eigen::Vector2d>& root) {
   const int main_root = root ? NodeNearest(graph, *root) : -1;
   int count = 0;
   const std::vector<int> component = Components(graph->Adjacency(), &count);
@@ -251,10 +254,10 @@ std::vector<int> ComponentRoots(UndirectedGraph* graph, const std::optional<Eige
     if (best < 0 || graph->positions[n].y() > graph->positions[best].y()) best = n;
   }
   for (const auto& edge : graph->edges) length[component[edge.first]] += graph->Length(edge);
-  const int main_component =
-      main_root >= 0 ? component[main_root]
-                     : static_cast<int>(std::max_element(length.begin(), length.end()) -
-                                        length.begin());  // the first of equals
+  const int main_component = main_root >= 0
+                                 ? component[main_root]
+                                 : static_cast<int>(std::max_element(length.begin(), length.end()) -
+                                                    length.begin());  // the first of equals
   std::vector<int> roots = {main_root >= 0 ? main_root : lowest[main_component]};
   for (int c = 0; c < count; ++c) {
     if (c != main_component) roots.push_back(lowest[c]);
@@ -296,8 +299,7 @@ void OrientTowardsRoots(const UndirectedGraph& graph, const std::vector<int>& ro
 }  // namespace
 
 void StrokeGraphOptions::Check() const {
-  SYLVA_CHECK_INPUT(std::isfinite(snap_distance) && snap_distance >= 0,
-                    "StrokeGraph.snap_distance")
+  SYLVA_CHECK_INPUT(std::isfinite(snap_distance) && snap_distance >= 0, "StrokeGraph.snap_distance")
       << "must be a finite distance >= 0 in pixels, got " << snap_distance;
   SYLVA_CHECK_INPUT(std::isfinite(simplify_tolerance) && simplify_tolerance >= 0,
                     "StrokeGraph.simplify_tolerance")
@@ -332,8 +334,8 @@ AttractorGraph2D GraphFromStrokes(const StrokeSet& strokes, const StrokeGraphOpt
   // nearer one.
   for (const auto& [a, b] : graph.edges) {
     if (parent[a] == b || parent[b] == a) continue;
-    const bool a_farther = std::make_pair(distance[a], index_of[a]) >
-                           std::make_pair(distance[b], index_of[b]);
+    const bool a_farther =
+        std::make_pair(distance[a], index_of[a]) > std::make_pair(distance[b], index_of[b]);
     const int far = a_farther ? a : b, near = a_farther ? b : a;
     result.AddNode(graph.positions[far], index_of[near]);
   }

@@ -76,7 +76,8 @@ TEST(StrokeGraphTest, DrawnYBecomesOneTreeWithAForkAndEdgesDown) {
                           (Eigen::Vector2d(20, 20) - fork).norm() +
                           (Eigen::Vector2d(80, 20) - fork).norm();
   EXPECT_NEAR(graph.TotalLength(), expected, 1e-9);
-  for (const auto& [a, b] : graph.Segments()) EXPECT_LE((a - b).norm(), options.resample_spacing + 1e-9);
+  for (const auto& [a, b] : graph.Segments())
+    EXPECT_LE((a - b).norm(), options.resample_spacing + 1e-9);
 }
 
 TEST(StrokeGraphTest, EndOnTheMiddleOfAStrokeSplitsIt) {
@@ -131,10 +132,8 @@ TEST(StrokeGraphTest, CrossingStrokesWithoutNearEndsStayApart) {
 
 TEST(StrokeGraphTest, CycleIsCutWithoutLosingAnySegment) {
   // A triangle of three strokes meeting end to end, plus a trunk below.
-  const StrokeSet set = MakeSet({{{50, 95}, {50, 60}},
-                                 {{50, 60}, {20, 20}},
-                                 {{20, 20}, {80, 20}},
-                                 {{80, 20}, {50, 60}}});
+  const StrokeSet set = MakeSet(
+      {{{50, 95}, {50, 60}}, {{50, 60}, {20, 20}}, {{20, 20}, {80, 20}}, {{80, 20}, {50, 60}}});
   const AttractorGraph2D graph = GraphFromStrokes(set, StrokeGraphOptions());
   graph.Check("test");
   EXPECT_EQ(graph.Roots().size(), 1u);
@@ -169,7 +168,8 @@ TEST(StrokeGraphTest, DenseCurveIsSimplifiedWithinTolerance) {
   const AttractorGraph2D graph = GraphFromStrokes(MakeSet({arc}), options);
   EXPECT_LT(graph.NumNodes(), 60);
   EXPECT_GT(graph.NumNodes(), 10);
-  for (const AttractorNode& node : graph.nodes) EXPECT_NEAR((node.position - Eigen::Vector2d(50, 90)).norm(), 40, 1e-9);
+  for (const AttractorNode& node : graph.nodes)
+    EXPECT_NEAR((node.position - Eigen::Vector2d(50, 90)).norm(), 40, 1e-9);
   EXPECT_NEAR(graph.TotalLength(), 40 * kPi, 40 * kPi * 5e-3);  // chords are a bit shorter
 }
 

@@ -100,7 +100,8 @@ Eigen::Affine2d PixelsFromDocument(const XMLElement& svg, int photo_width, int p
   } else {
     const char* width = svg.Attribute("width");
     const char* height = svg.Attribute("height");
-    if (width == nullptr || height == nullptr || std::string(width).find('%') != std::string::npos ||
+    if (width == nullptr || height == nullptr ||
+        std::string(width).find('%') != std::string::npos ||
         std::string(height).find('%') != std::string::npos) {
       return Eigen::Affine2d::Identity();
     }
@@ -179,8 +180,8 @@ class SvgStrokeCollector {
                 "the line");
     } else if (name == "circle" && HasIdOrClass(element, "root")) {
       if (set_->root) throw InputError("", "a second root circle (there may be only one)");
-      set_->root = pixels_from_user * Eigen::Vector2d(LengthAttribute(element, "cx"),
-                                                      LengthAttribute(element, "cy"));
+      set_->root = pixels_from_user *
+                   Eigen::Vector2d(LengthAttribute(element, "cx"), LengthAttribute(element, "cy"));
     }
   }
 
@@ -285,7 +286,8 @@ StrokeSet ReadStrokesJson(const std::filesystem::path& path, int photo_width, in
   if (strokes.Size() == 0) strokes.Fail("no strokes");
   for (size_t k = 0; k < strokes.Size(); ++k) {
     std::vector<Eigen::Vector2d> points;
-    for (size_t i = 0; i < strokes[k].Size(); ++i) points.push_back(JsonPoint(strokes[k][i], scale));
+    for (size_t i = 0; i < strokes[k].Size(); ++i)
+      points.push_back(JsonPoint(strokes[k][i], scale));
     set.strokes.push_back(MakeStroke(points));
     if (set.strokes.back().points.size() < 2) {
       strokes[k].Fail("a stroke needs at least two distinct points");
@@ -302,8 +304,8 @@ StrokeSet ReadStrokes(const std::filesystem::path& path, int photo_width, int ph
                  [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   if (extension == ".svg") return ReadStrokesSvg(path, photo_width, photo_height);
   if (extension == ".json") return ReadStrokesJson(path, photo_width, photo_height);
-  SYLVA_INPUT_ERROR(path.string()) << "unknown stroke file type '" << extension
-                                   << "': expected .svg or .json";
+  SYLVA_INPUT_ERROR(path.string())
+      << "unknown stroke file type '" << extension << "': expected .svg or .json";
   return StrokeSet();
 }
 

@@ -7,9 +7,9 @@
 #include <fstream>
 
 #include "core/util/check.h"
+#include "core/util/file_util.h"
 #include "core/util/random.h"
 #include "sketch/stroke_graph.h"
-#include "core/util/file_util.h"
 
 namespace sylva {
 namespace {
@@ -128,7 +128,8 @@ TEST(StrokesTest, MalformedSvgFilesNameTheFileAndTheProblem) {
   EXPECT_NE(ReadError("a.svg", "plain text").find("not valid XML"), std::string::npos);
   EXPECT_NE(ReadError("a.svg", "<html><path d='M 0 0 L 1 1'/></html>").find("not <svg>"),
             std::string::npos);
-  const std::string bad_path = ReadError("a.svg", "<svg>\n<g>\n<path id='p7' d='M 0 0 L 1'/></g></svg>");
+  const std::string bad_path =
+      ReadError("a.svg", "<svg>\n<g>\n<path id='p7' d='M 0 0 L 1'/></g></svg>");
   EXPECT_NE(bad_path.find("<path id=\"p7\"> on line 3: attribute d: expected a number"),
             std::string::npos)
       << bad_path;
@@ -144,14 +145,16 @@ TEST(StrokesTest, MalformedSvgFilesNameTheFileAndTheProblem) {
   EXPECT_NE(ReadError("a.svg", "<svg><path d='M 5 5 L 5 5'/></svg>")
                 .find("subpath 1 has fewer than two distinct points"),
             std::string::npos);
-  EXPECT_NE(ReadError("a.svg", "<svg><defs><path d='M 5 5 L 6 6'/></defs></svg>").find("no strokes"),
-            std::string::npos);
+  EXPECT_NE(
+      ReadError("a.svg", "<svg><defs><path d='M 5 5 L 6 6'/></defs></svg>").find("no strokes"),
+      std::string::npos);
   EXPECT_NE(ReadError("a.svg", "<svg><path id='far' d='M 0 0 L 3000 0'/></svg>")
                 .find("<path id=\"far\"> on line 1: subpath 1 reaches (3000.000000, 0.000000), "
                       "far outside the photo"),
             std::string::npos);
-  EXPECT_NE(ReadError("a.svg", "<svg viewBox='0 0 0 10'><path d='M0 0 L1 1'/></svg>").find("viewBox"),
-            std::string::npos);
+  EXPECT_NE(
+      ReadError("a.svg", "<svg viewBox='0 0 0 10'><path d='M0 0 L1 1'/></svg>").find("viewBox"),
+      std::string::npos);
   EXPECT_NE(ReadError("a.svg",
                       "<svg><path d='M0 0 L1 1'/><circle id='root'/><circle class='root'/></svg>")
                 .find("a second root circle"),
@@ -159,7 +162,8 @@ TEST(StrokesTest, MalformedSvgFilesNameTheFileAndTheProblem) {
 }
 
 TEST(StrokesTest, MalformedJsonFilesNameTheFileAndTheLocation) {
-  const std::string head = R"({"format": "sylva-strokes", "version": 1, "width": 10, "height": 10, )";
+  const std::string head =
+      R"({"format": "sylva-strokes", "version": 1, "width": 10, "height": 10, )";
   EXPECT_NE(ReadError("a.json", R"({"format": "sylva-strokes",)").find("invalid JSON"),
             std::string::npos);
   EXPECT_NE(ReadError("a.json", R"({"format": "sylva-attractor-graph", "version": 1})")
@@ -179,9 +183,9 @@ TEST(StrokesTest, MalformedJsonFilesNameTheFileAndTheLocation) {
   EXPECT_NE(ReadError("a.json", head + R"("strokes": [[[1, 2], [3, "4"]]]})")
                 .find("at /strokes/0/1/1: expected a number"),
             std::string::npos);
-  EXPECT_NE(ReadError("a.json", head + R"("strokes": [[[1, 2], [3, 1e400]]]})")
-                .find("number overflow"),
-            std::string::npos);
+  EXPECT_NE(
+      ReadError("a.json", head + R"("strokes": [[[1, 2], [3, 1e400]]]})").find("number overflow"),
+      std::string::npos);
   EXPECT_NE(ReadError("a.json", head + R"("strokes": [[[1, 2], [21, 4]]]})")
                 .find("stroke 0 point 1 (3024, 432) is not finite or lies far outside"),
             std::string::npos);
@@ -217,7 +221,8 @@ TEST(StrokesTest, CheckRejectsBadSetsBuiltInCode) {
 // Randomly damaged files (fixed seed): every read either succeeds or throws
 // InputError, and every set that reads becomes a valid graph.
 TEST(StrokesTest, DamagedFilesNeverCrash) {
-  const std::string svg = R"svg(<svg viewBox="0 0 144 108"><g transform="rotate(5 70 50) scale(1.5)">
+  const std::string svg =
+      R"svg(<svg viewBox="0 0 144 108"><g transform="rotate(5 70 50) scale(1.5)">
 <path d="M 70 100 C 72 90 68 70 70 60 s 10 -5 20 -20 Q 60 40 50 30 t -10 -10 A 5 8 30 1 0 40 20 Z"/>
 <polyline points="70,60 60,50 55,40"/><line x1="70" y1="60" x2="80" y2="45"/>
 <circle id="root" cx="70" cy="100" r="2"/></g></svg>)svg";
@@ -256,7 +261,7 @@ TEST(StrokesTest, DamagedFilesNeverCrash) {
     const AttractorGraph2D graph = GraphFromStrokes(set, StrokeGraphOptions());
     EXPECT_NO_THROW(graph.Check("damaged")) << text;
   }
-  EXPECT_GT(read, 30);  // the damage leaves many files readable...
+  EXPECT_GT(read, 30);      // the damage leaves many files readable...
   EXPECT_GT(rejected, 50);  // ...and breaks many
 }
 

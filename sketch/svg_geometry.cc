@@ -207,8 +207,7 @@ class PathFlattener {
     if (!sweep && delta > 0) delta -= 2 * kPi;
     // The affine image of a circle step d has chord error r (1 - cos(d / 2)).
     const double radius = std::max(rx, ry) * MaxStretch(target_from_user_);
-    const double step =
-        tolerance_ < radius ? 2 * std::acos(1 - tolerance_ / radius) : kPi / 2;
+    const double step = tolerance_ < radius ? 2 * std::acos(1 - tolerance_ / radius) : kPi / 2;
     const int pieces = static_cast<int>(
         std::clamp(std::ceil(std::abs(delta) / step), 1.0, double{kMaxPiecesPerCurve}));
     for (int k = 1; k < pieces; ++k) {
@@ -301,8 +300,8 @@ Eigen::Affine2d TransformFromFunction(const std::string& name, const std::vector
     t.scale(Eigen::Vector2d(args[0], args.size() > 1 ? args[1] : args[0]));
   } else if (name == "rotate") {
     need({1, 3});
-    const Eigen::Vector2d pivot = args.size() > 1 ? Eigen::Vector2d(args[1], args[2])
-                                                  : Eigen::Vector2d::Zero();
+    const Eigen::Vector2d pivot =
+        args.size() > 1 ? Eigen::Vector2d(args[1], args[2]) : Eigen::Vector2d::Zero();
     t.translate(pivot).rotate(args[0] * kDegrees).translate(-pivot);
   } else if (name == "skewX" || name == "skewY") {
     need({1});

@@ -34,7 +34,8 @@ void ExpectFollowsCurve(const Polyline& line, const Curve& curve, double toleran
   for (const Eigen::Vector2d& p : dense) worst = std::max(worst, DistanceToPolyline(p, line));
   EXPECT_LE(worst, tolerance);
   EXPECT_GT(worst, tolerance / 20) << "suspiciously many points: " << line.size();
-  for (const Eigen::Vector2d& v : line) EXPECT_LT(DistanceToPolyline(v, dense), 1e-3) << v.transpose();
+  for (const Eigen::Vector2d& v : line)
+    EXPECT_LT(DistanceToPolyline(v, dense), 1e-3) << v.transpose();
   EXPECT_LT((line.front() - curve(0)).norm(), 1e-12);
   EXPECT_LT((line.back() - curve(1)).norm(), 1e-12);
 }
@@ -92,7 +93,9 @@ TEST(SvgNumbersTest, LengthsInUserUnits) {
 }
 
 TEST(SvgTransformTest, EveryFunctionAndComposition) {
-  const auto apply = [](const char* text, Eigen::Vector2d p) { return ParseSvgTransform(text) * p; };
+  const auto apply = [](const char* text, Eigen::Vector2d p) {
+    return ParseSvgTransform(text) * p;
+  };
   EXPECT_TRUE(apply("", {3, 4}).isApprox(Eigen::Vector2d(3, 4)));
   // Right to left: scale first, then translate.
   EXPECT_TRUE(apply("translate(10 20) scale(2)", {1, 1}).isApprox(Eigen::Vector2d(12, 22)));
@@ -108,13 +111,13 @@ TEST(SvgTransformTest, EveryFunctionAndComposition) {
             std::string::npos);
   EXPECT_NE(ErrorOf([] { ParseSvgTransform("translate(1,2,3)"); }).find("does not take 3"),
             std::string::npos);
-  EXPECT_NE(ErrorOf([] { ParseSvgTransform("scale(2"); }).find("expected ')'"),
-            std::string::npos);
+  EXPECT_NE(ErrorOf([] { ParseSvgTransform("scale(2"); }).find("expected ')'"), std::string::npos);
 }
 
 TEST(SvgPathTest, LinesAbsoluteRelativeAndClose) {
   const Polyline line = Single(FlattenSvgPath("M10 10 L20 10 l0 10 H5 h-5 V0 v5 Z", kIdentity, 1));
-  const Polyline expected = {{10, 10}, {20, 10}, {20, 20}, {5, 20}, {0, 20}, {0, 0}, {0, 5}, {10, 10}};
+  const Polyline expected = {{10, 10}, {20, 10}, {20, 20}, {5, 20},
+                             {0, 20},  {0, 0},   {0, 5},   {10, 10}};
   ASSERT_EQ(line.size(), expected.size());
   for (size_t k = 0; k < line.size(); ++k) EXPECT_EQ(line[k], expected[k]) << k;
   // Implicit linetos after a moveto, relative to the previous point.
@@ -134,19 +137,20 @@ TEST(SvgPathTest, CubicsWithSmoothReflectionFollowTheExactCurve) {
   // Relative c, then s reflecting the last control point (50, 50) about (50, 0).
   const Curve expected = Join(Cubic({0, 0}, {0, 50}, {50, 50}, {50, 0}),
                               Cubic({50, 0}, {50, -50}, {100, -50}, {100, 0}));
-  ExpectFollowsCurve(Single(FlattenSvgPath("M0 0 c 0 50 50 50 50 0 s 50 -50 50 0", kIdentity,
-                                           kTolerance)),
-                     expected, kTolerance);
-  ExpectFollowsCurve(Single(FlattenSvgPath("M0 0 C 0 50 50 50 50 0 S 100 -50 100 0", kIdentity,
-                                           kTolerance)),
-                     expected, kTolerance);
+  ExpectFollowsCurve(
+      Single(FlattenSvgPath("M0 0 c 0 50 50 50 50 0 s 50 -50 50 0", kIdentity, kTolerance)),
+      expected, kTolerance);
+  ExpectFollowsCurve(
+      Single(FlattenSvgPath("M0 0 C 0 50 50 50 50 0 S 100 -50 100 0", kIdentity, kTolerance)),
+      expected, kTolerance);
   // S after a line: its first control point is the current point.
   ExpectFollowsCurve(Single(FlattenSvgPath("M0 0 S 100 100 100 0", kIdentity, kTolerance)),
                      Cubic({0, 0}, {0, 0}, {100, 100}, {100, 0}), kTolerance);
 }
 
 TEST(SvgPathTest, QuadraticsWithSmoothReflectionFollowTheExactCurve) {
-  const Curve expected = Join(Quad({0, 0}, {50, 100}, {100, 0}), Quad({100, 0}, {150, -100}, {200, 0}));
+  const Curve expected =
+      Join(Quad({0, 0}, {50, 100}, {100, 0}), Quad({100, 0}, {150, -100}, {200, 0}));
   ExpectFollowsCurve(Single(FlattenSvgPath("M0 0 Q 50 100 100 0 T 200 0", kIdentity, kTolerance)),
                      expected, kTolerance);
   ExpectFollowsCurve(Single(FlattenSvgPath("M0 0 q 50 100 100 0 t 100 0", kIdentity, kTolerance)),
@@ -157,7 +161,8 @@ TEST(SvgPathTest, TransformIsAppliedBeforeFlattening) {
   // Scaled by 4, the curve needs about twice the points for the same
   // tolerance in the target space.
   const Eigen::Affine2d scale4(Eigen::Scaling(4.0, 4.0));
-  const Polyline small = Single(FlattenSvgPath("M0 0 C 0 100 100 100 100 0", kIdentity, kTolerance));
+  const Polyline small =
+      Single(FlattenSvgPath("M0 0 C 0 100 100 100 100 0", kIdentity, kTolerance));
   const Polyline large = Single(FlattenSvgPath("M0 0 C 0 100 100 100 100 0", scale4, kTolerance));
   ExpectFollowsCurve(large, Cubic({0, 0}, {0, 400}, {400, 400}, {400, 0}), kTolerance);
   EXPECT_NEAR(static_cast<double>(large.size() - 1) / (small.size() - 1), 2.0, 0.1);
@@ -204,9 +209,11 @@ TEST(SvgPathTest, RotatedEllipticalArcFollowsTheEllipse) {
   };
   const Eigen::Vector2d a = on_ellipse(0.3), b = on_ellipse(2.0);
   char d[200];
-  std::snprintf(d, sizeof(d), "M %.17g %.17g A 60 30 30 0 1 %.17g %.17g", a.x(), a.y(), b.x(), b.y());
-  ExpectFollowsCurve(Single(FlattenSvgPath(d, kIdentity, kTolerance)),
-                     [&](double t) { return on_ellipse(0.3 + 1.7 * t); }, kTolerance);
+  std::snprintf(d, sizeof(d), "M %.17g %.17g A 60 30 30 0 1 %.17g %.17g", a.x(), a.y(), b.x(),
+                b.y());
+  ExpectFollowsCurve(
+      Single(FlattenSvgPath(d, kIdentity, kTolerance)),
+      [&](double t) { return on_ellipse(0.3 + 1.7 * t); }, kTolerance);
 }
 
 TEST(SvgPathTest, PackedArcFlags) {

@@ -76,7 +76,8 @@ void WriteAttractorGraphJson(const std::filesystem::path& path, const AttractorG
       << ",\n  \"root\": " << graph.root << ",\n  \"nodes\": [";
   for (int i = 0; i < graph.NumNodes(); ++i) {
     const Eigen::Vector2d& p = graph.nodes[i].position;
-    out << (i > 0 ? ",\n    [" : "\n    [") << JsonNumber(p.x()) << ", " << JsonNumber(p.y()) << "]";
+    out << (i > 0 ? ",\n    [" : "\n    [") << JsonNumber(p.x()) << ", " << JsonNumber(p.y())
+        << "]";
   }
   out << (graph.IsEmpty() ? "],\n  \"edges\": [" : "\n  ],\n  \"edges\": [");
   bool first = true;

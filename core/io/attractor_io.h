@@ -8,7 +8,7 @@
 //   "image": "IMG_0001.jpg",               // the photo the coordinates refer to
 //   "width": 1440, "height": 1080,         // that photo's size in pixels (> 0)
 //   "source": "livewire",                  // optional: "livewire", "strokes", "edited", ...
-//   "root": 0,                             // the main root: a node index, -1 only if there are no nodes
+//   "root": 0,                             // the main root (-1 only if there are no nodes)
 //   "nodes": [[720.5, 1050.5], [721.0, 980.25], ...],
 //   "edges": [[1, 0], ...]
 // }
