@@ -111,6 +111,56 @@ AttractorGraph2D AttractorGraph2D::Simplified(double tolerance) const {
   return out;
 }
 
+AttractorGraph2D AttractorGraph2D::WithoutTwigs(double min_length) const {
+  const int n = NumNodes();
+  std::vector<char> removed(n, 0);
+  std::vector<int> num_children(n, 0);
+  for (const AttractorNode& node : nodes) {
+    if (node.parent_idx >= 0) ++num_children[node.parent_idx];
+  }
+  for (bool changed = true; changed;) {
+    changed = false;
+    std::vector<int> chain;
+    for (int tip = 0; tip < n; ++tip) {
+      if (removed[tip] || num_children[tip] != 0 || nodes[tip].parent_idx < 0) continue;
+      // Down to the first node with other children, or a root.
+      chain.assign(1, tip);
+      double length = 0;
+      int node = tip;
+      while (nodes[node].parent_idx >= 0) {
+        const int parent = nodes[node].parent_idx;
+        length += (nodes[parent].position - nodes[node].position).norm();
+        if (num_children[parent] > 1 || nodes[parent].parent_idx < 0) {
+          node = parent;
+          break;
+        }
+        chain.push_back(parent);
+        node = parent;
+      }
+      // `node` is the junction or root the twig hangs from.
+      if (length >= min_length || num_children[node] < 2) continue;
+      for (int c : chain) removed[c] = 1;
+      --num_children[node];
+      changed = true;
+    }
+  }
+  AttractorGraph2D out;
+  out.width = width;
+  out.height = height;
+  out.source = source;
+  std::vector<int> index_of(n, -1);
+  for (int i = 0; i < n; ++i) {
+    if (removed[i]) continue;
+    index_of[i] = static_cast<int>(out.nodes.size());
+    out.nodes.push_back(nodes[i]);
+  }
+  for (AttractorNode& node : out.nodes) {
+    if (node.parent_idx >= 0) node.parent_idx = index_of[node.parent_idx];
+  }
+  out.root = root < 0 ? -1 : index_of[root];
+  return out;
+}
+
 AttractorGraph2D AttractorGraph2D::Scaled(double scale) const {
   AttractorGraph2D out = *this;
   out.width = std::max(1, static_cast<int>(std::lround(width * scale)));

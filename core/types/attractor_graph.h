@@ -57,6 +57,12 @@ class AttractorGraph2D {
   // (Douglas-Peucker per chain); roots, tips and junctions are kept. Node
   // order: kept nodes in their original order.
   AttractorGraph2D Simplified(double tolerance) const;
+  // The graph without its short twigs: repeatedly, every chain from a tip
+  // down to the nearest junction (a node with two or more children) or root
+  // that is shorter than `min_length` pixels is removed, until none is; the
+  // chain ending at a root without other children (a lone stroke) stays.
+  // Kept nodes keep their order.
+  AttractorGraph2D WithoutTwigs(double min_length) const;
   // The graph in an image scaled by `scale` (positions times scale, size
   // rounded).
   AttractorGraph2D Scaled(double scale) const;

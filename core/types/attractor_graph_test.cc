@@ -55,6 +55,28 @@ TEST(AttractorGraph, SimplifiedKeepsRootsJunctionsTipsAndShape) {
   EXPECT_EQ(MakeY().Simplified(0.0).NumNodes(), MakeY().NumNodes());
 }
 
+TEST(AttractorGraph, WithoutTwigsDropsShortSideChainsOnly) {
+  AttractorGraph2D graph = MakeY();  // arms of 31.1 and 32.0 px from the fork
+  // A 3 px spur on the trunk, and a 5 px twig (2 nodes) on the second arm's tip.
+  graph.AddNode({53, 75}, 5);
+  const int arm_tip = 13;  // (70, 30)
+  graph.AddNode({73, 26}, graph.AddNode({71, 28}, arm_tip));
+  graph.Check("spurs");
+  const AttractorGraph2D pruned = graph.WithoutTwigs(10.0);
+  pruned.Check("pruned");
+  // The spur goes; the lengthened arm (no junction on it) stays whole.
+  EXPECT_EQ(pruned.NumNodes(), MakeY().NumNodes() + 2);
+  EXPECT_NEAR(pruned.TotalLength(), MakeY().TotalLength() + std::hypot(1.0, 2.0) + std::hypot(2.0, 2.0),
+              1e-9);
+  // Above the arms' lengths, the first arm goes; the fork is then no
+  // junction, and the second arm continues the trunk down to the root.
+  const AttractorGraph2D trunk_only = MakeY().WithoutTwigs(100.0);
+  ASSERT_EQ(trunk_only.NumNodes(), 12);
+  EXPECT_EQ(trunk_only.nodes[trunk_only.root].position, Eigen::Vector2d(50, 95));
+  EXPECT_EQ(trunk_only.nodes.back().position, Eigen::Vector2d(70, 30));
+  EXPECT_EQ(MakeY().WithoutTwigs(0.0).NumNodes(), MakeY().NumNodes());
+}
+
 TEST(AttractorGraph, ScaledAndCheckErrors) {
   const AttractorGraph2D half = MakeY().Scaled(0.5);
   EXPECT_EQ(half.width, 50);

@@ -130,6 +130,8 @@ void LivewireOptions::Check() const {
   SYLVA_CHECK_INPUT(weight_outside + weight_direction + weight_centerline > 1e-6,
                     "Attractors.weight_outside")
       << "the three livewire weights must not all be zero";
+  SYLVA_CHECK_INPUT(min_twig_length >= 0 && min_twig_length < 1, "Attractors.min_twig_length")
+      << "must be in [0, 1), got " << min_twig_length;
   SYLVA_CHECK_INPUT(photo_weight >= 0 && photo_weight <= 1, "Attractors.photo_weight")
       << "must be in [0, 1], got " << photo_weight;
   SYLVA_CHECK_INPUT(snap_radius >= 0 && std::isfinite(snap_radius), "Attractors.snap_radius")
@@ -176,6 +178,9 @@ AttractorGraph2D TraceAttractorGraph(const FloatImage& photo, const FloatImage& 
     paths += merger.Add(path);
   }
   graph = graph.Simplified(options.simplify_tolerance);
+  if (options.min_twig_length > 0) {
+    graph = graph.WithoutTwigs(options.min_twig_length * std::max(photo.width(), photo.height()));
+  }
   if (summary != nullptr) {
     summary->seeds = static_cast<int>(seeds.size());
     summary->paths = paths;

@@ -62,6 +62,11 @@ struct LivewireOptions {
   // Douglas-Peucker tolerance of the final graph, in pixels of the full
   // image (>= 0; 0 keeps one node per traced pixel).
   double simplify_tolerance = 1.0;
+  // Twigs of the traced graph shorter than this fraction of the image's
+  // longer side are removed (AttractorGraph2D::WithoutTwigs), repeatedly:
+  // outline seeds on the trunk and the crown's edge add short side paths
+  // that are no main branch. In [0, 1); 0 keeps every path.
+  double min_twig_length = 0.0;
 
   // Intelligent Scissors weights (each >= 0, sum > 0), see the file comment:
   // per step off the matte, per unit of turning against the branch axis,

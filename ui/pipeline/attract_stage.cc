@@ -84,15 +84,12 @@ StageRun RunAttractStage(const StageContext& context) {
       const bool needs_photo =
           result.source == "livewire" || (result.source == "strokes" && options.snap_strokes);
       if (!needs_photo) return;
-      FloatImage photo = ReadImage(project.PhotoPath(name));
-      FloatImage matte;
-      {
-        matte = project.LoadMatte(views, v);
-        SYLVA_CHECK_INPUT(photo.width() == camera.width() && photo.height() == camera.height(),
-                          project.PhotoPath(name).string())
-            << "the photo is " << photo.width() << "x" << photo.height() << " but its camera is "
-            << camera.width() << "x" << camera.height();
-      }
+      const FloatImage photo = ReadImage(project.PhotoPath(name));
+      const FloatImage matte = project.LoadMatte(views, v);
+      SYLVA_CHECK_INPUT(photo.width() == camera.width() && photo.height() == camera.height(),
+                        project.PhotoPath(name).string())
+          << "the photo is " << photo.width() << "x" << photo.height() << " but its camera is "
+          << camera.width() << "x" << camera.height();
       if (result.source == "livewire") {
         Eigen::Vector2d target;
         SYLVA_CHECK_INPUT(views.Project(v, base, &target) && target.x() >= 0 &&

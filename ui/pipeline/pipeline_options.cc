@@ -133,6 +133,8 @@ void RegisterLivewire(LivewireOptions* o, OptionRegistry* r) {
                "a pixel belongs to the tree at this matte value or more");
   r->AddDouble("Attractors.simplify_tolerance", &o->simplify_tolerance, "pixels",
                "Douglas-Peucker tolerance of the traced graphs");
+  r->AddDouble("Attractors.min_twig_length", &o->min_twig_length, "fraction of the image size",
+               "traced twigs shorter than this are removed");
   r->AddDouble("Attractors.weight_outside", &o->weight_outside, "",
                "livewire cost per step off the matte");
   r->AddDouble("Attractors.weight_direction", &o->weight_direction, "",
