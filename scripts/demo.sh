@@ -38,7 +38,7 @@ else
     "$sylva" init "$project" --photos "$demo/images" --colmap "$demo/colmap" \
       --held-out pict20190201_110126_0.jpg,pict20190201_110612_0.jpg
   fi
-  sylva_log "Running the pipeline (matte, register, density, skeleton, mesh, report)"
+  sylva_log "Running the pipeline (matte, register, density, attract, skeleton, mesh, report)"
   # Black velvet backdrop; the orange calibration targets and clips are
   # rejected by hue. The stems are 1-2 mm thick: a finer grid than default,
   # and the stem's radius given (the mattes' widest part near the base is

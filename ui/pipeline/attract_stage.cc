@@ -14,6 +14,9 @@
 // and the index out/attractors/attractors.json naming every input view's
 // graph file and source ("edited", "strokes", "livewire" or "none"), which
 // the skeleton stage reads.
+#include <cmath>
+#include <limits>
+#include <map>
 #include <mutex>
 #include <sstream>
 
@@ -41,7 +44,26 @@ constexpr uint64_t kLivewireSeedStream = 3;
 struct ViewAttractors {
   AttractorGraph2D graph;
   std::string source = "none";
+  std::string note;  // why the graph differs from the usual, if it does
 };
+
+// The centre of the foreground pixel (matte >= threshold) nearest to `point`
+// (ties: the first in row order). InputError if the matte has none.
+Eigen::Vector2d NearestForeground(const FloatImage& matte, const Eigen::Vector2d& point,
+                                  double threshold) {
+  double best = std::numeric_limits<double>::infinity();
+  Eigen::Vector2d nearest = point;
+  for (int y = 0; y < matte.height(); ++y) {
+    for (int x = 0; x < matte.width(); ++x) {
+      if (matte.at(x, y, 0) < threshold) continue;
+      const Eigen::Vector2d centre(x + 0.5, y + 0.5);
+      const double d2 = (centre - point).squaredNorm();
+      if (d2 < best) best = d2, nearest = centre;
+    }
+  }
+  SYLVA_CHECK_INPUT(std::isfinite(best), "matte") << "the matte has no foreground pixel";
+  return nearest;
+}
 
 }  // namespace
 
@@ -92,12 +114,18 @@ StageRun RunAttractStage(const StageContext& context) {
           << camera.width() << "x" << camera.height();
       if (result.source == "livewire") {
         Eigen::Vector2d target;
-        SYLVA_CHECK_INPUT(views.Project(v, base, &target) && target.x() >= 0 &&
-                              target.y() >= 0 && target.x() <= camera.width() &&
-                              target.y() <= camera.height(),
-                          name)
-            << "the tree base (" << base.transpose() << ") is not inside this photo; draw "
-            << "strokes for it (edits/<photo>.strokes.svg) or set Attractors.mode=edits";
+        if (!views.Project(v, base, &target)) {
+          result.source = "none";  // the base is behind the camera
+          result.note = "tree base behind the camera";
+          return;
+        }
+        if (!(target.x() >= 0 && target.y() >= 0 && target.x() <= camera.width() &&
+              target.y() <= camera.height())) {
+          // The base is out of frame (a close-up): the paths end where the
+          // tree leaves the photo nearest to it.
+          target = NearestForeground(matte, target, options.livewire.matte_threshold);
+          result.note = "tree base outside the photo; target moved to the matte's nearest point";
+        }
         result.graph = TraceAttractorGraph(photo, matte, target, {}, options.livewire);
       } else if (result.source == "strokes" && options.snap_strokes) {
         result.graph = SnapGraphToImage(result.graph, photo, matte, options.livewire);
@@ -126,6 +154,10 @@ StageRun RunAttractStage(const StageContext& context) {
     const std::string& name = views.views[v].name;
     ++counts[results[v].source];
     Json entry = {{"source", results[v].source}};
+    if (!results[v].note.empty()) {
+      entry["note"] = results[v].note;
+      ++counts["noted (see attractors.json)"];
+    }
     if (results[v].source != "none") {
       const fs::path path = project.AttractorGraphPath(name);
       WriteAttractorGraphJson(path, results[v].graph, name);
