@@ -7,6 +7,31 @@
 #include "core/util/check.h"
 
 namespace sylva {
+namespace {
+
+// The graph's kept nodes, in their order, each linked to its nearest kept
+// ancestor.
+AttractorGraph2D KeepNodes(const AttractorGraph2D& graph, const std::vector<char>& kept) {
+  const int n = graph.NumNodes();
+  AttractorGraph2D out;
+  out.width = graph.width;
+  out.height = graph.height;
+  out.source = graph.source;
+  std::vector<int> index_of(n, -1);
+  for (int i = 0; i < n; ++i) {
+    if (kept[i]) index_of[i] = static_cast<int>(out.nodes.size()), out.nodes.push_back(graph.nodes[i]);
+  }
+  for (int i = 0; i < n; ++i) {
+    if (!kept[i]) continue;
+    int parent = graph.nodes[i].parent_idx;
+    while (parent >= 0 && !kept[parent]) parent = graph.nodes[parent].parent_idx;
+    out.nodes[index_of[i]].parent_idx = parent < 0 ? -1 : index_of[parent];
+  }
+  out.root = graph.root < 0 ? -1 : index_of[graph.root];
+  return out;
+}
+
+}  // namespace
 
 int AttractorGraph2D::AddNode(const Eigen::Vector2d& position, int parent_idx) {
   SYLVA_CHECK(parent_idx >= -1 && parent_idx < NumNodes());
@@ -93,22 +118,7 @@ AttractorGraph2D AttractorGraph2D::Simplified(double tolerance) const {
   } else {
     kept.assign(n, 1);
   }
-  AttractorGraph2D out;
-  out.width = width;
-  out.height = height;
-  out.source = source;
-  std::vector<int> index_of(n, -1);
-  for (int i = 0; i < n; ++i) {
-    if (kept[i]) index_of[i] = static_cast<int>(out.nodes.size()), out.nodes.push_back(nodes[i]);
-  }
-  for (int i = 0; i < n; ++i) {
-    if (!kept[i]) continue;
-    int parent = nodes[i].parent_idx;
-    while (parent >= 0 && !kept[parent]) parent = nodes[parent].parent_idx;
-    out.nodes[index_of[i]].parent_idx = parent < 0 ? -1 : index_of[parent];
-  }
-  out.root = root < 0 ? -1 : index_of[root];
-  return out;
+  return KeepNodes(*this, kept);
 }
 
 AttractorGraph2D AttractorGraph2D::WithoutTwigs(double min_length) const {
@@ -144,21 +154,9 @@ AttractorGraph2D AttractorGraph2D::WithoutTwigs(double min_length) const {
       changed = true;
     }
   }
-  AttractorGraph2D out;
-  out.width = width;
-  out.height = height;
-  out.source = source;
-  std::vector<int> index_of(n, -1);
-  for (int i = 0; i < n; ++i) {
-    if (removed[i]) continue;
-    index_of[i] = static_cast<int>(out.nodes.size());
-    out.nodes.push_back(nodes[i]);
-  }
-  for (AttractorNode& node : out.nodes) {
-    if (node.parent_idx >= 0) node.parent_idx = index_of[node.parent_idx];
-  }
-  out.root = root < 0 ? -1 : index_of[root];
-  return out;
+  std::vector<char> kept(n);
+  for (int i = 0; i < n; ++i) kept[i] = !removed[i];
+  return KeepNodes(*this, kept);
 }
 
 AttractorGraph2D AttractorGraph2D::Scaled(double scale) const {

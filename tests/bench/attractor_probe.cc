@@ -17,38 +17,16 @@
 #include "core/util/random.h"
 #include "reconstruct/attractors/livewire.h"
 #include "simulate/particle_flow.h"
+#include "datasets/eval/graph_metrics.h"
 #include "datasets/eval/point_metrics.h"
 #include "datasets/synthetic/synthetic_dataset.h"
 #include "reconstruct/density/density_reconstruction.h"
 #include "ui/pipeline/report.h"
 #include "ui/pipeline/tree_building.h"
+#include "tests/bench/probe_main.h"
 
 namespace sylva {
 namespace {
-
-// The edges of `skeleton` whose child has order <= max_order, projected.
-AttractorGraph2D Project(const SkeletonGraph& skeleton, const ImageSet& set, int view,
-                         int max_order) {
-  AttractorGraph2D graph;
-  graph.width = set.CameraOf(view).width();
-  graph.height = set.CameraOf(view).height();
-  std::vector<int> index(skeleton.NumNodes(), -1);
-  for (int i = 0; i < skeleton.NumNodes(); ++i) {  // parents first
-    const SkeletonNode& node = skeleton.nodes[i];
-    if (node.parent_idx >= 0 && (node.order > max_order || index[node.parent_idx] < 0)) continue;
-    Eigen::Vector2d p;
-    if (!set.Project(view, node.position, &p)) continue;
-    index[i] = graph.AddNode(p, node.parent_idx < 0 ? -1 : index[node.parent_idx]);
-    if (node.parent_idx < 0) graph.root = index[i];
-  }
-  return graph;
-}
-
-std::vector<Eigen::Vector3d> Samples2D(const AttractorGraph2D& graph) {
-  std::vector<Eigen::Vector3d> points;
-  for (const Eigen::Vector2d& p : graph.SamplePoints(1.0)) points.emplace_back(p.x(), p.y(), 0);
-  return points;
-}
 
 struct Result {
   double chamfer_2d_px = 0, ours_to_truth = 0, truth_to_ours = 0, chamfer_3d = 0, mean_iou = 0, min_iou = 1;
@@ -60,9 +38,8 @@ Result Evaluate(const SyntheticDataset& data, const BuiltSkeleton& built, const 
   const ImageSet inputs = data.InputImageSet();
   const std::vector<FloatImage> mattes = data.InputMattes();
   for (int v = 0; v < inputs.NumViews(); ++v) {
-    const AttractorGraph2D truth = Project(data.tree.skeleton, inputs, v, 2);
-    const AttractorGraph2D ours = Project(built.skeleton, inputs, v, 2);
-    const PointSetDistances d = ComparePointSets(Samples2D(ours), Samples2D(truth));
+    const PointSetDistances d = CompareGraphs2D(ProjectSkeleton(built.skeleton, inputs, v, 2),
+                                                ProjectSkeleton(data.tree.skeleton, inputs, v, 2), 1.0);
     result.chamfer_2d_px += d.chamfer / inputs.NumViews();
     result.ours_to_truth += d.mean_a_to_b / inputs.NumViews();
     result.truth_to_ours += d.mean_b_to_a / inputs.NumViews();
@@ -132,7 +109,7 @@ int Main(int argc, char** argv) {
       Eigen::Vector2d target;
       inputs.Project(v, base, &target);
       graphs.push_back(livewire ? TraceAttractorGraph(data.photos[v], mattes[v], target, {}, livewire_options)
-                                : Project(data.tree.skeleton, inputs, v, graph_order));
+                                : ProjectSkeleton(data.tree.skeleton, inputs, v, graph_order));
     }
     const BuiltSkeleton without = BuildSkeleton(density, inputs, mattes, {}, options, nullptr);
     const BuiltSkeleton with = BuildSkeleton(density, inputs, mattes, graphs, options, nullptr);
@@ -161,10 +138,5 @@ int Main(int argc, char** argv) {
 }  // namespace sylva
 
 int main(int argc, char** argv) {
-  try {
-    return sylva::Main(argc, argv);
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "%s\n", e.what());
-    return 2;
-  }
+  return sylva::GuardedMain([&] { return sylva::Main(argc, argv); });
 }

@@ -24,6 +24,7 @@
 #include "datasets/synthetic/synthetic_dataset.h"
 #include "reconstruct/attractors/livewire.h"
 #include "reconstruct/attractors/overlay.h"
+#include "tests/bench/probe_main.h"
 
 namespace sylva {
 namespace {
@@ -141,10 +142,5 @@ int Main(int argc, char** argv) {
 }  // namespace sylva
 
 int main(int argc, char** argv) {
-  try {
-    return sylva::Main(argc, argv);
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "error: %s\n", e.what());
-    return 1;
-  }
+  return sylva::GuardedMain([&] { return sylva::Main(argc, argv); });
 }
