@@ -1,13 +1,16 @@
 #include "simulate/attractor_field.h"
 
 #include <gtest/gtest.h>
+#include <tbb/global_control.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <string>
 #include <vector>
 
 #include "core/util/check.h"
+#include "simulate/particle_flow.h"
 
 namespace sylva {
 namespace {
@@ -212,6 +215,53 @@ TEST(AttractorDirectionField, ViewsWithoutGraphsAndBadInput) {
   bad = options;
   bad.combine = "sum";
   EXPECT_THROW(bad.Check(), InputError);
+}
+
+// The flow steered by an attractor field: the same skeleton whatever the
+// number of threads, and it follows the graphs (a trunk leaning towards +x).
+TEST(AttractorDirectionField, SteeredFlowIsDeterministicAndFollowsTheGraphs) {
+  const ImageSet set = TwoOrthographicViews();
+  DensityGrid density(0.05, Eigen::Vector3d::Zero());
+  for (int k = 0; k < 30; ++k)
+    for (int j = -8; j <= 8; ++j)
+      for (int i = -8; i <= 8; ++i) density.SetValue({i, j, k}, k > 15 ? 0.3f : 0.05f);
+  // The graphs: a straight trunk from the base to (0.3, 0, 1.4).
+  const Eigen::Vector3d base(0, 0, -0.025), top(0.3, 0, 1.4);
+  std::vector<AttractorGraph2D> graphs;
+  for (int v = 0; v < 2; ++v) graphs.push_back(ProjectedSegment(set, v, top, base));
+  AttractorFieldOptions options;
+  options.resolution_3d = 48;
+  const AttractorDirectionField field(set, graphs, density.ActiveWorldBounds(), options);
+  ParticleFlowOptions flow;
+  flow.num_particles = 600;
+  SkeletonGraph skeletons[2];
+  for (int threads : {1, 2}) {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+    skeletons[threads - 1] = SimulateParticleFlow(density, base, field, flow, nullptr, nullptr);
+  }
+  ASSERT_EQ(skeletons[0].NumNodes(), skeletons[1].NumNodes());
+  for (int i = 0; i < skeletons[0].NumNodes(); ++i) {
+    EXPECT_EQ(skeletons[0].nodes[i].position, skeletons[1].nodes[i].position) << i;
+    EXPECT_EQ(skeletons[0].nodes[i].parent_idx, skeletons[1].nodes[i].parent_idx) << i;
+  }
+  // The trunk (the chain carrying most strands) leans with the graph: at
+  // 0.7 m its x is near the graph's 0.153, where the unsteered flow's axis
+  // through the base is at 0.
+  const SkeletonGraph unsteered =
+      SimulateParticleFlow(density, base, ConstantDirectionField(), flow, nullptr, nullptr);
+  const auto trunk_x_at = [](const SkeletonGraph& skeleton, double z) {
+    const BranchAxis trunk = skeleton.BranchAxes().front();
+    for (size_t k = 1; k < trunk.size(); ++k) {
+      const Eigen::Vector3d a = skeleton.nodes[trunk[k - 1]].position;
+      const Eigen::Vector3d b = skeleton.nodes[trunk[k]].position;
+      if ((a.z() - z) * (b.z() - z) <= 0 && a.z() != b.z()) return a.x() + (b.x() - a.x()) * (z - a.z()) / (b.z() - a.z());
+    }
+    return std::nan("");
+  };
+  const double steered_x = trunk_x_at(skeletons[0], 0.7), plain_x = trunk_x_at(unsteered, 0.7);
+  std::printf("trunk x at z = 0.7: steered %.3f, unsteered %.3f (graph 0.153)\n", steered_x, plain_x);
+  EXPECT_NEAR(steered_x, 0.153, 0.05);
+  EXPECT_LT(std::abs(plain_x), 0.05);
 }
 
 }  // namespace
