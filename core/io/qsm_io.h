@@ -1,0 +1,127 @@
+// Quantitative structure models (QSM): a tree as a table of cylinders, the
+// format TreeQSM, rTwig, aRchi and ITSMe read and write, and its conversion
+// to and from sylva's skeleton.
+//
+// The CSV cylinder table (one header line, then one row per cylinder):
+//
+//   id,parent_id,start_x,start_y,start_z,axis_x,axis_y,axis_z,length,radius,branch,branch_order,radius_source,units
+//   1,0,22.25206,112.20287,-11.652903,-0.04426492,-0.008478129,0.99898386,0.37862566,0.08678285,1,0,ground truth,m
+//
+//   id            stable cylinder id, an integer > 0 (TreeQSM: the 1-based row)
+//   parent_id     id of the parent cylinder; 0 = none (a root: several allowed,
+//                 TreeQSM leaves detached fragments unattached)
+//   start_x,y,z   centre of the cylinder's base disc
+//   axis_x,y,z    unit direction from the base to the top
+//   length        > 0; the top centre is start + length * axis
+//   radius        > 0
+//   branch        branch id (TreeQSM: 1-based, 1 = trunk)
+//   branch_order  0 = trunk, 1 = a branch on the trunk, ...
+//   radius_source optional: what the radii are ("ground truth", "allometric
+//                 prior", "measured", ...); the same on every row
+//   units         optional: unit of lengths ("m" if absent, as in TreeQSM)
+//
+// These are TreeQSM's cylinder fields (cylinder.start/axis/length/radius/
+// parent/branch/BranchOrder) under the column names of the ITSMe CSV
+// conversion (datasets/itsme-qsm). Columns are found by header name, in any
+// order; other columns are ignored; fields may be "quoted" (as R writes them).
+#ifndef SYLVA_CORE_IO_QSM_IO_H_
+#define SYLVA_CORE_IO_QSM_IO_H_
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "core/types/skeleton_graph.h"
+
+namespace sylva {
+
+struct QsmCylinder {
+  int64_t id = 0;         // > 0
+  int64_t parent_id = 0;  // 0 = root
+  Eigen::Vector3d start = Eigen::Vector3d::Zero();  // base centre, world units
+  Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();  // unit vector, base to top
+  double length = 0.0;                              // world units, > 0
+  double radius = 0.0;                              // world units, > 0
+  int64_t branch = 0;
+  int branch_order = 0;
+
+  Eigen::Vector3d End() const { return start + length * axis; }
+};
+
+// Invariants (Check()): ids > 0 and unique; every parent id is 0 or an id in
+// the table; no cycles; finite values; length, radius > 0; |axis| = 1 within
+// 1e-9; branch_order >= 0.
+struct QsmModel {
+  std::vector<QsmCylinder> cylinders;
+  std::string radius_source = "unknown";  // see SkeletonGraph::radius_source
+  std::string units = "m";                // unit of start, length and radius
+
+  // Throws Error naming the first broken invariant.
+  void Check() const;
+};
+
+// Reads a cylinder table. Numbers must parse completely and be finite; axes
+// whose length is within 1e-3 of 1 are normalised (TreeQSM stores float32),
+// others are an error. Throws InputError naming the file and line for any
+// problem: a missing column, a bad number, a duplicate id, a missing parent, a
+// cycle, differing radius_source or units values.
+QsmModel ReadQsmCsv(const std::filesystem::path& path);
+
+// Writes every column above (radius_source and units included) atomically,
+// doubles in their shortest exact text, so ReadQsmCsv gives back the same
+// numbers. Throws Error if the model fails Check().
+void WriteQsmCsv(const std::filesystem::path& path, const QsmModel& qsm);
+
+// One connected part of a QSM (a root cylinder and its descendants) as a
+// skeleton, with the cylinder each skeleton edge came from.
+//
+// Representation (SkeletonsFromQsm):
+// - The root cylinder gives two nodes: its start (the skeleton's root) and its
+//   end. Every other cylinder gives its end node; the edge from its start to
+//   its end is the cylinder.
+// - A cylinder whose start coincides with its parent's end (within 1e-9 of
+//   the larger of the parent's length and the end's largest coordinate) starts
+//   at the parent's end node. Otherwise (TreeQSM: almost always; children
+//   start a few mm off, or part-way along the parent) a "connector" node is
+//   added at the cylinder's exact start, as a child of the parent's end node.
+// - Node radius = the radius of the cylinder ending at the node (the edge to
+//   its parent); a root node and a connector node take the radius of the
+//   cylinder starting there, so a mesher sees a continuous tube.
+// - node.order = the cylinder's branch_order; strands = 0 (unknown).
+// - cylinder_ids[i] / branch_ids[i]: the id and branch of the cylinder ending
+//   at node i; 0 for a root or connector node (whose edge is no cylinder).
+// QsmFromSkeletons() inverts this exactly (same ids, parents, branches and
+// orders; start/axis/length/radius within 1e-10 relative: lengths come back as
+// |end - start|, which loses digits when coordinates are far larger than lengths).
+struct QsmSkeleton {
+  SkeletonGraph skeleton;
+  std::vector<int64_t> cylinder_ids;  // per node
+  std::vector<int64_t> branch_ids;    // per node
+};
+
+// One QsmSkeleton per root cylinder, in the order of the roots in the table;
+// nodes in depth-first order, children in table order. Every skeleton passes
+// SkeletonGraph::Check(). Throws Error if `qsm` fails Check().
+std::vector<QsmSkeleton> SkeletonsFromQsm(const QsmModel& qsm);
+
+// The exact inverse of SkeletonsFromQsm: one cylinder per edge whose child
+// node has a cylinder id, connector edges dropped (a cylinder whose start is a
+// connector gets the cylinder ending at the connector's parent as parent).
+// Cylinders are listed by id. radius_source from the first skeleton.
+QsmModel QsmFromSkeletons(const std::vector<QsmSkeleton>& parts, const std::string& units);
+
+// A QSM from any skeleton (radii must be > 0 for WriteQsmCsv): one cylinder per edge, start = parent node, axis =
+// unit(child - parent), length = the edge length, radius = the child node's
+// radius. Cylinders are numbered 1, 2, ... branch axis by branch axis
+// (SkeletonGraph::BranchAxes(): trunk first, then breadth-first), so parents
+// precede children as in TreeQSM; branch = the axis' 1-based index,
+// branch_order = the axis' order. radius_source from the skeleton. Edges of
+// zero length are skipped (their child's cylinders attach to the cylinder
+// ending at the parent). Throws Error if the skeleton fails Check().
+QsmModel QsmFromSkeleton(const SkeletonGraph& skeleton, const std::string& units);
+
+}  // namespace sylva
+
+#endif  // SYLVA_CORE_IO_QSM_IO_H_
