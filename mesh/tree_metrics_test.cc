@@ -1,0 +1,226 @@
+#include "mesh/tree_metrics.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <nlohmann/json.hpp>
+
+#include "core/util/check.h"
+#include "core/util/file_util.h"
+#include "core/util/random.h"
+#include "datasets/synthetic/synthetic_tree.h"
+
+namespace sylva {
+namespace {
+
+// --- Convex hull -----------------------------------------------------------
+
+TEST(ConvexHullVolumeTest, CubeWithInteriorAndFacePointsIsOne) {
+  std::vector<Eigen::Vector3d> points;
+  RandomEngine random(11);
+  for (int i = 0; i < 300; ++i) points.emplace_back(random.Uniform(), random.Uniform(), random.Uniform());
+  // Grid points on every face (coplanar with hull faces) and the corners.
+  for (int axis = 0; axis < 3; ++axis) {
+    for (double side : {0.0, 1.0}) {
+      for (int u = 0; u <= 4; ++u) {
+        for (int v = 0; v <= 4; ++v) {
+          Eigen::Vector3d p;
+          p[axis] = side;
+          p[(axis + 1) % 3] = u / 4.0;
+          p[(axis + 2) % 3] = v / 4.0;
+          points.push_back(p);
+        }
+      }
+    }
+  }
+  EXPECT_NEAR(ConvexHullVolume(points), 1.0, 1e-12);
+  std::reverse(points.begin(), points.end());
+  EXPECT_NEAR(ConvexHullVolume(points), 1.0, 1e-12);
+}
+
+TEST(ConvexHullVolumeTest, OctahedronTetrahedronAndSphere) {
+  // Regular octahedron |x| + |y| + |z| <= 2, shifted: volume 4/3 * 2^3.
+  std::vector<Eigen::Vector3d> octahedron;
+  for (int k = 0; k < 3; ++k) {
+    for (double s : {-2.0, 2.0}) {
+      Eigen::Vector3d p = Eigen::Vector3d(5, -3, 7);
+      p[k] += s;
+      octahedron.push_back(p);
+    }
+  }
+  octahedron.emplace_back(5.5, -3.2, 7.1);  // inside
+  EXPECT_NEAR(ConvexHullVolume(octahedron), 4.0 / 3.0 * 8.0, 1e-12);
+
+  // A tetrahedron of volume 1/6 with random points inside it.
+  std::vector<Eigen::Vector3d> tetra = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  RandomEngine random(5);
+  for (int i = 0; i < 200; ++i) {
+    Eigen::Vector3d p(random.Uniform(), random.Uniform(), random.Uniform());
+    if (p.sum() < 1) tetra.push_back(p);
+  }
+  EXPECT_NEAR(ConvexHullVolume(tetra), 1.0 / 6.0, 1e-14);
+
+  // 4,000 points on a sphere of radius 2 (Fibonacci spiral): the inscribed
+  // polyhedron's volume approaches 4/3 pi r^3 from below, within 0.2 %.
+  std::vector<Eigen::Vector3d> sphere;
+  const int n = 4000;
+  for (int i = 0; i < n; ++i) {
+    const double z = 1.0 - (2.0 * i + 1.0) / n;
+    const double phi = i * M_PI * (3.0 - std::sqrt(5.0));
+    sphere.push_back(2.0 * Eigen::Vector3d(std::sqrt(1 - z * z) * std::cos(phi),
+                                           std::sqrt(1 - z * z) * std::sin(phi), z));
+  }
+  const double exact = 4.0 / 3.0 * M_PI * 8.0;
+  const double volume = ConvexHullVolume(sphere);
+  EXPECT_LT(volume, exact);
+  EXPECT_GT(volume, 0.998 * exact);
+}
+
+TEST(ConvexHullVolumeTest, FlatOrTinyInputsHaveNoVolume) {
+  EXPECT_EQ(ConvexHullVolume({}), 0.0);
+  EXPECT_EQ(ConvexHullVolume({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}), 0.0);
+  EXPECT_EQ(ConvexHullVolume({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}, {0.5, 0.2, 0}}), 0.0);
+  EXPECT_EQ(ConvexHullVolume({{0, 0, 0}, {1, 1, 1}, {2, 2, 2}, {3, 3, 3}}), 0.0);
+}
+
+// --- Metrics on a hand-built Y ---------------------------------------------
+
+// A straight trunk 0..4 m up the z axis, forking at z = 2 into two 2 m
+// branches at 30 degrees (towards +x) and 60 degrees (towards -y).
+SkeletonGraph HandBuiltY() {
+  SkeletonGraph y;
+  int node = y.AddNode({0, 0, 0}, 0.2, -1, 0);
+  node = y.AddNode({0, 0, 1}, 0.18, node, 0);
+  const int fork = y.AddNode({0, 0, 2}, 0.15, node, 0);
+  node = y.AddNode({0, 0, 3}, 0.1, fork, 0);
+  y.AddNode({0, 0, 4}, 0.08, node, 0);
+  const double a30 = 30.0 * M_PI / 180.0, a60 = 60.0 * M_PI / 180.0;
+  // The 30-degree branch in two edges (the angle uses the first 10 % of it).
+  node = y.AddNode({std::sin(a30), 0, 2 + std::cos(a30)}, 0.05, fork, 1);
+  y.AddNode({2 * std::sin(a30), 0, 2 + 2 * std::cos(a30)}, 0.04, node, 1);
+  y.AddNode({0, -2 * std::sin(a60), 2 + 2 * std::cos(a60)}, 0.05, fork, 1);
+  return y;
+}
+
+TEST(TreeMetricsTest, HandBuiltYHasItsKnownMeasures) {
+  const SkeletonGraph y = HandBuiltY();
+  const TreeMetricsReport report = ComputeTreeMetrics(y, nullptr, "m");
+  EXPECT_NEAR(report.height, 4.0, 1e-12);
+  EXPECT_NEAR(report.crown_base_height, 2.0, 1e-12);
+  EXPECT_NEAR(report.crown_depth, 2.0, 1e-12);
+  // Widest horizontal pair: the two branch tips, (1, 0) and (0, -sqrt 3).
+  EXPECT_NEAR(report.crown_width, 2.0, 1e-12);
+  // Crown hull: the tetrahedron fork, trunk top and both branch tips
+  // ((0, 0, 3) and the branch's middle node lie on its edges).
+  Eigen::Matrix3d edges;
+  edges.col(0) = y.nodes[4].position - y.nodes[2].position;
+  edges.col(1) = y.nodes[6].position - y.nodes[2].position;
+  edges.col(2) = y.nodes[7].position - y.nodes[2].position;
+  EXPECT_NEAR(report.crown_volume_hull, std::abs(edges.determinant()) / 6.0, 1e-12);
+  EXPECT_NEAR(report.crown_volume_hull, std::sqrt(3.0) / 3.0, 1e-12);
+  EXPECT_FALSE(report.crown_volume_density.has_value());
+  ASSERT_TRUE(report.dbh.has_value());
+  EXPECT_EQ(*report.dbh, 2 * 0.15);  // the edge from z = 1 to 2 has the fork's radius
+  EXPECT_EQ(report.num_tips, 3);
+  EXPECT_NEAR(report.total_length, 8.0, 1e-12);
+  ASSERT_EQ(report.orders.size(), 2u);
+  EXPECT_EQ(report.orders[0].num_branches, 1);
+  EXPECT_NEAR(report.orders[0].total_length, 4.0, 1e-12);
+  EXPECT_EQ(report.orders[0].num_angles, 0);
+  EXPECT_EQ(report.orders[1].num_branches, 2);
+  EXPECT_NEAR(report.orders[1].total_length, 4.0, 1e-12);
+  EXPECT_EQ(report.orders[1].num_angles, 2);
+  EXPECT_NEAR(report.orders[1].mean_angle_deg, 45.0, 1e-9);
+  EXPECT_NEAR(report.orders[1].median_angle_deg, 45.0, 1e-9);
+}
+
+TEST(TreeMetricsTest, DensityCrownVolumeCountsVoxelsAboveThresholdAndCrownBase) {
+  const SkeletonGraph y = HandBuiltY();
+  DensityGrid density(0.5, Eigen::Vector3d::Zero());
+  density.SetValue({0, 0, 6}, 0.9);   // z = 3: crown
+  density.SetValue({1, 0, 5}, 0.5);   // z = 2.5: crown, at the threshold
+  density.SetValue({0, 1, 4}, 0.7);   // z = 2: crown base
+  density.SetValue({0, 0, 7}, 0.3);   // below the threshold
+  density.SetValue({0, 0, 2}, 1.0);   // z = 1: below the crown
+  const TreeMetricsReport report = ComputeTreeMetrics(y, &density, "m");
+  ASSERT_TRUE(report.crown_volume_density.has_value());
+  EXPECT_NEAR(*report.crown_volume_density, 3 * 0.125, 1e-12);
+}
+
+TEST(TreeMetricsTest, DbhNeedsMetricUnitsAndATallEnoughTrunk) {
+  const SkeletonGraph y = HandBuiltY();
+  const TreeMetricsReport arbitrary = ComputeTreeMetrics(y, nullptr, "arbitrary");
+  EXPECT_FALSE(arbitrary.dbh.has_value());
+  EXPECT_NE(arbitrary.dbh_note.find("not metric"), std::string::npos);
+  // In cm the tree is 4 cm tall: no breast height at 130 cm.
+  const TreeMetricsReport centimetres = ComputeTreeMetrics(y, nullptr, "cm");
+  EXPECT_FALSE(centimetres.dbh.has_value());
+  EXPECT_NE(centimetres.dbh_note.find("does not reach"), std::string::npos);
+  // In mm with breast height 1.5 mm the crossing edge is z = 1..2 mm.
+  TreeMetricsOptions options;
+  options.dbh_height_m = 0.0015;
+  const TreeMetricsReport millimetres = ComputeTreeMetrics(y, nullptr, "mm", options);
+  ASSERT_TRUE(millimetres.dbh.has_value());
+  EXPECT_EQ(*millimetres.dbh, 0.3);
+  options.direction_fraction = 0;
+  EXPECT_THROW(ComputeTreeMetrics(y, nullptr, "m", options), InputError);
+}
+
+TEST(TreeMetricsTest, JsonRecordsUnitsAndNulls) {
+  const fs::path path = fs::temp_directory_path() / "sylva_tree_metrics_test" / "metrics.json";
+  WriteTreeMetricsJson(path, ComputeTreeMetrics(HandBuiltY(), nullptr, "arbitrary"));
+  const nlohmann::json json = nlohmann::json::parse(ReadFileToString(path));
+  EXPECT_EQ(json["format"], "sylva-tree-metrics");
+  EXPECT_EQ(json["units"], "arbitrary");
+  EXPECT_EQ(json["volume_units"], "arbitrary^3");
+  EXPECT_TRUE(json["dbh"].is_null());
+  EXPECT_TRUE(json["crown_volume_density"].is_null());
+  EXPECT_NEAR(json["height"].get<double>(), 4.0, 1e-12);
+  EXPECT_EQ(json["orders"][1]["num_branches"], 2);
+  EXPECT_NEAR(json["orders"][1]["mean_angle_deg"].get<double>(), 45.0, 1e-9);
+}
+
+// --- Metrics on a synthetic tree's ground truth -----------------------------
+
+TEST(TreeMetricsTest, StraightSyntheticTreeMatchesItsGeneratorOptions) {
+  // No bending: every branch leaves its straight parent at the generator's
+  // angle, uniform in [30, 60] degrees, with the options' child counts.
+  SyntheticTreeOptions options;
+  options.trunk_wobble = 0;
+  options.branch_wobble = 0;
+  options.upward_tropism = 0;
+  const SkeletonGraph skeleton = GenerateSyntheticSkeleton(options, 3);
+  const TreeMetricsReport report = ComputeTreeMetrics(skeleton, nullptr, "m");
+  ASSERT_EQ(report.orders.size(), 4u);
+  int expected_branches = 1;
+  for (int order = 0; order < 4; ++order) {
+    EXPECT_EQ(report.orders[order].num_branches, expected_branches) << "order " << order;
+    if (order < 3) expected_branches *= options.num_children[order];
+  }
+  for (int order = 1; order < 4; ++order) {
+    const OrderMetrics& m = report.orders[order];
+    EXPECT_EQ(m.num_angles, m.num_branches);
+    // Uniform in [30, 60]: mean 45, standard error 8.66 / sqrt(n).
+    EXPECT_NEAR(m.mean_angle_deg, 45.0, 4 * 8.66 / std::sqrt(m.num_angles)) << "order " << order;
+    EXPECT_GT(m.median_angle_deg, 30.0);
+    EXPECT_LT(m.median_angle_deg, 60.0);
+  }
+  // The trunk is vertical from the origin: its first fork is the lowest
+  // branch, at crown_base of the trunk length or above.
+  EXPECT_GE(report.crown_base_height,
+            options.crown_base * options.trunk_length - options.max_segment_length);
+  EXPECT_LE(report.crown_base_height, options.crown_top * options.trunk_length);
+  EXPECT_GE(report.height, options.trunk_length - 1e-9);
+  EXPECT_NEAR(report.orders[0].total_length, options.trunk_length, 1e-9);
+  ASSERT_TRUE(report.dbh.has_value());
+  EXPECT_LT(*report.dbh, 2 * options.trunk_base_radius);
+  EXPECT_GT(*report.dbh, options.trunk_base_radius);
+  EXPECT_GT(report.crown_volume_hull, 0.0);
+  // The crown's hull holds the crown's nodes' bounding box at most.
+  EXPECT_LT(report.crown_volume_hull,
+            report.crown_width * report.crown_width * report.crown_depth);
+}
+
+}  // namespace
+}  // namespace sylva
