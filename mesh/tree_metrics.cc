@@ -163,11 +163,13 @@ int FirstTrunkBranching(const BranchAxis& trunk, const std::vector<std::vector<i
   return -1;
 }
 
-// The child an axis continues into: lowest order, then most strands, then
+// The child the axis through `node` continues into: among the children of
+// no higher order than the node, the lowest order, then most strands, then
 // thickest, then lowest index; -1 if none.
-int ContinuationByOrder(const SkeletonGraph& skeleton, const std::vector<int>& children) {
+int ContinuationByOrder(const SkeletonGraph& skeleton, int node, const std::vector<int>& children) {
   int best = -1;
   for (int child : children) {
+    if (skeleton.nodes[child].order > skeleton.nodes[node].order) continue;
     if (best < 0) {
       best = child;
       continue;
@@ -194,7 +196,7 @@ std::vector<BranchAxis> AxesByOrder(const SkeletonGraph& skeleton, std::vector<i
     if (start.junction >= 0) axis.push_back(start.junction);
     for (int node = start.first; node >= 0;) {
       axis.push_back(node);
-      const int next = ContinuationByOrder(skeleton, children[node]);
+      const int next = ContinuationByOrder(skeleton, node, children[node]);
       for (int child : children[node]) {
         if (child != next) queue.push_back({node, child, start.order + 1});
       }
@@ -250,7 +252,11 @@ double BranchingAngle(const SkeletonGraph& skeleton, const std::vector<BranchAxi
                       const std::vector<int>& axis_of_node, int a, double direction_fraction) {
   const BranchAxis& axis = axes[a];  // axis[0] is the junction
   const double distance = direction_fraction * AxisLength(skeleton, axis);
-  const Eigen::Vector3d branch = DirectionAlong(skeleton, axis, distance);
+  // From the branch's first node, so that a connector from the junction (a
+  // QSM child cylinder starting off its parent's axis) does not count; from
+  // the junction for a single-edge branch.
+  const std::vector<int> from_first(axis.begin() + (axis.size() > 2 ? 1 : 0), axis.end());
+  const Eigen::Vector3d branch = DirectionAlong(skeleton, from_first, distance);
   const BranchAxis& parent = axes[axis_of_node[axis[0]]];
   const int at = static_cast<int>(std::find(parent.begin(), parent.end(), axis[0]) - parent.begin());
   Eigen::Vector3d along_parent;

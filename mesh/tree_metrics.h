@@ -10,12 +10,20 @@
 //
 // A branch is a branch axis, listed as SkeletonGraph::BranchAxes() lists them
 // (trunk from the root, then breadth-first), except that an axis continues at
-// every node into the child of lowest node `order` first (then, as in
-// BranchAxes(), most strands, thickest, lowest index), so the source's axes
-// decide where it has them: TreeQSM's BranchOrder in a QSM, the generator's
-// axes in a synthetic tree. For orders set by AssignOrders() (or all equal)
-// these are exactly BranchAxes(). Other children start axes of the next
-// order. A branch's length runs from its junction on the parent axis to its tip.
+// every node into the child of lowest node `order` first, and never into a
+// child of higher order than the node (then, as in BranchAxes(), most
+// strands, thickest, lowest index), so the source's axes decide where it has
+// them: TreeQSM's BranchOrder in a QSM, the generator's axes in a synthetic
+// tree. For orders set by AssignOrders() (or all equal) these are exactly
+// BranchAxes(). Other children start axes of the next order. A branch's
+// length runs from its junction on the parent axis to its tip.
+//
+// Branching angle: between the branch's initial direction (from its first
+// node after the junction to its first node at least direction_fraction of
+// its length further; from the junction if the branch is one edge) and its
+// parent axis' direction arriving at the junction over the same distance
+// (leaving it, if the parent axis starts there). For a QSM this is the angle
+// between the branch's first cylinder(s) and its parent cylinder(s).
 #ifndef SYLVA_MESH_TREE_METRICS_H_
 #define SYLVA_MESH_TREE_METRICS_H_
 

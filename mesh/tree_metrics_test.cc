@@ -4,8 +4,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <numeric>
 #include <nlohmann/json.hpp>
 
+#include "core/io/qsm_io.h"
 #include "core/util/check.h"
 #include "core/util/file_util.h"
 #include "core/util/random.h"
@@ -220,6 +223,48 @@ TEST(TreeMetricsTest, StraightSyntheticTreeMatchesItsGeneratorOptions) {
   // The crown's hull holds the crown's nodes' bounding box at most.
   EXPECT_LT(report.crown_volume_hull,
             report.crown_width * report.crown_width * report.crown_depth);
+}
+
+// --- Metrics on real QSMs (ITSMe, TreeQSM 2.4.0) ------------------------------
+
+TEST(TreeMetricsTest, ItsmeQsmMetricsAgreeWithTreeQsmsOwn) {
+  // TreeQSM's treedata (TreeHeight, DBHqsm) as the ITSMe provenance records
+  // them: tree 1 20.94 m, DBH 0.154 m; tree 2 16.93 m, DBH 0.311 m. Tree 1 has
+  // one branch; tree 2 nine (one detached, in its second skeleton), order <= 3.
+  struct Case {
+    const char* file;
+    double height, dbh;
+  };
+  // The buttressed trees (no recorded treedata) only print their figures.
+  const Case cases[] = {{"tree_1_qsm.csv", 20.94, 0.154},
+                        {"tree_2_qsm.csv", 16.93, 0.311},
+                        {"buttressed_tree_1_qsm_1.csv", 0, 0},
+                        {"buttressed_tree_2_qsm_1.csv", 0, 0}};
+  for (const Case& test : cases) {
+    const QsmModel qsm = ReadQsmCsv(fs::path(SYLVA_SOURCE_DIR) / "datasets" / "itsme-qsm" / test.file);
+    const SkeletonGraph tree = SkeletonsFromQsm(qsm)[0].skeleton;
+    const TreeMetricsReport report = ComputeTreeMetrics(tree, nullptr, qsm.units);
+    ASSERT_TRUE(report.dbh.has_value()) << test.file;
+    if (test.height > 0) {
+      EXPECT_NEAR(report.height, test.height, 0.01 * test.height) << test.file;
+      EXPECT_NEAR(*report.dbh, test.dbh, 0.0015) << test.file;
+    }
+    if (test.height > 0) {
+      const int branches = std::accumulate(report.orders.begin() + 1, report.orders.end(), 0,
+                                           [](int n, const OrderMetrics& m) { return n + m.num_branches; });
+      EXPECT_EQ(branches, test.file == std::string("tree_1_qsm.csv") ? 1 : 8) << test.file;
+    }
+    std::printf("%s: height %.3f m, crown base %.3f m, depth %.3f m, width %.3f m, hull %.3f m^3, "
+                "DBH %.4f m, tips %d, length %.2f m, branches per order:",
+                test.file, report.height, report.crown_base_height, report.crown_depth,
+                report.crown_width, report.crown_volume_hull, *report.dbh, report.num_tips,
+                report.total_length);
+    for (const OrderMetrics& m : report.orders) {
+      std::printf(" %d:%d (%.2f m, angle mean %.1f median %.1f)", m.order, m.num_branches,
+                  m.total_length, m.mean_angle_deg, m.median_angle_deg);
+    }
+    std::printf("\n");
+  }
 }
 
 }  // namespace

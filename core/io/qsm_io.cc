@@ -20,6 +20,9 @@ constexpr double kAxisReadTolerance = 1e-3;
 constexpr double kAxisCheckTolerance = 1e-9;
 // A child starting this close (relative) to its parent's end shares its node.
 constexpr double kCoincidenceTolerance = 1e-9;
+// A child attaching closer than this fraction of its parent's length to the
+// parent's end attaches at the end node; closer to its start, at this fraction.
+constexpr double kSplitSnap = 0.05;
 
 const char* const kColumns[] = {"id",     "parent_id", "start_x", "start_y",
                                 "start_z", "axis_x",   "axis_y",  "axis_z",
@@ -304,27 +307,78 @@ int AddQsmNode(const Eigen::Vector3d& position, double radius, int parent_idx, i
   return part->skeleton.AddNode(position, radius, parent_idx, order);
 }
 
+// Where a child cylinder attaches: a node of its parent, and whether it
+// starts there (shared node) or at a connector node of its own.
+struct Attachment {
+  int node = -1;
+  bool connector = true;
+};
+
+// Parameter in [0, 1] along `parent` where `child` attaches: 1 (the end) for
+// a child continuing the parent's branch, else the projection of the child's
+// start, kept kSplitSnap from the ends.
+double AttachParameter(const QsmCylinder& child, const QsmCylinder& parent) {
+  if (child.branch == parent.branch || Coincide(child.start, parent)) return 1.0;
+  const double t = (child.start - parent.start).dot(parent.axis) / parent.length;
+  if (t > 1.0 - kSplitSnap) return 1.0;
+  return std::max(t, kSplitSnap);
+}
+
+// Adds the nodes of cylinder `c` after its start node `start`: one split node
+// per distinct interior attachment of its children (in order along it), then
+// its end node. Returns where each child (children[c][k]) attaches.
+std::vector<Attachment> AddCylinderNodes(const QsmModel& qsm, const std::vector<int>& children,
+                                         int c, int start, QsmSkeleton* part) {
+  const QsmCylinder& cyl = qsm.cylinders[c];
+  std::vector<double> t(children.size());
+  for (size_t k = 0; k < children.size(); ++k) t[k] = AttachParameter(qsm.cylinders[children[k]], cyl);
+  std::vector<double> splits;
+  for (double tk : t) {
+    if (tk < 1.0) splits.push_back(tk);
+  }
+  std::sort(splits.begin(), splits.end());
+  splits.erase(std::unique(splits.begin(), splits.end()), splits.end());
+  std::vector<int> split_nodes;
+  int previous = start;
+  for (double ts : splits) {
+    previous = AddQsmNode(cyl.start + ts * cyl.length * cyl.axis, cyl.radius, previous,
+                          cyl.branch_order, cyl.id, cyl.branch, part);
+    split_nodes.push_back(previous);
+  }
+  const int end = AddQsmNode(cyl.End(), cyl.radius, previous, cyl.branch_order, cyl.id, cyl.branch, part);
+  std::vector<Attachment> attachments(children.size());
+  for (size_t k = 0; k < children.size(); ++k) {
+    if (t[k] == 1.0) {
+      attachments[k] = {end, !Coincide(qsm.cylinders[children[k]].start, cyl)};
+    } else {
+      const size_t at = std::lower_bound(splits.begin(), splits.end(), t[k]) - splits.begin();
+      attachments[k] = {split_nodes[at], true};
+    }
+  }
+  return attachments;
+}
+
 // Adds the cylinders below root cylinder `root`, depth-first (children in
 // table order), to `part`.
 void AddCylinderTree(const QsmModel& qsm, const std::vector<std::vector<int>>& children, int root,
                      QsmSkeleton* part) {
   struct Item {
-    int cylinder, parent_cylinder, parent_end;  // -1, -1 for the root
+    int cylinder;
+    Attachment attachment;  // node -1 for the root
   };
-  std::vector<Item> stack = {{root, -1, -1}};
+  std::vector<Item> stack = {{root, {}}};
   while (!stack.empty()) {
     const Item item = stack.back();
     stack.pop_back();
     const QsmCylinder& c = qsm.cylinders[item.cylinder];
-    int start = item.parent_end;
-    if (start < 0 || !Coincide(c.start, qsm.cylinders[item.parent_cylinder])) {
-      start = AddQsmNode(c.start, c.radius, item.parent_end, c.branch_order, 0, 0, part);
+    int start = item.attachment.node;
+    if (item.attachment.connector) {
+      start = AddQsmNode(c.start, c.radius, item.attachment.node, c.branch_order, 0, 0, part);
     }
-    const int end = AddQsmNode(c.End(), c.radius, start, c.branch_order, c.id, c.branch, part);
     const std::vector<int>& below = children[item.cylinder];
-    for (auto it = below.rbegin(); it != below.rend(); ++it) {
-      stack.push_back({*it, item.cylinder, end});
-    }
+    const std::vector<Attachment> attachments =
+        AddCylinderNodes(qsm, below, item.cylinder, start, part);
+    for (size_t k = below.size(); k-- > 0;) stack.push_back({below[k], attachments[k]});
   }
 }
 
@@ -367,8 +421,9 @@ QsmCylinder CylinderBetween(const Eigen::Vector3d& from, const Eigen::Vector3d& 
   return c;
 }
 
-// Id of the cylinder ending at node i, walking up over connector nodes; 0 at a root.
-int64_t CylinderEndingAt(const QsmSkeleton& part, int i) {
+// Id of the cylinder node i lies on (its end or one of its split nodes),
+// walking up over connector nodes; 0 at a root.
+int64_t CylinderAt(const QsmSkeleton& part, int i) {
   while (i >= 0 && part.cylinder_ids[i] == 0) i = part.skeleton.nodes[i].parent_idx;
   return i < 0 ? 0 : part.cylinder_ids[i];
 }
@@ -385,14 +440,21 @@ QsmModel QsmFromSkeletons(const std::vector<QsmSkeleton>& parts, const std::stri
     SYLVA_CHECK(static_cast<int>(part.cylinder_ids.size()) == skeleton.NumNodes() &&
                 static_cast<int>(part.branch_ids.size()) == skeleton.NumNodes())
         << "QsmSkeleton needs a cylinder and branch id per node";
+    const std::vector<std::vector<int>> children = skeleton.Children();
     for (int i = 0; i < skeleton.NumNodes(); ++i) {
+      const int64_t id = part.cylinder_ids[i];
+      if (id == 0 || std::any_of(children[i].begin(), children[i].end(),
+                                 [&](int child) { return part.cylinder_ids[child] == id; })) {
+        continue;  // not the end node of a cylinder
+      }
+      // Up over the cylinder's split nodes to the node it starts at.
+      int start = skeleton.nodes[i].parent_idx;
+      while (start >= 0 && part.cylinder_ids[start] == id) start = skeleton.nodes[start].parent_idx;
+      SYLVA_CHECK(start >= 0) << "cylinder " << id << " has no start node";
       const SkeletonNode& node = skeleton.nodes[i];
-      if (part.cylinder_ids[i] == 0) continue;
-      SYLVA_CHECK(node.parent_idx >= 0) << "a root node carries cylinder " << part.cylinder_ids[i];
-      QsmCylinder c =
-          CylinderBetween(skeleton.nodes[node.parent_idx].position, node.position, node.radius);
-      c.id = part.cylinder_ids[i];
-      c.parent_id = CylinderEndingAt(part, node.parent_idx);
+      QsmCylinder c = CylinderBetween(skeleton.nodes[start].position, node.position, node.radius);
+      c.id = id;
+      c.parent_id = CylinderAt(part, start);
       c.branch = part.branch_ids[i];
       c.branch_order = node.order;
       qsm.cylinders.push_back(c);

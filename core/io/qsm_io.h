@@ -78,20 +78,29 @@ void WriteQsmCsv(const std::filesystem::path& path, const QsmModel& qsm);
 // skeleton, with the cylinder each skeleton edge came from.
 //
 // Representation (SkeletonsFromQsm):
-// - The root cylinder gives two nodes: its start (the skeleton's root) and its
-//   end. Every other cylinder gives its end node; the edge from its start to
-//   its end is the cylinder.
-// - A cylinder whose start coincides with its parent's end (within 1e-9 of
-//   the larger of the parent's length and the end's largest coordinate) starts
-//   at the parent's end node. Otherwise (TreeQSM: almost always; children
-//   start a few mm off, or part-way along the parent) a "connector" node is
-//   added at the cylinder's exact start, as a child of the parent's end node.
-// - Node radius = the radius of the cylinder ending at the node (the edge to
-//   its parent); a root node and a connector node take the radius of the
-//   cylinder starting there, so a mesher sees a continuous tube.
+// - The root cylinder's start is the skeleton's root node. Every cylinder
+//   gives its end node, and a "split" node on its axis where children leave
+//   part-way along it (TreeQSM: a branch's first cylinder starts inside its
+//   parent cylinder), so the cylinder is a chain of collinear edges from its
+//   start node over its split nodes to its end node.
+// - A child continuing its parent's branch (same `branch`) attaches at the
+//   parent's end node (TreeQSM's successive cylinders overlap by a few mm).
+//   A child starting a new branch attaches at parameter t = (start -
+//   parent.start) . parent.axis / parent.length along its parent: t > 0.95
+//   (or a start within 1e-9 relative of the parent's end) at the end node,
+//   smaller t at a split node at max(t, 0.05); equal t share a split node.
+// - A child whose start coincides with its parent's end (within 1e-9 of the
+//   larger of the parent's length and the end's largest coordinate) starts at
+//   the parent's end node. Otherwise (TreeQSM: always, by a few mm to cm) a
+//   "connector" node is added at the child's exact start, as a child of the
+//   node it attaches to; the connector edge is no cylinder.
+// - Node radius = the radius of the cylinder the edge to its parent belongs
+//   to; a root or connector node takes the radius of the cylinder starting
+//   there, so a mesher sees a continuous tube.
 // - node.order = the cylinder's branch_order; strands = 0 (unknown).
-// - cylinder_ids[i] / branch_ids[i]: the id and branch of the cylinder ending
-//   at node i; 0 for a root or connector node (whose edge is no cylinder).
+// - cylinder_ids[i] / branch_ids[i]: the id and branch of the cylinder the
+//   edge from node i to its parent belongs to (end and split nodes); 0 for a
+//   root or connector node.
 // QsmFromSkeletons() inverts this exactly (same ids, parents, branches and
 // orders; start/axis/length/radius within 1e-10 relative: lengths come back as
 // |end - start|, which loses digits when coordinates are far larger than lengths).
@@ -106,9 +115,10 @@ struct QsmSkeleton {
 // SkeletonGraph::Check(). Throws Error if `qsm` fails Check().
 std::vector<QsmSkeleton> SkeletonsFromQsm(const QsmModel& qsm);
 
-// The exact inverse of SkeletonsFromQsm: one cylinder per edge whose child
-// node has a cylinder id, connector edges dropped (a cylinder whose start is a
-// connector gets the cylinder ending at the connector's parent as parent).
+// The exact inverse of SkeletonsFromQsm: one cylinder per chain of edges with
+// the same cylinder id, from the node before the chain to its last node;
+// connector edges dropped (a cylinder starting at a connector gets the
+// cylinder the connector's parent lies on as parent).
 // Cylinders are listed by id. radius_source from the first skeleton.
 QsmModel QsmFromSkeletons(const std::vector<QsmSkeleton>& parts, const std::string& units);
 
