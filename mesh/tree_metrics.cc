@@ -126,14 +126,14 @@ double ConvexHullVolume(const std::vector<Eigen::Vector3d>& points) {
   // A large initial tetrahedron: extreme x, farthest from it, from their line,
   // from their plane.
   const int i0 = Farthest(points, [&](const Eigen::Vector3d& p) { return -p.x(); });
-  const int i1 = Farthest(points, [&](const Eigen::Vector3d& p) { return (p - points[i0]).norm(); });
+  const int i1 =
+      Farthest(points, [&](const Eigen::Vector3d& p) { return (p - points[i0]).norm(); });
   const Eigen::Vector3d line = (points[i1] - points[i0]).normalized();
-  const int i2 = Farthest(points, [&](const Eigen::Vector3d& p) {
-    return line.cross(p - points[i0]).norm();
-  });
+  const int i2 =
+      Farthest(points, [&](const Eigen::Vector3d& p) { return line.cross(p - points[i0]).norm(); });
   const Eigen::Vector3d normal = line.cross(points[i2] - points[i0]).normalized();
-  const int i3 =
-      Farthest(points, [&](const Eigen::Vector3d& p) { return std::abs(normal.dot(p - points[i0])); });
+  const int i3 = Farthest(
+      points, [&](const Eigen::Vector3d& p) { return std::abs(normal.dot(p - points[i0])); });
   if (!normal.allFinite() || std::abs(normal.dot(points[i3] - points[i0])) <= tolerance) return 0.0;
   IncrementalHull hull(points, tolerance);
   hull.Build(i0, i1, i2, i3);
@@ -176,7 +176,8 @@ int ContinuationByOrder(const SkeletonGraph& skeleton, int node, const std::vect
     }
     const SkeletonNode& c = skeleton.nodes[child];
     const SkeletonNode& b = skeleton.nodes[best];
-    if (std::tie(c.order, b.strands, b.radius) < std::tie(b.order, c.strands, c.radius)) best = child;
+    if (std::tie(c.order, b.strands, b.radius) < std::tie(b.order, c.strands, c.radius))
+      best = child;
   }
   return best;
 }
@@ -258,7 +259,8 @@ double BranchingAngle(const SkeletonGraph& skeleton, const std::vector<BranchAxi
   const std::vector<int> from_first(axis.begin() + (axis.size() > 2 ? 1 : 0), axis.end());
   const Eigen::Vector3d branch = DirectionAlong(skeleton, from_first, distance);
   const BranchAxis& parent = axes[axis_of_node[axis[0]]];
-  const int at = static_cast<int>(std::find(parent.begin(), parent.end(), axis[0]) - parent.begin());
+  const int at =
+      static_cast<int>(std::find(parent.begin(), parent.end(), axis[0]) - parent.begin());
   Eigen::Vector3d along_parent;
   if (at > 0) {
     const std::vector<int> back(parent.rend() - at - 1, parent.rend());  // junction, then backwards
@@ -286,7 +288,8 @@ std::vector<OrderMetrics> BranchMetrics(const SkeletonGraph& skeleton,
   // The axis each node belongs to (a junction belongs to the axis it continues).
   std::vector<int> axis_of_node(skeleton.nodes.size(), 0);
   for (size_t a = 0; a < axes.size(); ++a) {
-    for (size_t k = (a == 0 ? 0 : 1); k < axes[a].size(); ++k) axis_of_node[axes[a][k]] = static_cast<int>(a);
+    for (size_t k = (a == 0 ? 0 : 1); k < axes[a].size(); ++k)
+      axis_of_node[axes[a][k]] = static_cast<int>(a);
   }
   const int max_order = *std::max_element(orders.begin(), orders.end());
   std::vector<OrderMetrics> metrics(max_order + 1);
@@ -374,9 +377,10 @@ TreeMetricsReport ComputeTreeMetrics(const SkeletonGraph& skeleton, const Densit
     report.crown_volume_hull = ConvexHullVolume(crown);
   }
   if (density != nullptr) {
-    report.crown_volume_density = fork < 0 ? 0.0
-                                           : DensityCrownVolume(*density, base_z + report.crown_base_height,
-                                                                options.density_threshold);
+    report.crown_volume_density =
+        fork < 0 ? 0.0
+                 : DensityCrownVolume(*density, base_z + report.crown_base_height,
+                                      options.density_threshold);
   }
   MeasureDbh(skeleton, axes[0], units, options.dbh_height_m, &report);
   report.orders = BranchMetrics(skeleton, axes, orders, options.direction_fraction);
@@ -393,8 +397,7 @@ std::string TreeMetricsReport::ToJson() const {
   json["crown_depth"] = crown_depth;
   json["crown_width"] = crown_width;
   json["crown_volume_hull"] = crown_volume_hull;
-  json["crown_volume_density"] =
-      crown_volume_density ? Json(*crown_volume_density) : Json(nullptr);
+  json["crown_volume_density"] = crown_volume_density ? Json(*crown_volume_density) : Json(nullptr);
   json["volume_units"] = units + "^3";
   json["dbh"] = dbh ? Json(*dbh) : Json(nullptr);
   json["dbh_note"] = dbh_note;

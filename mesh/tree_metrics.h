@@ -54,20 +54,20 @@ struct TreeMetricsOptions {
 };
 
 struct OrderMetrics {
-  int order = 0;               // 0 = trunk
+  int order = 0;  // 0 = trunk
   int num_branches = 0;
-  double total_length = 0.0;   // world units
-  int num_angles = 0;          // branches with a measurable angle (order >= 1)
-  double mean_angle_deg = 0.0;    // branching angle, degrees; 0 if none
+  double total_length = 0.0;    // world units
+  int num_angles = 0;           // branches with a measurable angle (order >= 1)
+  double mean_angle_deg = 0.0;  // branching angle, degrees; 0 if none
   double median_angle_deg = 0.0;
 };
 
 struct TreeMetricsReport {
-  std::string units;          // of every length; areas and volumes in units^2, ^3
-  double height = 0.0;        // highest node above the base
+  std::string units;               // of every length; areas and volumes in units^2, ^3
+  double height = 0.0;             // highest node above the base
   double crown_base_height = 0.0;  // above the base
-  double crown_depth = 0.0;   // height - crown_base_height
-  double crown_width = 0.0;   // largest horizontal distance between two crown nodes
+  double crown_depth = 0.0;        // height - crown_base_height
+  double crown_width = 0.0;        // largest horizontal distance between two crown nodes
   double crown_volume_hull = 0.0;  // convex hull of the crown's nodes
   // Volume of the density voxels (>= threshold) in the crown; absent without a grid.
   std::optional<double> crown_volume_density;

@@ -5,8 +5,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <set>
 #include <nlohmann/json.hpp>
+#include <set>
 
 #include "core/io/qsm_io.h"
 #include "core/util/check.h"
@@ -22,7 +22,8 @@ namespace {
 TEST(ConvexHullVolumeTest, CubeWithInteriorAndFacePointsIsOne) {
   std::vector<Eigen::Vector3d> points;
   RandomEngine random(11);
-  for (int i = 0; i < 300; ++i) points.emplace_back(random.Uniform(), random.Uniform(), random.Uniform());
+  for (int i = 0; i < 300; ++i)
+    points.emplace_back(random.Uniform(), random.Uniform(), random.Uniform());
   // Grid points on every face (coplanar with hull faces) and the corners.
   for (int axis = 0; axis < 3; ++axis) {
     for (double side : {0.0, 1.0}) {
@@ -141,11 +142,11 @@ TEST(TreeMetricsTest, HandBuiltYHasItsKnownMeasures) {
 TEST(TreeMetricsTest, DensityCrownVolumeCountsVoxelsAboveThresholdAndCrownBase) {
   const SkeletonGraph y = HandBuiltY();
   DensityGrid density(0.5, Eigen::Vector3d::Zero());
-  density.SetValue({0, 0, 6}, 0.9);   // z = 3: crown
-  density.SetValue({1, 0, 5}, 0.5);   // z = 2.5: crown, at the threshold
-  density.SetValue({0, 1, 4}, 0.7);   // z = 2: crown base
-  density.SetValue({0, 0, 7}, 0.3);   // below the threshold
-  density.SetValue({0, 0, 2}, 1.0);   // z = 1: below the crown
+  density.SetValue({0, 0, 6}, 0.9);  // z = 3: crown
+  density.SetValue({1, 0, 5}, 0.5);  // z = 2.5: crown, at the threshold
+  density.SetValue({0, 1, 4}, 0.7);  // z = 2: crown base
+  density.SetValue({0, 0, 7}, 0.3);  // below the threshold
+  density.SetValue({0, 0, 2}, 1.0);  // z = 1: below the crown
   const TreeMetricsReport report = ComputeTreeMetrics(y, &density, "m");
   ASSERT_TRUE(report.crown_volume_density.has_value());
   EXPECT_NEAR(*report.crown_volume_density, 3 * 0.125, 1e-12);
@@ -221,8 +222,7 @@ TEST(TreeMetricsTest, StraightSyntheticTreeMatchesItsGeneratorOptions) {
   EXPECT_GT(*report.dbh, options.trunk_base_radius);
   EXPECT_GT(report.crown_volume_hull, 0.0);
   // The crown's hull holds the crown's nodes' bounding box at most.
-  EXPECT_LT(report.crown_volume_hull,
-            report.crown_width * report.crown_width * report.crown_depth);
+  EXPECT_LT(report.crown_volume_hull, report.crown_width * report.crown_width * report.crown_depth);
 }
 
 TEST(TreeMetricsTest, SyntheticTreeKeepsItsMetricsThroughAQsmFile) {
@@ -263,8 +263,10 @@ TEST(TreeMetricsTest, ItsmeQsmMetricsAgreeWithTreeQsmsOwn) {
                         {"buttressed_tree_1_qsm_1.csv", 0, 0},
                         {"buttressed_tree_2_qsm_1.csv", 0, 0}};
   for (const Case& test : cases) {
-    const QsmModel qsm = ReadQsmCsv(fs::path(SYLVA_SOURCE_DIR) / "datasets" / "itsme-qsm" / test.file);
-    const TreeMetricsReport report = ComputeTreeMetrics(SkeletonsFromQsm(qsm)[0].skeleton, nullptr, qsm.units);
+    const QsmModel qsm =
+        ReadQsmCsv(fs::path(SYLVA_SOURCE_DIR) / "datasets" / "itsme-qsm" / test.file);
+    const TreeMetricsReport report =
+        ComputeTreeMetrics(SkeletonsFromQsm(qsm)[0].skeleton, nullptr, qsm.units);
     ASSERT_TRUE(report.dbh.has_value()) << test.file;
     if (test.height > 0) {
       EXPECT_NEAR(report.height, test.height, 0.01 * test.height) << test.file;
@@ -274,7 +276,8 @@ TEST(TreeMetricsTest, ItsmeQsmMetricsAgreeWithTreeQsmsOwn) {
     const QsmSkeleton part = SkeletonsFromQsm(qsm)[0];
     std::set<std::pair<int, int64_t>> branches;  // (order, branch id)
     for (int i = 0; i < part.skeleton.NumNodes(); ++i) {
-      if (part.branch_ids[i] != 0) branches.insert({part.skeleton.nodes[i].order, part.branch_ids[i]});
+      if (part.branch_ids[i] != 0)
+        branches.insert({part.skeleton.nodes[i].order, part.branch_ids[i]});
     }
     ASSERT_EQ(report.orders.size(), static_cast<size_t>(branches.rbegin()->first + 1)) << test.file;
     for (const OrderMetrics& m : report.orders) {
@@ -282,11 +285,11 @@ TEST(TreeMetricsTest, ItsmeQsmMetricsAgreeWithTreeQsmsOwn) {
                                        [&](const auto& b) { return b.first == m.order; });
       EXPECT_EQ(m.num_branches, count) << test.file << " order " << m.order;
     }
-    std::printf("%s: height %.3f m, crown base %.3f m, depth %.3f m, width %.3f m, hull %.3f m^3, "
-                "DBH %.4f m, tips %d, length %.2f m, branches per order:",
-                test.file, report.height, report.crown_base_height, report.crown_depth,
-                report.crown_width, report.crown_volume_hull, *report.dbh, report.num_tips,
-                report.total_length);
+    std::printf(
+        "%s: height %.3f m, crown base %.3f m, depth %.3f m, width %.3f m, hull %.3f m^3, "
+        "DBH %.4f m, tips %d, length %.2f m, branches per order:",
+        test.file, report.height, report.crown_base_height, report.crown_depth, report.crown_width,
+        report.crown_volume_hull, *report.dbh, report.num_tips, report.total_length);
     for (const OrderMetrics& m : report.orders) {
       std::printf(" %d:%d (%.2f m, angle mean %.1f median %.1f)", m.order, m.num_branches,
                   m.total_length, m.mean_angle_deg, m.median_angle_deg);

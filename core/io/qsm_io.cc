@@ -24,9 +24,9 @@ constexpr double kCoincidenceTolerance = 1e-9;
 // parent's end attaches at the end node; closer to its start, at this fraction.
 constexpr double kSplitSnap = 0.05;
 
-const char* const kColumns[] = {"id",     "parent_id", "start_x", "start_y",
-                                "start_z", "axis_x",   "axis_y",  "axis_z",
-                                "length", "radius",    "branch",  "branch_order"};
+const char* const kColumns[] = {"id",      "parent_id", "start_x", "start_y",
+                                "start_z", "axis_x",    "axis_y",  "axis_z",
+                                "length",  "radius",    "branch",  "branch_order"};
 
 // Index of each cylinder id; Error (or nothing) on duplicates is the caller's business.
 std::unordered_map<int64_t, int> IndexById(const std::vector<QsmCylinder>& cylinders) {
@@ -122,27 +122,26 @@ class CsvRow {
   }
 
   double Double(const std::string& name) const {
-    const std::string& text = Text(name);
-    double value = 0.0;
-    const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
-    SYLVA_CHECK_INPUT(error == std::errc() && end == text.data() + text.size() && !text.empty(),
-                      where_)
-        << name << " '" << text << "' is not a number";
+    const double value = Parse<double>(name, "a number");
     SYLVA_CHECK_INPUT(std::isfinite(value), where_) << name << " is not finite";
     return value;
   }
 
-  int64_t Int(const std::string& name) const {
+  int64_t Int(const std::string& name) const { return Parse<int64_t>(name, "an integer"); }
+
+ private:
+  // The whole field as a T (std::from_chars: locale-independent).
+  template <typename T>
+  T Parse(const std::string& name, const char* what) const {
     const std::string& text = Text(name);
-    int64_t value = 0;
+    T value{};
     const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
     SYLVA_CHECK_INPUT(error == std::errc() && end == text.data() + text.size() && !text.empty(),
                       where_)
-        << name << " '" << text << "' is not an integer";
+        << name << " '" << text << "' is not " << what;
     return value;
   }
 
- private:
   std::vector<std::string> fields_;
   const std::map<std::string, int>& columns_;
   std::string where_;
@@ -154,7 +153,8 @@ QsmCylinder ParseCylinder(const CsvRow& row) {
   c.parent_id = row.Int("parent_id");
   SYLVA_CHECK_INPUT(c.id > 0, row.where()) << "id must be > 0 (0 means 'no parent')";
   SYLVA_CHECK_INPUT(c.parent_id >= 0, row.where()) << "parent_id must be >= 0";
-  SYLVA_CHECK_INPUT(c.parent_id != c.id, row.where()) << "cylinder " << c.id << " is its own parent";
+  SYLVA_CHECK_INPUT(c.parent_id != c.id, row.where())
+      << "cylinder " << c.id << " is its own parent";
   c.start = {row.Double("start_x"), row.Double("start_y"), row.Double("start_z")};
   c.axis = {row.Double("axis_x"), row.Double("axis_y"), row.Double("axis_z")};
   const double norm = c.axis.norm();
@@ -189,8 +189,7 @@ std::map<std::string, int> ParseHeader(const std::string& line, const std::strin
 }
 
 // A per-row text column that must be the same on every row.
-void ReadUniformColumn(const CsvRow& row, const std::string& name, bool first,
-                       std::string* value) {
+void ReadUniformColumn(const CsvRow& row, const std::string& name, bool first, std::string* value) {
   if (!row.Has(name)) return;
   const std::string& text = row.Text(name);
   if (first) *value = text;
@@ -331,7 +330,8 @@ std::vector<Attachment> AddCylinderNodes(const QsmModel& qsm, const std::vector<
                                          int c, int start, QsmSkeleton* part) {
   const QsmCylinder& cyl = qsm.cylinders[c];
   std::vector<double> t(children.size());
-  for (size_t k = 0; k < children.size(); ++k) t[k] = AttachParameter(qsm.cylinders[children[k]], cyl);
+  for (size_t k = 0; k < children.size(); ++k)
+    t[k] = AttachParameter(qsm.cylinders[children[k]], cyl);
   std::vector<double> splits;
   for (double tk : t) {
     if (tk < 1.0) splits.push_back(tk);
@@ -345,7 +345,8 @@ std::vector<Attachment> AddCylinderNodes(const QsmModel& qsm, const std::vector<
                           cyl.branch_order, cyl.id, cyl.branch, part);
     split_nodes.push_back(previous);
   }
-  const int end = AddQsmNode(cyl.End(), cyl.radius, previous, cyl.branch_order, cyl.id, cyl.branch, part);
+  const int end =
+      AddQsmNode(cyl.End(), cyl.radius, previous, cyl.branch_order, cyl.id, cyl.branch, part);
   std::vector<Attachment> attachments(children.size());
   for (size_t k = 0; k < children.size(); ++k) {
     if (t[k] == 1.0) {

@@ -5,7 +5,8 @@
 // The CSV cylinder table (one header line, then one row per cylinder):
 //
 //   id,parent_id,start_x,start_y,start_z,axis_x,axis_y,axis_z,length,radius,branch,branch_order,radius_source,units
-//   1,0,22.25206,112.20287,-11.652903,-0.04426492,-0.008478129,0.99898386,0.37862566,0.08678285,1,0,ground truth,m
+//   1,0,22.25206,112.20287,-11.652903,-0.04426492,-0.008478129,0.99898386,0.37862566,0.08678285,1,0,ground
+//   truth,m
 //
 //   id            stable cylinder id, an integer > 0 (TreeQSM: the 1-based row)
 //   parent_id     id of the parent cylinder; 0 = none (a root: several allowed,
@@ -38,8 +39,8 @@
 namespace sylva {
 
 struct QsmCylinder {
-  int64_t id = 0;         // > 0
-  int64_t parent_id = 0;  // 0 = root
+  int64_t id = 0;                                   // > 0
+  int64_t parent_id = 0;                            // 0 = root
   Eigen::Vector3d start = Eigen::Vector3d::Zero();  // base centre, world units
   Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();  // unit vector, base to top
   double length = 0.0;                              // world units, > 0
@@ -122,8 +123,8 @@ std::vector<QsmSkeleton> SkeletonsFromQsm(const QsmModel& qsm);
 // Cylinders are listed by id. radius_source from the first skeleton.
 QsmModel QsmFromSkeletons(const std::vector<QsmSkeleton>& parts, const std::string& units);
 
-// A QSM from any skeleton (radii must be > 0 for WriteQsmCsv): one cylinder per edge, start = parent node, axis =
-// unit(child - parent), length = the edge length, radius = the child node's
+// A QSM from any skeleton (radii must be > 0 for WriteQsmCsv): one cylinder per edge, start =
+// parent node, axis = unit(child - parent), length = the edge length, radius = the child node's
 // radius. Cylinders are numbered 1, 2, ... branch axis by branch axis
 // (SkeletonGraph::BranchAxes(): trunk first, then breadth-first), so parents
 // precede children as in TreeQSM; branch = the axis' 1-based index,
