@@ -387,6 +387,14 @@ TreeMetricsReport ComputeTreeMetrics(const SkeletonGraph& skeleton, const Densit
   return report;
 }
 
+namespace {
+
+Json AngleOrNull(const OrderMetrics& m, double angle) {
+  return m.num_angles > 0 ? Json(angle) : Json(nullptr);
+}
+
+}  // namespace
+
 std::string TreeMetricsReport::ToJson() const {
   Json json;
   json["format"] = "sylva-tree-metrics";
@@ -411,8 +419,8 @@ std::string TreeMetricsReport::ToJson() const {
                               {"num_branches", m.num_branches},
                               {"total_length", m.total_length},
                               {"num_angles", m.num_angles},
-                              {"mean_angle_deg", m.mean_angle_deg},
-                              {"median_angle_deg", m.median_angle_deg}});
+                              {"mean_angle_deg", AngleOrNull(m, m.mean_angle_deg)},
+                              {"median_angle_deg", AngleOrNull(m, m.median_angle_deg)}});
   }
   return json.dump(2);
 }

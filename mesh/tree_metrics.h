@@ -82,7 +82,11 @@ struct TreeMetricsReport {
   double total_length = 0.0;
   std::vector<OrderMetrics> orders;  // by order, 0 first
 
-  // The report as a JSON object (absent values as null, with units).
+  // The report as a JSON object: {"format": "sylva-tree-metrics", "version":
+  // 1, "units", "volume_units" (units^3), "angle_units" ("degrees"), every
+  // field above under its name, "orders": [{"order", "num_branches",
+  // "total_length", "num_angles", "mean_angle_deg", "median_angle_deg"}]};
+  // absent values (no density grid, no DBH, no angle) are null.
   std::string ToJson() const;
 };
 

@@ -181,6 +181,7 @@ TEST(TreeMetricsTest, JsonRecordsUnitsAndNulls) {
   EXPECT_TRUE(json["dbh"].is_null());
   EXPECT_TRUE(json["crown_volume_density"].is_null());
   EXPECT_NEAR(json["height"].get<double>(), 4.0, 1e-12);
+  EXPECT_TRUE(json["orders"][0]["mean_angle_deg"].is_null());  // the trunk has no angle
   EXPECT_EQ(json["orders"][1]["num_branches"], 2);
   EXPECT_NEAR(json["orders"][1]["mean_angle_deg"].get<double>(), 45.0, 1e-9);
 }
