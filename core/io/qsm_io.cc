@@ -16,6 +16,7 @@ namespace {
 // An axis read from a file may be this far from unit length (TreeQSM keeps
 // float32 values, |axis| = 1 +- 1e-7) and is normalised; further is an error.
 constexpr double kAxisReadTolerance = 1e-3;
+constexpr char kUtf8Bom[] = "\xEF\xBB\xBF";
 // A checked model's axes are unit within this.
 constexpr double kAxisCheckTolerance = 1e-9;
 // A child starting this close (relative) to its parent's end shares its node.
@@ -231,6 +232,7 @@ QsmModel ReadQsmCsv(const std::filesystem::path& path) {
   while (std::getline(in, line)) {
     ++line_number;
     if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (line_number == 1 && line.rfind(kUtf8Bom, 0) == 0) line.erase(0, 3);  // Excel's
     if (line.find_first_not_of(" \t") == std::string::npos) continue;
     const std::string where = source + ":" + std::to_string(line_number);
     if (columns.empty()) {

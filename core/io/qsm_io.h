@@ -24,7 +24,8 @@
 // These are TreeQSM's cylinder fields (cylinder.start/axis/length/radius/
 // parent/branch/BranchOrder) under the column names of the ITSMe CSV
 // conversion (datasets/itsme-qsm). Columns are found by header name, in any
-// order; other columns are ignored; fields may be "quoted" (as R writes them).
+// order; other columns are ignored; fields may be "quoted" (as R writes them);
+// CRLF line ends, blank lines and a UTF-8 byte-order mark are accepted.
 #ifndef SYLVA_CORE_IO_QSM_IO_H_
 #define SYLVA_CORE_IO_QSM_IO_H_
 

@@ -187,14 +187,15 @@ TEST(QsmIoTest, CsvRoundTripIsExact) {
   }
 }
 
-TEST(QsmIoTest, ReadsColumnsByNameInAnyOrderWithQuotesAndCrLf) {
+TEST(QsmIoTest, ReadsColumnsByNameInAnyOrderWithQuotesCrLfAndBom) {
   const fs::path path = TestDir() / "reordered.csv";
-  AtomicWriteString(path,
-                    "\"radius\",\"id\",\"note\",\"parent_id\",start_z,start_y,start_x,axis_x,"
-                    "axis_y,axis_z,length,branch,branch_order,radius_source\r\n"
-                    "0.5,1,\"a, b\",0,3,2,1,0,0,1.0000001,1.5,1,0,measured\r\n"
-                    "\r\n"
-                    "0.25,2,x,1,6,2,1,0.6,0,0.8,1,2,1,measured\r\n");
+  AtomicWriteString(
+      path,
+      "\xEF\xBB\xBF\"radius\",\"id\",\"note\",\"parent_id\",start_z,start_y,start_x,axis_x,"
+      "axis_y,axis_z,length,branch,branch_order,radius_source\r\n"
+      "0.5,1,\"a, b\",0,3,2,1,0,0,1.0000001,1.5,1,0,measured\r\n"
+      "\r\n"
+      "0.25,2,x,1,6,2,1,0.6,0,0.8,1,2,1,measured\r\n");
   const QsmModel qsm = ReadQsmCsv(path);
   ASSERT_EQ(qsm.cylinders.size(), 2u);
   EXPECT_EQ(qsm.radius_source, "measured");
