@@ -364,7 +364,7 @@ std::vector<Attachment> AddCylinderNodes(const QsmModel& qsm, const std::vector<
 // Adds the cylinders below root cylinder `root`, depth-first (children in
 // table order), to `part`.
 void AddCylinderTree(const QsmModel& qsm, const std::vector<std::vector<int>>& children, int root,
-                     QsmSkeleton* part) {
+                     double merge_fraction, QsmSkeleton* part) {
   struct Item {
     int cylinder;
     Attachment attachment;  // node -1 for the root
@@ -375,7 +375,9 @@ void AddCylinderTree(const QsmModel& qsm, const std::vector<std::vector<int>>& c
     stack.pop_back();
     const QsmCylinder& c = qsm.cylinders[item.cylinder];
     int start = item.attachment.node;
-    if (item.attachment.connector) {
+    const bool merges = start >= 0 && (c.start - part->skeleton.nodes[start].position).norm() <=
+                                          merge_fraction * c.radius;
+    if (item.attachment.connector && !merges) {
       start = AddQsmNode(c.start, c.radius, item.attachment.node, c.branch_order, 0, 0, part);
     }
     const std::vector<int>& below = children[item.cylinder];
@@ -387,7 +389,15 @@ void AddCylinderTree(const QsmModel& qsm, const std::vector<std::vector<int>>& c
 
 }  // namespace
 
-std::vector<QsmSkeleton> SkeletonsFromQsm(const QsmModel& qsm) {
+void QsmToSkeletonOptions::Check() const {
+  SYLVA_CHECK_INPUT(merge_fraction >= 0 && std::isfinite(merge_fraction),
+                    "QsmToSkeleton.merge_fraction")
+      << "must be >= 0";
+}
+
+std::vector<QsmSkeleton> SkeletonsFromQsm(const QsmModel& qsm,
+                                          const QsmToSkeletonOptions& options) {
+  options.Check();
   qsm.Check();
   const std::unordered_map<int64_t, int> index = IndexById(qsm.cylinders);
   std::vector<std::vector<int>> children(qsm.cylinders.size());
@@ -403,7 +413,7 @@ std::vector<QsmSkeleton> SkeletonsFromQsm(const QsmModel& qsm) {
   std::vector<QsmSkeleton> parts(roots.size());
   for (size_t r = 0; r < roots.size(); ++r) {
     parts[r].skeleton.radius_source = qsm.radius_source;
-    AddCylinderTree(qsm, children, roots[r], &parts[r]);
+    AddCylinderTree(qsm, children, roots[r], options.merge_fraction, &parts[r]);
     parts[r].skeleton.Check();
   }
   return parts;

@@ -112,10 +112,24 @@ struct QsmSkeleton {
   std::vector<int64_t> branch_ids;    // per node
 };
 
+struct QsmToSkeletonOptions {
+  // A child cylinder whose start lies within merge_fraction x its radius of
+  // the node it attaches to starts at that node, without a connector. TreeQSM
+  // tables hold float32 values, so some children start ~1e-6 m off their
+  // parent's end: the default 0 keeps those micro-connectors (and the round
+  // trip exact); a mesher may prefer e.g. 0.1, at the price of moving those
+  // children's starts (and axes and lengths) by up to that distance. >= 0.
+  double merge_fraction = 0.0;
+
+  void Check() const;  // throws InputError naming the option
+};
+
 // One QsmSkeleton per root cylinder, in the order of the roots in the table;
-// nodes in depth-first order, children in table order. Every skeleton passes
-// SkeletonGraph::Check(). Throws Error if `qsm` fails Check().
-std::vector<QsmSkeleton> SkeletonsFromQsm(const QsmModel& qsm);
+// nodes in depth-first order (parents before children), children in table
+// order. Every skeleton passes SkeletonGraph::Check(). Throws Error if `qsm`
+// fails Check().
+std::vector<QsmSkeleton> SkeletonsFromQsm(
+    const QsmModel& qsm, const QsmToSkeletonOptions& options = QsmToSkeletonOptions());
 
 // The exact inverse of SkeletonsFromQsm: one cylinder per chain of edges with
 // the same cylinder id, from the node before the chain to its last node;

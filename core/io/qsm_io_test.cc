@@ -96,6 +96,16 @@ TEST(QsmIoTest, ItsmeTree1KeepsItsGeometryThroughAPlainSkeleton) {
   EXPECT_LT(worst, 1e-6);
 }
 
+double ShortestEdge(const SkeletonGraph& skeleton) {
+  double shortest = 1e300;
+  for (const SkeletonNode& node : skeleton.nodes) {
+    if (node.parent_idx < 0) continue;
+    const Eigen::Vector3d& parent = skeleton.nodes[node.parent_idx].position;
+    shortest = std::min(shortest, (node.position - parent).norm());
+  }
+  return shortest;
+}
+
 TEST(QsmIoTest, AllFourItsmeTablesRoundTripWithValidSkeletons) {
   struct Case {
     const char* file;
@@ -114,10 +124,30 @@ TEST(QsmIoTest, AllFourItsmeTablesRoundTripWithValidSkeletons) {
     const double error = MaxRelativeError(original, RoundTrip(original, test.file));
     EXPECT_LT(error, 1e-10) << test.file;
     int nodes = 0;
-    for (const QsmSkeleton& part : parts) nodes += part.skeleton.NumNodes();
+    double shortest_edge = 1e300;
+    for (const QsmSkeleton& part : parts) {
+      nodes += part.skeleton.NumNodes();
+      shortest_edge = std::min(shortest_edge, ShortestEdge(part.skeleton));
+    }
+    EXPECT_GT(shortest_edge, 0.0) << test.file;
+    // Merging connectors shorter than a tenth of the child's radius leaves no
+    // edge shorter than 1 mm; exact skeletons keep micro-connectors (float32).
+    QsmToSkeletonOptions merge;
+    merge.merge_fraction = 0.1;
+    const std::vector<QsmSkeleton> merged = SkeletonsFromQsm(original, merge);
+    double shortest_merged = 1e300;
+    for (const QsmSkeleton& part : merged) {
+      EXPECT_NO_THROW(part.skeleton.Check());
+      shortest_merged = std::min(shortest_merged, ShortestEdge(part.skeleton));
+    }
+    EXPECT_GT(shortest_merged, 1e-3) << test.file;
+    const QsmModel merged_back = QsmFromSkeletons(merged, "m");
+    EXPECT_EQ(merged_back.cylinders.size(), original.cylinders.size());
     std::printf(
-        "%s: %zu cylinders, %zu roots, %d skeleton nodes, round-trip max relative error %.2e\n",
-        test.file, original.cylinders.size(), parts.size(), nodes, error);
+        "%s: %zu cylinders, %zu roots, %d skeleton nodes, shortest edge %.2e m (merged "
+        "%.2e m), round-trip max relative error %.2e\n",
+        test.file, original.cylinders.size(), parts.size(), nodes, shortest_edge, shortest_merged,
+        error);
   }
 }
 
