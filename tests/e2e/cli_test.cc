@@ -22,6 +22,7 @@
 #include "core/io/image_io.h"
 #include "core/io/json_util.h"
 #include "core/io/mesh_io.h"
+#include "core/io/qsm_io.h"
 #include "core/io/skeleton_io.h"
 #include "core/io/vdb_io.h"
 #include "mesh/gltf_export.h"
@@ -683,6 +684,22 @@ TEST_F(CliTest, TreeOutputsReloadAndFollowTheSeed) {
   ASSERT_TRUE(report.contains("tree")) << report.dump(2);
   const double mesh_iou = report.at("mesh_input_views").at("mean_iou").get<double>();
   EXPECT_GT(mesh_iou, 0.5);
+  // The scientific outputs: one cylinder per (non-degenerate) skeleton edge,
+  // radii marked as a prior; the metrics' height is the skeleton's.
+  const QsmModel qsm = ReadQsmCsv(out / "qsm.csv");
+  EXPECT_EQ(qsm.radius_source, "allometric prior");
+  EXPECT_GT(static_cast<int>(qsm.cylinders.size()), skeleton.NumNodes() / 2);
+  EXPECT_LE(static_cast<int>(qsm.cylinders.size()), skeleton.NumNodes() - 1);
+  double cylinder_length = 0;
+  for (const QsmCylinder& cylinder : qsm.cylinders) cylinder_length += cylinder.length;
+  EXPECT_NEAR(cylinder_length, skeleton.TotalLength(), 1e-6 * skeleton.TotalLength());
+  const Json metrics = ReadJsonFile(out / "metrics.json");
+  EXPECT_EQ(metrics.at("format"), "sylva-tree-metrics");
+  // The report's height is the mesh's (leaves reach above the skeleton).
+  const double report_height = report.at("tree").at("height").get<double>();
+  EXPECT_LE(metrics.at("height").get<double>(), report_height * 1.001);
+  EXPECT_GE(metrics.at("height").get<double>(), report_height * 0.9);
+  EXPECT_GT(metrics.at("crown_volume_hull").get<double>(), 0);
 
   const std::string glb_bytes = ReadFileToString(out / "tree.glb");
   const std::string skeleton_bytes = ReadFileToString(out / "skeleton.json");

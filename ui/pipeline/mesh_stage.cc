@@ -1,9 +1,16 @@
 // The mesh stage (thesis 5.2, 5.4): skeleton with radii -> branch tubes +
-// leaves -> out/tree.glb (glTF 2.0) and out/tree.obj (+ tree.mtl).
+// leaves -> out/tree.glb (glTF 2.0) and out/tree.obj (+ tree.mtl); and the
+// scientific outputs: out/qsm.csv (one cylinder per skeleton edge, TreeQSM's
+// columns, radii marked as an allometric prior) and out/metrics.json (height,
+// crown, DBH when metric, branches per order).
+#include <sstream>
+
 #include "core/io/mesh_io.h"
+#include "core/io/qsm_io.h"
 #include "core/io/skeleton_io.h"
 #include "core/io/vdb_io.h"
 #include "mesh/gltf_export.h"
+#include "mesh/tree_metrics.h"
 #include "ui/pipeline/stage_context.h"
 #include "ui/pipeline/tree_building.h"
 
@@ -24,9 +31,19 @@ StageRun RunMeshStage(const StageContext& context) {
   GltfExportOptions gltf;
   gltf.extras["units"] = context.Units();
   gltf.extras["branch_radii"] = "allometric prior (pipe model), not a measurement";
-  run.outputs = {context.Out("tree.glb"), context.Out("tree.obj")};
+  const std::string units = context.Units();
+  const TreeMetricsReport metrics = ComputeTreeMetrics(skeleton, &density, units);
+  run.outputs = {context.Out("tree.glb"), context.Out("tree.obj"), context.Out("qsm.csv"),
+                 context.Out("metrics.json")};
   WriteGlb(run.outputs[0], mesh, gltf);
   WriteObj(run.outputs[1], mesh);
+  WriteQsmCsv(run.outputs[2], QsmFromSkeleton(skeleton, units));
+  WriteTreeMetricsJson(run.outputs[3], metrics);
+  std::ostringstream brief;
+  brief << " Metrics (out/metrics.json): height " << metrics.height << " " << units
+        << ", crown width " << metrics.crown_width << ", " << metrics.num_tips << " tips; "
+        << "cylinders in out/qsm.csv.";
+  run.brief += brief.str();
   progress.Update(1.0);
   return run;
 }
