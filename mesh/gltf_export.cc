@@ -22,8 +22,12 @@ constexpr const char* kGenerator = "sylva";
 constexpr const char* kDefaultMaterial = "default";
 
 // Appends `bytes` to the buffer as a new buffer view; returns its index.
+// `target` 0 = none (instance attributes, images).
 int AddBufferView(const void* bytes, size_t size, int target, tinygltf::Model* model) {
   std::vector<unsigned char>& data = model->buffers[0].data;
+  // Views start 4-byte aligned, as float and uint32 accessors need (an
+  // embedded PNG may have any length).
+  data.resize((data.size() + 3) / 4 * 4, 0);
   tinygltf::BufferView view;
   view.buffer = 0;
   view.byteOffset = data.size();
@@ -153,21 +157,45 @@ void AddTreeMesh(const TriangleMesh& mesh, const GltfExportOptions& options,
   model->scenes[0].nodes.push_back(static_cast<int>(model->nodes.size()) - 1);
 }
 
-// The RGBA texture as an embedded 8-bit PNG (tinygltf encodes it) and a
-// texture using it; returns the texture index.
+// PNG bytes of an 8-bit RGBA image: tinygltf's own encoder (stb), with a
+// file-system callback that keeps the "file" in memory.
+std::vector<unsigned char> EncodePng(const tinygltf::Image& image) {
+  std::vector<unsigned char> png;
+  tinygltf::FsCallbacks memory{};
+  memory.WriteWholeFile = [](std::string*, const std::string&,
+                             const std::vector<unsigned char>& contents, void* user_data) {
+    *static_cast<std::vector<unsigned char>*>(user_data) = contents;
+    return true;
+  };
+  memory.user_data = &png;
+  const std::string folder, name = "leaf.png";
+  std::string uri;
+  SYLVA_CHECK(tinygltf::WriteImageData(&folder, &name, &image, /*embedImages=*/false, &uri, &memory) &&
+              !png.empty())
+      << "could not encode the leaf texture as PNG";
+  return png;
+}
+
+// The RGBA texture as an 8-bit PNG in the binary buffer (a data URI would be
+// base64 text in the JSON, which the validator warns against in a .glb) and
+// a texture using it; returns the texture index.
 int AddTexture(const FloatImage& rgba, tinygltf::Model* model) {
+  tinygltf::Image pixels;
+  pixels.width = rgba.width();
+  pixels.height = rgba.height();
+  pixels.component = 4;
+  pixels.bits = 8;
+  pixels.pixel_type = TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE;
+  pixels.image.resize(rgba.values().size());
+  for (size_t i = 0; i < pixels.image.size(); ++i) {
+    pixels.image[i] = static_cast<unsigned char>(
+        std::lround(255.0f * std::clamp(rgba.values()[i], 0.0f, 1.0f)));
+  }
+  const std::vector<unsigned char> png = EncodePng(pixels);
   tinygltf::Image image;
   image.name = "leaf";
-  image.width = rgba.width();
-  image.height = rgba.height();
-  image.component = 4;
-  image.bits = 8;
-  image.pixel_type = TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE;
   image.mimeType = "image/png";
-  image.image.resize(rgba.values().size());
-  for (size_t i = 0; i < image.image.size(); ++i) {
-    image.image[i] = static_cast<unsigned char>(std::lround(255.0f * std::clamp(rgba.values()[i], 0.0f, 1.0f)));
-  }
+  image.bufferView = AddBufferView(png.data(), png.size(), 0, model);
   model->images.push_back(image);
   tinygltf::Texture texture;
   texture.source = static_cast<int>(model->images.size()) - 1;
