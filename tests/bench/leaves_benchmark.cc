@@ -225,6 +225,16 @@ int Main(bool quick, const std::string& keep) {
               skeleton.NumNodes(), height, static_cast<size_t>(density.NumActiveVoxels()),
               twig_summary.BriefReport().c_str(), 1e3 * twig_seconds, twig_summary.twigs / twig_seconds);
 
+  // What twigs cost the bark mesh (they are swept like any branch).
+  for (const SkeletonGraph* tree : {&skeleton, &with_twigs}) {
+    TriangleMesh bark;
+    const double seconds =
+        BestSeconds(repetitions, [&] { bark = MeshBranches(*tree, BranchMeshOptions(), nullptr); });
+    std::printf("  MeshBranches %-13s %8d triangles in %8.2f ms\n",
+                tree == &skeleton ? "without twigs" : "with twigs", bark.NumTriangles(), 1e3 * seconds);
+  }
+  std::printf("\n");
+
   int status = 0;
   std::vector<int> counts = {10000};
   if (!quick) counts.push_back(100000);
