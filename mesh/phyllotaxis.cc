@@ -158,6 +158,12 @@ std::vector<LeafAttachment> PlaceLeavesAlongAxis(const std::vector<Eigen::Vector
   return leaves;
 }
 
+Eigen::Vector3d RadialDirection(const Eigen::Vector3d& tangent, double azimuth_deg) {
+  const Eigen::Vector3d t = tangent.normalized();
+  const Eigen::Vector3d up = ReferenceNormal(t);
+  return std::cos(azimuth_deg * kDegree) * up + std::sin(azimuth_deg * kDegree) * t.cross(up);
+}
+
 double DivergenceAngleDeg(const LeafAttachment& a, const LeafAttachment& b) {
   const Eigen::Vector3d t = a.axis_tangent.normalized();
   const Eigen::Vector3d pa = a.petiole_direction - a.petiole_direction.dot(t) * t;

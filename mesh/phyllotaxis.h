@@ -78,6 +78,12 @@ struct LeafAttachment {
 std::vector<LeafAttachment> PlaceLeavesAlongAxis(const std::vector<Eigen::Vector3d>& axis,
                                                  const PhyllotaxisOptions& options);
 
+// The unit vector perpendicular to `tangent` (non-zero) at `azimuth_deg`
+// about it, counted from world up (+Z made perpendicular to the tangent; +X
+// for a vertical tangent), counter-clockwise seen from the tangent's tip:
+// the azimuth convention above, at a single point.
+Eigen::Vector3d RadialDirection(const Eigen::Vector3d& tangent, double azimuth_deg);
+
 // The divergence angle from attachment a to b, degrees in [0, 180]: the
 // angle between their petioles projected on the plane normal to a's axis
 // tangent (what a botanist measures looking down the shoot).

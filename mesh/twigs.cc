@@ -9,6 +9,7 @@
 
 #include "core/util/check.h"
 #include "core/util/random.h"
+#include "mesh/phyllotaxis.h"
 
 namespace sylva {
 namespace {
@@ -62,12 +63,9 @@ std::vector<BranchAxis> TerminalAxes(const SkeletonGraph& skeleton) {
   return terminal;
 }
 
-// A unit vector perpendicular to `t` at `azimuth` about it (0 = world up).
+// A unit vector perpendicular to `t` at `azimuth` (radians) about it (0 = world up).
 Eigen::Vector3d Radial(const Eigen::Vector3d& t, double azimuth) {
-  Eigen::Vector3d up = Eigen::Vector3d::UnitZ() - t.z() * t;
-  if (up.norm() < 1e-6) up = Eigen::Vector3d::UnitX() - t.x() * t;
-  up.normalize();
-  return std::cos(azimuth) * up + std::sin(azimuth) * t.cross(up);
+  return RadialDirection(t, azimuth / kDegree);
 }
 
 // Where a twig starts: on the edge into `child` at fraction s from its parent.
