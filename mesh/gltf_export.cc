@@ -170,8 +170,9 @@ std::vector<unsigned char> EncodePng(const tinygltf::Image& image) {
   memory.user_data = &png;
   const std::string folder, name = "leaf.png";
   std::string uri;
-  SYLVA_CHECK(tinygltf::WriteImageData(&folder, &name, &image, /*embedImages=*/false, &uri, &memory) &&
-              !png.empty())
+  SYLVA_CHECK(
+      tinygltf::WriteImageData(&folder, &name, &image, /*embedImages=*/false, &uri, &memory) &&
+      !png.empty())
       << "could not encode the leaf texture as PNG";
   return png;
 }
@@ -188,8 +189,8 @@ int AddTexture(const FloatImage& rgba, tinygltf::Model* model) {
   pixels.pixel_type = TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE;
   pixels.image.resize(rgba.values().size());
   for (size_t i = 0; i < pixels.image.size(); ++i) {
-    pixels.image[i] = static_cast<unsigned char>(
-        std::lround(255.0f * std::clamp(rgba.values()[i], 0.0f, 1.0f)));
+    pixels.image[i] =
+        static_cast<unsigned char>(std::lround(255.0f * std::clamp(rgba.values()[i], 0.0f, 1.0f)));
   }
   const std::vector<unsigned char> png = EncodePng(pixels);
   tinygltf::Image image;
@@ -212,7 +213,8 @@ int AddLeafMesh(const LeafInstances& leaves, tinygltf::Model* model) {
     normals.emplace_back(0.0f, 0.0f, 1.0f);
   }
   std::vector<uint32_t> indices;
-  for (const Eigen::Vector3i& t : shape.triangles) indices.insert(indices.end(), {uint32_t(t[0]), uint32_t(t[1]), uint32_t(t[2])});
+  for (const Eigen::Vector3i& t : shape.triangles)
+    indices.insert(indices.end(), {uint32_t(t[0]), uint32_t(t[1]), uint32_t(t[2])});
   tinygltf::Primitive primitive;
   primitive.attributes = {{"POSITION", AddVec3Accessor(positions, true, model)},
                           {"NORMAL", AddVec3Accessor(normals, false, model)}};
@@ -261,14 +263,17 @@ void AddInstancedLeaves(const LeafInstances& leaves, const GltfExportOptions& op
   SetYUp(options, &node);
   std::vector<float> translation, rotation, scale;
   for (const LeafInstance& leaf : leaves.instances) {
-    translation.insert(translation.end(), {leaf.translation.x(), leaf.translation.y(), leaf.translation.z()});
+    translation.insert(translation.end(),
+                       {leaf.translation.x(), leaf.translation.y(), leaf.translation.z()});
     const Eigen::Quaternionf q = leaf.rotation.normalized();
     rotation.insert(rotation.end(), {q.x(), q.y(), q.z(), q.w()});
     scale.insert(scale.end(), {leaf.scale, leaf.scale, leaf.scale});
   }
   tinygltf::Value::Object attributes;
-  attributes["TRANSLATION"] = tinygltf::Value(AddInstanceAccessor(translation, TINYGLTF_TYPE_VEC3, 3, model));
-  attributes["ROTATION"] = tinygltf::Value(AddInstanceAccessor(rotation, TINYGLTF_TYPE_VEC4, 4, model));
+  attributes["TRANSLATION"] =
+      tinygltf::Value(AddInstanceAccessor(translation, TINYGLTF_TYPE_VEC3, 3, model));
+  attributes["ROTATION"] =
+      tinygltf::Value(AddInstanceAccessor(rotation, TINYGLTF_TYPE_VEC4, 4, model));
   attributes["SCALE"] = tinygltf::Value(AddInstanceAccessor(scale, TINYGLTF_TYPE_VEC3, 3, model));
   tinygltf::Value::Object extension;
   extension["attributes"] = tinygltf::Value(attributes);
@@ -435,7 +440,8 @@ int InstanceAttribute(const tinygltf::Value& extension, const char* name) {
 
 // The instance transforms of an EXT_mesh_gpu_instancing node (absent
 // attributes: identity).
-std::vector<LeafInstance> ReadInstances(const tinygltf::Model& model, const tinygltf::Value& extension,
+std::vector<LeafInstance> ReadInstances(const tinygltf::Model& model,
+                                        const tinygltf::Value& extension,
                                         const std::string& source) {
   const std::vector<float> t =
       ReadFloats(model, InstanceAttribute(extension, "TRANSLATION"), TINYGLTF_TYPE_VEC3, 3, source);
@@ -450,9 +456,11 @@ std::vector<LeafInstance> ReadInstances(const tinygltf::Model& model, const tiny
       << "instance attributes of different counts";
   std::vector<LeafInstance> instances(count);
   for (size_t k = 0; k < count; ++k) {
-    if (!t.empty()) instances[k].translation = Eigen::Vector3f(t[3 * k], t[3 * k + 1], t[3 * k + 2]);
+    if (!t.empty())
+      instances[k].translation = Eigen::Vector3f(t[3 * k], t[3 * k + 1], t[3 * k + 2]);
     if (!r.empty()) {
-      instances[k].rotation = Eigen::Quaternionf(r[4 * k + 3], r[4 * k], r[4 * k + 1], r[4 * k + 2]);
+      instances[k].rotation =
+          Eigen::Quaternionf(r[4 * k + 3], r[4 * k], r[4 * k + 1], r[4 * k + 2]);
     }
     // Non-uniform scales are not representable in LeafInstance; read x.
     if (!s.empty()) instances[k].scale = s[3 * k];

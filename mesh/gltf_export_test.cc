@@ -201,7 +201,8 @@ LeafInstances RandomLeaves(const LeafShape& shape, int count) {
   for (int i = 0; i < count; ++i) {
     LeafInstance leaf;
     leaf.translation = Eigen::Vector3f(rng.Uniform(-1, 1), rng.Uniform(-1, 1), rng.Uniform(1, 3));
-    leaf.rotation = Eigen::Quaternionf(rng.Normal(), rng.Normal(), rng.Normal(), rng.Normal()).normalized();
+    leaf.rotation =
+        Eigen::Quaternionf(rng.Normal(), rng.Normal(), rng.Normal(), rng.Normal()).normalized();
     leaf.scale = static_cast<float>(rng.Uniform(0.05, 0.1));
     leaves.instances.push_back(leaf);
   }

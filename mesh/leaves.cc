@@ -24,8 +24,10 @@ std::vector<Eigen::Vector3d> ThinBranchPoints(const SkeletonGraph& skeleton, dou
   for (const SkeletonNode& node : skeleton.nodes) {
     if (node.parent_idx < 0 || node.radius > max_radius) continue;
     const Eigen::Vector3d& parent = skeleton.nodes[node.parent_idx].position;
-    const int steps = std::max(1, static_cast<int>(std::ceil((node.position - parent).norm() / spacing)));
-    for (int s = 0; s <= steps; ++s) points.push_back(parent + (node.position - parent) * (double(s) / steps));
+    const int steps =
+        std::max(1, static_cast<int>(std::ceil((node.position - parent).norm() / spacing)));
+    for (int s = 0; s <= steps; ++s)
+      points.push_back(parent + (node.position - parent) * (double(s) / steps));
   }
   return points;
 }
@@ -63,7 +65,8 @@ struct DensitySampler {
   Eigen::Vector3d Draw(const DensityGrid& density, RandomEngine* rng) const {
     const double u = rng->Uniform() * cumulative.back();
     const size_t i = std::upper_bound(cumulative.begin(), cumulative.end(), u) - cumulative.begin();
-    const Eigen::Vector3d jitter(rng->Uniform(-0.5, 0.5), rng->Uniform(-0.5, 0.5), rng->Uniform(-0.5, 0.5));
+    const Eigen::Vector3d jitter(rng->Uniform(-0.5, 0.5), rng->Uniform(-0.5, 0.5),
+                                 rng->Uniform(-0.5, 0.5));
     return density.WorldFromIndex(voxels[std::min(i, voxels.size() - 1)].cast<double>() + jitter);
   }
 };
@@ -105,8 +108,8 @@ bool SeenInMattes(const Leaf& leaf, double length, const ImageSet& views,
     double half = 0.25 * length * 0.5 * (camera.FocalLengthX() + camera.FocalLengthY());
     if (!camera.IsOrthographic()) half /= in_cam.z();
     half = std::max(half, 0.5);
-    const double mean = tables[v].BoxMean(pixel.x() - half, pixel.y() - half, pixel.x() + half,
-                                          pixel.y() + half);
+    const double mean =
+        tables[v].BoxMean(pixel.x() - half, pixel.y() - half, pixel.x() + half, pixel.y() + half);
     if (mean >= 0.0 && mean < threshold) return false;
   }
   return true;
@@ -239,9 +242,8 @@ void LeafOptions::Check() const {
 std::string LeafSummary::BriefReport() const {
   std::ostringstream out;
   out << "Leaves: " << kept << " (target " << target << ") of " << drawn << " drawn ("
-      << far_from_branches
-      << " too far from a thin branch, " << outside_mattes << " outside the mattes), length "
-      << leaf_length << ".";
+      << far_from_branches << " too far from a thin branch, " << outside_mattes
+      << " outside the mattes), length " << leaf_length << ".";
   if (phyllotaxis_sites > 0) out << " Phyllotaxis offered " << phyllotaxis_sites << " sites.";
   return out.str();
 }
@@ -306,7 +308,8 @@ TriangleMesh LeafInstances::Bake() const {
     const Eigen::Matrix3f rotation = leaf.rotation.toRotationMatrix();
     const int first = mesh.NumVertices();
     for (const Eigen::Vector2f& p : shape.points) {
-      mesh.AddVertex(leaf.translation + leaf.scale * (rotation.col(0) * p.x() + rotation.col(1) * p.y()));
+      mesh.AddVertex(leaf.translation +
+                     leaf.scale * (rotation.col(0) * p.x() + rotation.col(1) * p.y()));
     }
     for (const Eigen::Vector3i& t : shape.triangles) {
       mesh.AddTriangle(first + t[0], first + t[1], first + t[2], material_idx);
@@ -335,10 +338,10 @@ std::vector<Leaf> DrawFreeLeaves(const PointGrid& twigs, const DensityGrid& dens
     Leaf leaf;
     leaf.center = center;
     const Eigen::Vector3d away = center - twigs.points()[twig];
-    leaf.axis = away.norm() > 1e-9 * length ? Eigen::Vector3d(away.normalized())
-                                             : RandomUnitVector(rng);
-    leaf.normal = LeafNormal(leaf.axis, (center - sampler.centroid).normalized(),
-                             options.phototropism, rng);
+    leaf.axis =
+        away.norm() > 1e-9 * length ? Eigen::Vector3d(away.normalized()) : RandomUnitVector(rng);
+    leaf.normal =
+        LeafNormal(leaf.axis, (center - sampler.centroid).normalized(), options.phototropism, rng);
     leaves.push_back(leaf);
   }
   return leaves;
@@ -361,8 +364,10 @@ std::vector<Leaf> PhyllotacticLeaves(const std::vector<std::vector<Eigen::Vector
       Leaf leaf;
       leaf.axis = a.petiole_direction;
       leaf.center = a.position + 0.5 * length * leaf.axis;
-      const Eigen::Vector3d best = Perpendicular((leaf.center - sampler.centroid).normalized(), leaf.axis);
-      const Eigen::Vector3d n = options.phototropism * best + (1.0 - options.phototropism) * a.normal;
+      const Eigen::Vector3d best =
+          Perpendicular((leaf.center - sampler.centroid).normalized(), leaf.axis);
+      const Eigen::Vector3d n =
+          options.phototropism * best + (1.0 - options.phototropism) * a.normal;
       leaf.normal = n.norm() > 1e-9 ? Eigen::Vector3d(n.normalized()) : a.normal;
       sites.push_back(leaf);
       weights.push_back(OpacityAt(density, leaf.center));
@@ -408,8 +413,9 @@ LeafInstances GenerateLeafInstances(const SkeletonGraph& skeleton, const Density
   out.shape.Check();
   if (skeleton.NumNodes() < 2 || density.IsEmpty() || options.num_leaves < 0) return out;
 
-  const double length = options.leaf_length > 0 ? options.leaf_length
-                                                : options.leaf_length_fraction * TreeHeight(skeleton);
+  const double length = options.leaf_length > 0
+                            ? options.leaf_length
+                            : options.leaf_length_fraction * TreeHeight(skeleton);
   summary->leaf_length = length;
   const double trunk_radius = skeleton.nodes[skeleton.RootIdx()].radius;
   double thin_radius = options.thin_branch_radius_fraction * trunk_radius;
@@ -420,9 +426,10 @@ LeafInstances GenerateLeafInstances(const SkeletonGraph& skeleton, const Density
   }
   const DensitySampler sampler(density);
   const double leaf_area = 0.5 * length * options.leaf_aspect * length;
-  summary->target = options.num_leaves > 0
-                        ? options.num_leaves
-                        : std::min<int64_t>(options.max_leaves, std::llround(sampler.leaf_area / leaf_area));
+  summary->target =
+      options.num_leaves > 0
+          ? options.num_leaves
+          : std::min<int64_t>(options.max_leaves, std::llround(sampler.leaf_area / leaf_area));
   std::vector<SummedAreaTable> tables;
   for (const FloatImage& matte : mattes) tables.emplace_back(matte);
 
@@ -445,7 +452,8 @@ LeafInstances GenerateLeafInstances(const SkeletonGraph& skeleton, const Density
     summary->drawn += batch.drawn;
     summary->far_from_branches += batch.far_from_branches;
     summary->phyllotaxis_sites += batch.phyllotaxis_sites;
-    const std::vector<char> keep = MatteTest(leaves, length, views, tables, options.matte_threshold);
+    const std::vector<char> keep =
+        MatteTest(leaves, length, views, tables, options.matte_threshold);
     for (size_t i = 0; i < leaves.size(); ++i) {
       if (!keep[i]) {
         ++summary->outside_mattes;

@@ -86,7 +86,7 @@ struct LeafSummary {
   int64_t far_from_branches = 0;
   int64_t outside_mattes = 0;
   int64_t phyllotaxis_sites = 0;  // leaf positions offered by the pattern
-  double leaf_length = 0.0;  // world units
+  double leaf_length = 0.0;       // world units
   std::string BriefReport() const;
 };
 

@@ -98,9 +98,11 @@ TEST(LeavesTest, PhototropismTurnsLeavesOutward) {
   options.leaf_length = 0.1;
   options.phototropism = 0.0;
   const DensityGrid density = TwoBlobs();
-  const TriangleMesh random = GenerateLeaves(TwoBranchTree(), density, ImageSet(), {}, options, nullptr);
+  const TriangleMesh random =
+      GenerateLeaves(TwoBranchTree(), density, ImageSet(), {}, options, nullptr);
   options.phototropism = 1.0;
-  const TriangleMesh turned = GenerateLeaves(TwoBranchTree(), density, ImageSet(), {}, options, nullptr);
+  const TriangleMesh turned =
+      GenerateLeaves(TwoBranchTree(), density, ImageSet(), {}, options, nullptr);
   // The density-weighted centre of the two blobs.
   const Eigen::Vector3d center(-1.0, 0.0, 6.25);
   EXPECT_GT(MeanAbsDot(turned, center), MeanAbsDot(random, center) + 0.15);
@@ -123,11 +125,14 @@ TEST(LeavesTest, LeavesOutsideTheMattesAreDropped) {
 TEST(LeavesTest, DeterministicAndOptionsChecked) {
   LeafOptions options;
   options.num_leaves = 500;
-  const TriangleMesh a = GenerateLeaves(TwoBranchTree(), TwoBlobs(), ImageSet(), {}, options, nullptr);
-  const TriangleMesh b = GenerateLeaves(TwoBranchTree(), TwoBlobs(), ImageSet(), {}, options, nullptr);
+  const TriangleMesh a =
+      GenerateLeaves(TwoBranchTree(), TwoBlobs(), ImageSet(), {}, options, nullptr);
+  const TriangleMesh b =
+      GenerateLeaves(TwoBranchTree(), TwoBlobs(), ImageSet(), {}, options, nullptr);
   EXPECT_EQ(a.vertices, b.vertices);
   options.seed = 2;
-  const TriangleMesh c = GenerateLeaves(TwoBranchTree(), TwoBlobs(), ImageSet(), {}, options, nullptr);
+  const TriangleMesh c =
+      GenerateLeaves(TwoBranchTree(), TwoBlobs(), ImageSet(), {}, options, nullptr);
   EXPECT_NE(a.vertices, c.vertices);
   options.leaf_aspect = -1;
   try {
@@ -190,8 +195,8 @@ TEST(LeavesTest, PhyllotaxisPatternsAlongAShoot) {
   options.phototropism = 0.3;
   options.phyllotaxis = "spiral";
   LeafSummary summary;
-  LeafInstances leaves = GenerateLeafInstances(Shoot(), ShootDensity(0.5f, 0.5f), ImageSet(), {},
-                                               options, &summary);
+  LeafInstances leaves =
+      GenerateLeafInstances(Shoot(), ShootDensity(0.5f, 0.5f), ImageSet(), {}, options, &summary);
   SCOPED_TRACE(summary.BriefReport());
   // Nodes every 0.6 leaf lengths on the 2 m thin shoot.
   EXPECT_NEAR(summary.phyllotaxis_sites, 2.0 / 0.03, 1.0);
@@ -204,11 +209,13 @@ TEST(LeavesTest, PhyllotaxisPatternsAlongAShoot) {
   }
 
   options.phyllotaxis = "alternate";
-  leaves = GenerateLeafInstances(Shoot(), ShootDensity(0.5f, 0.5f), ImageSet(), {}, options, nullptr);
+  leaves =
+      GenerateLeafInstances(Shoot(), ShootDensity(0.5f, 0.5f), ImageSet(), {}, options, nullptr);
   EXPECT_NEAR(MeanDivergence(AsAttachments(leaves), 1), 180.0, 1.0);
 
   options.phyllotaxis = "opposite_decussate";
-  leaves = GenerateLeafInstances(Shoot(), ShootDensity(0.5f, 0.5f), ImageSet(), {}, options, nullptr);
+  leaves =
+      GenerateLeafInstances(Shoot(), ShootDensity(0.5f, 0.5f), ImageSet(), {}, options, nullptr);
   measured = AsAttachments(leaves);
   ASSERT_EQ(measured.size() % 2, 0u);
   EXPECT_NEAR(MeanDivergence(measured, 2), 90.0, 1.0);
@@ -216,7 +223,8 @@ TEST(LeavesTest, PhyllotaxisPatternsAlongAShoot) {
 
   options.phyllotaxis = "whorled";
   options.leaves_per_whorl = 3;
-  leaves = GenerateLeafInstances(Shoot(), ShootDensity(0.5f, 0.5f), ImageSet(), {}, options, nullptr);
+  leaves =
+      GenerateLeafInstances(Shoot(), ShootDensity(0.5f, 0.5f), ImageSet(), {}, options, nullptr);
   measured = AsAttachments(leaves);
   EXPECT_NEAR(MeanDivergence(measured, 3), 60.0, 1.0);
   EXPECT_NEAR(DivergenceAngleDeg(measured[0], measured[1]), 120.0, 1e-3);
@@ -228,8 +236,8 @@ TEST(LeavesTest, PhyllotacticLeavesKeepTheDensityDrivenCount) {
   options.num_leaves = 200;
   options.phyllotaxis = "spiral";
   LeafSummary summary;
-  const LeafInstances leaves = GenerateLeafInstances(Shoot(), ShootDensity(0.6f, 0.2f), ImageSet(),
-                                                     {}, options, &summary);
+  const LeafInstances leaves =
+      GenerateLeafInstances(Shoot(), ShootDensity(0.6f, 0.2f), ImageSet(), {}, options, &summary);
   SCOPED_TRACE(summary.BriefReport());
   EXPECT_NEAR(summary.phyllotaxis_sites, 333, 1);
   EXPECT_NEAR(summary.kept, 200, 45);
@@ -277,7 +285,7 @@ TEST(LeavesTest, BuiltinShapesAndImageLeaves) {
     for (int x = 5; x < 15; ++x) image.at(x, y, 3) = 1.0f;
   const LeafShape textured = LeafShapeFromImage(image, "leaf.png");
   textured.Check();
-  EXPECT_NEAR(ShapeArea(textured), 0.25, 1e-6);  // 10 x 40 pixels: width / length 1 / 4
+  EXPECT_NEAR(ShapeArea(textured), 0.25, 1e-6);              // 10 x 40 pixels: width / length 1 / 4
   EXPECT_EQ(textured.uvs[0], Eigen::Vector2f(0.75f, 1.0f));  // base, -Y: bottom right
   EXPECT_EQ(textured.uvs[2], Eigen::Vector2f(0.25f, 0.0f));  // tip, +Y: top left
   try {
@@ -293,8 +301,8 @@ TEST(LeavesTest, BuiltinShapesAndImageLeaves) {
   options.num_leaves = 50;
   const LeafInstances quads =
       GenerateLeafInstances(TwoBranchTree(), TwoBlobs(), ImageSet(), {}, options, nullptr);
-  const LeafInstances images =
-      GenerateLeafInstances(TwoBranchTree(), TwoBlobs(), ImageSet(), {}, options, nullptr, &textured);
+  const LeafInstances images = GenerateLeafInstances(TwoBranchTree(), TwoBlobs(), ImageSet(), {},
+                                                     options, nullptr, &textured);
   ASSERT_EQ(quads.instances.size(), images.instances.size());
   EXPECT_EQ(images.shape.texture.width(), 20);
   const int n = static_cast<int>(quads.instances.size());
@@ -305,8 +313,10 @@ TEST(LeavesTest, BuiltinShapesAndImageLeaves) {
       GenerateLeaves(TwoBranchTree(), TwoBlobs(), ImageSet(), {}, options, nullptr);
   EXPECT_EQ(ovate_mesh.NumTriangles(), n * 14);
   // Baked leaves face their instance's normal (+Z of the leaf frame).
-  const Eigen::Vector3f n0 = (ovate_mesh.vertices[ovate_mesh.triangles[0][1]] - ovate_mesh.vertices[ovate_mesh.triangles[0][0]])
-                                 .cross(ovate_mesh.vertices[ovate_mesh.triangles[0][2]] - ovate_mesh.vertices[ovate_mesh.triangles[0][0]]);
+  const Eigen::Vector3f n0 = (ovate_mesh.vertices[ovate_mesh.triangles[0][1]] -
+                              ovate_mesh.vertices[ovate_mesh.triangles[0][0]])
+                                 .cross(ovate_mesh.vertices[ovate_mesh.triangles[0][2]] -
+                                        ovate_mesh.vertices[ovate_mesh.triangles[0][0]]);
   EXPECT_GT(n0.normalized().dot(quads.instances[0].rotation * Eigen::Vector3f::UnitZ()), 0.99f);
   options.phyllotaxis = "fibonacci";
   EXPECT_THROW(GenerateLeaves(TwoBranchTree(), TwoBlobs(), ImageSet(), {}, options, nullptr),

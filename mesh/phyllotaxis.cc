@@ -65,8 +65,8 @@ PhyllotaxisPattern ParsePhyllotaxisPattern(const std::string& name, const std::s
   }
   if (name == "whorled") return PhyllotaxisPattern::kWhorled;
   if (name == "spiral") return PhyllotaxisPattern::kSpiral;
-  SYLVA_CHECK_INPUT(false, option) << "unknown phyllotaxis \"" << name
-                                   << "\" (alternate, opposite_decussate, whorled, spiral)";
+  SYLVA_CHECK_INPUT(false, option)
+      << "unknown phyllotaxis \"" << name << "\" (alternate, opposite_decussate, whorled, spiral)";
   return PhyllotaxisPattern::kSpiral;
 }
 
@@ -113,8 +113,7 @@ double PhyllotaxisOptions::DivergenceDeg() const {
 void PhyllotaxisOptions::Check() const {
   SYLVA_CHECK_INPUT(divergence_deg >= -360 && divergence_deg <= 360, "Phyllotaxis.divergence_deg")
       << "must be in [-360, 360] degrees (0 = the pattern's default), got " << divergence_deg;
-  SYLVA_CHECK_INPUT(leaves_per_whorl >= 3 && leaves_per_whorl <= 32,
-                    "Phyllotaxis.leaves_per_whorl")
+  SYLVA_CHECK_INPUT(leaves_per_whorl >= 3 && leaves_per_whorl <= 32, "Phyllotaxis.leaves_per_whorl")
       << "must be between 3 and 32, got " << leaves_per_whorl;
   SYLVA_CHECK_INPUT(internode > 0 && std::isfinite(internode), "Phyllotaxis.internode")
       << "must be > 0 world units, got " << internode;
@@ -149,7 +148,8 @@ std::vector<LeafAttachment> PlaceLeavesAlongAxis(const std::vector<Eigen::Vector
         line.points[segment] + (s - line.arc[segment]) * frames[segment].tangent;
     for (int k = 0; k < per_node; ++k) {
       const double azimuth = options.first_azimuth_deg + node * divergence + k * 360.0 / per_node;
-      LeafAttachment leaf = MakeAttachment(position, frames[segment], azimuth, options.insertion_deg);
+      LeafAttachment leaf =
+          MakeAttachment(position, frames[segment], azimuth, options.insertion_deg);
       leaf.arc_length = s;
       leaf.node = node;
       leaves.push_back(leaf);

@@ -61,13 +61,13 @@ struct PhyllotaxisOptions {
 
 // Where a leaf joins its axis and how it points (world frame, unit vectors).
 struct LeafAttachment {
-  Eigen::Vector3d position = Eigen::Vector3d::Zero();           // on the axis
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();            // on the axis
   Eigen::Vector3d petiole_direction = Eigen::Vector3d::UnitX();  // leaf base -> tip
   // Perpendicular to the petiole, in the plane of petiole and axis tangent,
   // on the tip's side: the leaf's upper (adaxial) face looks up the shoot.
   Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();
   Eigen::Vector3d axis_tangent = Eigen::Vector3d::UnitZ();
-  double arc_length = 0.0;  // world units from the axis' start
+  double arc_length = 0.0;   // world units from the axis' start
   double azimuth_deg = 0.0;  // about the axis, unwrapped (see header)
   int node = 0;              // node index along the axis
 };

@@ -40,7 +40,8 @@ double MeanDivergence(const std::vector<LeafAttachment>& leaves, int step) {
 TEST(PhyllotaxisTest, SpiralDivergenceIsTheGoldenAngleOnStraightAndBentAxes) {
   PhyllotaxisOptions options;
   options.internode = 0.02;
-  for (const auto& axis : {StraightAxis({0, 0, 1}, 1.0), StraightAxis({1, 1, 0}, 1.0), BentAxis()}) {
+  for (const auto& axis :
+       {StraightAxis({0, 0, 1}, 1.0), StraightAxis({1, 1, 0}, 1.0), BentAxis()}) {
     const std::vector<LeafAttachment> leaves = PlaceLeavesAlongAxis(axis, options);
     ASSERT_GT(leaves.size(), 40u);
     EXPECT_NEAR(MeanDivergence(leaves, 1), 137.5, 1.0);
@@ -120,8 +121,8 @@ TEST(PhyllotaxisTest, ShortAxesAndBadOptions) {
   PhyllotaxisOptions options;
   options.internode = 1.0;
   EXPECT_TRUE(PlaceLeavesAlongAxis(StraightAxis({0, 0, 1}, 0.4), options).empty());
-  EXPECT_TRUE(PlaceLeavesAlongAxis({Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()}, options)
-                  .empty());
+  EXPECT_TRUE(
+      PlaceLeavesAlongAxis({Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()}, options).empty());
   options.internode = 0.0;
   try {
     PlaceLeavesAlongAxis(StraightAxis({0, 0, 1}, 1.0), options);

@@ -84,9 +84,9 @@ class TwigGrower {
 
   // A twig from node `base` leaving the unit direction `parent_dir`.
   void Grow(int base, const Eigen::Vector3d& parent_dir, const Site& site, double base_radius) {
-    const Eigen::Vector3d dir = std::cos(options_.branching_angle_deg * kDegree) * parent_dir +
-                                std::sin(options_.branching_angle_deg * kDegree) *
-                                    Radial(parent_dir, site.azimuth);
+    const Eigen::Vector3d dir =
+        std::cos(options_.branching_angle_deg * kDegree) * parent_dir +
+        std::sin(options_.branching_angle_deg * kDegree) * Radial(parent_dir, site.azimuth);
     ++summary_->twigs;
     if (options_.pattern == "sympodial") {
       GrowSympodial(base, dir, Radial(parent_dir, site.azimuth + 0.5 * M_PI), site.length,
@@ -126,13 +126,14 @@ class TwigGrower {
       // Laterals spread over the axis' inner nodes, alternating sides.
       const int at = axis[1 + (k * (n - 1)) / std::max(1, options_.laterals) % n];
       const Eigen::Vector3d parent_dir =
-          (skeleton_->nodes[at].position - skeleton_->nodes[skeleton_->nodes[at].parent_idx].position)
+          (skeleton_->nodes[at].position -
+           skeleton_->nodes[skeleton_->nodes[at].parent_idx].position)
               .normalized();
       const Eigen::Vector3d lateral =
           std::cos(options_.branching_angle_deg * kDegree) * parent_dir +
           std::sin(options_.branching_angle_deg * kDegree) * Radial(parent_dir, M_PI * (0.5 + k));
-      Chain(at, lateral, kLateralLength * length, skeleton_->nodes[at].radius,
-            std::max(1, n / 2), order_ + 1);
+      Chain(at, lateral, kLateralLength * length, skeleton_->nodes[at].radius, std::max(1, n / 2),
+            order_ + 1);
     }
   }
   void GrowSympodial(int base, Eigen::Vector3d dir, const Eigen::Vector3d& side, double length,
@@ -174,13 +175,14 @@ std::vector<Site> DrawSites(const SkeletonGraph& skeleton, const std::vector<Bra
     for (size_t i = 1; i < axis.size(); ++i) {
       const Eigen::Vector3d& from = skeleton.nodes[axis[i - 1]].position;
       const Eigen::Vector3d& to = skeleton.nodes[axis[i]].position;
-      const int candidates = static_cast<int>(std::floor((to - from).norm() / spacing + rng->Uniform()));
+      const int candidates =
+          static_cast<int>(std::floor((to - from).norm() / spacing + rng->Uniform()));
       for (int c = 0; c < candidates; ++c) {
         Site site;
         site.child = axis[i];
         site.s = (c + rng->Uniform()) / candidates;
-        site.length = twig_length * rng->Uniform(1.0 - options.length_variation,
-                                                  1.0 + options.length_variation);
+        site.length = twig_length *
+                      rng->Uniform(1.0 - options.length_variation, 1.0 + options.length_variation);
         const double keep = density.At(from + site.s * (to - from)) / density.max();
         if (rng->Uniform() >= keep) continue;
         azimuth += kGoldenAngle;
@@ -230,9 +232,9 @@ void TwigOptions::Check() const {
 
 std::string TwigSummary::BriefReport() const {
   std::ostringstream out;
-  out << "Twigs: " << twigs << " on " << terminal_branches << " terminal branches, "
-      << nodes_added << " nodes added (order " << twig_order << "+), length " << twig_length
-      << " each, " << total_length << " in all.";
+  out << "Twigs: " << twigs << " on " << terminal_branches << " terminal branches, " << nodes_added
+      << " nodes added (order " << twig_order << "+), length " << twig_length << " each, "
+      << total_length << " in all.";
   return out.str();
 }
 
@@ -263,7 +265,8 @@ SkeletonGraph GrowTwigs(const SkeletonGraph& skeleton, const DensityGrid& densit
   for (const Site& site : sites) sites_of_edge[site.child].push_back(site);
   std::map<int, double> tip_radius;  // of each terminal axis' child nodes
   for (const BranchAxis& axis : axes) {
-    for (size_t i = 1; i < axis.size(); ++i) tip_radius[axis[i]] = skeleton.nodes[axis.back()].radius;
+    for (size_t i = 1; i < axis.size(); ++i)
+      tip_radius[axis[i]] = skeleton.nodes[axis.back()].radius;
   }
   TwigGrower grower(options, summary->twig_order, &out, summary);
   for (auto& [child, edge_sites] : sites_of_edge) {
@@ -276,9 +279,9 @@ SkeletonGraph GrowTwigs(const SkeletonGraph& skeleton, const DensityGrid& densit
         tip_radius[child] * std::pow(options.strand_fraction, 1.0 / options.diameter_exponent);
     int previous = upper.parent_idx;
     for (const Site& site : edge_sites) {
-      const int split = out.AddNode(lower.position + site.s * (upper.position - lower.position),
-                                    lower.radius + site.s * (upper.radius - lower.radius), previous,
-                                    upper.order);
+      const int split =
+          out.AddNode(lower.position + site.s * (upper.position - lower.position),
+                      lower.radius + site.s * (upper.radius - lower.radius), previous, upper.order);
       out.nodes[split].strands = upper.strands;
       ++summary->nodes_added;
       grower.Grow(split, dir, site, twig_radius);

@@ -71,10 +71,10 @@ struct TwigOptions {
 struct TwigSummary {
   int terminal_branches = 0;  // branch axes that carry twigs
   int twigs = 0;
-  int nodes_added = 0;       // split nodes + twig nodes
-  int first_added_node = 0;  // index of the first appended node
-  int twig_order = 0;        // order of twig nodes (side shoots: + 1)
-  double twig_length = 0.0;  // world units, before variation
+  int nodes_added = 0;        // split nodes + twig nodes
+  int first_added_node = 0;   // index of the first appended node
+  int twig_order = 0;         // order of twig nodes (side shoots: + 1)
+  double twig_length = 0.0;   // world units, before variation
   double total_length = 0.0;  // of all twig edges, world units
   std::string BriefReport() const;
 };

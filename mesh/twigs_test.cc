@@ -35,7 +35,8 @@ std::vector<int> TwigBases(const SkeletonGraph& skeleton, const TwigSummary& sum
   std::vector<int> bases;
   for (int i = summary.first_added_node; i < skeleton.NumNodes(); ++i) {
     const SkeletonNode& node = skeleton.nodes[i];
-    if (node.order == summary.twig_order && skeleton.nodes[node.parent_idx].order < summary.twig_order) {
+    if (node.order == summary.twig_order &&
+        skeleton.nodes[node.parent_idx].order < summary.twig_order) {
       bases.push_back(i);
     }
   }
@@ -107,7 +108,8 @@ double MeanRise(const SkeletonGraph& skeleton, const TwigSummary& summary) {
       if (next < 0) break;
       node = next;
     }
-    rise += skeleton.nodes[node].position.z() - skeleton.nodes[skeleton.nodes[b].parent_idx].position.z();
+    rise += skeleton.nodes[node].position.z() -
+            skeleton.nodes[skeleton.nodes[b].parent_idx].position.z();
     ++count;
   }
   return rise / count / summary.twig_length;
@@ -172,8 +174,7 @@ TEST(TwigsTest, DeterministicBySeedAndOptionsChecked) {
   for (int i = 0; i < a.NumNodes(); ++i) EXPECT_EQ(a.nodes[i].position, b.nodes[i].position);
   options.seed = 2;
   const SkeletonGraph c = GrowTwigs(TrunkAndBranch(), BranchDensity(), options);
-  EXPECT_TRUE(c.NumNodes() != a.NumNodes() ||
-              c.nodes.back().position != a.nodes.back().position);
+  EXPECT_TRUE(c.NumNodes() != a.NumNodes() || c.nodes.back().position != a.nodes.back().position);
   options.pattern = "weeping";
   try {
     GrowTwigs(TrunkAndBranch(), BranchDensity(), options);

@@ -74,7 +74,10 @@ DensityGrid ThinBranchDensity(const SkeletonGraph& skeleton, double thin_radius,
     const int steps = std::max(1, static_cast<int>((node.position - from).norm() / voxel));
     for (int s = 0; s <= steps; ++s) {
       const Eigen::Vector3i c =
-          grid.IndexFromWorld(from + (node.position - from) * (double(s) / steps)).array().round().cast<int>();
+          grid.IndexFromWorld(from + (node.position - from) * (double(s) / steps))
+              .array()
+              .round()
+              .cast<int>();
       for (int k = -1; k <= 1; ++k)
         for (int j = -1; j <= 1; ++j)
           for (int i = -1; i <= 1; ++i) grid.SetValue(c + Eigen::Vector3i(i, j, k), 0.4f);
@@ -88,13 +91,16 @@ DensityGrid ThinBranchDensity(const SkeletonGraph& skeleton, double thin_radius,
 TriangleMesh ReferenceLeaves(const SkeletonGraph& skeleton, const DensityGrid& density,
                              const LeafOptions& options) {
   const double length = options.leaf_length;
-  const double thin = options.thin_branch_radius_fraction * skeleton.nodes[skeleton.RootIdx()].radius;
+  const double thin =
+      options.thin_branch_radius_fraction * skeleton.nodes[skeleton.RootIdx()].radius;
   std::vector<Eigen::Vector3d> points;
   for (const SkeletonNode& node : skeleton.nodes) {
     if (node.parent_idx < 0 || node.radius > thin) continue;
     const Eigen::Vector3d& from = skeleton.nodes[node.parent_idx].position;
-    const int steps = std::max(1, static_cast<int>(std::ceil((node.position - from).norm() / (0.5 * length))));
-    for (int s = 0; s <= steps; ++s) points.push_back(from + (node.position - from) * (double(s) / steps));
+    const int steps =
+        std::max(1, static_cast<int>(std::ceil((node.position - from).norm() / (0.5 * length))));
+    for (int s = 0; s <= steps; ++s)
+      points.push_back(from + (node.position - from) * (double(s) / steps));
   }
   std::vector<Eigen::Vector3i> voxels;
   std::vector<double> cumulative;
@@ -116,8 +122,8 @@ TriangleMesh ReferenceLeaves(const SkeletonGraph& skeleton, const DensityGrid& d
     size_t v = 0;
     while (v + 1 < voxels.size() && cumulative[v] <= u) ++v;
     const Eigen::Vector3d center = density.WorldFromIndex(
-        voxels[v].cast<double>() + Eigen::Vector3d(rng.Uniform(-0.5, 0.5), rng.Uniform(-0.5, 0.5),
-                                                   rng.Uniform(-0.5, 0.5)));
+        voxels[v].cast<double>() +
+        Eigen::Vector3d(rng.Uniform(-0.5, 0.5), rng.Uniform(-0.5, 0.5), rng.Uniform(-0.5, 0.5)));
     double best = options.twig_reach * length;
     int nearest = -1;
     for (size_t p = 0; p < points.size(); ++p) {
@@ -133,7 +139,8 @@ TriangleMesh ReferenceLeaves(const SkeletonGraph& skeleton, const DensityGrid& d
     random = (random - random.dot(axis) * axis).normalized();
     const Eigen::Vector3d normal =
         (options.phototropism * (outward - outward.dot(axis) * axis).normalized() +
-         (1 - options.phototropism) * random).normalized();
+         (1 - options.phototropism) * random)
+            .normalized();
     const Eigen::Vector3d side = normal.cross(axis);
     const double width = options.leaf_aspect * length;
     const int first = mesh.AddVertex((center - 0.5 * length * axis).cast<float>());
@@ -165,9 +172,10 @@ void PrintGlbSizes(const TriangleMesh& bark, const LeafInstances& leaves, int re
     const double leaves_bytes = static_cast<double>(std::filesystem::file_size(path));
     WriteGlb(path, bark, LeafInstances(), options);
     const double bark_bytes = static_cast<double>(std::filesystem::file_size(path));
-    std::printf("  %-10s %-8s %7zu leaves: %8.2f MB .glb (leaves %6.1f bytes each), write %8.2f ms\n",
-                leaves.shape.name.c_str(), instanced ? "instanced" : "baked", leaves.instances.size(),
-                leaves_bytes / 1e6, (leaves_bytes - bark_bytes) / leaves.instances.size(), 1e3 * seconds);
+    std::printf(
+        "  %-10s %-8s %7zu leaves: %8.2f MB .glb (leaves %6.1f bytes each), write %8.2f ms\n",
+        leaves.shape.name.c_str(), instanced ? "instanced" : "baked", leaves.instances.size(),
+        leaves_bytes / 1e6, (leaves_bytes - bark_bytes) / leaves.instances.size(), 1e3 * seconds);
     std::filesystem::remove(path);
   }
 }
@@ -195,7 +203,8 @@ void KeepFiles(const std::filesystem::path& folder, const SkeletonGraph& with_tw
   const TriangleMesh bark = MeshBranches(with_twigs, BranchMeshOptions(), nullptr);
   options.num_leaves = 10000;
   options.shape = "ovate";
-  const LeafInstances leaves = GenerateLeafInstances(with_twigs, density, ImageSet(), {}, options, nullptr);
+  const LeafInstances leaves =
+      GenerateLeafInstances(with_twigs, density, ImageSet(), {}, options, nullptr);
   GltfExportOptions gltf;
   WriteGlb(folder / "tree_instanced.glb", bark, leaves, gltf);
   gltf.instance_leaves = false;
@@ -218,12 +227,12 @@ int Main(bool quick, const std::string& keep) {
   TwigSummary twig_summary;
   SkeletonGraph with_twigs;
   const int repetitions = quick ? 1 : 3;
-  const double twig_seconds = BestSeconds(repetitions, [&] {
-    with_twigs = GrowTwigs(skeleton, density, twig_options, &twig_summary);
-  });
+  const double twig_seconds = BestSeconds(
+      repetitions, [&] { with_twigs = GrowTwigs(skeleton, density, twig_options, &twig_summary); });
   std::printf("Tree: %d nodes, height %.2f; %zu active voxels\n%s\n  %.2f ms, %.0f twigs/s\n\n",
               skeleton.NumNodes(), height, static_cast<size_t>(density.NumActiveVoxels()),
-              twig_summary.BriefReport().c_str(), 1e3 * twig_seconds, twig_summary.twigs / twig_seconds);
+              twig_summary.BriefReport().c_str(), 1e3 * twig_seconds,
+              twig_summary.twigs / twig_seconds);
 
   // What twigs cost the bark mesh (they are swept like any branch).
   for (const SkeletonGraph* tree : {&skeleton, &with_twigs}) {
@@ -231,7 +240,8 @@ int Main(bool quick, const std::string& keep) {
     const double seconds =
         BestSeconds(repetitions, [&] { bark = MeshBranches(*tree, BranchMeshOptions(), nullptr); });
     std::printf("  MeshBranches %-13s %8d triangles in %8.2f ms\n",
-                tree == &skeleton ? "without twigs" : "with twigs", bark.NumTriangles(), 1e3 * seconds);
+                tree == &skeleton ? "without twigs" : "with twigs", bark.NumTriangles(),
+                1e3 * seconds);
   }
   std::printf("\n");
 
@@ -258,10 +268,11 @@ int Main(bool quick, const std::string& keep) {
     const double phyllo = BestSeconds(repetitions, [&] {
       GenerateLeafInstances(with_twigs, density, ImageSet(), {}, options, &phyllo_summary);
     });
-    std::printf("  GenerateLeafInstances (spiral) %8.2f ms  %8.2f k leaves/s (%lld kept of %lld sites)\n",
-                1e3 * phyllo, phyllo_summary.kept / phyllo / 1e3,
-                static_cast<long long>(phyllo_summary.kept),
-                static_cast<long long>(phyllo_summary.phyllotaxis_sites));
+    std::printf(
+        "  GenerateLeafInstances (spiral) %8.2f ms  %8.2f k leaves/s (%lld kept of %lld sites)\n",
+        1e3 * phyllo, phyllo_summary.kept / phyllo / 1e3,
+        static_cast<long long>(phyllo_summary.kept),
+        static_cast<long long>(phyllo_summary.phyllotaxis_sites));
     if (count <= 10000 || !quick) {
       options.phyllotaxis = "none";
       TriangleMesh reference;
@@ -270,10 +281,11 @@ int Main(bool quick, const std::string& keep) {
       const double slow = Seconds(start);
       const int reference_kept = reference.NumTriangles() / 2;
       const double offset = (MeanVertex(reference) - MeanVertex(baked)).norm();
-      std::printf("  reference (linear scans)       %8.2f ms  %8.2f k leaves/s   speed-up %.1fx; "
-                  "mean leaf offset %.3f (%.2f %% of height)\n\n",
-                  1e3 * slow, reference_kept / slow / 1e3, (summary.kept / fast) / (reference_kept / slow),
-                  offset, 100 * offset / height);
+      std::printf(
+          "  reference (linear scans)       %8.2f ms  %8.2f k leaves/s   speed-up %.1fx; "
+          "mean leaf offset %.3f (%.2f %% of height)\n\n",
+          1e3 * slow, reference_kept / slow / 1e3, (summary.kept / fast) / (reference_kept / slow),
+          offset, 100 * offset / height);
       if (reference_kept != summary.kept || offset > 0.02 * height) {
         std::printf("MISMATCH with the reference\n");
         status = 1;
