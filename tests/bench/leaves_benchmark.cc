@@ -37,6 +37,7 @@
 #include "mesh/branch_mesh.h"
 #include "mesh/gltf_export.h"
 #include "mesh/leaves.h"
+#include "mesh/phyllotaxis.h"
 #include "mesh/twigs.h"
 
 namespace sylva {
@@ -180,6 +181,47 @@ void PrintGlbSizes(const TriangleMesh& bark, const LeafInstances& leaves, int re
   }
 }
 
+// Divergence angles measured on every branch axis of the tree (curved
+// polylines), between successive nodes' first leaves, per pattern. The
+// projection on the plane normal to the first leaf's axis tangent is only a
+// divergence where the axis is locally straight: pairs whose tangents differ
+// by more than kStraightDeg (at a kink of the polyline) are counted apart.
+void PrintDivergences(const SkeletonGraph& tree, double internode) {
+  std::printf("Phyllotaxis on the %zu branch axes of the tree with twigs (internode %.3f):\n",
+              tree.BranchAxes().size(), internode);
+  for (const char* name : {"spiral", "alternate", "opposite_decussate", "whorled"}) {
+    PhyllotaxisOptions options;
+    options.pattern = ParsePhyllotaxisPattern(name, "benchmark");
+    options.internode = internode;
+    const int per_node = options.LeavesPerNode();
+    constexpr double kStraightDeg = 5.0;
+    double sum = 0.0, worst = 0.0;
+    int64_t count = 0, kinked = 0;
+    for (const BranchAxis& axis : tree.BranchAxes()) {
+      std::vector<Eigen::Vector3d> points;
+      for (int node : axis) points.push_back(tree.nodes[node].position);
+      const std::vector<LeafAttachment> leaves = PlaceLeavesAlongAxis(points, options);
+      for (size_t i = 0; i + per_node < leaves.size(); i += per_node) {
+        if (leaves[i].axis_tangent.dot(leaves[i + per_node].axis_tangent) <
+            std::cos(kStraightDeg * M_PI / 180)) {
+          ++kinked;
+          continue;
+        }
+        ++count;
+        const double angle = DivergenceAngleDeg(leaves[i], leaves[i + per_node]);
+        sum += angle;
+        worst = std::max(worst, std::abs(angle - options.DivergenceDeg()));
+      }
+    }
+    std::printf(
+        "  %-19s expected %7.2f deg, measured mean %8.3f deg over %lld node pairs, "
+        "max deviation %.3f deg (%lld pairs across kinks left out)\n",
+        name, options.DivergenceDeg(), sum / count, static_cast<long long>(count), worst,
+        static_cast<long long>(kinked));
+  }
+  std::printf("\n");
+}
+
 // A 64 x 128 RGBA leaf: an ellipse with alpha 1 inside, green, a pale midrib.
 FloatImage DrawnLeafImage() {
   FloatImage image(64, 128, 4, 0.0f);
@@ -234,6 +276,7 @@ int Main(bool quick, const std::string& keep) {
               twig_summary.BriefReport().c_str(), 1e3 * twig_seconds,
               twig_summary.twigs / twig_seconds);
 
+  PrintDivergences(with_twigs, 0.6 * 0.01 * height);
   // What twigs cost the bark mesh (they are swept like any branch).
   for (const SkeletonGraph* tree : {&skeleton, &with_twigs}) {
     TriangleMesh bark;
