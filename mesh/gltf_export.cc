@@ -5,10 +5,12 @@
 // declarations only, so TINYGLTF_IMPLEMENTATION is not defined here.
 #include <tiny_gltf.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <set>
 
 #include "core/util/check.h"
 #include "core/util/file_util.h"
@@ -20,8 +22,12 @@ constexpr const char* kGenerator = "sylva";
 constexpr const char* kDefaultMaterial = "default";
 
 // Appends `bytes` to the buffer as a new buffer view; returns its index.
+// `target` 0 = none (instance attributes, images).
 int AddBufferView(const void* bytes, size_t size, int target, tinygltf::Model* model) {
   std::vector<unsigned char>& data = model->buffers[0].data;
+  // Views start 4-byte aligned, as float and uint32 accessors need (an
+  // embedded PNG may have any length).
+  data.resize((data.size() + 3) / 4 * 4, 0);
   tinygltf::BufferView view;
   view.buffer = 0;
   view.byteOffset = data.size();
@@ -111,31 +117,185 @@ tinygltf::Mesh MakeMesh(const TriangleMesh& mesh, int positions, int normals,
   return out;
 }
 
-tinygltf::Model MakeModel(const TriangleMesh& mesh, const GltfExportOptions& options) {
+constexpr const char* kInstancing = "EXT_mesh_gpu_instancing";
+// Alpha below this is cut away on image leaves (alphaMode MASK).
+constexpr double kAlphaCutoff = 0.5;
+
+// -90 degrees about X, (x, y, z, w): world +Z becomes glTF +Y.
+void SetYUp(const GltfExportOptions& options, tinygltf::Node* node) {
+  if (options.y_up) node->rotation = {-std::sqrt(0.5), 0.0, 0.0, std::sqrt(0.5)};
+}
+
+tinygltf::Model EmptyModel(const GltfExportOptions& options) {
   tinygltf::Model model;
   model.asset.version = "2.0";
   model.asset.generator = kGenerator;
   tinygltf::Value::Object extras;
   for (const auto& [key, value] : options.extras) extras[key] = tinygltf::Value(value);
   if (!extras.empty()) model.asset.extras = tinygltf::Value(extras);
-  for (const Material& material : mesh.materials) model.materials.push_back(ToGltf(material));
   // A named scene: tinygltf 2.7 writes an empty scene object as null,
   // which its own loader then refuses.
   model.scenes.emplace_back();
   model.scenes[0].name = "tree";
   model.defaultScene = 0;
-  if (mesh.NumTriangles() == 0) return model;
   model.buffers.emplace_back();
-  const int positions = AddVec3Accessor(mesh.vertices, true, &model);
-  const int normals = AddVec3Accessor(mesh.VertexNormals(), false, &model);
-  model.meshes.push_back(MakeMesh(mesh, positions, normals, &model));
-  tinygltf::Node node;
-  node.mesh = 0;
-  // -90 degrees about X, (x, y, z, w): world +Z becomes glTF +Y.
-  if (options.y_up) node.rotation = {-std::sqrt(0.5), 0.0, 0.0, std::sqrt(0.5)};
-  model.nodes.push_back(node);
-  model.scenes[0].nodes.push_back(0);
   return model;
+}
+
+void AddTreeMesh(const TriangleMesh& mesh, const GltfExportOptions& options,
+                 tinygltf::Model* model) {
+  for (const Material& material : mesh.materials) model->materials.push_back(ToGltf(material));
+  if (mesh.NumTriangles() == 0) return;
+  const int positions = AddVec3Accessor(mesh.vertices, true, model);
+  const int normals = AddVec3Accessor(mesh.VertexNormals(), false, model);
+  model->meshes.push_back(MakeMesh(mesh, positions, normals, model));
+  tinygltf::Node node;
+  node.name = "tree";
+  node.mesh = static_cast<int>(model->meshes.size()) - 1;
+  SetYUp(options, &node);
+  model->nodes.push_back(node);
+  model->scenes[0].nodes.push_back(static_cast<int>(model->nodes.size()) - 1);
+}
+
+// PNG bytes of an 8-bit RGBA image: tinygltf's own encoder (stb), with a
+// file-system callback that keeps the "file" in memory.
+std::vector<unsigned char> EncodePng(const tinygltf::Image& image) {
+  std::vector<unsigned char> png;
+  tinygltf::FsCallbacks memory{};
+  memory.WriteWholeFile = [](std::string*, const std::string&,
+                             const std::vector<unsigned char>& contents, void* user_data) {
+    *static_cast<std::vector<unsigned char>*>(user_data) = contents;
+    return true;
+  };
+  memory.user_data = &png;
+  const std::string folder, name = "leaf.png";
+  std::string uri;
+  SYLVA_CHECK(
+      tinygltf::WriteImageData(&folder, &name, &image, /*embedImages=*/false, &uri, &memory) &&
+      !png.empty())
+      << "could not encode the leaf texture as PNG";
+  return png;
+}
+
+// The RGBA texture as an 8-bit PNG in the binary buffer (a data URI would be
+// base64 text in the JSON, which the validator warns against in a .glb) and
+// a texture using it; returns the texture index.
+int AddTexture(const FloatImage& rgba, tinygltf::Model* model) {
+  tinygltf::Image pixels;
+  pixels.width = rgba.width();
+  pixels.height = rgba.height();
+  pixels.component = 4;
+  pixels.bits = 8;
+  pixels.pixel_type = TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE;
+  pixels.image.resize(rgba.values().size());
+  for (size_t i = 0; i < pixels.image.size(); ++i) {
+    pixels.image[i] =
+        static_cast<unsigned char>(std::lround(255.0f * std::clamp(rgba.values()[i], 0.0f, 1.0f)));
+  }
+  const std::vector<unsigned char> png = EncodePng(pixels);
+  tinygltf::Image image;
+  image.name = "leaf";
+  image.mimeType = "image/png";
+  image.bufferView = AddBufferView(png.data(), png.size(), 0, model);
+  model->images.push_back(image);
+  tinygltf::Texture texture;
+  texture.source = static_cast<int>(model->images.size()) - 1;
+  model->textures.push_back(texture);
+  return static_cast<int>(model->textures.size()) - 1;
+}
+
+// The leaf shape as a mesh of one primitive; returns the mesh index.
+int AddLeafMesh(const LeafInstances& leaves, tinygltf::Model* model) {
+  const LeafShape& shape = leaves.shape;
+  std::vector<Eigen::Vector3f> positions, normals;
+  for (const Eigen::Vector2f& p : shape.points) {
+    positions.emplace_back(p.x(), p.y(), 0.0f);
+    normals.emplace_back(0.0f, 0.0f, 1.0f);
+  }
+  std::vector<uint32_t> indices;
+  for (const Eigen::Vector3i& t : shape.triangles)
+    indices.insert(indices.end(), {uint32_t(t[0]), uint32_t(t[1]), uint32_t(t[2])});
+  tinygltf::Primitive primitive;
+  primitive.attributes = {{"POSITION", AddVec3Accessor(positions, true, model)},
+                          {"NORMAL", AddVec3Accessor(normals, false, model)}};
+  tinygltf::Material material = ToGltf(leaves.material);
+  if (!shape.uvs.empty()) {
+    const int view = AddBufferView(shape.uvs.data(), shape.uvs.size() * sizeof(Eigen::Vector2f),
+                                   TINYGLTF_TARGET_ARRAY_BUFFER, model);
+    primitive.attributes["TEXCOORD_0"] = AddAccessor(view, TINYGLTF_COMPONENT_TYPE_FLOAT,
+                                                     TINYGLTF_TYPE_VEC2, shape.uvs.size(), model);
+  }
+  if (!shape.texture.empty()) {
+    material.pbrMetallicRoughness.baseColorTexture.index = AddTexture(shape.texture, model);
+    material.pbrMetallicRoughness.baseColorFactor = {1.0, 1.0, 1.0, 1.0};
+    material.alphaMode = "MASK";
+    material.alphaCutoff = kAlphaCutoff;
+  }
+  model->materials.push_back(material);
+  const int view = AddBufferView(indices.data(), indices.size() * sizeof(uint32_t),
+                                 TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER, model);
+  primitive.indices = AddAccessor(view, TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, TINYGLTF_TYPE_SCALAR,
+                                  indices.size(), model);
+  primitive.material = static_cast<int>(model->materials.size()) - 1;
+  primitive.mode = TINYGLTF_MODE_TRIANGLES;
+  tinygltf::Mesh mesh;
+  mesh.name = "leaves";
+  mesh.primitives.push_back(primitive);
+  model->meshes.push_back(mesh);
+  return static_cast<int>(model->meshes.size()) - 1;
+}
+
+// A float accessor of `components` per instance, no buffer view target
+// (instance attributes are not vertex attributes).
+int AddInstanceAccessor(const std::vector<float>& values, int type, int components,
+                        tinygltf::Model* model) {
+  const int view = AddBufferView(values.data(), values.size() * sizeof(float), 0, model);
+  return AddAccessor(view, TINYGLTF_COMPONENT_TYPE_FLOAT, type, values.size() / components, model);
+}
+
+void AddInstancedLeaves(const LeafInstances& leaves, const GltfExportOptions& options,
+                        tinygltf::Model* model) {
+  if (leaves.instances.empty()) return;
+  leaves.shape.Check();
+  tinygltf::Node node;
+  node.name = "leaves";
+  node.mesh = AddLeafMesh(leaves, model);
+  SetYUp(options, &node);
+  std::vector<float> translation, rotation, scale;
+  for (const LeafInstance& leaf : leaves.instances) {
+    translation.insert(translation.end(),
+                       {leaf.translation.x(), leaf.translation.y(), leaf.translation.z()});
+    const Eigen::Quaternionf q = leaf.rotation.normalized();
+    rotation.insert(rotation.end(), {q.x(), q.y(), q.z(), q.w()});
+    scale.insert(scale.end(), {leaf.scale, leaf.scale, leaf.scale});
+  }
+  tinygltf::Value::Object attributes;
+  attributes["TRANSLATION"] =
+      tinygltf::Value(AddInstanceAccessor(translation, TINYGLTF_TYPE_VEC3, 3, model));
+  attributes["ROTATION"] =
+      tinygltf::Value(AddInstanceAccessor(rotation, TINYGLTF_TYPE_VEC4, 4, model));
+  attributes["SCALE"] = tinygltf::Value(AddInstanceAccessor(scale, TINYGLTF_TYPE_VEC3, 3, model));
+  tinygltf::Value::Object extension;
+  extension["attributes"] = tinygltf::Value(attributes);
+  node.extensions[kInstancing] = tinygltf::Value(extension);
+  model->nodes.push_back(node);
+  model->scenes[0].nodes.push_back(static_cast<int>(model->nodes.size()) - 1);
+  model->extensionsUsed.push_back(kInstancing);
+}
+
+// tinygltf writes an empty buffer as an invalid one: drop it.
+void DropEmptyBuffer(tinygltf::Model* model) {
+  if (model->buffers[0].data.empty()) model->buffers.clear();
+}
+
+void WriteModel(const std::filesystem::path& path, const tinygltf::Model& model) {
+  AtomicWriteWith(path, [&](const fs::path& temp_path) {
+    tinygltf::TinyGLTF writer;
+    const bool ok = writer.WriteGltfSceneToFile(&model, temp_path.string(), /*embedImages=*/true,
+                                                /*embedBuffers=*/true, /*prettyPrint=*/false,
+                                                /*writeBinary=*/true);
+    SYLVA_CHECK(ok) << "could not write " << path;
+  });
 }
 
 // ---- Reading ----
@@ -254,6 +414,80 @@ void ReadPrimitive(const tinygltf::Model& model, const tinygltf::Primitive& prim
   }
 }
 
+// Float elements of `components` per element from accessor `index` (-1 =
+// absent: empty).
+std::vector<float> ReadFloats(const tinygltf::Model& model, int index, int type, int components,
+                              const std::string& source) {
+  std::vector<float> values;
+  if (index < 0) return values;
+  SYLVA_CHECK_INPUT(index < static_cast<int>(model.accessors.size()) &&
+                        model.accessors[index].componentType == TINYGLTF_COMPONENT_TYPE_FLOAT &&
+                        model.accessors[index].type == type,
+                    source)
+      << "instance accessor " << index << " is not float with " << components << " components";
+  values.resize(model.accessors[index].count * components);
+  ForEachElement(model, index, source, [&](size_t k, const unsigned char* bytes) {
+    std::memcpy(values.data() + k * components, bytes, components * sizeof(float));
+  });
+  return values;
+}
+
+int InstanceAttribute(const tinygltf::Value& extension, const char* name) {
+  const tinygltf::Value& attributes = extension.Get("attributes");
+  if (!attributes.IsObject() || !attributes.Has(name) || !attributes.Get(name).IsInt()) return -1;
+  return attributes.Get(name).Get<int>();
+}
+
+// The instance transforms of an EXT_mesh_gpu_instancing node (absent
+// attributes: identity).
+std::vector<LeafInstance> ReadInstances(const tinygltf::Model& model,
+                                        const tinygltf::Value& extension,
+                                        const std::string& source) {
+  const std::vector<float> t =
+      ReadFloats(model, InstanceAttribute(extension, "TRANSLATION"), TINYGLTF_TYPE_VEC3, 3, source);
+  const std::vector<float> r =
+      ReadFloats(model, InstanceAttribute(extension, "ROTATION"), TINYGLTF_TYPE_VEC4, 4, source);
+  const std::vector<float> s =
+      ReadFloats(model, InstanceAttribute(extension, "SCALE"), TINYGLTF_TYPE_VEC3, 3, source);
+  const size_t count = std::max({t.size() / 3, r.size() / 4, s.size() / 3});
+  SYLVA_CHECK_INPUT((t.empty() || t.size() == 3 * count) && (r.empty() || r.size() == 4 * count) &&
+                        (s.empty() || s.size() == 3 * count),
+                    source)
+      << "instance attributes of different counts";
+  std::vector<LeafInstance> instances(count);
+  for (size_t k = 0; k < count; ++k) {
+    if (!t.empty())
+      instances[k].translation = Eigen::Vector3f(t[3 * k], t[3 * k + 1], t[3 * k + 2]);
+    if (!r.empty()) {
+      instances[k].rotation =
+          Eigen::Quaternionf(r[4 * k + 3], r[4 * k], r[4 * k + 1], r[4 * k + 2]);
+    }
+    // Non-uniform scales are not representable in LeafInstance; read x.
+    if (!s.empty()) instances[k].scale = s[3 * k];
+  }
+  return instances;
+}
+
+// Appends `prototype` once per instance, transformed.
+void AppendInstances(const TriangleMesh& prototype, const std::vector<LeafInstance>& instances,
+                     TriangleMesh* mesh) {
+  TriangleMesh copies;
+  copies.materials = prototype.materials;
+  copies.vertices.reserve(prototype.vertices.size() * instances.size());
+  for (const LeafInstance& instance : instances) {
+    const Eigen::Matrix3f rotation = instance.rotation.normalized().toRotationMatrix();
+    const int first = copies.NumVertices();
+    for (const Eigen::Vector3f& v : prototype.vertices) {
+      copies.vertices.push_back(instance.translation + instance.scale * (rotation * v));
+    }
+    for (int t = 0; t < prototype.NumTriangles(); ++t) {
+      copies.triangles.push_back(prototype.triangles[t] + Eigen::Vector3i::Constant(first));
+      copies.triangle_materials.push_back(prototype.triangle_materials[t]);
+    }
+  }
+  mesh->Append(copies);
+}
+
 }  // namespace
 
 void GltfExportOptions::Check() const {
@@ -266,18 +500,31 @@ void WriteGlb(const std::filesystem::path& path, const TriangleMesh& mesh,
               const GltfExportOptions& options) {
   options.Check();
   mesh.Check();
-  const tinygltf::Model model = MakeModel(mesh, options);
-  AtomicWriteWith(path, [&](const fs::path& temp_path) {
-    tinygltf::TinyGLTF writer;
-    const bool ok = writer.WriteGltfSceneToFile(&model, temp_path.string(), /*embedImages=*/true,
-                                                /*embedBuffers=*/true, /*prettyPrint=*/false,
-                                                /*writeBinary=*/true);
-    SYLVA_CHECK(ok) << "could not write " << path;
-  });
+  tinygltf::Model model = EmptyModel(options);
+  AddTreeMesh(mesh, options, &model);
+  DropEmptyBuffer(&model);
+  WriteModel(path, model);
+}
+
+void WriteGlb(const std::filesystem::path& path, const TriangleMesh& mesh,
+              const LeafInstances& leaves, const GltfExportOptions& options) {
+  if (!options.instance_leaves) {
+    TriangleMesh baked = mesh;
+    baked.Append(leaves.Bake());
+    WriteGlb(path, baked, options);
+    return;
+  }
+  options.Check();
+  mesh.Check();
+  tinygltf::Model model = EmptyModel(options);
+  AddTreeMesh(mesh, options, &model);
+  AddInstancedLeaves(leaves, options, &model);
+  DropEmptyBuffer(&model);
+  WriteModel(path, model);
 }
 
 TriangleMesh ReadGlb(const std::filesystem::path& path,
-                     std::map<std::string, std::string>* asset_extras) {
+                     std::map<std::string, std::string>* asset_extras, int64_t* num_instances) {
   const std::string source = path.string();
   tinygltf::Model model;
   tinygltf::TinyGLTF loader;
@@ -285,11 +532,31 @@ TriangleMesh ReadGlb(const std::filesystem::path& path,
   SYLVA_CHECK_INPUT(loader.LoadBinaryFromFile(&model, &error, &warning, source), source)
       << "not a readable .glb: " << error;
   TriangleMesh mesh;
+  std::set<int> instanced_meshes;
+  for (const tinygltf::Node& node : model.nodes) {
+    if (node.mesh >= 0 && node.extensions.count(kInstancing)) instanced_meshes.insert(node.mesh);
+  }
   std::map<int, int> first_vertex_of_accessor;
-  for (const tinygltf::Mesh& gltf_mesh : model.meshes) {
-    for (const tinygltf::Primitive& primitive : gltf_mesh.primitives) {
+  for (size_t m = 0; m < model.meshes.size(); ++m) {
+    if (instanced_meshes.count(static_cast<int>(m))) continue;
+    for (const tinygltf::Primitive& primitive : model.meshes[m].primitives) {
       ReadPrimitive(model, primitive, source, &first_vertex_of_accessor, &mesh);
     }
+  }
+  if (num_instances != nullptr) *num_instances = 0;
+  for (const tinygltf::Node& node : model.nodes) {
+    if (node.mesh < 0 || node.extensions.count(kInstancing) == 0) continue;
+    SYLVA_CHECK_INPUT(node.mesh < static_cast<int>(model.meshes.size()), source)
+        << "node mesh " << node.mesh << " does not exist";
+    TriangleMesh prototype;
+    std::map<int, int> first_vertex;
+    for (const tinygltf::Primitive& primitive : model.meshes[node.mesh].primitives) {
+      ReadPrimitive(model, primitive, source, &first_vertex, &prototype);
+    }
+    const std::vector<LeafInstance> instances =
+        ReadInstances(model, node.extensions.at(kInstancing), source);
+    AppendInstances(prototype, instances, &mesh);
+    if (num_instances != nullptr) *num_instances += static_cast<int64_t>(instances.size());
   }
   // Materials no primitive used still come back, in the file's order of appearance.
   for (size_t m = 0; m < model.materials.size(); ++m) {

@@ -9,7 +9,9 @@
 #include "core/io/mesh_io.h"
 #include "core/util/check.h"
 #include "core/util/file_util.h"
+#include "core/util/random.h"
 #include "mesh/branch_mesh.h"
+#include "mesh/leaves.h"
 
 namespace sylva {
 namespace {
@@ -188,6 +190,103 @@ TEST_F(GltfExportTest, InvalidMeshesAndOptionsAreRefused) {
   options.extras[""] = "x";
   EXPECT_THROW(WriteGlb(folder_ / "bad.glb", TreeLikeMesh(), options), InputError);
   EXPECT_FALSE(fs::exists(folder_ / "bad.glb"));
+}
+
+// `count` leaves of `shape` at random positions, orientations and sizes.
+LeafInstances RandomLeaves(const LeafShape& shape, int count) {
+  LeafInstances leaves;
+  leaves.shape = shape;
+  leaves.material = {"leaves", Eigen::Vector3f(0.22f, 0.46f, 0.13f), true};
+  RandomEngine rng(7);
+  for (int i = 0; i < count; ++i) {
+    LeafInstance leaf;
+    leaf.translation = Eigen::Vector3f(rng.Uniform(-1, 1), rng.Uniform(-1, 1), rng.Uniform(1, 3));
+    leaf.rotation =
+        Eigen::Quaternionf(rng.Normal(), rng.Normal(), rng.Normal(), rng.Normal()).normalized();
+    leaf.scale = static_cast<float>(rng.Uniform(0.05, 0.1));
+    leaves.instances.push_back(leaf);
+  }
+  return leaves;
+}
+
+TEST_F(GltfExportTest, InstancedLeavesReadBackAsTheBakedOnes) {
+  TriangleMesh bark = TreeLikeMesh();
+  const LeafInstances leaves = RandomLeaves(BuiltinLeafShape("ovate", 0.6), 200);
+  const fs::path path = folder_ / "tree.glb";
+  WriteGlb(path, bark, leaves);
+  int64_t instances = 0;
+  const TriangleMesh back = ReadGlb(path, nullptr, &instances);
+  EXPECT_EQ(instances, 200);
+  TriangleMesh expected = bark;
+  expected.Append(leaves.Bake());
+  ASSERT_EQ(back.NumTriangles(), expected.NumTriangles());
+  ASSERT_EQ(back.NumVertices(), expected.NumVertices());
+  for (int i = 0; i < expected.NumVertices(); ++i) {
+    EXPECT_LT((back.vertices[i] - expected.vertices[i]).norm(), 1e-5f) << i;
+  }
+  EXPECT_TRUE(FindMaterial(back, "leaves")->double_sided);
+
+  const nlohmann::json json = GlbJson(path);
+  ASSERT_EQ(json["extensionsUsed"].size(), 1u);
+  EXPECT_EQ(json["extensionsUsed"][0], "EXT_mesh_gpu_instancing");
+  EXPECT_FALSE(json.contains("extensionsRequired"));
+  const nlohmann::json& node = json["nodes"][1];
+  EXPECT_EQ(node["name"], "leaves");
+  const nlohmann::json& attributes = node["extensions"]["EXT_mesh_gpu_instancing"]["attributes"];
+  for (const char* name : {"TRANSLATION", "ROTATION", "SCALE"}) {
+    EXPECT_EQ(json["accessors"][attributes[name].get<int>()]["count"], 200) << name;
+  }
+  EXPECT_EQ(json["accessors"][attributes["ROTATION"].get<int>()]["type"], "VEC4");
+  EXPECT_EQ(json["meshes"][node["mesh"].get<int>()]["name"], "leaves");
+
+  // Instancing off: the same triangles baked, no extension.
+  GltfExportOptions options;
+  options.instance_leaves = false;
+  WriteGlb(folder_ / "baked.glb", bark, leaves, options);
+  EXPECT_FALSE(GlbJson(folder_ / "baked.glb").contains("extensionsUsed"));
+  EXPECT_EQ(ReadGlb(folder_ / "baked.glb").NumTriangles(), expected.NumTriangles());
+}
+
+TEST_F(GltfExportTest, InstancingKeepsTenThousandLeavesSmall) {
+  const LeafInstances leaves = RandomLeaves(BuiltinLeafShape("ovate", 0.6), 10000);
+  WriteGlb(folder_ / "instanced.glb", TriangleMesh(), leaves);
+  GltfExportOptions options;
+  options.instance_leaves = false;
+  WriteGlb(folder_ / "baked.glb", TriangleMesh(), leaves, options);
+  const double instanced = static_cast<double>(fs::file_size(folder_ / "instanced.glb"));
+  const double baked = static_cast<double>(fs::file_size(folder_ / "baked.glb"));
+  // 40 bytes per leaf against 15 vertices x 24 + 14 triangles x 12 = 528.
+  EXPECT_LT(instanced, 45.0 * 10000);
+  EXPECT_GT(baked / instanced, 10.0);
+}
+
+TEST_F(GltfExportTest, ImageLeavesCarryAnAlphaMaskedTexture) {
+  FloatImage image(16, 32, 4, 0.0f);
+  for (int y = 0; y < 32; ++y) {
+    for (int x = 4; x < 12; ++x) {
+      image.at(x, y, 1) = 0.5f;
+      image.at(x, y, 3) = 1.0f;
+    }
+  }
+  const LeafInstances leaves = RandomLeaves(LeafShapeFromImage(image, "leaf.png"), 20);
+  const fs::path path = folder_ / "tree.glb";
+  WriteGlb(path, TreeLikeMesh(), leaves);
+  const nlohmann::json json = GlbJson(path);
+  ASSERT_EQ(json["images"].size(), 1u);
+  ASSERT_EQ(json["textures"].size(), 1u);
+  // A PNG in the binary chunk, not a base64 data URI.
+  EXPECT_EQ(json["images"][0]["mimeType"], "image/png");
+  EXPECT_TRUE(json["images"][0].contains("bufferView"));
+  EXPECT_FALSE(json["images"][0].contains("uri"));
+  const nlohmann::json& material = json["materials"].back();
+  EXPECT_EQ(material["alphaMode"], "MASK");
+  EXPECT_EQ(material["pbrMetallicRoughness"]["baseColorTexture"]["index"], 0);
+  const nlohmann::json& leaf_mesh = json["meshes"][json["nodes"][1]["mesh"].get<int>()];
+  EXPECT_TRUE(leaf_mesh["primitives"][0]["attributes"].contains("TEXCOORD_0"));
+  int64_t instances = 0;
+  const TriangleMesh back = ReadGlb(path, nullptr, &instances);
+  EXPECT_EQ(instances, 20);
+  EXPECT_EQ(back.NumTriangles(), TreeLikeMesh().NumTriangles() + 40);
 }
 
 }  // namespace

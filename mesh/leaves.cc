@@ -10,6 +10,7 @@
 #include "core/geometry/point_grid.h"
 #include "core/util/check.h"
 #include "core/util/random.h"
+#include "mesh/phyllotaxis.h"
 
 namespace sylva {
 namespace {
@@ -23,8 +24,10 @@ std::vector<Eigen::Vector3d> ThinBranchPoints(const SkeletonGraph& skeleton, dou
   for (const SkeletonNode& node : skeleton.nodes) {
     if (node.parent_idx < 0 || node.radius > max_radius) continue;
     const Eigen::Vector3d& parent = skeleton.nodes[node.parent_idx].position;
-    const int steps = std::max(1, static_cast<int>(std::ceil((node.position - parent).norm() / spacing)));
-    for (int s = 0; s <= steps; ++s) points.push_back(parent + (node.position - parent) * (double(s) / steps));
+    const int steps =
+        std::max(1, static_cast<int>(std::ceil((node.position - parent).norm() / spacing)));
+    for (int s = 0; s <= steps; ++s)
+      points.push_back(parent + (node.position - parent) * (double(s) / steps));
   }
   return points;
 }
@@ -62,7 +65,8 @@ struct DensitySampler {
   Eigen::Vector3d Draw(const DensityGrid& density, RandomEngine* rng) const {
     const double u = rng->Uniform() * cumulative.back();
     const size_t i = std::upper_bound(cumulative.begin(), cumulative.end(), u) - cumulative.begin();
-    const Eigen::Vector3d jitter(rng->Uniform(-0.5, 0.5), rng->Uniform(-0.5, 0.5), rng->Uniform(-0.5, 0.5));
+    const Eigen::Vector3d jitter(rng->Uniform(-0.5, 0.5), rng->Uniform(-0.5, 0.5),
+                                 rng->Uniform(-0.5, 0.5));
     return density.WorldFromIndex(voxels[std::min(i, voxels.size() - 1)].cast<double>() + jitter);
   }
 };
@@ -104,23 +108,97 @@ bool SeenInMattes(const Leaf& leaf, double length, const ImageSet& views,
     double half = 0.25 * length * 0.5 * (camera.FocalLengthX() + camera.FocalLengthY());
     if (!camera.IsOrthographic()) half /= in_cam.z();
     half = std::max(half, 0.5);
-    const double mean = tables[v].BoxMean(pixel.x() - half, pixel.y() - half, pixel.x() + half,
-                                          pixel.y() + half);
+    const double mean =
+        tables[v].BoxMean(pixel.x() - half, pixel.y() - half, pixel.x() + half, pixel.y() + half);
     if (mean >= 0.0 && mean < threshold) return false;
   }
   return true;
 }
 
-void AddLeafQuad(const Leaf& leaf, double length, double width, int material, TriangleMesh* mesh) {
-  const Eigen::Vector3d side = leaf.normal.cross(leaf.axis);
-  const Eigen::Vector3d corners[4] = {
-      leaf.center - 0.5 * length * leaf.axis, leaf.center + 0.5 * width * side,
-      leaf.center + 0.5 * length * leaf.axis, leaf.center - 0.5 * width * side};
-  const int first = mesh->NumVertices();
-  for (const Eigen::Vector3d& c : corners) mesh->AddVertex(c.cast<float>());
-  // (base, right, tip) and (base, tip, left) face along the leaf's normal.
-  mesh->AddTriangle(first, first + 1, first + 2, material);
-  mesh->AddTriangle(first, first + 2, first + 3, material);
+// The leaf's base at the origin of its frame: X = axis, Y = normal x axis, Z = normal.
+LeafInstance ToInstance(const Leaf& leaf, double length) {
+  Eigen::Matrix3d rotation;
+  rotation.col(0) = leaf.axis;
+  rotation.col(1) = leaf.normal.cross(leaf.axis);
+  rotation.col(2) = leaf.normal;
+  LeafInstance instance;
+  instance.translation = (leaf.center - 0.5 * length * leaf.axis).cast<float>();
+  instance.rotation = Eigen::Quaterniond(rotation).normalized().cast<float>();
+  instance.scale = static_cast<float>(length);
+  return instance;
+}
+
+// Half-width profile x^p (1 - x)^q scaled to a maximum of 1 (at p / (p + q)).
+double Profile(double x, double p, double q) {
+  const double peak = p / (p + q);
+  return std::pow(x, p) * std::pow(1.0 - x, q) / (std::pow(peak, p) * std::pow(1.0 - peak, q));
+}
+
+// A polygon from base to tip along -Y, back along +Y (counter-clockwise seen
+// from +Z), fanned from a point on the midrib.
+LeafShape OutlineShape(const std::string& name, double aspect, double p, double q) {
+  constexpr int kSamplesPerSide = 6;
+  LeafShape shape;
+  shape.name = name;
+  shape.points.emplace_back(0.0f, 0.0f);
+  for (int i = 1; i <= kSamplesPerSide; ++i) {
+    const double x = double(i) / (kSamplesPerSide + 1);
+    shape.points.emplace_back(x, -0.5 * aspect * Profile(x, p, q));
+  }
+  shape.points.emplace_back(1.0f, 0.0f);
+  for (int i = kSamplesPerSide; i >= 1; --i) {
+    const double x = double(i) / (kSamplesPerSide + 1);
+    shape.points.emplace_back(x, 0.5 * aspect * Profile(x, p, q));
+  }
+  const int outline = static_cast<int>(shape.points.size());
+  shape.points.emplace_back(p / (p + q), 0.0f);
+  for (int i = 0; i < outline; ++i) shape.triangles.emplace_back(outline, i, (i + 1) % outline);
+  return shape;
+}
+
+LeafShape Rhombus(const std::string& name, double aspect) {
+  LeafShape shape;
+  shape.name = name;
+  const float half = static_cast<float>(0.5 * aspect);
+  shape.points = {{0.0f, 0.0f}, {0.5f, -half}, {1.0f, 0.0f}, {0.5f, half}};
+  shape.triangles = {{0, 1, 2}, {0, 2, 3}};
+  return shape;
+}
+
+// Sample point of leaf-sized neighbourhoods: the opacity of the voxel holding p.
+double OpacityAt(const DensityGrid& density, const Eigen::Vector3d& p) {
+  return density.Value(density.IndexFromWorld(p).array().round().cast<int>());
+}
+
+// Runs of consecutive branch-axis edges whose child radius is at most
+// max_radius, as polylines.
+std::vector<std::vector<Eigen::Vector3d>> ThinAxes(const SkeletonGraph& skeleton,
+                                                   double max_radius) {
+  std::vector<std::vector<Eigen::Vector3d>> runs;
+  for (const BranchAxis& axis : skeleton.BranchAxes()) {
+    std::vector<Eigen::Vector3d> run;
+    for (size_t i = 1; i < axis.size(); ++i) {
+      if (skeleton.nodes[axis[i]].radius > max_radius) {
+        if (run.size() >= 2) runs.push_back(run);
+        run.clear();
+        continue;
+      }
+      if (run.empty()) run.push_back(skeleton.nodes[axis[i - 1]].position);
+      run.push_back(skeleton.nodes[axis[i]].position);
+    }
+    if (run.size() >= 2) runs.push_back(run);
+  }
+  return runs;
+}
+
+PhyllotaxisOptions ToPhyllotaxis(const LeafOptions& options, double length) {
+  PhyllotaxisOptions out;
+  out.pattern = ParsePhyllotaxisPattern(options.phyllotaxis, "Leaves.phyllotaxis");
+  out.divergence_deg = options.divergence_deg;
+  out.leaves_per_whorl = options.leaves_per_whorl;
+  out.internode = options.internode * length;
+  out.insertion_deg = options.insertion_deg;
+  return out;
 }
 
 }  // namespace
@@ -146,89 +224,252 @@ void LeafOptions::Check() const {
       << "must be in [0, 1], got " << phototropism;
   SYLVA_CHECK_INPUT(matte_threshold >= 0 && matte_threshold < 1, "Leaves.matte_threshold")
       << "must be in [0, 1), got " << matte_threshold;
+  BuiltinLeafShape(shape, leaf_aspect);  // throws for unknown names
+  if (phyllotaxis != "none") {
+    PhyllotaxisOptions phyllo;
+    phyllo.pattern = ParsePhyllotaxisPattern(phyllotaxis, "Leaves.phyllotaxis");
+    SYLVA_CHECK_INPUT(internode > 0 && std::isfinite(internode), "Leaves.internode")
+        << "must be > 0 leaf lengths, got " << internode;
+    SYLVA_CHECK_INPUT(divergence_deg >= -360 && divergence_deg <= 360, "Leaves.divergence_deg")
+        << "must be in [-360, 360] degrees, got " << divergence_deg;
+    SYLVA_CHECK_INPUT(leaves_per_whorl >= 3 && leaves_per_whorl <= 32, "Leaves.leaves_per_whorl")
+        << "must be between 3 and 32, got " << leaves_per_whorl;
+    SYLVA_CHECK_INPUT(insertion_deg > 0 && insertion_deg < 180, "Leaves.insertion_deg")
+        << "must be in (0, 180) degrees, got " << insertion_deg;
+  }
 }
 
 std::string LeafSummary::BriefReport() const {
   std::ostringstream out;
   out << "Leaves: " << kept << " (target " << target << ") of " << drawn << " drawn ("
-      << far_from_branches
-      << " too far from a thin branch, " << outside_mattes << " outside the mattes), length "
-      << leaf_length << ".";
+      << far_from_branches << " too far from a thin branch, " << outside_mattes
+      << " outside the mattes), length " << leaf_length << ".";
+  if (phyllotaxis_sites > 0) out << " Phyllotaxis offered " << phyllotaxis_sites << " sites.";
   return out.str();
 }
 
-TriangleMesh GenerateLeaves(const SkeletonGraph& skeleton, const DensityGrid& density,
-                            const ImageSet& views, const std::vector<FloatImage>& mattes,
-                            const LeafOptions& options, LeafSummary* summary) {
+void LeafShape::Check() const {
+  const int n = static_cast<int>(points.size());
+  for (const Eigen::Vector3i& t : triangles) {
+    SYLVA_CHECK(t.minCoeff() >= 0 && t.maxCoeff() < n) << "leaf shape " << name << ": bad triangle";
+  }
+  SYLVA_CHECK(uvs.empty() || static_cast<int>(uvs.size()) == n)
+      << "leaf shape " << name << ": " << uvs.size() << " UVs for " << n << " points";
+  SYLVA_CHECK(texture.empty() || texture.channels() == 4)
+      << "leaf shape " << name << ": the texture must be RGBA";
+}
+
+LeafShape BuiltinLeafShape(const std::string& name, double aspect) {
+  // Outline exponents x^p (1 - x)^q: widest at p / (p + q).
+  if (name == "quad") return Rhombus(name, aspect);
+  if (name == "ovate") return OutlineShape(name, aspect, 0.6, 1.0);
+  if (name == "lanceolate") return OutlineShape(name, aspect, 0.5, 1.5);
+  if (name == "needle") return Rhombus(name, std::min(aspect, 0.05));
+  SYLVA_CHECK_INPUT(false, "Leaves.shape")
+      << "unknown leaf shape \"" << name << "\" (quad, ovate, lanceolate, needle)";
+  return LeafShape();
+}
+
+LeafShape LeafShapeFromImage(const FloatImage& rgba, const std::string& source,
+                             float alpha_threshold) {
+  SYLVA_CHECK_INPUT(rgba.channels() == 4 && !rgba.empty(), source)
+      << "a leaf image needs 4 channels (RGBA), got " << rgba.channels();
+  int x0 = rgba.width(), y0 = rgba.height(), x1 = -1, y1 = -1;
+  for (int y = 0; y < rgba.height(); ++y) {
+    for (int x = 0; x < rgba.width(); ++x) {
+      if (rgba.at(x, y, 3) <= alpha_threshold) continue;
+      x0 = std::min(x0, x);
+      x1 = std::max(x1, x);
+      y0 = std::min(y0, y);
+      y1 = std::max(y1, y);
+    }
+  }
+  SYLVA_CHECK_INPUT(x1 >= 0, source) << "no pixel has alpha above " << alpha_threshold;
+  // Box edges in UV (pixel edges), and the leaf's width / length.
+  const float u0 = float(x0) / rgba.width(), u1 = float(x1 + 1) / rgba.width();
+  const float v0 = float(y0) / rgba.height(), v1 = float(y1 + 1) / rgba.height();
+  const float half = 0.5f * float(x1 + 1 - x0) / float(y1 + 1 - y0);
+  LeafShape shape;
+  shape.name = "image";
+  // Seen from +Z with the tip (+X) up, +Y points left (u0).
+  shape.points = {{0.0f, -half}, {1.0f, -half}, {1.0f, half}, {0.0f, half}};
+  shape.uvs = {{u1, v1}, {u1, v0}, {u0, v0}, {u0, v1}};
+  shape.triangles = {{0, 1, 2}, {0, 2, 3}};
+  shape.texture = rgba;
+  return shape;
+}
+
+TriangleMesh LeafInstances::Bake() const {
+  TriangleMesh mesh;
+  const int material_idx = mesh.AddMaterial(material);
+  mesh.vertices.reserve(instances.size() * shape.points.size());
+  mesh.triangles.reserve(instances.size() * shape.triangles.size());
+  for (const LeafInstance& leaf : instances) {
+    const Eigen::Matrix3f rotation = leaf.rotation.toRotationMatrix();
+    const int first = mesh.NumVertices();
+    for (const Eigen::Vector2f& p : shape.points) {
+      mesh.AddVertex(leaf.translation +
+                     leaf.scale * (rotation.col(0) * p.x() + rotation.col(1) * p.y()));
+    }
+    for (const Eigen::Vector3i& t : shape.triangles) {
+      mesh.AddTriangle(first + t[0], first + t[1], first + t[2], material_idx);
+    }
+  }
+  return mesh;
+}
+
+namespace {
+
+// Leaves drawn freely in proportion to the density near the thin branches
+// (the first version), in batches until the target is met or the draw
+// budget is spent. Matte tests are left to the caller.
+std::vector<Leaf> DrawFreeLeaves(const PointGrid& twigs, const DensityGrid& density,
+                                 const DensitySampler& sampler, const LeafOptions& options,
+                                 double length, RandomEngine* rng, LeafSummary* summary) {
+  std::vector<Leaf> leaves;
+  for (int64_t i = 0; i < summary->target; ++i) {
+    ++summary->drawn;
+    const Eigen::Vector3d center = sampler.Draw(density, rng);
+    const int twig = twigs.Nearest(center, options.twig_reach * length);
+    if (twig < 0) {
+      ++summary->far_from_branches;
+      continue;
+    }
+    Leaf leaf;
+    leaf.center = center;
+    const Eigen::Vector3d away = center - twigs.points()[twig];
+    leaf.axis =
+        away.norm() > 1e-9 * length ? Eigen::Vector3d(away.normalized()) : RandomUnitVector(rng);
+    leaf.normal =
+        LeafNormal(leaf.axis, (center - sampler.centroid).normalized(), options.phototropism, rng);
+    leaves.push_back(leaf);
+  }
+  return leaves;
+}
+
+// Leaves at the phyllotactic sites along the thin branches, each kept with
+// probability target x opacity / (sum of opacities over all sites), so the
+// kept count follows the density like the free draw. The phyllotactic
+// normal is turned towards n_opt by phototropism, as the random one is.
+std::vector<Leaf> PhyllotacticLeaves(const std::vector<std::vector<Eigen::Vector3d>>& axes,
+                                     const DensityGrid& density, const DensitySampler& sampler,
+                                     const LeafOptions& options, double length, RandomEngine* rng,
+                                     LeafSummary* summary) {
+  const PhyllotaxisOptions phyllotaxis = ToPhyllotaxis(options, length);
+  std::vector<Leaf> sites;
+  std::vector<double> weights;
+  double total = 0.0;
+  for (const std::vector<Eigen::Vector3d>& axis : axes) {
+    for (const LeafAttachment& a : PlaceLeavesAlongAxis(axis, phyllotaxis)) {
+      Leaf leaf;
+      leaf.axis = a.petiole_direction;
+      leaf.center = a.position + 0.5 * length * leaf.axis;
+      const Eigen::Vector3d best =
+          Perpendicular((leaf.center - sampler.centroid).normalized(), leaf.axis);
+      const Eigen::Vector3d n =
+          options.phototropism * best + (1.0 - options.phototropism) * a.normal;
+      leaf.normal = n.norm() > 1e-9 ? Eigen::Vector3d(n.normalized()) : a.normal;
+      sites.push_back(leaf);
+      weights.push_back(OpacityAt(density, leaf.center));
+      total += weights.back();
+    }
+  }
+  summary->phyllotaxis_sites = static_cast<int64_t>(sites.size());
+  std::vector<Leaf> leaves;
+  for (size_t i = 0; i < sites.size(); ++i) {
+    ++summary->drawn;
+    const double keep = total > 0 ? summary->target * weights[i] / total : 0.0;
+    if (rng->Uniform() < keep) leaves.push_back(sites[i]);
+  }
+  return leaves;
+}
+
+// Leaves whose footprint lies inside the mattes (all of them without mattes).
+std::vector<char> MatteTest(const std::vector<Leaf>& leaves, double length, const ImageSet& views,
+                            const std::vector<SummedAreaTable>& tables, double threshold) {
+  std::vector<char> keep(leaves.size(), 1);
+  if (tables.empty()) return keep;
+  tbb::parallel_for(size_t{0}, leaves.size(), [&](size_t i) {
+    keep[i] = SeenInMattes(leaves[i], length, views, tables, threshold);
+  });
+  return keep;
+}
+
+}  // namespace
+
+LeafInstances GenerateLeafInstances(const SkeletonGraph& skeleton, const DensityGrid& density,
+                                    const ImageSet& views, const std::vector<FloatImage>& mattes,
+                                    const LeafOptions& options, LeafSummary* summary,
+                                    const LeafShape* shape) {
   options.Check();
   skeleton.Check();
   SYLVA_CHECK(mattes.empty() || static_cast<int>(mattes.size()) == views.NumViews());
   LeafSummary local;
   if (summary == nullptr) summary = &local;
   *summary = LeafSummary();
-  TriangleMesh mesh;
-  const int material = mesh.AddMaterial(kLeafMaterial);
-  if (skeleton.NumNodes() < 2 || density.IsEmpty()) return mesh;
+  LeafInstances out;
+  out.material = kLeafMaterial;
+  out.shape = shape != nullptr ? *shape : BuiltinLeafShape(options.shape, options.leaf_aspect);
+  out.shape.Check();
+  if (skeleton.NumNodes() < 2 || density.IsEmpty() || options.num_leaves < 0) return out;
 
-  const double length = options.leaf_length > 0 ? options.leaf_length
-                                                : options.leaf_length_fraction * TreeHeight(skeleton);
+  const double length = options.leaf_length > 0
+                            ? options.leaf_length
+                            : options.leaf_length_fraction * TreeHeight(skeleton);
   summary->leaf_length = length;
   const double trunk_radius = skeleton.nodes[skeleton.RootIdx()].radius;
-  std::vector<Eigen::Vector3d> twig_points =
-      ThinBranchPoints(skeleton, options.thin_branch_radius_fraction * trunk_radius, 0.5 * length);
-  if (twig_points.empty()) twig_points = ThinBranchPoints(skeleton, trunk_radius, 0.5 * length);
-  const PointGrid twigs(std::move(twig_points));
+  double thin_radius = options.thin_branch_radius_fraction * trunk_radius;
+  std::vector<Eigen::Vector3d> twig_points = ThinBranchPoints(skeleton, thin_radius, 0.5 * length);
+  if (twig_points.empty()) {
+    thin_radius = trunk_radius;
+    twig_points = ThinBranchPoints(skeleton, thin_radius, 0.5 * length);
+  }
   const DensitySampler sampler(density);
-
-  const double width = options.leaf_aspect * length;
-  summary->target = options.num_leaves > 0
-                        ? options.num_leaves
-                        : std::min<int64_t>(options.max_leaves,
-                                            std::llround(sampler.leaf_area / (0.5 * length * width)));
+  const double leaf_area = 0.5 * length * options.leaf_aspect * length;
+  summary->target =
+      options.num_leaves > 0
+          ? options.num_leaves
+          : std::min<int64_t>(options.max_leaves, std::llround(sampler.leaf_area / leaf_area));
   std::vector<SummedAreaTable> tables;
   for (const FloatImage& matte : mattes) tables.emplace_back(matte);
 
-  // Draw in batches (serially: one random stream), test the batch against
-  // the mattes in parallel (one flag per leaf: deterministic), until the
-  // target is met or the draw budget is spent.
+  // Draw serially (one random stream), test against the mattes in parallel
+  // (one flag per leaf: deterministic). Free draws repeat until the target
+  // is met or max_draws_factor x target were drawn.
   RandomEngine rng(options.seed, /*stream=*/0x1eaf);
+  const bool free_draws = options.phyllotaxis == "none";
+  const PointGrid twigs(free_draws ? std::move(twig_points) : std::vector<Eigen::Vector3d>());
+  const std::vector<std::vector<Eigen::Vector3d>> axes =
+      free_draws ? std::vector<std::vector<Eigen::Vector3d>>() : ThinAxes(skeleton, thin_radius);
   const int64_t max_draws = static_cast<int64_t>(options.max_draws_factor * summary->target);
-  while (summary->kept < summary->target && summary->drawn < max_draws) {
-    const int64_t batch = std::min(summary->target - summary->kept, max_draws - summary->drawn);
-    std::vector<Leaf> leaves;
-    for (int64_t i = 0; i < batch; ++i) {
-      ++summary->drawn;
-      const Eigen::Vector3d center = sampler.Draw(density, &rng);
-      const int twig = twigs.Nearest(center, options.twig_reach * length);
-      if (twig < 0) {
-        ++summary->far_from_branches;
-        continue;
-      }
-      Leaf leaf;
-      leaf.center = center;
-      const Eigen::Vector3d away = center - twigs.points()[twig];
-      leaf.axis = away.norm() > 1e-9 * length ? Eigen::Vector3d(away.normalized())
-                                               : RandomUnitVector(&rng);
-      leaf.normal = LeafNormal(leaf.axis, (center - sampler.centroid).normalized(),
-                               options.phototropism, &rng);
-      leaves.push_back(leaf);
-    }
-    std::vector<char> keep(leaves.size(), 1);
-    if (!tables.empty()) {
-      tbb::parallel_for(size_t{0}, leaves.size(), [&](size_t i) {
-        keep[i] = SeenInMattes(leaves[i], length, views, tables, options.matte_threshold);
-      });
-    }
+  const LeafSummary wanted = *summary;
+  do {
+    LeafSummary batch = wanted;
+    batch.target = std::min(summary->target - summary->kept, max_draws - summary->drawn);
+    const std::vector<Leaf> leaves =
+        free_draws ? DrawFreeLeaves(twigs, density, sampler, options, length, &rng, &batch)
+                   : PhyllotacticLeaves(axes, density, sampler, options, length, &rng, &batch);
+    summary->drawn += batch.drawn;
+    summary->far_from_branches += batch.far_from_branches;
+    summary->phyllotaxis_sites += batch.phyllotaxis_sites;
+    const std::vector<char> keep =
+        MatteTest(leaves, length, views, tables, options.matte_threshold);
     for (size_t i = 0; i < leaves.size(); ++i) {
       if (!keep[i]) {
         ++summary->outside_mattes;
         continue;
       }
-      AddLeafQuad(leaves[i], length, width, material, &mesh);
+      out.instances.push_back(ToInstance(leaves[i], length));
       ++summary->kept;
     }
-  }
-  return mesh;
+  } while (free_draws && summary->kept < summary->target && summary->drawn < max_draws);
+  return out;
+}
+
+TriangleMesh GenerateLeaves(const SkeletonGraph& skeleton, const DensityGrid& density,
+                            const ImageSet& views, const std::vector<FloatImage>& mattes,
+                            const LeafOptions& options, LeafSummary* summary) {
+  return GenerateLeafInstances(skeleton, density, views, mattes, options, summary).Bake();
 }
 
 }  // namespace sylva

@@ -1,9 +1,16 @@
-// Leaves (thesis 5.4, first version): quads hanging off the thin branches,
-// placed in proportion to the density around them, turned towards the light
-// by phototropism, and dropped where they project outside the mattes.
+// Leaves (thesis 5.4): leaves on the thin branches (and twigs, mesh/twigs.h),
+// as many as the density's leaf area implies and placed in proportion to it,
+// either drawn freely near the branches or at phyllotactic nodes along them
+// (mesh/phyllotaxis.h), turned towards the light by phototropism, and dropped
+// where they project outside the mattes. Every leaf is one copy of a leaf
+// shape (a built-in polygon or a textured quad from a user's image) under
+// its own rigid transform + scale, so exporters can instance it
+// (GenerateLeafInstances); GenerateLeaves bakes the copies into triangles.
 #ifndef SYLVA_MESH_LEAVES_H_
 #define SYLVA_MESH_LEAVES_H_
 
+#include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -49,6 +56,23 @@ struct LeafOptions {
   // any view that sees it is dropped (thesis: "projected to empty or very
   // sparse regions"); alpha.
   double matte_threshold = 0.1;
+  // Built-in leaf shape (BuiltinLeafShape): "quad" (a rhombus, the first
+  // version's leaf), "ovate", "lanceolate", "needle". A user's image replaces
+  // it through GenerateLeafInstances' `shape` argument.
+  std::string shape = "quad";
+  // "none": leaves drawn freely in proportion to the density near thin
+  // branches (the first version). A pattern of ParsePhyllotaxisPattern
+  // ("alternate", "opposite_decussate", "whorled", "spiral"): leaves sit at
+  // phyllotactic nodes along the thin branches, and of those nodes' leaves a
+  // density-weighted choice is kept, as many as the leaf area implies (at
+  // most all of them).
+  std::string phyllotaxis = "none";
+  // Phyllotaxis: distance between nodes along a branch, in leaf lengths.
+  double internode = 0.6;
+  // Phyllotaxis: see PhyllotaxisOptions (0 = the pattern's divergence).
+  double divergence_deg = 0.0;
+  int leaves_per_whorl = 3;
+  double insertion_deg = 60.0;
   uint64_t seed = 1;
 
   // Throws InputError("Leaves.<field>", ...).
@@ -61,12 +85,72 @@ struct LeafSummary {
   int64_t kept = 0;
   int64_t far_from_branches = 0;
   int64_t outside_mattes = 0;
-  double leaf_length = 0.0;  // world units
+  int64_t phyllotaxis_sites = 0;  // leaf positions offered by the pattern
+  double leaf_length = 0.0;       // world units
   std::string BriefReport() const;
 };
 
+// One leaf in its own frame, in units of leaf length: +X along the midrib
+// from the base (x = 0, where the petiole meets the branch) to the tip
+// (x = 1), +Y across, +Z the normal of the upper face; triangles are
+// counter-clockwise seen from +Z.
+struct LeafShape {
+  std::string name;
+  std::vector<Eigen::Vector2f> points;     // (x, y)
+  std::vector<Eigen::Vector3i> triangles;  // into points
+  // Texture coordinates per point (glTF convention: (0, 0) = the image's
+  // top-left corner), and the RGBA texture whose alpha masks the leaf; both
+  // empty for untextured shapes.
+  std::vector<Eigen::Vector2f> uvs;
+  FloatImage texture;
+
+  // Throws Error on bad indices, UVs not matching points, or a texture that
+  // is not RGBA.
+  void Check() const;
+};
+
+// "quad": the rhombus base, (0.5, +-aspect/2), tip; "ovate" (widest at 3/8 of
+// the length) and "lanceolate" (widest at 1/4, tapering to a long point):
+// 14-point outlines fanned from a point on the midrib; "needle": a thin
+// rhombus of width min(aspect, 0.05). `aspect` = width / length.
+// Throws InputError("Leaves.shape", ...) for other names.
+LeafShape BuiltinLeafShape(const std::string& name, double aspect);
+
+// A textured quad from an RGBA image of one leaf (upright: petiole at the
+// bottom row, tip at the top; alpha = 0 off the leaf): the quad spans the
+// alpha > alpha_threshold bounding box, one leaf length high and as wide as
+// the box's aspect implies. Throws InputError(`source`, ...) if the image is
+// not 4-channel or holds no leaf.
+LeafShape LeafShapeFromImage(const FloatImage& rgba, const std::string& source,
+                             float alpha_threshold = 0.5f);
+
+// One leaf: world_point = translation + scale * rotation * (x, y, 0) for a
+// shape point (x, y); scale = the leaf length (world units).
+struct LeafInstance {
+  Eigen::Vector3f translation = Eigen::Vector3f::Zero();
+  Eigen::Quaternionf rotation = Eigen::Quaternionf::Identity();
+  float scale = 1.0f;
+};
+
+struct LeafInstances {
+  LeafShape shape;
+  Material material;  // "leaves", double-sided
+  std::vector<LeafInstance> instances;
+
+  // The copies as triangles (shape points in order per leaf), material
+  // `material`, no texture coordinates.
+  TriangleMesh Bake() const;
+};
+
 // `skeleton` needs radii; `mattes` are one per view of `views` (may be empty
-// to skip the matte test). Material "leaves" (double-sided).
+// to skip the matte test). `shape` (optional) replaces options.shape, e.g. a
+// LeafShapeFromImage.
+LeafInstances GenerateLeafInstances(const SkeletonGraph& skeleton, const DensityGrid& density,
+                                    const ImageSet& views, const std::vector<FloatImage>& mattes,
+                                    const LeafOptions& options, LeafSummary* summary,
+                                    const LeafShape* shape = nullptr);
+
+// GenerateLeafInstances(...).Bake(). Material "leaves" (double-sided).
 TriangleMesh GenerateLeaves(const SkeletonGraph& skeleton, const DensityGrid& density,
                             const ImageSet& views, const std::vector<FloatImage>& mattes,
                             const LeafOptions& options, LeafSummary* summary);

@@ -1,0 +1,295 @@
+#include "mesh/twigs.h"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <sstream>
+
+#include "core/util/check.h"
+#include "core/util/random.h"
+#include "mesh/phyllotaxis.h"
+
+namespace sylva {
+namespace {
+
+constexpr double kDegree = M_PI / 180.0;
+// Successive twigs on one branch turn by the golden angle (spiral phyllotaxis).
+const double kGoldenAngle = M_PI * (3.0 - std::sqrt(5.0));
+// Monopodial laterals are this fraction of their twig's length.
+constexpr double kLateralLength = 0.5;
+// Sympodial spent apices: stubs of this fraction of a unit.
+constexpr double kStubLength = 0.3;
+
+double TreeHeight(const SkeletonGraph& skeleton) {
+  double top = -std::numeric_limits<double>::infinity();
+  for (const SkeletonNode& node : skeleton.nodes) top = std::max(top, node.position.z());
+  return top - skeleton.nodes[skeleton.RootIdx()].position.z();
+}
+
+// Local opacity relative to the mean of the active voxels (1 without a grid).
+class DensityFactor {
+ public:
+  DensityFactor(const DensityGrid& density, double max_factor)
+      : density_(density), max_factor_(max_factor) {
+    if (!density.IsEmpty()) mean_ = density.SumOfValues() / density.NumActiveVoxels();
+  }
+  double At(const Eigen::Vector3d& point) const {
+    if (mean_ <= 0) return 1.0;
+    const Eigen::Vector3i ijk = density_.IndexFromWorld(point).array().round().cast<int>();
+    return std::min(max_factor_, density_.Value(ijk) / mean_);
+  }
+  double max() const { return mean_ > 0 ? max_factor_ : 1.0; }
+
+ private:
+  const DensityGrid& density_;
+  double max_factor_;
+  double mean_ = 0.0;
+};
+
+// Axes from which no other axis starts (their first node is a junction on
+// the parent axis, so only the later nodes count).
+std::vector<BranchAxis> TerminalAxes(const SkeletonGraph& skeleton) {
+  const std::vector<BranchAxis> axes = skeleton.BranchAxes();
+  std::vector<char> starts_axis(skeleton.NumNodes(), 0);
+  for (size_t a = 1; a < axes.size(); ++a) starts_axis[axes[a][0]] = 1;
+  std::vector<BranchAxis> terminal;
+  for (const BranchAxis& axis : axes) {
+    bool bears = false;
+    for (size_t i = 1; i < axis.size(); ++i) bears = bears || starts_axis[axis[i]];
+    if (!bears && axis.size() >= 2) terminal.push_back(axis);
+  }
+  return terminal;
+}
+
+// A unit vector perpendicular to `t` at `azimuth` (radians) about it (0 = world up).
+Eigen::Vector3d Radial(const Eigen::Vector3d& t, double azimuth) {
+  return RadialDirection(t, azimuth / kDegree);
+}
+
+// Where a twig starts: on the edge into `child` at fraction s from its parent.
+struct Site {
+  int child = 0;
+  double s = 0.0;
+  double azimuth = 0.0;
+  double length = 0.0;
+};
+
+class TwigGrower {
+ public:
+  TwigGrower(const TwigOptions& options, int twig_order, SkeletonGraph* skeleton,
+             TwigSummary* summary)
+      : options_(options), order_(twig_order), skeleton_(skeleton), summary_(summary) {}
+
+  // A twig from node `base` leaving the unit direction `parent_dir`.
+  void Grow(int base, const Eigen::Vector3d& parent_dir, const Site& site, double base_radius) {
+    const Eigen::Vector3d dir =
+        std::cos(options_.branching_angle_deg * kDegree) * parent_dir +
+        std::sin(options_.branching_angle_deg * kDegree) * Radial(parent_dir, site.azimuth);
+    ++summary_->twigs;
+    if (options_.pattern == "sympodial") {
+      GrowSympodial(base, dir, Radial(parent_dir, site.azimuth + 0.5 * M_PI), site.length,
+                    base_radius);
+    } else {
+      GrowMonopodial(base, dir, site.length, base_radius);
+    }
+  }
+
+ private:
+  // Direction of segment i of n after tropism.
+  Eigen::Vector3d Bend(const Eigen::Vector3d& dir, int i, int n) const {
+    const double pull = options_.tropism * (1.0 - options_.stiffness) * (i + 1.0) / n;
+    const Eigen::Vector3d bent = dir + pull * Eigen::Vector3d::UnitZ();
+    return bent.norm() > 1e-9 ? Eigen::Vector3d(bent.normalized()) : dir;
+  }
+  int Add(int parent, const Eigen::Vector3d& step, double radius, int order) {
+    summary_->total_length += step.norm();
+    ++summary_->nodes_added;
+    return skeleton_->AddNode(skeleton_->nodes[parent].position + step, radius, parent, order);
+  }
+  // A straight-ish chain of `n` segments; returns its node indices (base first).
+  std::vector<int> Chain(int base, Eigen::Vector3d dir, double length, double r0, int n,
+                         int order) {
+    std::vector<int> nodes = {base};
+    for (int i = 0; i < n; ++i) {
+      dir = Bend(dir, i, n);
+      const double radius = r0 * (1.0 - (1.0 - options_.tip_taper) * (i + 1.0) / n);
+      nodes.push_back(Add(nodes.back(), dir * (length / n), radius, order));
+    }
+    return nodes;
+  }
+  void GrowMonopodial(int base, const Eigen::Vector3d& dir, double length, double r0) {
+    const int n = options_.segments;
+    const std::vector<int> axis = Chain(base, dir, length, r0, n, order_);
+    for (int k = 0; k < options_.laterals; ++k) {
+      // Laterals spread over the axis' inner nodes, alternating sides.
+      const int at = axis[1 + (k * (n - 1)) / std::max(1, options_.laterals) % n];
+      const Eigen::Vector3d parent_dir =
+          (skeleton_->nodes[at].position -
+           skeleton_->nodes[skeleton_->nodes[at].parent_idx].position)
+              .normalized();
+      const Eigen::Vector3d lateral =
+          std::cos(options_.branching_angle_deg * kDegree) * parent_dir +
+          std::sin(options_.branching_angle_deg * kDegree) * Radial(parent_dir, M_PI * (0.5 + k));
+      Chain(at, lateral, kLateralLength * length, skeleton_->nodes[at].radius, std::max(1, n / 2),
+            order_ + 1);
+    }
+  }
+  void GrowSympodial(int base, Eigen::Vector3d dir, const Eigen::Vector3d& side, double length,
+                     double r0) {
+    const int n = options_.segments;
+    const double unit = length / n;
+    const Eigen::Vector3d plane_normal = dir.cross(side).normalized();
+    int node = base;
+    for (int i = 0; i < n; ++i) {
+      if (i > 0) {
+        // The spent apex stays as a stub; a lateral bud takes over, turned
+        // alternately to either side.
+        Add(node, dir * (kStubLength * unit), skeleton_->nodes[node].radius * options_.tip_taper,
+            order_ + 1);
+        const double turn = (i % 2 ? 1.0 : -1.0) * options_.sympodial_angle_deg * kDegree;
+        dir = Eigen::AngleAxisd(turn, plane_normal) * dir;
+      }
+      dir = Bend(dir, i, n);
+      const double radius = r0 * (1.0 - (1.0 - options_.tip_taper) * (i + 1.0) / n);
+      node = Add(node, dir * unit, radius, order_);
+    }
+  }
+
+  const TwigOptions& options_;
+  int order_;
+  SkeletonGraph* skeleton_;
+  TwigSummary* summary_;
+};
+
+// Draws twig sites along the terminal axes: candidates every `spacing` of
+// arc length, each kept with probability DensityFactor / max.
+std::vector<Site> DrawSites(const SkeletonGraph& skeleton, const std::vector<BranchAxis>& axes,
+                            const DensityFactor& density, const TwigOptions& options,
+                            double twig_length, RandomEngine* rng) {
+  const double spacing = twig_length / (options.twigs_per_length * density.max());
+  std::vector<Site> sites;
+  for (const BranchAxis& axis : axes) {
+    double azimuth = 2.0 * M_PI * rng->Uniform();
+    for (size_t i = 1; i < axis.size(); ++i) {
+      const Eigen::Vector3d& from = skeleton.nodes[axis[i - 1]].position;
+      const Eigen::Vector3d& to = skeleton.nodes[axis[i]].position;
+      const int candidates =
+          static_cast<int>(std::floor((to - from).norm() / spacing + rng->Uniform()));
+      for (int c = 0; c < candidates; ++c) {
+        Site site;
+        site.child = axis[i];
+        site.s = (c + rng->Uniform()) / candidates;
+        site.length = twig_length *
+                      rng->Uniform(1.0 - options.length_variation, 1.0 + options.length_variation);
+        const double keep = density.At(from + site.s * (to - from)) / density.max();
+        if (rng->Uniform() >= keep) continue;
+        azimuth += kGoldenAngle;
+        site.azimuth = azimuth;
+        sites.push_back(site);
+      }
+    }
+  }
+  return sites;
+}
+
+}  // namespace
+
+void TwigOptions::Check() const {
+  SYLVA_CHECK_INPUT(pattern == "monopodial" || pattern == "sympodial", "Twigs.pattern")
+      << "must be \"monopodial\" or \"sympodial\", got \"" << pattern << "\"";
+  SYLVA_CHECK_INPUT(twigs_per_length >= 0 && twigs_per_length <= 1000, "Twigs.twigs_per_length")
+      << "must be in [0, 1000] twigs per twig length, got " << twigs_per_length;
+  SYLVA_CHECK_INPUT(max_density_factor >= 1, "Twigs.max_density_factor")
+      << "must be >= 1, got " << max_density_factor;
+  SYLVA_CHECK_INPUT(length >= 0, "Twigs.length") << "must be >= 0 world units, got " << length;
+  SYLVA_CHECK_INPUT(length_fraction > 0 && length_fraction < 1, "Twigs.length_fraction")
+      << "must be in (0, 1), got " << length_fraction;
+  SYLVA_CHECK_INPUT(length_variation >= 0 && length_variation < 1, "Twigs.length_variation")
+      << "must be in [0, 1), got " << length_variation;
+  SYLVA_CHECK_INPUT(branching_angle_deg > 0 && branching_angle_deg < 180,
+                    "Twigs.branching_angle_deg")
+      << "must be in (0, 180) degrees, got " << branching_angle_deg;
+  SYLVA_CHECK_INPUT(strand_fraction > 0 && strand_fraction <= 1, "Twigs.strand_fraction")
+      << "must be in (0, 1], got " << strand_fraction;
+  SYLVA_CHECK_INPUT(diameter_exponent >= 1 && diameter_exponent <= 4, "Twigs.diameter_exponent")
+      << "must be in [1, 4], got " << diameter_exponent;
+  SYLVA_CHECK_INPUT(tip_taper > 0 && tip_taper <= 1, "Twigs.tip_taper")
+      << "must be in (0, 1], got " << tip_taper;
+  SYLVA_CHECK_INPUT(tropism >= -1 && tropism <= 1, "Twigs.tropism")
+      << "must be in [-1, 1], got " << tropism;
+  SYLVA_CHECK_INPUT(stiffness >= 0 && stiffness <= 1, "Twigs.stiffness")
+      << "must be in [0, 1], got " << stiffness;
+  SYLVA_CHECK_INPUT(segments >= 1 && segments <= 64, "Twigs.segments")
+      << "must be between 1 and 64, got " << segments;
+  SYLVA_CHECK_INPUT(laterals >= 0 && laterals <= 16, "Twigs.laterals")
+      << "must be between 0 and 16, got " << laterals;
+  SYLVA_CHECK_INPUT(sympodial_angle_deg >= 0 && sympodial_angle_deg < 90,
+                    "Twigs.sympodial_angle_deg")
+      << "must be in [0, 90) degrees, got " << sympodial_angle_deg;
+}
+
+std::string TwigSummary::BriefReport() const {
+  std::ostringstream out;
+  out << "Twigs: " << twigs << " on " << terminal_branches << " terminal branches, " << nodes_added
+      << " nodes added (order " << twig_order << "+), length " << twig_length << " each, "
+      << total_length << " in all.";
+  return out.str();
+}
+
+SkeletonGraph GrowTwigs(const SkeletonGraph& skeleton, const DensityGrid& density,
+                        const TwigOptions& options, TwigSummary* summary) {
+  options.Check();
+  skeleton.Check();
+  TwigSummary local;
+  if (summary == nullptr) summary = &local;
+  *summary = TwigSummary();
+  SkeletonGraph out = skeleton;
+  summary->first_added_node = out.NumNodes();
+  int max_order = 0;
+  for (const SkeletonNode& node : skeleton.nodes) max_order = std::max(max_order, node.order);
+  summary->twig_order = max_order + 1;
+  if (skeleton.NumNodes() < 2 || options.twigs_per_length == 0) return out;
+
+  const double height = TreeHeight(skeleton);
+  summary->twig_length = options.length > 0 ? options.length : options.length_fraction * height;
+  if (summary->twig_length <= 0) return out;
+  const std::vector<BranchAxis> axes = TerminalAxes(skeleton);
+  summary->terminal_branches = static_cast<int>(axes.size());
+  RandomEngine rng(options.seed, /*stream=*/0x7a19);
+  const DensityFactor factor(density, options.max_density_factor);
+  std::vector<Site> sites = DrawSites(skeleton, axes, factor, options, summary->twig_length, &rng);
+  // Per edge, split at the sites from the parent end up, growing a twig at each.
+  std::map<int, std::vector<Site>> sites_of_edge;
+  for (const Site& site : sites) sites_of_edge[site.child].push_back(site);
+  std::map<int, double> tip_radius;  // of each terminal axis' child nodes
+  for (const BranchAxis& axis : axes) {
+    for (size_t i = 1; i < axis.size(); ++i)
+      tip_radius[axis[i]] = skeleton.nodes[axis.back()].radius;
+  }
+  TwigGrower grower(options, summary->twig_order, &out, summary);
+  for (auto& [child, edge_sites] : sites_of_edge) {
+    std::sort(edge_sites.begin(), edge_sites.end(),
+              [](const Site& a, const Site& b) { return a.s < b.s; });
+    const SkeletonNode lower = skeleton.nodes[skeleton.nodes[child].parent_idx];
+    const SkeletonNode upper = skeleton.nodes[child];
+    const Eigen::Vector3d dir = (upper.position - lower.position).normalized();
+    const double twig_radius =
+        tip_radius[child] * std::pow(options.strand_fraction, 1.0 / options.diameter_exponent);
+    int previous = upper.parent_idx;
+    for (const Site& site : edge_sites) {
+      const int split =
+          out.AddNode(lower.position + site.s * (upper.position - lower.position),
+                      lower.radius + site.s * (upper.radius - lower.radius), previous, upper.order);
+      out.nodes[split].strands = upper.strands;
+      ++summary->nodes_added;
+      grower.Grow(split, dir, site, twig_radius);
+      previous = split;
+    }
+    out.nodes[child].parent_idx = previous;
+  }
+  return out;
+}
+
+}  // namespace sylva

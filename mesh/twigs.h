@@ -1,0 +1,89 @@
+// Twigs (thesis 5.4): fine branches grown from the skeleton's terminal
+// branches, more of them where the density is high, in a monopodial or a
+// sympodial pattern (Deussen & Lintermann 2005, p. 14), bent by tropism
+// against the twigs' stiffness.
+//
+// The photographs cannot show twigs (too thin, occluded), so their number is
+// driven by the density grid and their look by a few species-like options.
+// The result is the input skeleton with twig nodes appended, so the branch
+// mesher sweeps them like any other branch:
+//   - nodes 0 .. N-1 of the input keep their index, position, radius, order
+//     and strands; only a parent_idx changes where a twig joins mid-edge
+//     (the edge is split by an appended node of the same axis order);
+//   - twig nodes are appended with order = TwigSummary::twig_order (one
+//     more than the input's highest order), their side shoots (monopodial
+//     laterals, sympodial spent apices) with twig_order + 1, and strands 0;
+//     Select them with `node.order >= summary.twig_order`.
+#ifndef SYLVA_MESH_TWIGS_H_
+#define SYLVA_MESH_TWIGS_H_
+
+#include <cstdint>
+#include <string>
+
+#include "core/types/density_grid.h"
+#include "core/types/skeleton_graph.h"
+
+namespace sylva {
+
+struct TwigOptions {
+  // "monopodial": a straight leading twig axis with lateral shoots (spruce,
+  // oak); "sympodial": a zig-zag of short units, each continued by a
+  // lateral bud while its spent apex stays as a stub (monochasium, linden).
+  std::string pattern = "monopodial";
+  // Twigs per twig length of terminal branch where the density equals the
+  // mean opacity of the grid's active voxels; proportional to the opacity
+  // elsewhere (up to max_density_factor times), none where it is empty. An
+  // empty grid means "no density information": the rate is used as is.
+  double twigs_per_length = 1.5;
+  double max_density_factor = 2.0;
+  // Twig length, world units; 0 = length_fraction x tree height. Each twig
+  // varies by a uniform factor in [1 - length_variation, 1 + length_variation].
+  double length = 0.0;
+  double length_fraction = 0.04;
+  double length_variation = 0.3;
+  // Angle between a twig and its parent branch, degrees (0, 180).
+  double branching_angle_deg = 45.0;
+  // Pipe-model radius (thesis 5.1): a twig carries this fraction of the
+  // strands of its parent branch's tip, so its base radius is
+  // r_tip x fraction^(1 / diameter_exponent); it tapers linearly to
+  // tip_taper x that at its end.
+  double strand_fraction = 0.25;
+  double diameter_exponent = 2.0;
+  double tip_taper = 0.5;
+  // Tropism: each segment's direction is pulled towards +Z (> 0: shoots
+  // bending up) or -Z (< 0: drooping under their weight) by
+  // |tropism| x (1 - stiffness) x (segment / segments), so a twig bends
+  // most towards its end, as a loaded cantilever does. Ranges [-1, 1], [0, 1].
+  double tropism = 0.2;
+  double stiffness = 0.5;
+  // Edges per twig (the twig's nodes beyond its base).
+  int segments = 4;
+  // Monopodial: lateral shoots per twig, half as long, alternating sides.
+  int laterals = 2;
+  // Sympodial: turn of each unit from the previous one, degrees, alternating.
+  double sympodial_angle_deg = 30.0;
+  uint64_t seed = 1;
+
+  // Throws InputError("Twigs.<field>", ...).
+  void Check() const;
+};
+
+struct TwigSummary {
+  int terminal_branches = 0;  // branch axes that carry twigs
+  int twigs = 0;
+  int nodes_added = 0;        // split nodes + twig nodes
+  int first_added_node = 0;   // index of the first appended node
+  int twig_order = 0;         // order of twig nodes (side shoots: + 1)
+  double twig_length = 0.0;   // world units, before variation
+  double total_length = 0.0;  // of all twig edges, world units
+  std::string BriefReport() const;
+};
+
+// Terminal branches: branch axes (SkeletonGraph::BranchAxes) from which no
+// other axis starts. `skeleton` needs radii. Deterministic for a seed.
+SkeletonGraph GrowTwigs(const SkeletonGraph& skeleton, const DensityGrid& density,
+                        const TwigOptions& options, TwigSummary* summary = nullptr);
+
+}  // namespace sylva
+
+#endif  // SYLVA_MESH_TWIGS_H_

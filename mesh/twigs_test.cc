@@ -1,0 +1,188 @@
+#include "mesh/twigs.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "core/util/check.h"
+#include "mesh/branch_mesh.h"
+
+namespace sylva {
+namespace {
+
+// A trunk to z = 3 with one horizontal branch at z = 2 reaching x = 4: the
+// branch is the only terminal branch (the trunk bears it).
+SkeletonGraph TrunkAndBranch() {
+  SkeletonGraph skeleton;
+  const int root = skeleton.AddNode({0, 0, 0}, 0.2, -1, 0);
+  const int fork = skeleton.AddNode({0, 0, 2}, 0.15, root, 0);
+  skeleton.AddNode({0, 0, 3}, 0.1, fork, 0);
+  int node = fork;
+  for (int x = 1; x <= 4; ++x) node = skeleton.AddNode({double(x), 0, 2}, 0.06 - 0.01 * x, node, 1);
+  return skeleton;
+}
+
+// Opacity 0.6 around the branch's inner half (x < 2), 0.2 around its outer half.
+DensityGrid BranchDensity() {
+  DensityGrid grid(0.1, Eigen::Vector3d::Zero());
+  for (int i = 0; i <= 40; ++i)
+    for (int j = -5; j <= 5; ++j)
+      for (int k = 15; k <= 25; ++k) grid.SetValue({i, j, k}, i < 20 ? 0.6f : 0.2f);
+  return grid;
+}
+
+std::vector<int> TwigBases(const SkeletonGraph& skeleton, const TwigSummary& summary) {
+  std::vector<int> bases;
+  for (int i = summary.first_added_node; i < skeleton.NumNodes(); ++i) {
+    const SkeletonNode& node = skeleton.nodes[i];
+    if (node.order == summary.twig_order &&
+        skeleton.nodes[node.parent_idx].order < summary.twig_order) {
+      bases.push_back(i);
+    }
+  }
+  return bases;
+}
+
+TEST(TwigsTest, TwigsFollowTheDensityOnTerminalBranchesOnly) {
+  TwigOptions options;
+  options.length = 0.05;
+  options.twigs_per_length = 4.0;  // ~ 0.8 per 0.1 of branch at mean density
+  TwigSummary summary;
+  const SkeletonGraph twigs = GrowTwigs(TrunkAndBranch(), BranchDensity(), options, &summary);
+  SCOPED_TRACE(summary.BriefReport());
+  twigs.Check();
+  EXPECT_EQ(summary.terminal_branches, 1);
+  EXPECT_EQ(summary.twig_order, 2);
+  const std::vector<int> bases = TwigBases(twigs, summary);
+  EXPECT_EQ(static_cast<int>(bases.size()), summary.twigs);
+  int inner = 0, outer = 0;
+  for (int b : bases) {
+    const Eigen::Vector3d& at = twigs.nodes[twigs.nodes[b].parent_idx].position;
+    EXPECT_NEAR(at.z(), 2.0, 1e-9);  // on the branch, never on the trunk
+    EXPECT_GT(at.x(), 0.0);
+    (at.x() < 2.0 ? inner : outer)++;
+  }
+  // Expected 4 / 0.05 x (1.5, 0.5) x 2 m = 240 and 80 twigs.
+  EXPECT_NEAR(inner, 240, 50);
+  EXPECT_NEAR(static_cast<double>(inner) / outer, 3.0, 0.8);
+}
+
+TEST(TwigsTest, InputNodesKeptTwigsThinnerAndMeshed) {
+  const SkeletonGraph input = TrunkAndBranch();
+  TwigOptions options;
+  options.twigs_per_length = 2.0;
+  TwigSummary summary;
+  const SkeletonGraph twigs = GrowTwigs(input, BranchDensity(), options, &summary);
+  ASSERT_GT(summary.twigs, 5);
+  EXPECT_NEAR(summary.twig_length, 0.04 * 3.0, 1e-12);  // length_fraction x height
+  for (int i = 0; i < input.NumNodes(); ++i) {
+    EXPECT_EQ(twigs.nodes[i].position, input.nodes[i].position);
+    EXPECT_EQ(twigs.nodes[i].radius, input.nodes[i].radius);
+    EXPECT_EQ(twigs.nodes[i].order, input.nodes[i].order);
+  }
+  // Pipe model: base radius = branch tip radius (0.02) x 0.25^(1/2).
+  for (int b : TwigBases(twigs, summary)) {
+    EXPECT_LE(twigs.nodes[b].radius, 0.01 + 1e-12);
+    EXPECT_GE(twigs.nodes[b].radius, 0.01 * options.tip_taper - 1e-12);
+  }
+  // The input's tips are still tips; twigs end in new ones.
+  const auto children = twigs.Children();
+  for (int tip : input.Tips()) EXPECT_TRUE(children[tip].empty()) << tip;
+  const TriangleMesh bare = MeshBranches(input, BranchMeshOptions(), nullptr);
+  const TriangleMesh with_twigs = MeshBranches(twigs, BranchMeshOptions(), nullptr);
+  EXPECT_GT(with_twigs.NumTriangles(), bare.NumTriangles() + 10 * summary.twigs);
+}
+
+// Mean z of twig ends minus their bases, per unit of twig length.
+double MeanRise(const SkeletonGraph& skeleton, const TwigSummary& summary) {
+  double rise = 0.0;
+  int count = 0;
+  const auto children = skeleton.Children();
+  for (int b : TwigBases(skeleton, summary)) {
+    int node = b;
+    while (true) {
+      int next = -1;
+      for (int c : children[node]) {
+        if (skeleton.nodes[c].order == summary.twig_order) next = c;
+      }
+      if (next < 0) break;
+      node = next;
+    }
+    rise += skeleton.nodes[node].position.z() -
+            skeleton.nodes[skeleton.nodes[b].parent_idx].position.z();
+    ++count;
+  }
+  return rise / count / summary.twig_length;
+}
+
+TEST(TwigsTest, TropismBendsAndStiffnessResists) {
+  TwigOptions options;
+  options.twigs_per_length = 3.0;
+  options.stiffness = 0.0;
+  options.tropism = -1.0;
+  TwigSummary down, up, stiff;
+  const SkeletonGraph drooping = GrowTwigs(TrunkAndBranch(), DensityGrid(), options, &down);
+  options.tropism = 1.0;
+  const SkeletonGraph rising = GrowTwigs(TrunkAndBranch(), DensityGrid(), options, &up);
+  options.stiffness = 1.0;
+  const SkeletonGraph straight = GrowTwigs(TrunkAndBranch(), DensityGrid(), options, &stiff);
+  EXPECT_LT(MeanRise(drooping, down), -0.3);
+  EXPECT_GT(MeanRise(rising, up), 0.3);
+  // Stiff twigs keep the branching cone: on average level with a horizontal branch.
+  EXPECT_NEAR(MeanRise(straight, stiff), 0.0, 0.15);
+}
+
+TEST(TwigsTest, SympodialZigZagsWithStubsMonopodialHasLaterals) {
+  TwigOptions options;
+  options.twigs_per_length = 1.0;
+  options.tropism = 0.0;
+  options.pattern = "sympodial";
+  options.sympodial_angle_deg = 30.0;
+  TwigSummary summary;
+  const SkeletonGraph sympodial = GrowTwigs(TrunkAndBranch(), DensityGrid(), options, &summary);
+  ASSERT_GT(summary.twigs, 3);
+  int stubs = 0;
+  for (int i = summary.first_added_node; i < sympodial.NumNodes(); ++i) {
+    const SkeletonNode& node = sympodial.nodes[i];
+    if (node.order == summary.twig_order + 1) ++stubs;
+    const SkeletonNode& parent = sympodial.nodes[node.parent_idx];
+    if (node.order != summary.twig_order || parent.order != summary.twig_order) continue;
+    // Successive units turn by the sympodial angle.
+    const SkeletonNode& grand = sympodial.nodes[parent.parent_idx];
+    const Eigen::Vector3d a = (parent.position - grand.position).normalized();
+    const Eigen::Vector3d b = (node.position - parent.position).normalized();
+    EXPECT_NEAR(std::acos(std::clamp(a.dot(b), -1.0, 1.0)) * 180 / M_PI, 30.0, 1e-6);
+  }
+  EXPECT_EQ(stubs, summary.twigs * (options.segments - 1));
+
+  options.pattern = "monopodial";
+  const SkeletonGraph monopodial = GrowTwigs(TrunkAndBranch(), DensityGrid(), options, &summary);
+  int laterals = 0;
+  for (int i = summary.first_added_node; i < monopodial.NumNodes(); ++i) {
+    const SkeletonNode& node = monopodial.nodes[i];
+    const SkeletonNode& parent = monopodial.nodes[node.parent_idx];
+    if (node.order == summary.twig_order + 1 && parent.order == summary.twig_order) ++laterals;
+  }
+  EXPECT_EQ(laterals, summary.twigs * options.laterals);
+}
+
+TEST(TwigsTest, DeterministicBySeedAndOptionsChecked) {
+  TwigOptions options;
+  const SkeletonGraph a = GrowTwigs(TrunkAndBranch(), BranchDensity(), options);
+  const SkeletonGraph b = GrowTwigs(TrunkAndBranch(), BranchDensity(), options);
+  ASSERT_EQ(a.NumNodes(), b.NumNodes());
+  for (int i = 0; i < a.NumNodes(); ++i) EXPECT_EQ(a.nodes[i].position, b.nodes[i].position);
+  options.seed = 2;
+  const SkeletonGraph c = GrowTwigs(TrunkAndBranch(), BranchDensity(), options);
+  EXPECT_TRUE(c.NumNodes() != a.NumNodes() || c.nodes.back().position != a.nodes.back().position);
+  options.pattern = "weeping";
+  try {
+    GrowTwigs(TrunkAndBranch(), BranchDensity(), options);
+    FAIL();
+  } catch (const InputError& error) {
+    EXPECT_EQ(error.source(), "Twigs.pattern");
+  }
+}
+
+}  // namespace
+}  // namespace sylva
