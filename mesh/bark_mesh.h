@@ -63,6 +63,10 @@ struct BarkMeshOptions {
   // Ring radii are at least this fraction of the largest radius, so tips of
   // radius 0 still give a valid ring (in (0, 1)).
   double min_radius_fraction = 0.01;
+  // Laterals whose first edge has at most this fraction of the parent's
+  // radius are attached to one quad of the parent tube (see above) instead
+  // of a convex joint around the whole junction; in [0, 1], 0 = never.
+  double attach_ratio = 1.0;
 
   // Throws InputError("BarkMesh.<field>", ...) naming the violated constraint.
   void Check() const;
@@ -75,6 +79,8 @@ struct BarkMeshSummary {
   int fallbacks = 0;       // nodes absorbed into a joint or joints merged
   int pushed_out = 0;      // joints whose cuts had to be pushed beyond the sphere
   int swallowed_tips = 0;  // tips inside a joint (their branch is the hull)
+  int attached = 0;        // thin laterals glued onto a quad of the parent tube
+  int unattached = 0;      // thin laterals that found no quad: capped, overlapping (not closed)
   int failed_joints = 0;   // joints whose hull could not be built (mesh not closed)
   int pieces = 0;          // tubes between joints, tips and the root
   int triangles = 0;
