@@ -2,8 +2,6 @@
 
 #include <algorithm>
 #include <array>
-#include <cstdio>
-#include <cstdlib>
 #include <limits>
 #include <chrono>
 #include <cmath>
@@ -292,10 +290,6 @@ class WatertightMesher {
           }
         }
         if (worst >= 0 && (worst_ratio > options_.max_cut_fraction || !faces)) {
-          if (getenv("BARK_DEBUG") && debug_count_++ < 6) {
-            fprintf(stderr, "group %d members %zu faces %d pushes %d worst %d ratio %g\n", g, members.size(), faces, pushes, worst, worst_ratio);
-            for (auto& e : exits) fprintf(stderr, "  %d->%d pathlen %zu t %g L %g r %g seg %d dir %.3f %.3f %.3f\n", e.path[0], e.path[1], e.path.size(), e.t, e.Length(), e.radius, e.segment, e.direction.x(), e.direction.y(), e.direction.z());
-          }
           for (int node : exits[worst].path) Join(g, node);
           ++summary_->fallbacks;
           changed = true;
@@ -416,17 +410,36 @@ class WatertightMesher {
   };
   Quad QuadAt(const PieceInfo& p, int i, int j) const {
     Quad q;
+    j = ((j % p.sides) + p.sides) % p.sides;
     const int ring = p.first_vertex + i * p.sides, next = ring + p.sides, j1 = (j + 1) % p.sides;
     q.v = {ring + j, ring + j1, next + j1, next + j};
     q.triangle = p.first_triangle + 2 * (i * p.sides + j);
     return q;
+  }
+  // A strip of `width` quads of ring gap i from side j on: its quads and its
+  // boundary loop (ring i forwards, ring i + 1 backwards).
+  struct Patch {
+    std::vector<Quad> quads;
+    std::vector<int> loop;
+    int i = 0, j = 0;
+  };
+  Patch PatchAt(const PieceInfo& p, int i, int j, int width) const {
+    Patch patch;
+    patch.i = i;
+    patch.j = j;
+    for (int m = 0; m < width; ++m) patch.quads.push_back(QuadAt(p, i, j + m));
+    for (int m = 0; m < width; ++m) patch.loop.push_back(patch.quads[m].v[0]);
+    patch.loop.push_back(patch.quads.back().v[1]);
+    patch.loop.push_back(patch.quads.back().v[2]);
+    for (int m = width - 1; m >= 0; --m) patch.loop.push_back(patch.quads[m].v[3]);
+    return patch;
   }
 
   // Where a thin lateral from junction u along `chain` leaves the parent
   // tube: the parent quad its first edge crosses, and a cut `start` whose
   // ring sees that quad as the hull face opposite to it. False if none fits.
   bool FindAttachment(const std::vector<int>& chain, const TriangleMesh& mesh, const Exit* end,
-                      Quad* quad, Exit* start) const {
+                      Patch* patch, Exit* start) const {
     const int u = chain[0];
     const auto it = attach_piece_.find(u);
     if (it == attach_piece_.end()) return false;
@@ -435,6 +448,8 @@ class WatertightMesher {
     const Eigen::Vector3d d = (Position(chain[1]) - origin).normalized();
     double best = std::numeric_limits<double>::infinity();
     double along = 0.0;
+    Quad centre;
+    int best_i = 0, best_j = 0;
     for (int i = 0; i + 1 < p.rings; ++i) {
       for (int j = 0; j < p.sides; ++j) {
         const Quad q = QuadAt(p, i, j);
@@ -447,16 +462,30 @@ class WatertightMesher {
         if (off < best) {
           best = off;
           along = s;
-          *quad = q;
+          centre = q;
+          best_i = i;
+          best_j = j;
         }
       }
     }
     if (!std::isfinite(best)) return false;
-    std::array<Eigen::Vector3d, 4> qv;
-    for (int k = 0; k < 4; ++k) qv[k] = mesh.vertices[quad->v[k]].cast<double>();
-    const double size = (qv[2] - qv[0]).norm() + (qv[3] - qv[1]).norm();
+    // One quad: wider strips (as wide as the lateral) leave the strip's
+    // boundary edges off the hull too often (tried: 3-5 % of joints failed).
+    *patch = PatchAt(p, best_i, best_j, 1);
+    std::vector<Eigen::Vector3d> qv;
+    for (int v : patch->loop) qv.push_back(mesh.vertices[v].cast<double>());
+    double size = 0.0;
+    for (const Eigen::Vector3d& v : qv) size = std::max(size, (v - qv[0]).norm());
     const double clearance = kFaceClearance * size;
-    const std::array<std::array<int, 3>, 4> planes = {{{0, 1, 2}, {0, 2, 3}, {0, 1, 3}, {1, 2, 3}}};
+    // Planes of both diagonals' triangles of every quad, outward.
+    std::vector<std::array<Eigen::Vector3d, 2>> planes;  // point, unit normal
+    for (const Quad& q : patch->quads) {
+      std::array<Eigen::Vector3d, 4> c;
+      for (int k = 0; k < 4; ++k) c[k] = mesh.vertices[q.v[k]].cast<double>();
+      for (const auto& t : std::array<std::array<int, 3>, 4>{{{0, 1, 2}, {0, 2, 3}, {0, 1, 3}, {1, 2, 3}}}) {
+        planes.push_back({c[t[0]], (c[t[1]] - c[t[0]]).cross(c[t[2]] - c[t[0]]).normalized()});
+      }
+    }
     *start = Chain(u, chain[1]);
     const double limit = options_.max_cut_fraction * start->Length() - (end ? end->t : 0.0);
     for (double t = along + 0.5 * RingRadius(skeleton_.nodes[chain[1]].radius); t <= limit;
@@ -474,11 +503,7 @@ class WatertightMesher {
         const double a = 2 * M_PI * j / tube.sides;
         const Eigen::Vector3d v = ring.center + ring.radius * (std::cos(a) * ring.frame.normal +
                                                                std::sin(a) * ring.frame.binormal);
-        for (const auto& pl : planes) {
-          const Eigen::Vector3d n =
-              (qv[pl[1]] - qv[pl[0]]).cross(qv[pl[2]] - qv[pl[0]]).normalized();
-          ok = ok && n.dot(v - qv[pl[0]]) > clearance;
-        }
+        for (const auto& pl : planes) ok = ok && pl[1].dot(v - pl[0]) > clearance;
       }
       if (ok) return true;
     }
@@ -493,8 +518,8 @@ class WatertightMesher {
     const bool end_cut = group_[w] >= 0 && exit_count_[Group(w)] >= 2;
     const Exit* end = end_cut ? &exits_.at({w, chain[last_index - 1]}) : nullptr;
     Exit attach_cut;
-    Quad quad;
-    const bool attached = attach && FindAttachment(chain, *mesh, end, &quad, &attach_cut);
+    Patch patch;
+    const bool attached = attach && FindAttachment(chain, *mesh, end, &patch, &attach_cut);
     if (attach && !attached) {
       ++summary_->unattached;
       failed_attach_.push_back(u);
@@ -522,13 +547,21 @@ class WatertightMesher {
     if (start_cut) joint_rings_[Group(u)].push_back(start_ring);
     if (attached) {
       // The quad's two triangles give way to the hull of quad and ring.
-      taken_.insert(quad.triangle);
+      // The patch and its neighbours: joints of different laterals must not touch.
+      const PieceInfo& parent = pieces_[attach_piece_.at(u)];
+      const int width = static_cast<int>(patch.quads.size());
+      for (int di = -1; di <= 1; ++di) {
+        for (int dj = -1; dj <= width; ++dj) {
+          if (patch.i + di < 0 || patch.i + di + 1 >= parent.rings) continue;
+          taken_.insert(QuadAt(parent, patch.i + di, patch.j + dj).triangle);
+        }
+      }
       if (removed_.size() < static_cast<size_t>(mesh->NumTriangles())) {
         removed_.resize(mesh->NumTriangles(), 0);
       }
-      removed_[quad.triangle] = removed_[quad.triangle + 1] = 1;
+      for (const Quad& q : patch.quads) removed_[q.triangle] = removed_[q.triangle + 1] = 1;
       JointRing hole;
-      hole.vertices.assign(quad.v.begin(), quad.v.end());
+      hole.vertices = patch.loop;
       hole.reversed = false;  // the joint uses the removed triangles' edges
       if (BuildHull({hole, start_ring}, mesh)) {
         ++summary_->attached;
@@ -638,7 +671,6 @@ class WatertightMesher {
   std::set<int> taken_;              // first triangles of used quads
   std::vector<char> removed_;        // triangles replaced by attachment joints
   std::vector<int> failed_attach_;   // attach junctions with a lateral left unattached
-  int debug_count_ = 0;
   std::vector<int> group_;  // union-find parent of joint nodes, -1 elsewhere
   std::map<std::pair<int, int>, Exit> exits_;
   std::map<int, int> push_count_;

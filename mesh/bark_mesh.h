@@ -2,44 +2,46 @@
 //
 // MeshBranches (mesh/branch_mesh.h) gives one closed tube per branch axis,
 // and the tubes of laterals overlap their parent. MeshBarkWatertight instead
-// returns ONE closed, consistently (outward) oriented 2-manifold:
+// returns ONE closed, consistently (outward) oriented 2-manifold, built from
+// open tubes (mesh/branch_mesh.h SampleTubeRings/AppendTube on B-splines)
+// glued to "joints" that share their ring vertices exactly:
 //
-//  1. Joints. Every node with two or more children is a junction. Around it
-//     the incident edges ("exits": the edge to the parent and one per child)
-//     are cut back: the cut cross-section of exit e is the circle of radius
-//     r_e (the edge's radius) centred on the edge at distance t_e from the
-//     node, perpendicular to the edge. t_e = sqrt(rho^2 - r_e^2) with rho the
-//     radius of the enclosing sphere, the largest over all pairs of exits of
-//     eq. 5.25 (r_sphere = r_1 / sin(alpha)), times (1 + sphere_margin), so
-//     every cut circle lies on that sphere.
-//  2. The joint surface is the convex hull of the cut rings' vertices, minus
-//     the ring polygons: since every ring is a face of that hull, the hull's
-//     remaining triangles connect the rings exactly along the rings' own
-//     vertices and edges. Where the thesis connects the pair with the
-//     smallest radius difference first and then bridges the rest, the hull
-//     connects all rings at once (same surface for two exits; a convex
-//     bridge for three or more). The hull is built by gift wrapping from the
-//     ring edges (positions deterministically jittered by 1e-7 of the
-//     joint's size to break ties of cocircular points).
-//  3. Pieces. Between joints, tips and the root, every chain of
-//     pass-through nodes becomes one open tube (mesh/branch_mesh.h
-//     SampleTubeRings/AppendTube) whose B-spline runs from one cut centre
-//     through the chain's nodes to the next cut centre. The spline's end
-//     tangents lie along the cut edges, so its end rings are exactly the cut
-//     rings. Tips and the root (if it is not a junction) get flat caps.
+//  1. Attached laterals (the common case). At a junction whose laterals all
+//     have at most attach_ratio of the parent's radius (default 1: every
+//     lateral thinner than its parent), the parent axis runs through as one
+//     tube. Each lateral is cut back along its own chain until its cut ring
+//     sees one quad of the parent tube (the quad its first edge's ray leaves
+//     through) as the opposite face of their convex hull: every quad vertex
+//     behind the ring's plane, every ring vertex in front of the quad's
+//     triangles. The quad's two triangles are removed and the convex hull of
+//     quad + ring, minus quad and ring, fills the gap. The quad and its
+//     neighbours are then reserved, so joints of different laterals do not
+//     share parent quads. This replaces the thesis' pairwise bridging for
+//     thin laterals; the cut distance comes from the quad test, not eq. 5.25.
+//  2. Convex joints (the root junction, laterals as thick as the parent, and
+//     laterals that found no free quad: then everything is meshed again with
+//     that junction as a convex joint, at most 4 times). The incident edges
+//     ("exits": to the parent and to each child) are cut back along their
+//     chains at t_e = sqrt(rho^2 - r_e^2), rho the enclosing-sphere radius of
+//     eq. 5.25 (largest over pairs of exits at the node) times
+//     (1 + sphere_margin), so the cut rings lie on one sphere. The joint is
+//     the convex hull of all cut rings' vertices minus the ring polygons; each
+//     ring must be a hull face, which is checked exactly (every other ring
+//     strictly behind its plane); where it fails the offending cuts are
+//     pushed out (x1.25, at most 16 times). Where the thesis connects the
+//     pair with the smallest radius difference first and bridges the rest,
+//     the hull connects all rings at once.
+//  3. Fallback merges (counted): a cut that does not fit on its chain
+//     (beyond max_cut_fraction of it, or the two ends' cuts of one chain
+//     together) merges the chain's nodes into the joint; a tip reached that
+//     way is swallowed by the joint's hull.
+// Hulls are built by gift wrapping from the ring edges, the positions
+// deterministically jittered by 1e-7 of the joint's size to break ties of
+// cocircular points. Tips and a non-junction root get flat caps.
 //
-// Fallbacks (counted in the summary): a ring is a hull face only if every
-// other ring lies strictly behind its plane; that is checked exactly (on the
-// circles, so independent of the polygon's rotation). If it fails, the cuts
-// of the joint are pushed out (x1.25, at most 8 times). If a cut does not fit
-// on its edge (t_e > max_cut_fraction of the edge, or the two joints of one
-// edge need more than that together), the joint absorbs the neighbouring
-// node (it becomes part of the joint, whose exits are then the edges leaving
-// the group; a tip absorbed this way is swallowed by the joint's convex
-// hull) or merges with the neighbouring joint. Groups of several nodes use
-// the same hull construction; their rings need not lie on one sphere.
-// Near-parallel or crowded children therefore end up in a larger convex
-// joint: closed and manifold, but fatter than the branches there.
+// Known gap: on dense trees (the synthetic trees) 0.4-1.4 % of the triangles
+// still cross another one (between neighbouring joints, and laterals that
+// bend back into their parent); check with CheckMesh (mesh/mesh_checks.h).
 #ifndef SYLVA_MESH_BARK_MESH_H_
 #define SYLVA_MESH_BARK_MESH_H_
 
@@ -65,7 +67,8 @@ struct BarkMeshOptions {
   double min_radius_fraction = 0.01;
   // Laterals whose first edge has at most this fraction of the parent's
   // radius are attached to one quad of the parent tube (see above) instead
-  // of a convex joint around the whole junction; in [0, 1], 0 = never.
+  // of a convex joint around the whole junction; in [0, 1], 0 = never
+  // (convex joints only: on dense trees most junctions then merge).
   double attach_ratio = 1.0;
 
   // Throws InputError("BarkMesh.<field>", ...) naming the violated constraint.
@@ -76,7 +79,7 @@ struct BarkMeshSummary {
   int junctions = 0;       // nodes with 2 or more children
   int joints = 0;          // convex joints built (junctions after merging)
   int bridged = 0;         // joints of a single junction node, cut on the sphere
-  int fallbacks = 0;       // nodes absorbed into a joint or joints merged
+  int fallbacks = 0;       // chains merged into a joint
   int pushed_out = 0;      // joints whose cuts had to be pushed beyond the sphere
   int swallowed_tips = 0;  // tips inside a joint (their branch is the hull)
   int attached = 0;        // thin laterals glued onto a quad of the parent tube
