@@ -44,6 +44,7 @@ SkeletonGraph ReadQsm(const std::string& path, double* cylinder_volume) {
   SkeletonGraph g;
   std::map<long, int> end_node;
   *cylinder_volume = 0.0;
+  std::vector<std::vector<double>> rows;
   while (std::getline(in, line)) {
     if (line.empty()) continue;
     std::stringstream ss(line);
@@ -51,18 +52,39 @@ SkeletonGraph ReadQsm(const std::string& path, double* cylinder_volume) {
     std::string cell;
     while (std::getline(ss, cell, ',')) v.push_back(std::stod(cell));
     SYLVA_CHECK_INPUT(v.size() >= 10, path) << "row with " << v.size() << " columns";
-    const long id = static_cast<long>(v[0]), parent = static_cast<long>(v[1]);
-    const Eigen::Vector3d start(v[2], v[3], v[4]), axis(v[5], v[6], v[7]);
-    const double length = v[8], radius = v[9];
-    *cylinder_volume += M_PI * radius * radius * length;
-    int from;
-    if (parent == 0 || !end_node.count(parent)) {
-      SYLVA_CHECK_INPUT(g.NumNodes() == 0, path) << "cylinder " << id << ": unknown parent";
-      from = g.AddNode(start, radius, -1, 0);
-    } else {
-      from = end_node.at(parent);
+    rows.push_back(v);
+  }
+  // Rows may list a child before its parent: add cylinders whose parent is
+  // placed, until all are (a cylinder with an unknown parent is an error).
+  std::vector<char> done(rows.size(), 0);
+  // Further parentless cylinders (TreeQSM's detached pieces) and their
+  // descendants are left out and counted.
+  size_t placed = 0;
+  for (size_t before = 1; placed != before;) {
+    before = placed;
+    for (size_t r = 0; r < rows.size(); ++r) {
+      const std::vector<double>& v = rows[r];
+      const long id = static_cast<long>(v[0]), parent = static_cast<long>(v[1]);
+      if (done[r] || (parent != 0 && !end_node.count(parent)) || (parent == 0 && g.NumNodes() > 0)) {
+        continue;
+      }
+      const Eigen::Vector3d start(v[2], v[3], v[4]), axis(v[5], v[6], v[7]);
+      const double length = v[8], radius = v[9];
+      *cylinder_volume += M_PI * radius * radius * length;
+      int from;
+      if (parent == 0) {
+        from = g.AddNode(start, radius, -1, 0);
+      } else {
+        from = end_node.at(parent);
+      }
+      end_node[id] = g.AddNode(start + length * axis.normalized(), radius, from, 0);
+      done[r] = 1;
+      ++placed;
     }
-    end_node[id] = g.AddNode(start + length * axis.normalized(), radius, from, 0);
+  }
+  if (placed < rows.size()) {
+    std::printf("%s: %zu of %zu cylinders detached from the first one, left out\n", path.c_str(),
+                rows.size() - placed, rows.size());
   }
   g.radius_source = "QSM cylinders";
   g.AssignOrders();
