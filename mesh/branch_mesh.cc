@@ -212,13 +212,12 @@ void AppendTube(const std::vector<TubeRing>& rings, int sides, int material, Tri
   }
   // Caps: the base faces -T, the tip +T.
   const int last = first + (num_rings - 1) * sides;
-  if (base_cap) {
-    const int base = mesh->AddVertex(rings.front().center.cast<float>());
-    for (int j = 0; j < sides; ++j) mesh->AddTriangle(base, first + (j + 1) % sides, first + j, material);
-  }
-  if (tip_cap) {
-    const int tip = mesh->AddVertex(rings.back().center.cast<float>());
-    for (int j = 0; j < sides; ++j) mesh->AddTriangle(tip, last + j, last + (j + 1) % sides, material);
+  const int base = base_cap ? mesh->AddVertex(rings.front().center.cast<float>()) : -1;
+  const int tip = tip_cap ? mesh->AddVertex(rings.back().center.cast<float>()) : -1;
+  for (int j = 0; j < sides; ++j) {
+    const int j1 = (j + 1) % sides;
+    if (base_cap) mesh->AddTriangle(base, first + j1, first + j, material);
+    if (tip_cap) mesh->AddTriangle(tip, last + j, last + j1, material);
   }
 }
 
