@@ -20,6 +20,8 @@ namespace {
 // Pushing a joint's cuts out: factor per try, number of tries.
 constexpr double kPushFactor = 1.25;
 constexpr int kMaxPushes = 16;
+// A convex joint over more nodes than this is split up (see Run()).
+constexpr int kMaxJointNodes = 4;
 // A ring must lie behind every other ring's plane by this fraction of the
 // joint's largest ring radius.
 constexpr double kFaceClearance = 1e-3;
@@ -71,8 +73,9 @@ class WatertightMesher {
     std::set<int> forced;
     for (int attempt = 0;; ++attempt) {
       const BarkMeshSummary clean = *summary_;
+      respread_ = false;
       TriangleMesh mesh = Attempt(forced);
-      if (failed_attach_.empty() || attempt == 4) return mesh;
+      if ((failed_attach_.empty() && !respread_) || attempt == 8) return mesh;
       forced.insert(failed_attach_.begin(), failed_attach_.end());
       *summary_ = clean;
       group_.assign(skeleton_.NumNodes(), -1);
@@ -101,7 +104,8 @@ class WatertightMesher {
       if (children_[i].size() < 2) continue;
       ++summary_->junctions;
       // Laterals thin against the parent are attached to its tube.
-      bool thin = i != root_ && axis_child[i] >= 0 && !forced.count(i);
+      bool thin = i != root_ && axis_child[i] >= 0 && !forced.count(i) &&
+                  (children_[i].size() == 2 || spread_.count(i));
       for (int c : children_[i]) {
         if (c == axis_child[i]) continue;
         thin = thin && skeleton_.nodes[c].radius <=
@@ -117,6 +121,19 @@ class WatertightMesher {
       }
     }
     FormJoints();
+    // Junctions of several laterals whose convex joint grew over more than
+    // kMaxJointNodes nodes attach their laterals one by one instead.
+    std::map<int, int> sizes;
+    for (int i = 0; i < skeleton_.NumNodes(); ++i) {
+      if (group_[i] >= 0) ++sizes[Group(i)];
+    }
+    for (int i = 0; i < skeleton_.NumNodes(); ++i) {
+      if (group_[i] >= 0 && sizes[Group(i)] > kMaxJointNodes && children_[i].size() > 2 &&
+          !spread_.count(i)) {
+        spread_.insert(i);
+        respread_ = true;
+      }
+    }
     TriangleMesh mesh;
     material_ = mesh.AddMaterial(options_.tube.bark);
     MeshPieces(&mesh);
@@ -670,6 +687,8 @@ class WatertightMesher {
   std::map<int, int> attach_piece_;  // attach junction -> the piece through it
   std::set<int> taken_;              // first triangles of used quads
   std::vector<char> removed_;        // triangles replaced by attachment joints
+  std::set<int> spread_;  // junctions of 3+ children attaching their laterals
+  bool respread_ = false;
   std::vector<int> failed_attach_;   // attach junctions with a lateral left unattached
   std::vector<int> group_;  // union-find parent of joint nodes, -1 elsewhere
   std::map<std::pair<int, int>, Exit> exits_;
