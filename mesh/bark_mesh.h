@@ -6,10 +6,10 @@
 // open tubes (mesh/branch_mesh.h SampleTubeRings/AppendTube on B-splines)
 // glued to "joints" that share their ring vertices exactly:
 //
-//  1. Attached laterals (the common case). At a junction whose laterals all
-//     have at most attach_ratio of the parent's radius (default 1: every
-//     lateral thinner than its parent), the parent axis runs through as one
-//     tube. Each lateral is cut back along its own chain until its cut ring
+//  1. Attached laterals (the common case). At a junction of two children
+//     whose lateral has at most attach_ratio of the parent's radius (default
+//     1: any lateral thinner than its parent), the parent axis runs through
+//     as one tube. Each lateral is cut back along its own chain until its cut ring
 //     sees one quad of the parent tube (the quad its first edge's ray leaves
 //     through) as the opposite face of their convex hull: every quad vertex
 //     behind the ring's plane, every ring vertex in front of the quad's
@@ -18,9 +18,12 @@
 //     neighbours are then reserved, so joints of different laterals do not
 //     share parent quads. This replaces the thesis' pairwise bridging for
 //     thin laterals; the cut distance comes from the quad test, not eq. 5.25.
-//  2. Convex joints (the root junction, laterals as thick as the parent, and
-//     laterals that found no free quad: then everything is meshed again with
-//     that junction as a convex joint, at most 4 times). The incident edges
+//  2. Convex joints (the root junction, junctions of 3+ children, laterals
+//     as thick as the parent, and laterals that found no free quad: then
+//     everything is meshed again with that junction as a convex joint). A
+//     junction of 3+ children whose joint grows over more than 4 nodes (see
+//     3.) attaches its laterals one by one instead (meshed again; at most 8
+//     rounds in all). The incident edges
 //     ("exits": to the parent and to each child) are cut back along their
 //     chains at t_e = sqrt(rho^2 - r_e^2), rho the enclosing-sphere radius of
 //     eq. 5.25 (largest over pairs of exits at the node) times
@@ -39,9 +42,10 @@
 // deterministically jittered by 1e-7 of the joint's size to break ties of
 // cocircular points. Tips and a non-junction root get flat caps.
 //
-// Known gap: on dense trees (the synthetic trees) 0.4-1.4 % of the triangles
-// still cross another one (between neighbouring joints, and laterals that
-// bend back into their parent); check with CheckMesh (mesh/mesh_checks.h).
+// Known gap: on dense trees (the synthetic trees) 0.1-1.4 % of the triangles
+// still cross another one, mostly within 2-7 parent radii of twig clusters
+// (a node with 3-6 thin children attached one by one); check with CheckMesh
+// (mesh/mesh_checks.h).
 #ifndef SYLVA_MESH_BARK_MESH_H_
 #define SYLVA_MESH_BARK_MESH_H_
 

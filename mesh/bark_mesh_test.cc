@@ -105,9 +105,9 @@ TEST(BarkMeshTest, HandMadeJunctionsAreClosedManifolds) {
 // Closed, one component, outward, volume within 5 % of the frustum sum
 // (measured 0.94-0.99 on hand-made junctions and synthetic trees: the joints
 // replace the tubes' overlaps, the splines cut corners). NOT yet free of
-// self-intersections: 0.4-1.4 % of the triangles cross another one
-// (measured; mostly between neighbouring joints and laterals near their
-// parent), so the bound below documents the current state, it is no goal.
+// self-intersections: 0.1-1.4 % of the triangles cross another one
+// (measured; mostly near twig clusters: nodes with 3-6 thin children), so
+// the bound below documents the current state, it is no goal.
 TEST(BarkMeshTest, SyntheticTreesAreClosedManifolds) {
   SyntheticTreeOptions tree;
   for (uint64_t seed = 1; seed <= 10; ++seed) {
