@@ -38,17 +38,6 @@ double MaxRadius(const SkeletonGraph& skeleton) {
   return max_radius;
 }
 
-int SidesFor(double axis_radius, double max_radius, const BranchMeshOptions& options) {
-  const int sides = static_cast<int>(std::ceil(options.max_sides * axis_radius / max_radius));
-  return std::clamp(sides, options.min_sides, options.max_sides);
-}
-
-int RingsFor(double edge_length, const BranchMeshOptions& options) {
-  const double by_length = std::ceil(options.rings_per_unit_length * edge_length);
-  const double rings = std::max(static_cast<double>(options.rings_per_segment), by_length);
-  return static_cast<int>(std::min(rings, static_cast<double>(kMaxRingsPerSegment)));
-}
-
 bool Coincident(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
   return (a - b).norm() <= kCoincidentFraction * (1.0 + b.norm());
 }
@@ -72,10 +61,10 @@ BranchTube PlanTube(const SkeletonGraph& skeleton, const BranchAxis& axis, bool 
   if (tube.control_points.size() < 2) return BranchTube();
   for (size_t k = 0; k + 1 < tube.control_points.size(); ++k) {
     const double length = (tube.control_points[k + 1] - tube.control_points[k]).norm();
-    tube.rings_per_segment.push_back(RingsFor(length, options));
+    tube.rings_per_segment.push_back(TubeRingsPerSegment(length, options));
   }
   const double axis_radius = *std::max_element(tube.radii.begin(), tube.radii.end());
-  tube.sides = SidesFor(axis_radius, max_radius, options);
+  tube.sides = TubeSides(axis_radius, max_radius, options);
   return tube;
 }
 
@@ -142,6 +131,17 @@ std::string BranchMeshSummary::BriefReport() const {
   return out.str();
 }
 
+int TubeSides(double axis_radius, double max_radius, const BranchMeshOptions& options) {
+  const int sides = static_cast<int>(std::ceil(options.max_sides * axis_radius / max_radius));
+  return std::clamp(sides, options.min_sides, options.max_sides);
+}
+
+int TubeRingsPerSegment(double edge_length, const BranchMeshOptions& options) {
+  const double by_length = std::ceil(options.rings_per_unit_length * edge_length);
+  const double rings = std::max(static_cast<double>(options.rings_per_segment), by_length);
+  return static_cast<int>(std::min(rings, static_cast<double>(kMaxRingsPerSegment)));
+}
+
 int BranchTube::NumRings() const {
   int rings = 1;
   for (int r : rings_per_segment) rings += r;
@@ -182,7 +182,8 @@ std::vector<TubeRing> SampleTubeRings(const BranchTube& tube) {
   return rings;
 }
 
-void AppendTube(const std::vector<TubeRing>& rings, int sides, int material, TriangleMesh* mesh) {
+void AppendTube(const std::vector<TubeRing>& rings, int sides, int material, TriangleMesh* mesh,
+                bool base_cap, bool tip_cap) {
   SYLVA_CHECK(rings.size() >= 2 && sides >= 3);
   std::vector<double> cosines(sides), sines(sides);
   for (int j = 0; j < sides; ++j) {
@@ -210,13 +211,13 @@ void AppendTube(const std::vector<TubeRing>& rings, int sides, int material, Tri
     }
   }
   // Caps: the base faces -T, the tip +T.
-  const int base = mesh->AddVertex(rings.front().center.cast<float>());
-  const int tip = mesh->AddVertex(rings.back().center.cast<float>());
   const int last = first + (num_rings - 1) * sides;
+  const int base = base_cap ? mesh->AddVertex(rings.front().center.cast<float>()) : -1;
+  const int tip = tip_cap ? mesh->AddVertex(rings.back().center.cast<float>()) : -1;
   for (int j = 0; j < sides; ++j) {
     const int j1 = (j + 1) % sides;
-    mesh->AddTriangle(base, first + j1, first + j, material);
-    mesh->AddTriangle(tip, last + j, last + j1, material);
+    if (base_cap) mesh->AddTriangle(base, first + j1, first + j, material);
+    if (tip_cap) mesh->AddTriangle(tip, last + j, last + j1, material);
   }
 }
 

@@ -117,7 +117,18 @@ std::vector<TubeRing> SampleTubeRings(const BranchTube& tube);
 // Appends the closed tube through `rings` (at least 2) with `sides` sides:
 // ring vertex j at center + radius (cos(2 pi j / sides) N + sin(...) B),
 // two triangles per side between consecutive rings, a cap fan at each end.
-void AppendTube(const std::vector<TubeRing>& rings, int sides, int material, TriangleMesh* mesh);
+// Vertex j of ring i gets index mesh->NumVertices() (before the call) +
+// i * sides + j; the cap centres follow. Without a cap the tube is open at
+// that end: its side triangles use the directed ring edges j -> j + 1 on the
+// first ring and j + 1 -> j on the last one.
+void AppendTube(const std::vector<TubeRing>& rings, int sides, int material, TriangleMesh* mesh,
+                bool base_cap = true, bool tip_cap = true);
+
+// Sides of a tube whose largest radius is `axis_radius` in a skeleton whose
+// largest radius is `max_radius` (> 0): see the header comment.
+int TubeSides(double axis_radius, double max_radius, const BranchMeshOptions& options);
+// Rings on a spline segment (skeleton edge) of length `edge_length`.
+int TubeRingsPerSegment(double edge_length, const BranchMeshOptions& options);
 
 }  // namespace sylva
 

@@ -1,0 +1,145 @@
+#include "mesh/bark_mesh.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+
+#include "core/util/check.h"
+#include "datasets/synthetic/synthetic_tree.h"
+#include "mesh/mesh_checks.h"
+
+namespace sylva {
+namespace {
+
+// Appends a straight branch of `nodes` edges of length `step` from `from`
+// along `direction`, radius falling linearly from r0 to r1. Returns the tip.
+int AddBranch(SkeletonGraph* g, int from, const Eigen::Vector3d& direction, int nodes, double step,
+              double r0, double r1) {
+  int last = from;
+  for (int k = 1; k <= nodes; ++k) {
+    const double r = r0 + (r1 - r0) * (k - 1) / std::max(1, nodes - 1);
+    last = g->AddNode(g->nodes[last].position + step * direction.normalized(), r, last, 0);
+  }
+  return last;
+}
+
+Eigen::Vector3d Tilted(double degrees, double azimuth_degrees) {
+  const double a = degrees * M_PI / 180, b = azimuth_degrees * M_PI / 180;
+  return Eigen::Vector3d(std::sin(a) * std::cos(b), std::sin(a) * std::sin(b), std::cos(a));
+}
+
+// A trunk of 3 edges (radius 0.1) whose top node carries `children`
+// (tilt from vertical, azimuth, radius), each 4 edges of 0.3.
+SkeletonGraph Junction(const std::vector<std::array<double, 3>>& children, double trunk_r = 0.1) {
+  SkeletonGraph g;
+  const int root = g.AddNode(Eigen::Vector3d::Zero(), trunk_r, -1, 0);
+  const int top = AddBranch(&g, root, Eigen::Vector3d::UnitZ(), 3, 0.4, trunk_r, trunk_r);
+  for (const auto& c : children) AddBranch(&g, top, Tilted(c[0], c[1]), 4, 0.3, c[2], 0.5 * c[2]);
+  g.AssignOrders();
+  return g;
+}
+
+// Sum over edges of the frustum volumes the tubes sweep (ring radius at a
+// node = radius of the edge arriving there; a lateral's first ring = its
+// first edge's radius), times the polygon's area factor for `sides` sides.
+double FrustumVolume(const SkeletonGraph& g, int sides) {
+  double volume = 0.0;
+  const std::vector<BranchAxis> axes = g.BranchAxes();
+  for (size_t a = 0; a < axes.size(); ++a) {
+    for (size_t k = 1; k < axes[a].size(); ++k) {
+      const SkeletonNode& p = g.nodes[axes[a][k - 1]];
+      const SkeletonNode& c = g.nodes[axes[a][k]];
+      const double r0 = (k == 1 && a > 0) ? c.radius : p.radius, r1 = c.radius;
+      const double length = (c.position - p.position).norm();
+      volume += M_PI * length * (r0 * r0 + r0 * r1 + r1 * r1) / 3;
+    }
+  }
+  return volume * sides * std::sin(2 * M_PI / sides) / (2 * M_PI);
+}
+
+BarkMeshOptions FixedSides(int sides) {
+  BarkMeshOptions options;
+  options.tube.min_sides = options.tube.max_sides = sides;
+  return options;
+}
+
+// `max_crossing_fraction`: self-intersecting triangle pairs allowed per
+// triangle (0 for the hand-made junctions).
+void ExpectWatertight(const SkeletonGraph& g, const BarkMeshOptions& options, double volume_tol,
+                      const std::string& what, double max_crossing_fraction = 0.0) {
+  BarkMeshSummary summary;
+  const TriangleMesh mesh = MeshBarkWatertight(g, options, &summary);
+  const MeshCheck check = CheckMesh(mesh);
+  SCOPED_TRACE(what + ": " + summary.BriefReport() + " " + check.BriefReport());
+  EXPECT_EQ(summary.failed_joints, 0);
+  EXPECT_EQ(check.boundary_edges, 0);
+  EXPECT_EQ(check.nonmanifold_edges, 0);
+  EXPECT_EQ(check.misoriented_edges, 0);
+  EXPECT_EQ(check.degenerate_triangles, 0);
+  EXPECT_LE(check.self_intersections, max_crossing_fraction * check.triangles);
+  EXPECT_EQ(check.components, 1);
+  EXPECT_GT(check.volume, 0);
+  if (volume_tol > 0) {
+    const double reference = FrustumVolume(g, options.tube.max_sides);
+    EXPECT_NEAR(check.volume / reference, 1.0, volume_tol);
+    std::printf("%s: volume / frustum sum %.4f, %ld self-intersecting pairs in %d triangles\n",
+                what.c_str(), check.volume / reference,
+                static_cast<long>(check.self_intersections), check.triangles);
+  }
+}
+
+TEST(BarkMeshTest, HandMadeJunctionsAreClosedManifolds) {
+  const BarkMeshOptions options = FixedSides(16);
+  ExpectWatertight(Junction({{{30, 0, 0.07}}, {{30, 180, 0.07}}}), options, 0.05, "Y");
+  ExpectWatertight(Junction({{{40, 0, 0.06}}, {{40, 120, 0.06}}, {{40, 240, 0.06}}}), options,
+                   0.05, "three children");
+  ExpectWatertight(Junction({{{0, 0, 0.09}}, {{90, 0, 0.05}}}), options, 0.05, "90 degrees");
+  ExpectWatertight(Junction({{{0, 0, 0.2}}, {{60, 45, 0.005}}}, 0.2), options, 0.05,
+                   "thin child on a thick parent");
+  ExpectWatertight(Junction({{{3, 0, 0.07}}, {{3, 180, 0.07}}}), options, 0.0, "near-parallel");
+  ExpectWatertight(Junction({{{0, 0, 0.08}}, {{2, 90, 0.06}}}), options, 0.0,
+                   "near-parallel child and parent");
+}
+
+// Closed, one component, outward, volume within 5 % of the frustum sum
+// (measured 0.94-0.99 on hand-made junctions and synthetic trees: the joints
+// replace the tubes' overlaps, the splines cut corners). NOT yet free of
+// self-intersections: 0.1-1.4 % of the triangles cross another one
+// (measured; mostly near twig clusters: nodes with 3-6 thin children), so
+// the bound below documents the current state, it is no goal.
+TEST(BarkMeshTest, SyntheticTreesAreClosedManifolds) {
+  SyntheticTreeOptions tree;
+  for (uint64_t seed = 1; seed <= 10; ++seed) {
+    const SkeletonGraph g = GenerateSyntheticSkeleton(tree, seed);
+    ExpectWatertight(g, FixedSides(12), 0.05, "seed " + std::to_string(seed), 0.02);
+  }
+}
+
+TEST(BarkMeshTest, RejectsBadOptionsAndSkeletons) {
+  const SkeletonGraph g = Junction({{{30, 0, 0.07}}, {{30, 180, 0.07}}});
+  BarkMeshOptions options;
+  options.sphere_margin = 0;
+  EXPECT_THROW(MeshBarkWatertight(g, options, nullptr), InputError);
+  options = BarkMeshOptions();
+  options.max_cut_fraction = 1;
+  EXPECT_THROW(MeshBarkWatertight(g, options, nullptr), InputError);
+  options = BarkMeshOptions();
+  options.tube.min_sides = 2;
+  EXPECT_THROW(MeshBarkWatertight(g, options, nullptr), InputError);
+  SkeletonGraph zero = g;
+  for (SkeletonNode& node : zero.nodes) node.radius = 0;
+  EXPECT_THROW(MeshBarkWatertight(zero, BarkMeshOptions(), nullptr), InputError);
+}
+
+TEST(BarkMeshTest, Deterministic) {
+  const SkeletonGraph g = GenerateSyntheticSkeleton(SyntheticTreeOptions(), 3);
+  const TriangleMesh a = MeshBarkWatertight(g, BarkMeshOptions(), nullptr);
+  const TriangleMesh b = MeshBarkWatertight(g, BarkMeshOptions(), nullptr);
+  ASSERT_EQ(a.NumTriangles(), b.NumTriangles());
+  EXPECT_EQ(a.vertices, b.vertices);
+  EXPECT_EQ(a.triangles, b.triangles);
+}
+
+}  // namespace
+}  // namespace sylva

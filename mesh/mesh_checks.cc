@@ -1,0 +1,204 @@
+#include "mesh/mesh_checks.h"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <numeric>
+#include <sstream>
+#include <unordered_map>
+#include <vector>
+
+namespace sylva {
+namespace {
+
+// Relative tolerance of the intersection and degeneracy tests.
+constexpr double kEpsilon = 1e-9;
+// At most this many grid cells per triangle (larger ones go everywhere they touch anyway).
+constexpr int64_t kMaxCellsPerAxis = 1 << 20;
+
+using Tri = std::array<Eigen::Vector3d, 3>;
+
+int Find(std::vector<int>* parent, int i) {
+  while ((*parent)[i] != i) {
+    (*parent)[i] = (*parent)[(*parent)[i]];
+    i = (*parent)[i];
+  }
+  return i;
+}
+
+// Does the closed segment pq cross triangle t's interior? `eps` is an
+// absolute tolerance on signed volumes (length^3) and barycentric margins.
+bool SegmentCrossesTriangle(const Eigen::Vector3d& p, const Eigen::Vector3d& q, const Tri& t,
+                            double scale) {
+  const Eigen::Vector3d n = (t[1] - t[0]).cross(t[2] - t[0]);
+  const double nn = n.norm();
+  if (nn <= 0) return false;
+  const double dp = n.dot(p - t[0]) / nn, dq = n.dot(q - t[0]) / nn;
+  const double eps = kEpsilon * scale;
+  if ((dp > -eps && dq > -eps) || (dp < eps && dq < eps)) return false;  // same side or coplanar
+  const Eigen::Vector3d x = p + (dp / (dp - dq)) * (q - p);
+  // x inside t with a margin: barycentric coordinates by sub-areas.
+  for (int k = 0; k < 3; ++k) {
+    const Eigen::Vector3d& a = t[k];
+    const Eigen::Vector3d& b = t[(k + 1) % 3];
+    const double side = n.dot((b - a).cross(x - a)) / nn;  // > 0 inside
+    if (side <= eps * (b - a).norm()) return false;
+  }
+  return true;
+}
+
+bool TrianglesCross(const Tri& a, const Tri& b, double scale) {
+  for (int k = 0; k < 3; ++k) {
+    if (SegmentCrossesTriangle(a[k], a[(k + 1) % 3], b, scale)) return true;
+    if (SegmentCrossesTriangle(b[k], b[(k + 1) % 3], a, scale)) return true;
+  }
+  return false;
+}
+
+int64_t CountSelfIntersections(const TriangleMesh& mesh, const std::vector<int>& selected) {
+  if (selected.size() < 2) return 0;
+  std::vector<Tri> tris(selected.size());
+  std::vector<Eigen::AlignedBox3d> boxes(selected.size());
+  Eigen::AlignedBox3d all;
+  double extent_sum = 0.0;
+  for (size_t i = 0; i < selected.size(); ++i) {
+    const Eigen::Vector3i& f = mesh.triangles[selected[i]];
+    for (int k = 0; k < 3; ++k) {
+      tris[i][k] = mesh.vertices[f[k]].cast<double>();
+      boxes[i].extend(tris[i][k]);
+    }
+    all.extend(boxes[i]);
+    extent_sum += boxes[i].sizes().maxCoeff();
+  }
+  const double scale = std::max(all.sizes().maxCoeff(), 1e-30);
+  double cell = std::max(2.0 * extent_sum / selected.size(), scale / kMaxCellsPerAxis);
+  if (cell <= 0) cell = scale;
+  auto cell_of = [&](double v, int axis) {
+    return static_cast<int64_t>(std::floor((v - all.min()[axis]) / cell));
+  };
+  auto key = [](int64_t x, int64_t y, int64_t z) {
+    return (x * 73856093) ^ (y * 19349663) ^ (z * 83492791);
+  };
+  std::unordered_map<int64_t, std::vector<int>> grid;
+  std::vector<std::array<int64_t, 6>> ranges(selected.size());
+  for (size_t i = 0; i < selected.size(); ++i) {
+    for (int a = 0; a < 3; ++a) {
+      ranges[i][a] = cell_of(boxes[i].min()[a], a);
+      ranges[i][a + 3] = cell_of(boxes[i].max()[a], a);
+    }
+    for (int64_t x = ranges[i][0]; x <= ranges[i][3]; ++x)
+      for (int64_t y = ranges[i][1]; y <= ranges[i][4]; ++y)
+        for (int64_t z = ranges[i][2]; z <= ranges[i][5]; ++z)
+          grid[key(x, y, z)].push_back(static_cast<int>(i));
+  }
+  int64_t count = 0;
+  for (size_t i = 0; i < selected.size(); ++i) {
+    const Eigen::Vector3i& fi = mesh.triangles[selected[i]];
+    std::vector<int> candidates;
+    for (int64_t x = ranges[i][0]; x <= ranges[i][3]; ++x)
+      for (int64_t y = ranges[i][1]; y <= ranges[i][4]; ++y)
+        for (int64_t z = ranges[i][2]; z <= ranges[i][5]; ++z) {
+          const auto it = grid.find(key(x, y, z));
+          for (int j : it->second) {
+            if (j > static_cast<int>(i)) candidates.push_back(j);
+          }
+        }
+    std::sort(candidates.begin(), candidates.end());
+    candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
+    for (int j : candidates) {
+      if (!boxes[i].intersects(boxes[j])) continue;
+      const Eigen::Vector3i& fj = mesh.triangles[selected[j]];
+      bool shared = false;
+      for (int a = 0; a < 3; ++a)
+        for (int b = 0; b < 3; ++b) shared = shared || fi[a] == fj[b];
+      if (shared) continue;
+      if (TrianglesCross(tris[i], tris[j], scale)) ++count;
+    }
+  }
+  return count;
+}
+
+}  // namespace
+
+bool MeshCheck::IsClosedManifold() const {
+  return triangles > 0 && boundary_edges == 0 && nonmanifold_edges == 0 &&
+         misoriented_edges == 0 && degenerate_triangles == 0 && self_intersections <= 0;
+}
+
+std::string MeshCheck::BriefReport() const {
+  std::ostringstream out;
+  out << "Mesh check: " << triangles << " triangles, " << components << " components, "
+      << boundary_edges << " boundary / " << nonmanifold_edges << " non-manifold / "
+      << misoriented_edges << " misoriented edges, " << degenerate_triangles
+      << " degenerate triangles, ";
+  if (self_intersections < 0) {
+    out << "self-intersections not checked";
+  } else {
+    out << self_intersections << " self-intersecting pairs";
+  }
+  out << ", volume " << volume << ", area " << area << " ("
+      << (IsClosedManifold() ? "closed manifold" : "NOT a closed manifold") << ").";
+  return out.str();
+}
+
+MeshCheck CheckMesh(const TriangleMesh& mesh, const std::string& material,
+                    bool self_intersections) {
+  mesh.Check();
+  int material_idx = -1;
+  if (!material.empty()) {
+    for (size_t m = 0; m < mesh.materials.size(); ++m) {
+      if (mesh.materials[m].name == material) material_idx = static_cast<int>(m);
+    }
+  }
+  std::vector<int> selected;
+  for (int t = 0; t < mesh.NumTriangles(); ++t) {
+    if (material.empty() || mesh.triangle_materials[t] == material_idx) selected.push_back(t);
+  }
+  MeshCheck check;
+  check.triangles = static_cast<int>(selected.size());
+  Eigen::AlignedBox3d bounds;
+  for (const Eigen::Vector3f& v : mesh.vertices) bounds.extend(v.cast<double>());
+  const double scale = mesh.vertices.empty() ? 1.0 : std::max(bounds.sizes().maxCoeff(), 1e-30);
+
+  std::unordered_map<int64_t, int> undirected, directed;
+  const int64_t n = mesh.NumVertices();
+  std::vector<int> parent(mesh.NumVertices());
+  std::iota(parent.begin(), parent.end(), 0);
+  std::vector<char> used(mesh.NumVertices(), 0);
+  for (int t : selected) {
+    const Eigen::Vector3i& f = mesh.triangles[t];
+    const Eigen::Vector3d a = mesh.vertices[f[0]].cast<double>();
+    const Eigen::Vector3d b = mesh.vertices[f[1]].cast<double>();
+    const Eigen::Vector3d c = mesh.vertices[f[2]].cast<double>();
+    const Eigen::Vector3d cross = (b - a).cross(c - a);
+    check.area += 0.5 * cross.norm();
+    check.volume += a.dot(b.cross(c)) / 6.0;
+    if (f[0] == f[1] || f[1] == f[2] || f[0] == f[2] ||
+        0.5 * cross.norm() <= kEpsilon * kEpsilon * scale * scale) {
+      ++check.degenerate_triangles;
+    }
+    for (int k = 0; k < 3; ++k) {
+      const int u = f[k], v = f[(k + 1) % 3];
+      ++directed[u * n + v];
+      ++undirected[std::min(u, v) * n + std::max(u, v)];
+      used[u] = 1;
+      const int ru = Find(&parent, u), rv = Find(&parent, v);
+      if (ru != rv) parent[ru] = rv;
+    }
+  }
+  for (const auto& [edge, count] : undirected) {
+    if (count == 1) ++check.boundary_edges;
+    if (count > 2) ++check.nonmanifold_edges;
+  }
+  for (const auto& [edge, count] : directed) {
+    if (count > 1) ++check.misoriented_edges;
+  }
+  for (int v = 0; v < mesh.NumVertices(); ++v) {
+    if (used[v] && Find(&parent, v) == v) ++check.components;
+  }
+  if (self_intersections) check.self_intersections = CountSelfIntersections(mesh, selected);
+  return check;
+}
+
+}  // namespace sylva

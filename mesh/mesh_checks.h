@@ -1,0 +1,48 @@
+// Topology and geometry checks of a TriangleMesh: is it a closed,
+// consistently oriented 2-manifold without self-intersections, and what
+// volume and area does it enclose?
+//
+// Vertices are identified by index, not by position: two vertices at the
+// same place are different vertices (MeshBranches' overlapping tubes are each
+// closed, and together they still count as closed).
+#ifndef SYLVA_MESH_MESH_CHECKS_H_
+#define SYLVA_MESH_MESH_CHECKS_H_
+
+#include <cstdint>
+#include <string>
+
+#include "core/types/triangle_mesh.h"
+
+namespace sylva {
+
+struct MeshCheck {
+  int triangles = 0;             // triangles checked (of the chosen material)
+  int boundary_edges = 0;        // undirected edges used by exactly 1 triangle
+  int nonmanifold_edges = 0;     // undirected edges used by 3 or more triangles
+  int misoriented_edges = 0;     // directed edges used by 2 or more triangles
+  int degenerate_triangles = 0;  // repeated vertex index or (near) zero area
+  int components = 0;            // connected by shared vertices
+  // Pairs of triangles without a shared vertex whose interiors cross (one's
+  // edge pierces the other). Coplanar overlaps are not counted. -1 = not run.
+  int64_t self_intersections = -1;
+  double volume = 0.0;  // signed, divergence theorem; > 0 for outward normals
+  double area = 0.0;
+
+  // No boundary, non-manifold, misoriented edges or degenerate triangles,
+  // at least one triangle, and no self-intersections if they were counted.
+  bool IsClosedManifold() const;
+  // One line for humans.
+  std::string BriefReport() const;
+};
+
+// Checks the triangles of `mesh` whose material is named `material` (all
+// triangles if empty; an unknown name checks none). The self-intersection
+// test (a uniform grid over the triangles' bounds, then exact-enough
+// segment-triangle tests with a relative epsilon of 1e-9) runs only if
+// `self_intersections`. Throws Error for an invalid mesh (TriangleMesh::Check).
+MeshCheck CheckMesh(const TriangleMesh& mesh, const std::string& material = "",
+                    bool self_intersections = true);
+
+}  // namespace sylva
+
+#endif  // SYLVA_MESH_MESH_CHECKS_H_

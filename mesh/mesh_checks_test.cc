@@ -1,0 +1,93 @@
+#include "mesh/mesh_checks.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "mesh/branch_mesh.h"
+
+namespace sylva {
+namespace {
+
+// A closed tube of `sides` sides along +z from z0 to z1, radius r, at x = x0.
+void AddTube(double x0, double z0, double z1, double r, int sides, TriangleMesh* mesh) {
+  std::vector<TubeRing> rings(2);
+  rings[0].center = Eigen::Vector3d(x0, 0, z0);
+  rings[1].center = Eigen::Vector3d(x0, 0, z1);
+  rings[0].radius = rings[1].radius = r;
+  if (mesh->materials.empty()) mesh->AddMaterial({"bark", Eigen::Vector3f(0.5f, 0.5f, 0.5f), false});
+  AppendTube(rings, sides, 0, mesh);
+}
+
+double PrismVolume(double r, int sides, double length) {
+  return 0.5 * sides * r * r * std::sin(2 * M_PI / sides) * length;
+}
+
+TEST(MeshChecksTest, ClosedTubeIsAClosedManifoldWithItsPrismVolume) {
+  TriangleMesh mesh;
+  AddTube(0, 0, 2, 0.5, 12, &mesh);
+  const MeshCheck check = CheckMesh(mesh);
+  EXPECT_TRUE(check.IsClosedManifold()) << check.BriefReport();
+  EXPECT_EQ(check.components, 1);
+  EXPECT_EQ(check.self_intersections, 0);
+  EXPECT_NEAR(check.volume, PrismVolume(0.5, 12, 2), 1e-5);
+  const double side = 2 * 0.5 * std::sin(M_PI / 12);
+  const double cap = 0.5 * 12 * 0.25 * std::sin(2 * M_PI / 12);
+  EXPECT_NEAR(check.area, 12 * side * 2 + 2 * cap, 1e-5);
+}
+
+TEST(MeshChecksTest, CountsHolesFlipsAndDegenerateTriangles) {
+  TriangleMesh mesh;
+  AddTube(0, 0, 1, 0.5, 8, &mesh);
+  TriangleMesh holed = mesh;
+  holed.triangles.pop_back();
+  holed.triangle_materials.pop_back();
+  MeshCheck check = CheckMesh(holed);
+  EXPECT_EQ(check.boundary_edges, 3);
+  EXPECT_FALSE(check.IsClosedManifold());
+
+  TriangleMesh flipped = mesh;
+  std::swap(flipped.triangles[0][1], flipped.triangles[0][2]);
+  check = CheckMesh(flipped);
+  EXPECT_EQ(check.boundary_edges, 0);
+  EXPECT_EQ(check.misoriented_edges, 3);
+  EXPECT_FALSE(check.IsClosedManifold());
+
+  TriangleMesh degenerate = mesh;
+  degenerate.AddTriangle(0, 0, 1, 0);
+  check = CheckMesh(degenerate);
+  EXPECT_EQ(check.degenerate_triangles, 1);
+
+  // A third triangle on an existing edge makes it non-manifold.
+  TriangleMesh fin = mesh;
+  const int v = fin.AddVertex(Eigen::Vector3f(3, 3, 3));
+  fin.AddTriangle(mesh.triangles[0][0], mesh.triangles[0][1], v, 0);
+  check = CheckMesh(fin);
+  EXPECT_EQ(check.nonmanifold_edges, 1);
+  EXPECT_EQ(check.boundary_edges, 2);
+}
+
+TEST(MeshChecksTest, FindsCrossingTubesAndNotSeparateOnes) {
+  TriangleMesh apart;
+  AddTube(0, 0, 1, 0.3, 10, &apart);
+  AddTube(1, 0, 1, 0.3, 10, &apart);
+  MeshCheck check = CheckMesh(apart);
+  EXPECT_EQ(check.components, 2);
+  EXPECT_EQ(check.self_intersections, 0);
+  EXPECT_TRUE(check.IsClosedManifold());
+  EXPECT_NEAR(check.volume, 2 * PrismVolume(0.3, 10, 1), 1e-5);
+
+  TriangleMesh crossing;
+  AddTube(0, 0, 1, 0.3, 10, &crossing);
+  AddTube(0.4, 0, 1, 0.3, 10, &crossing);
+  check = CheckMesh(crossing);
+  EXPECT_GT(check.self_intersections, 0);
+  EXPECT_FALSE(check.IsClosedManifold());
+  // Not counted when switched off.
+  EXPECT_EQ(CheckMesh(crossing, "", false).self_intersections, -1);
+  // An unknown material selects nothing.
+  EXPECT_EQ(CheckMesh(crossing, "leaves").triangles, 0);
+}
+
+}  // namespace
+}  // namespace sylva
