@@ -26,6 +26,7 @@
 #include "core/io/skeleton_io.h"
 #include "core/io/vdb_io.h"
 #include "mesh/gltf_export.h"
+#include "mesh/mesh_checks.h"
 #include "core/types/float_image.h"
 #include "core/util/file_util.h"
 #include "tests/e2e/subprocess.h"
@@ -693,6 +694,15 @@ TEST_F(CliTest, TreeOutputsReloadAndFollowTheSeed) {
   double cylinder_length = 0;
   for (const QsmCylinder& cylinder : qsm.cylinders) cylinder_length += cylinder.length;
   EXPECT_NEAR(cylinder_length, skeleton.TotalLength(), 1e-6 * skeleton.TotalLength());
+  // The bark alone: one closed, 2-manifold, outward solid; leaves instanced
+  // in the .glb.
+  const MeshCheck bark = CheckMesh(ReadObj(out / "bark.obj"), "", /*self_intersections=*/false);
+  EXPECT_TRUE(bark.IsClosedManifold()) << bark.BriefReport();
+  EXPECT_EQ(bark.components, 1) << bark.BriefReport();
+  EXPECT_GT(bark.volume, 0);
+  int64_t instances = 0;
+  ReadGlb(out / "tree.glb", nullptr, &instances);
+  EXPECT_GT(instances, 1000);
   const Json metrics = ReadJsonFile(out / "metrics.json");
   EXPECT_EQ(metrics.at("format"), "sylva-tree-metrics");
   // The report's height is the mesh's (leaves reach above the skeleton).

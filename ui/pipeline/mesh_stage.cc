@@ -1,11 +1,13 @@
 // The mesh stage (thesis 5.2, 5.4): skeleton with radii -> branch tubes +
-// leaves -> out/tree.glb (glTF 2.0) and out/tree.obj (+ tree.mtl); and the
+// leaves -> out/tree.glb (glTF 2.0, leaves instanced) and out/tree.obj
+// (+ tree.mtl), the bark alone as a closed solid in out/bark.obj; and the
 // scientific outputs: out/qsm.csv (one cylinder per skeleton edge, TreeQSM's
 // columns, radii marked as an allometric prior) and out/metrics.json (height,
 // crown, DBH when metric, branches per order).
 #include <sstream>
 
 #include "core/io/mesh_io.h"
+#include "core/io/image_io.h"
 #include "core/io/qsm_io.h"
 #include "core/io/skeleton_io.h"
 #include "core/io/vdb_io.h"
@@ -25,20 +27,32 @@ StageRun RunMeshStage(const StageContext& context) {
   ProgressTask progress(context.progress, "mesh: branches and leaves");
   progress.Update(0.0);
   StageRun run;
-  const TriangleMesh mesh =
-      BuildTreeMesh(skeleton, density, views, mattes, context.options, &run.brief);
+  const TreeGeometryOptions& geometry_options = context.options.geometry;
+  LeafShape image_leaf;
+  if (!geometry_options.leaf_image.empty()) {
+    fs::path path(geometry_options.leaf_image);
+    if (path.is_relative()) path = context.project.root() / path;
+    image_leaf = LeafShapeFromImage(ReadImage(path), path.string());
+  }
+  const TreeGeometry geometry =
+      BuildTreeGeometry(skeleton, density, views, mattes, context.options,
+                        geometry_options.leaf_image.empty() ? nullptr : &image_leaf);
+  run.brief = geometry.brief;
+  const TriangleMesh mesh = geometry.Baked();
   progress.Update(0.8);
   GltfExportOptions gltf;
   gltf.extras["units"] = context.Units();
   gltf.extras["branch_radii"] = "allometric prior (pipe model), not a measurement";
   const std::string units = context.Units();
   const TreeMetricsReport metrics = ComputeTreeMetrics(skeleton, &density, units);
-  run.outputs = {context.Out("tree.glb"), context.Out("tree.obj"), context.Out("qsm.csv"),
-                 context.Out("metrics.json")};
-  WriteGlb(run.outputs[0], mesh, gltf);
+  gltf.instance_leaves = geometry_options.instance_leaves;
+  run.outputs = {context.Out("tree.glb"), context.Out("tree.obj"), context.Out("bark.obj"),
+                 context.Out("qsm.csv"), context.Out("metrics.json")};
+  WriteGlb(run.outputs[0], geometry.bark, geometry.leaves, gltf);
   WriteObj(run.outputs[1], mesh);
-  WriteQsmCsv(run.outputs[2], QsmFromSkeleton(skeleton, units));
-  WriteTreeMetricsJson(run.outputs[3], metrics);
+  WriteObj(run.outputs[2], geometry.bark);
+  WriteQsmCsv(run.outputs[3], QsmFromSkeleton(skeleton, units));
+  WriteTreeMetricsJson(run.outputs[4], metrics);
   std::ostringstream brief;
   brief << " Metrics (out/metrics.json): height " << metrics.height << " " << units
         << ", crown width " << metrics.crown_width << ", " << metrics.num_tips << " tips; "

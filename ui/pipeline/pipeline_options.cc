@@ -37,6 +37,12 @@ void SkeletonOptions::Check() const {
   pruning.Check();
 }
 
+void TreeGeometryOptions::Check() const {
+  BarkMeshOptions bark_check = bark;
+  bark_check.Check();
+  twig.Check();
+}
+
 void AttractStageOptions::Check() const {
   SYLVA_CHECK_INPUT(mode == "auto" || mode == "edits" || mode == "off", "Attractors.mode")
       << "must be auto, edits or off, got '" << mode << "'";
@@ -64,6 +70,7 @@ void PipelineOptions::Check() const {
   allometry_check.Check();
   branch_mesh.Check();
   leaves.Check();
+  geometry.Check();
   report.Check();
 }
 
@@ -265,6 +272,39 @@ void RegisterLeaves(LeafOptions* o, OptionRegistry* r) {
                "leaves projecting onto mattes sparser than this are dropped");
 }
 
+void RegisterGeometry(TreeGeometryOptions* o, LeafOptions* leaves, OptionRegistry* r) {
+  r->AddBool("BranchMesh.watertight", &o->watertight_bark,
+             "one closed 2-manifold bark mesh with joints at junctions (thesis 5.3); false = "
+             "overlapping tubes");
+  r->AddDouble("BranchMesh.sphere_margin", &o->bark.sphere_margin, "",
+               "junction spheres (eq. 5.25) enlarged by this fraction");
+  r->AddBool("Twigs.enabled", &o->twigs, "grow twigs from the terminal branches (thesis 5.4)");
+  r->AddString("Twigs.pattern", &o->twig.pattern, "monopodial or sympodial");
+  r->AddDouble("Twigs.twigs_per_length", &o->twig.twigs_per_length, "per twig length",
+               "twigs along a terminal branch where the density is average");
+  r->AddDouble("Twigs.length_fraction", &o->twig.length_fraction, "",
+               "twig length as a fraction of the tree height");
+  r->AddDouble("Twigs.branching_angle_deg", &o->twig.branching_angle_deg, "degrees",
+               "angle between a twig and its branch");
+  r->AddDouble("Twigs.tropism", &o->twig.tropism, "", "> 0 bends twigs up, < 0 droops them");
+  r->AddDouble("Twigs.stiffness", &o->twig.stiffness, "", "resistance to tropism, [0, 1]");
+  r->AddString("Leaves.shape", &leaves->shape, "quad, ovate, lanceolate or needle");
+  r->AddString("Leaves.image", &o->leaf_image,
+               "a leaf picture (RGBA; alpha = outline) used as a textured leaf");
+  r->AddString("Leaves.phyllotaxis", &leaves->phyllotaxis,
+               "none (free, by density), alternate, opposite_decussate, whorled or spiral");
+  r->AddDouble("Leaves.internode", &leaves->internode, "leaf lengths",
+               "phyllotaxis: distance between leaf nodes along a branch");
+  r->AddDouble("Leaves.divergence_deg", &leaves->divergence_deg, "degrees",
+               "phyllotaxis: angle between successive nodes; 0 = the pattern's own");
+  r->AddInt("Leaves.leaves_per_whorl", &leaves->leaves_per_whorl, "leaves",
+            "phyllotaxis whorled: leaves per node");
+  r->AddDouble("Leaves.insertion_deg", &leaves->insertion_deg, "degrees",
+               "phyllotaxis: angle between a leaf and its branch");
+  r->AddBool("Export.instance_leaves", &o->instance_leaves,
+             "tree.glb stores one leaf mesh + per-leaf transforms (EXT_mesh_gpu_instancing)");
+}
+
 void RegisterReport(ReportOptions* o, OptionRegistry* r) {
   r->AddDouble("Report.opacity_threshold", &o->opacity_threshold, "alpha",
                "projected density at or above this is foreground");
@@ -417,6 +457,7 @@ void RegisterPipelineOptions(PipelineOptions* options, OptionRegistry* registry)
   RegisterSkeleton(&options->skeleton, &options->allometry, registry);
   RegisterBranchMesh(&options->branch_mesh, registry);
   RegisterLeaves(&options->leaves, registry);
+  RegisterGeometry(&options->geometry, &options->leaves, registry);
   RegisterReport(&options->report, registry);
 }
 

@@ -9,8 +9,10 @@
 #include <string>
 
 #include "mesh/allometry.h"
+#include "mesh/bark_mesh.h"
 #include "mesh/branch_mesh.h"
 #include "mesh/leaves.h"
+#include "mesh/twigs.h"
 #include "reconstruct/attractors/livewire.h"
 #include "reconstruct/density/density_options.h"
 #include "reconstruct/matting/matting.h"
@@ -74,6 +76,26 @@ struct MatteStageOptions {
   std::string background_photo;
 };
 
+// The mesh stage's settings beyond the meshers' own (thesis 5.3-5.4).
+struct TreeGeometryOptions {
+  // One closed, 2-manifold bark mesh with joints at the junctions
+  // (mesh/bark_mesh.h); false = one overlapping tube per branch axis.
+  bool watertight_bark = true;
+  BarkMeshOptions bark;  // its `tube` is BranchMesh.*
+  // Twigs grown from the terminal branches in proportion to density before
+  // leaves are placed (mesh/twigs.h). Off by default: they multiply the bark's
+  // triangles about tenfold.
+  bool twigs = false;
+  TwigOptions twig;
+  // A leaf picture (RGBA, alpha = the leaf's outline) used as a textured
+  // leaf instead of Leaves.shape; a path absolute or relative to the project.
+  std::string leaf_image;
+  // Leaves in tree.glb as one leaf mesh + per-leaf transforms
+  // (EXT_mesh_gpu_instancing); false = baked triangles.
+  bool instance_leaves = true;
+  void Check() const;
+};
+
 // The attract stage's settings (ui/pipeline/attract_stage.cc).
 struct AttractStageOptions {
   // "auto": graphs from edits/ where a person made them, else traced by
@@ -106,6 +128,7 @@ struct PipelineOptions {
   AllometryOptions allometry;
   BranchMeshOptions branch_mesh;
   LeafOptions leaves;
+  TreeGeometryOptions geometry;
   ReportOptions report;
 
   // Throws InputError naming the first invalid option.

@@ -6,8 +6,10 @@
 
 #include "core/util/random.h"
 #include "mesh/allometry.h"
+#include "mesh/bark_mesh.h"
 #include "mesh/branch_mesh.h"
 #include "mesh/leaves.h"
+#include "mesh/twigs.h"
 #include "mesh/trunk_width.h"
 #include "simulate/attractor_field.h"
 #include "simulate/direction_field.h"
@@ -20,6 +22,7 @@ namespace {
 // Stream ids for DeriveSeed(General.seed, stream).
 constexpr uint64_t kParticleSeedStream = 1;
 constexpr uint64_t kLeafSeedStream = 2;
+constexpr uint64_t kTwigSeedStream = 4;  // 3: the attract stage's livewire
 
 double SkeletonHeight(const SkeletonGraph& skeleton, const Eigen::Vector3d& base) {
   double top = base.z();
@@ -98,22 +101,58 @@ BuiltSkeleton BuildSkeleton(const DensityGrid& density, const ImageSet& input_vi
   return built;
 }
 
-TriangleMesh BuildTreeMesh(const SkeletonGraph& skeleton, const DensityGrid& density,
-                           const ImageSet& input_views, const std::vector<FloatImage>& mattes,
-                           const PipelineOptions& options, std::string* brief) {
-  BranchMeshSummary branch_summary;
-  TriangleMesh mesh = MeshBranches(skeleton, options.branch_mesh, &branch_summary);
+TriangleMesh TreeGeometry::Baked() const {
+  TriangleMesh mesh = bark;
+  if (!leaves.instances.empty()) mesh.Append(leaves.Bake());
+  return mesh;
+}
+
+TreeGeometry BuildTreeGeometry(const SkeletonGraph& skeleton, const DensityGrid& density,
+                               const ImageSet& input_views, const std::vector<FloatImage>& mattes,
+                               const PipelineOptions& options, const LeafShape* shape) {
+  TreeGeometry geometry;
+  std::ostringstream brief;
+  SkeletonGraph grown;
+  const SkeletonGraph* tree = &skeleton;
+  if (options.geometry.twigs) {
+    TwigOptions twig = options.geometry.twig;
+    twig.seed = DeriveSeed(options.general.seed, kTwigSeedStream);
+    TwigSummary twig_summary;
+    grown = GrowTwigs(skeleton, density, twig, &twig_summary);
+    tree = &grown;
+    brief << twig_summary.BriefReport() << " ";
+  }
+  if (options.geometry.watertight_bark) {
+    BarkMeshOptions bark = options.geometry.bark;
+    bark.tube = options.branch_mesh;
+    BarkMeshSummary bark_summary;
+    geometry.bark = MeshBarkWatertight(*tree, bark, &bark_summary);
+    brief << bark_summary.BriefReport();
+  } else {
+    BranchMeshSummary branch_summary;
+    geometry.bark = MeshBranches(*tree, options.branch_mesh, &branch_summary);
+    brief << branch_summary.BriefReport();
+  }
   LeafOptions leaf_options = options.leaves;
   leaf_options.seed = DeriveSeed(options.general.seed, kLeafSeedStream);
   if (leaf_options.num_leaves < 0) {  // a leafless plant
-    if (brief != nullptr)
-      *brief = branch_summary.BriefReport() + " No leaves (Leaves.num_leaves=-1).";
-    return mesh;
+    brief << " No leaves (Leaves.num_leaves=-1).";
+  } else {
+    LeafSummary leaf_summary;
+    geometry.leaves = GenerateLeafInstances(*tree, density, input_views, mattes, leaf_options,
+                                            &leaf_summary, shape);
+    brief << " " << leaf_summary.BriefReport();
   }
-  LeafSummary leaf_summary;
-  mesh.Append(GenerateLeaves(skeleton, density, input_views, mattes, leaf_options, &leaf_summary));
-  if (brief != nullptr) *brief = branch_summary.BriefReport() + " " + leaf_summary.BriefReport();
-  return mesh;
+  geometry.brief = brief.str();
+  return geometry;
+}
+
+TriangleMesh BuildTreeMesh(const SkeletonGraph& skeleton, const DensityGrid& density,
+                           const ImageSet& input_views, const std::vector<FloatImage>& mattes,
+                           const PipelineOptions& options, std::string* brief) {
+  const TreeGeometry geometry = BuildTreeGeometry(skeleton, density, input_views, mattes, options);
+  if (brief != nullptr) *brief = geometry.brief;
+  return geometry.Baked();
 }
 
 }  // namespace sylva

@@ -13,6 +13,7 @@
 #include "core/types/skeleton_graph.h"
 #include "core/types/triangle_mesh.h"
 #include "core/util/progress.h"
+#include "mesh/leaves.h"
 #include "ui/pipeline/pipeline_options.h"
 
 namespace sylva {
@@ -35,7 +36,21 @@ BuiltSkeleton BuildSkeleton(const DensityGrid& density, const ImageSet& input_vi
                             const std::vector<AttractorGraph2D>& attractors,
                             const PipelineOptions& options, ProgressReporter* progress);
 
-// Branch tubes and leaves; `brief` receives both summaries.
+// The tree's geometry: the bark (watertight or tubes, BranchMesh.*), grown
+// twigs (Twigs.*), and the leaves as instances of one leaf shape (`shape`,
+// may be null: Leaves.shape).
+struct TreeGeometry {
+  TriangleMesh bark;
+  LeafInstances leaves;  // empty for leafless plants
+  std::string brief;
+  // Bark + baked leaves.
+  TriangleMesh Baked() const;
+};
+TreeGeometry BuildTreeGeometry(const SkeletonGraph& skeleton, const DensityGrid& density,
+                               const ImageSet& input_views, const std::vector<FloatImage>& mattes,
+                               const PipelineOptions& options, const LeafShape* shape = nullptr);
+
+// BuildTreeGeometry(...).Baked(); `brief` (may be null) receives the summaries.
 TriangleMesh BuildTreeMesh(const SkeletonGraph& skeleton, const DensityGrid& density,
                            const ImageSet& input_views, const std::vector<FloatImage>& mattes,
                            const PipelineOptions& options, std::string* brief);
