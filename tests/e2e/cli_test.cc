@@ -801,6 +801,50 @@ TEST_F(CliTest, AttractorGraphsFromLivewireStrokesAndEdits) {
   EXPECT_TRUE(TempFilesUnder(project).empty());
 }
 
+// `sylva mesh-qsm` on the four ITSMe TreeQSM tables (laser-scanned trees):
+// the bark is a closed, 2-manifold, outward solid whose volume matches the
+// cylinders'; qsm.csv gives the table back; a broken table is refused.
+TEST_F(CliTest, MeshQsmMakesClosedBarkFromLaserScanCylinders) {
+  const fs::path data = fs::path(SYLVA_SOURCE_DIR) / "datasets" / "itsme-qsm";
+  for (const char* name : {"tree_1_qsm", "tree_2_qsm", "buttressed_tree_1_qsm_1",
+                           "buttressed_tree_2_qsm_1"}) {
+    const fs::path out = work_ / name;
+    const SubprocessResult result =
+        Sylva({"mesh-qsm", (data / (std::string(name) + ".csv")).string(), out.string()});
+    ASSERT_TRUE(Succeeded(result)) << name;
+    const QsmModel input = ReadQsmCsv(data / (std::string(name) + ".csv"));
+    double cylinders = 0;
+    for (const QsmCylinder& c : input.cylinders) cylinders += M_PI * c.radius * c.radius * c.length;
+    const MeshCheck bark = CheckMesh(ReadObj(out / "bark.obj"));
+    std::printf("%s: %s; volume / cylinders %.3f\n", name, bark.BriefReport().c_str(),
+                bark.volume / cylinders);
+    EXPECT_EQ(bark.boundary_edges, 0) << name;
+    EXPECT_EQ(bark.nonmanifold_edges, 0) << name;
+    EXPECT_EQ(bark.misoriented_edges, 0) << name;
+    EXPECT_NEAR(bark.volume / cylinders, 1.0, 0.06) << name;
+    // The table comes back (as read): same cylinders, 1e-6 relative.
+    const QsmModel output = ReadQsmCsv(out / "qsm.csv");
+    ASSERT_EQ(output.cylinders.size(), input.cylinders.size()) << name;
+    for (size_t k = 0; k < input.cylinders.size(); ++k) {
+      const QsmCylinder& a = input.cylinders[k];
+      const QsmCylinder& b = output.cylinders[k];
+      EXPECT_EQ(a.id, b.id);
+      EXPECT_EQ(a.parent_id, b.parent_id);
+      EXPECT_LE((a.start - b.start).norm(), 1e-6 * a.start.norm()) << name << " cylinder " << a.id;
+      EXPECT_LE((a.axis - b.axis).norm(), 1e-6) << name << " cylinder " << a.id;
+      EXPECT_NEAR(a.length, b.length, 1e-6 * a.length);
+      EXPECT_NEAR(a.radius, b.radius, 1e-6 * a.radius);
+    }
+    EXPECT_TRUE(ReadJsonFile(out / "metrics.json").at("dbh").is_number()) << name;
+  }
+  const fs::path broken = work_ / "broken.csv";
+  WriteFile(broken, "id,parent_id,start_x,start_y,start_z,axis_x,axis_y,axis_z,length,radius,"
+                    "branch,branch_order\n1,0,0,0,0,0,0,1,abc,0.1,1,0\n");
+  const SubprocessResult refused = Sylva({"mesh-qsm", broken.string(), (work_ / "x").string()});
+  EXPECT_TRUE(FailedNaming(refused, kExitBadInput, {"broken.csv"}));
+  EXPECT_FALSE(fs::exists(work_ / "x"));
+}
+
 // The bundled demo, initialised the way scripts/demo.sh does it (COLMAP model,
 // separate mattes, held-out list), reconstructed with the default options.
 TEST_F(CliTest, BundledDemoMeetsItsFidelityTargets) {

@@ -14,6 +14,7 @@
 #include "ui/cli/arguments.h"
 #include "ui/cli/terminal_progress.h"
 #include "ui/pipeline/pipeline.h"
+#include "ui/pipeline/qsm_meshing.h"
 
 namespace sylva {
 namespace {
@@ -112,10 +113,45 @@ CommandSpec SynthSpec() {
           false};
 }
 
+CommandSpec MeshQsmSpec() {
+  return {"mesh-qsm",
+          "sylva mesh-qsm QSM.csv OUT_DIR [--merge F] [--Section.field=value ...]",
+          "Meshes a QSM cylinder table (TreeQSM's columns: id, parent_id, start_x..z,\n"
+          "axis_x..z, length, radius, branch, branch_order; e.g. from a laser scan) without a\n"
+          "project: one sylva skeleton per root cylinder, the watertight bark of the mesh\n"
+          "stage (BranchMesh.* options). Writes OUT_DIR/bark.obj (closed solid), tree.obj,\n"
+          "tree.glb, qsm.csv (the table as read) and metrics.json.",
+          {{"merge", "F",
+            "children starting within F x their radius of the parent's axis hang from it "
+            "directly (default 0.1; 0 keeps every connector edge)"},
+           kLogLevelFlag},
+          2,
+          2,
+          true};
+}
+
+int CmdMeshQsm(const ParsedArguments& args) {
+  PipelineOptions options;
+  OptionRegistry registry;
+  RegisterPipelineOptions(&options, &registry);
+  for (const auto& [key, value] : args.options) registry.Set(key, value, "--" + key);
+  options.Check();
+  const double merge = args.Has("merge") ? args.GetDouble("merge", 0.1) : 0.1;
+  SYLVA_CHECK_INPUT(merge >= 0 && merge < 1, "--merge") << "must be in [0, 1), got " << merge;
+  const QsmModel qsm = ReadQsmCsv(args.positional[0]);
+  const QsmMeshing meshing = MeshQsm(qsm, options, merge);
+  std::cout << meshing.brief << "\n";
+  for (const fs::path& path : WriteQsmMeshing(meshing, qsm, args.positional[1])) {
+    std::cout << "  " << path.string() << "\n";
+  }
+  return kExitOk;
+}
+
 std::vector<CommandSpec> AllSpecs() {
   std::vector<CommandSpec> specs = {InitSpec(), RunSpec()};
   for (const StageInfo& stage : AllStages()) specs.push_back(StageSpec(stage));
   specs.push_back(SynthSpec());
+  specs.push_back(MeshQsmSpec());
   return specs;
 }
 
@@ -309,6 +345,7 @@ int Dispatch(int argc, const char* const* argv) {
     if (command == "init") return CmdInit(args);
     if (command == "run") return RunPipeline(args, nullptr);
     if (command == "synth") return CmdSynth(args);
+    if (command == "mesh-qsm") return CmdMeshQsm(args);
     const Stage stage = ParseStage(command, command);
     return RunPipeline(args, &stage);
   }

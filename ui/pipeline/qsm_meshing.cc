@@ -1,0 +1,61 @@
+#include "ui/pipeline/qsm_meshing.h"
+
+#include <sstream>
+
+#include "core/io/mesh_io.h"
+#include "core/util/check.h"
+#include "mesh/bark_mesh.h"
+#include "mesh/gltf_export.h"
+#include "mesh/tree_metrics.h"
+
+namespace sylva {
+
+QsmMeshing MeshQsm(const QsmModel& qsm, const PipelineOptions& options, double merge_fraction) {
+  QsmToSkeletonOptions convert;
+  convert.merge_fraction = merge_fraction;
+  QsmMeshing meshing;
+  meshing.parts = SkeletonsFromQsm(qsm, convert);
+  BarkMeshOptions bark = options.geometry.bark;
+  bark.tube = options.branch_mesh;
+  std::ostringstream brief;
+  brief << qsm.cylinders.size() << " cylinders in " << meshing.parts.size() << " part(s).";
+  for (const QsmSkeleton& part : meshing.parts) {
+    BarkMeshSummary summary;
+    meshing.bark.Append(options.geometry.watertight_bark
+                            ? MeshBarkWatertight(part.skeleton, bark, &summary)
+                            : MeshBranches(part.skeleton, options.branch_mesh, nullptr));
+    if (options.geometry.watertight_bark) brief << " " << summary.BriefReport();
+  }
+  meshing.brief = brief.str();
+  return meshing;
+}
+
+std::vector<std::filesystem::path> WriteQsmMeshing(const QsmMeshing& meshing,
+                                                   const QsmModel& qsm,
+                                                   const std::filesystem::path& out_dir) {
+  SYLVA_CHECK(!meshing.parts.empty()) << "nothing to write";
+  std::filesystem::create_directories(out_dir);
+  size_t largest = 0;
+  for (size_t k = 1; k < meshing.parts.size(); ++k) {
+    if (meshing.parts[k].skeleton.NumNodes() > meshing.parts[largest].skeleton.NumNodes()) {
+      largest = k;
+    }
+  }
+  GltfExportOptions gltf;
+  gltf.extras["units"] = qsm.units;
+  gltf.extras["branch_radii"] = "from the QSM (" + qsm.radius_source + ")";
+  const std::vector<std::filesystem::path> paths = {
+      out_dir / "bark.obj", out_dir / "tree.obj", out_dir / "tree.glb", out_dir / "qsm.csv",
+      out_dir / "metrics.json"};
+  WriteObj(paths[0], meshing.bark);
+  WriteObj(paths[1], meshing.bark);
+  WriteGlb(paths[2], meshing.bark, gltf);
+  // The table as read (merged connectors move starts slightly; the exact
+  // skeleton round trip is SkeletonsFromQsm with merge_fraction 0).
+  WriteQsmCsv(paths[3], qsm);
+  WriteTreeMetricsJson(paths[4],
+                       ComputeTreeMetrics(meshing.parts[largest].skeleton, nullptr, qsm.units));
+  return paths;
+}
+
+}  // namespace sylva

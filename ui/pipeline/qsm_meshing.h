@@ -1,0 +1,38 @@
+// Meshing a QSM cylinder table (e.g. TreeQSM's, from a laser scan) without a
+// project: the table becomes sylva skeletons (one per root cylinder), each is
+// meshed into the watertight bark of the mesh stage, and the outputs are the
+// mesh stage's. `sylva mesh-qsm QSM.csv OUT_DIR` calls this.
+#ifndef SYLVA_UI_PIPELINE_QSM_MESHING_H_
+#define SYLVA_UI_PIPELINE_QSM_MESHING_H_
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "core/io/qsm_io.h"
+#include "core/types/triangle_mesh.h"
+#include "ui/pipeline/pipeline_options.h"
+
+namespace sylva {
+
+struct QsmMeshing {
+  std::vector<QsmSkeleton> parts;  // one per root cylinder
+  TriangleMesh bark;               // every part's bark (closed solids)
+  std::string brief;
+};
+
+// `merge_fraction`: QsmToSkeletonOptions::merge_fraction (children whose
+// start lies within this fraction of their radius of the parent's axis hang
+// from it directly; avoids sub-millimetre connector edges of float32 tables).
+QsmMeshing MeshQsm(const QsmModel& qsm, const PipelineOptions& options, double merge_fraction);
+
+// Writes OUT_DIR/bark.obj, tree.obj (+ .mtl), tree.glb, qsm.csv (the table
+// as sylva read it, with its ids) and metrics.json (of the largest part),
+// each atomically; creates OUT_DIR. Returns the paths written.
+std::vector<std::filesystem::path> WriteQsmMeshing(const QsmMeshing& meshing,
+                                                   const QsmModel& qsm,
+                                                   const std::filesystem::path& out_dir);
+
+}  // namespace sylva
+
+#endif  // SYLVA_UI_PIPELINE_QSM_MESHING_H_
