@@ -258,12 +258,18 @@ CommandOutcome RunCommand(const fs::path& executable, const std::vector<std::str
   CommandOutcome outcome;
   int status = 0;
   std::string pending;
+  // COLMAP's threads may report items out of order ("Processed file [4/8]"
+  // before "[3/8]"): progress keeps its highest value.
+  double reported = 0.0;
   const auto consume = [&](const std::string& text) {
     *log << text << std::flush;
     pending += text;
     for (std::string& line : TakeLines(&pending)) {
       const double fraction = parse(line);
-      if (fraction >= 0) task->Update(fraction);
+      if (fraction > reported) {
+        reported = fraction;
+        task->Update(fraction);
+      }
       outcome.last_lines.push_back(std::move(line));
       if (outcome.last_lines.size() > kQuotedLogLines) outcome.last_lines.pop_front();
     }

@@ -210,7 +210,11 @@ TEST(ColmapRunnerTest, RegistersRealPhotosLikeTheGivenCameras) {
 
   // Progress from each command, rising to the end.
   ASSERT_FALSE(progress.fractions.empty());
-  EXPECT_TRUE(std::is_sorted(progress.fractions.begin(), progress.fractions.end()));
+  std::string reports;
+  for (size_t k = 0; k < progress.fractions.size(); ++k) {
+    reports += progress.tasks[k] + " " + std::to_string(progress.fractions[k]) + "\n";
+  }
+  EXPECT_TRUE(std::is_sorted(progress.fractions.begin(), progress.fractions.end())) << reports;
   EXPECT_DOUBLE_EQ(progress.fractions.back(), 1.0);
   for (const char* task : {"register: COLMAP feature extraction", "register: COLMAP matching",
                            "register: COLMAP mapping"}) {

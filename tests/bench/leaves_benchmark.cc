@@ -39,26 +39,14 @@
 #include "mesh/leaves.h"
 #include "mesh/phyllotaxis.h"
 #include "mesh/twigs.h"
+#include "tests/bench/probe_main.h"
 
 namespace sylva {
 namespace {
 
-using Clock = std::chrono::steady_clock;
+using Clock = BenchClock;
 
-double Seconds(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
 
-template <typename Run>
-double BestSeconds(int repetitions, Run&& run) {
-  double best = 1e300;
-  for (int r = 0; r < repetitions; ++r) {
-    const Clock::time_point start = Clock::now();
-    run();
-    best = std::min(best, Seconds(start));
-  }
-  return best;
-}
 
 double Height(const SkeletonGraph& skeleton) {
   double top = -std::numeric_limits<double>::infinity();

@@ -42,15 +42,13 @@
 #include "mesh/bspline.h"
 #include "mesh/gltf_export.h"
 #include "mesh/mesh_checks.h"
+#include "tests/bench/probe_main.h"
 
 namespace sylva {
 namespace {
 
-using Clock = std::chrono::steady_clock;
+using Clock = BenchClock;
 
-double Seconds(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
 
 SkeletonGraph MakeSkeleton(bool quick) {
   SyntheticTreeOptions options;
@@ -133,16 +131,6 @@ TriangleMesh ReferenceMesh(const SkeletonGraph& skeleton, const BranchMeshOption
 
 // ---- Measurements ------------------------------------------------------------
 
-template <typename Run>
-double BestSeconds(int repetitions, Run&& run) {
-  double best = 1e300;
-  for (int r = 0; r < repetitions; ++r) {
-    const Clock::time_point start = Clock::now();
-    run();
-    best = std::min(best, Seconds(start));
-  }
-  return best;
-}
 
 double MaxVertexDistance(const TriangleMesh& a, const TriangleMesh& b) {
   double worst = 0.0;

@@ -164,6 +164,12 @@ std::string Pipeline::StageKey(Stage stage) const {
       }
     }
   }
+  if (stage == Stage::kMesh && !options_.geometry.leaf_image.empty()) {
+    // The leaf picture's content, not only its name.
+    fs::path image(options_.geometry.leaf_image);
+    if (image.is_relative()) image = project_.root() / image;
+    text += "leaf image " + FileKey(project_, image) + ";";
+  }
   text += OptionsText(options_, definition.options);
   for (Stage upstream : definition.upstream) {
     text += std::string(GetStageInfo(upstream).name) + "=" + StageKey(upstream) + ";";
