@@ -2,11 +2,8 @@
 // QSM cylinder tables and a picture of one junction.
 //
 // For every QSM table (CSV with columns id, parent_id, start_x/y/z,
-// axis_x/y/z, length, radius, ...: the ITSMe qsm_csv format) a throwaway
-// reader turns the cylinders into a skeleton (one node per cylinder end, the
-// root at the first cylinder's start; a child cylinder hangs from its
-// parent cylinder's end node, so laterals that leave mid-cylinder move to the
-// parent's end). Prints triangles, CheckMesh of the watertight mesh and the
+// axis_x/y/z, length, radius, ...: the ITSMe qsm_csv format), read by
+// core/io/qsm_io.h into one skeleton per root cylinder. Prints triangles, CheckMesh of the watertight mesh and the
 // overlapping tubes, and the mesh volume against the sum of the cylinders'
 // volumes (pi r^2 L).
 //
@@ -18,14 +15,13 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
-#include <fstream>
-#include <map>
-#include <sstream>
+#include <set>
 #include <string>
 #include <vector>
 
 #include "core/geometry/rigid3.h"
 #include "core/io/image_io.h"
+#include "core/io/qsm_io.h"
 #include "core/util/check.h"
 #include "datasets/synthetic/synthetic_tree.h"
 #include "mesh/bark_mesh.h"
@@ -35,61 +31,6 @@
 
 namespace sylva {
 namespace {
-
-SkeletonGraph ReadQsm(const std::string& path, double* cylinder_volume) {
-  std::ifstream in(path);
-  SYLVA_CHECK_INPUT(in.good(), path) << "cannot open";
-  std::string line;
-  std::getline(in, line);
-  SkeletonGraph g;
-  std::map<long, int> end_node;
-  *cylinder_volume = 0.0;
-  std::vector<std::vector<double>> rows;
-  while (std::getline(in, line)) {
-    if (line.empty()) continue;
-    std::stringstream ss(line);
-    std::vector<double> v;
-    std::string cell;
-    while (std::getline(ss, cell, ',')) v.push_back(std::stod(cell));
-    SYLVA_CHECK_INPUT(v.size() >= 10, path) << "row with " << v.size() << " columns";
-    rows.push_back(v);
-  }
-  // Rows may list a child before its parent: add cylinders whose parent is
-  // placed, until all are (a cylinder with an unknown parent is an error).
-  std::vector<char> done(rows.size(), 0);
-  // Further parentless cylinders (TreeQSM's detached pieces) and their
-  // descendants are left out and counted.
-  size_t placed = 0;
-  for (size_t before = 1; placed != before;) {
-    before = placed;
-    for (size_t r = 0; r < rows.size(); ++r) {
-      const std::vector<double>& v = rows[r];
-      const long id = static_cast<long>(v[0]), parent = static_cast<long>(v[1]);
-      if (done[r] || (parent != 0 && !end_node.count(parent)) || (parent == 0 && g.NumNodes() > 0)) {
-        continue;
-      }
-      const Eigen::Vector3d start(v[2], v[3], v[4]), axis(v[5], v[6], v[7]);
-      const double length = v[8], radius = v[9];
-      *cylinder_volume += M_PI * radius * radius * length;
-      int from;
-      if (parent == 0) {
-        from = g.AddNode(start, radius, -1, 0);
-      } else {
-        from = end_node.at(parent);
-      }
-      end_node[id] = g.AddNode(start + length * axis.normalized(), radius, from, 0);
-      done[r] = 1;
-      ++placed;
-    }
-  }
-  if (placed < rows.size()) {
-    std::printf("%s: %zu of %zu cylinders detached from the first one, left out\n", path.c_str(),
-                rows.size() - placed, rows.size());
-  }
-  g.radius_source = "QSM cylinders";
-  g.AssignOrders();
-  return g;
-}
 
 void Probe(const SkeletonGraph& g, const std::string& name, double reference_volume) {
   BarkMeshSummary summary;
@@ -150,9 +91,21 @@ int Main(int argc, char** argv) {
       Picture(argv[++a]);
       continue;
     }
-    double volume = 0.0;
-    const SkeletonGraph g = ReadQsm(argv[a], &volume);
-    Probe(g, argv[a], volume);
+    // The table through sylva's reader (core/io/qsm_io.h), one skeleton per
+    // root cylinder, connectors merged as `sylva mesh-qsm` does.
+    const QsmModel qsm = ReadQsmCsv(argv[a]);
+    QsmToSkeletonOptions convert;
+    convert.merge_fraction = 0.1;
+    const std::vector<QsmSkeleton> parts = SkeletonsFromQsm(qsm, convert);
+    for (size_t k = 0; k < parts.size(); ++k) {
+      // Volume of this part's cylinders (a cylinder spans several nodes).
+      const std::set<int64_t> ids(parts[k].cylinder_ids.begin(), parts[k].cylinder_ids.end());
+      double volume = 0.0;
+      for (const QsmCylinder& c : qsm.cylinders) {
+        if (ids.count(c.id)) volume += M_PI * c.radius * c.radius * c.length;
+      }
+      Probe(parts[k].skeleton, std::string(argv[a]) + " part " + std::to_string(k), volume);
+    }
   }
   return 0;
 }
