@@ -19,8 +19,8 @@ constexpr double kDegree = M_PI / 180.0;
 const double kGoldenAngle = M_PI * (3.0 - std::sqrt(5.0));
 // Monopodial laterals are this fraction of their twig's length.
 constexpr double kLateralLength = 0.5;
-// Sympodial spent apices: stubs of this fraction of a unit.
-constexpr double kStubLength = 0.3;
+// Sympodial units: the spent apex left behind is this fraction of a unit long.
+constexpr double kSpentApexLength = 0.3;
 
 double TreeHeight(const SkeletonGraph& skeleton) {
   double top = -std::numeric_limits<double>::infinity();
@@ -146,7 +146,7 @@ class TwigGrower {
       if (i > 0) {
         // The spent apex stays as a stub; a lateral bud takes over, turned
         // alternately to either side.
-        Add(node, dir * (kStubLength * unit), skeleton_->nodes[node].radius * options_.tip_taper,
+        Add(node, dir * (kSpentApexLength * unit), skeleton_->nodes[node].radius * options_.tip_taper,
             order_ + 1);
         const double turn = (i % 2 ? 1.0 : -1.0) * options_.sympodial_angle_deg * kDegree;
         dir = Eigen::AngleAxisd(turn, plane_normal) * dir;

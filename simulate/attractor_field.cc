@@ -52,6 +52,7 @@ DirectionField2D::DirectionField2D(const AttractorGraph2D& graph,
   cols_ = std::max(1, static_cast<int>(std::ceil(width_ / cell_size_)));
   rows_ = std::max(1, static_cast<int>(std::ceil(height_ / cell_size_)));
   falloff_px_ = options.falloff * longer;
+  linear_blend_ = options.blend == "linear";
   for (const auto& [a, b] : graph.Segments()) {
     const Eigen::Vector2d ab = b - a;
     const double length = ab.norm();
@@ -151,8 +152,7 @@ Eigen::Vector2d DirectionField2D::Blend(const Eigen::Vector2d& p, const Eigen::V
                                         const Eigen::Vector2d& tangent, double distance) const {
   if (!(distance > 0)) return tangent;
   const Eigen::Vector2d toward = (closest - p) / distance;
-  const double h = options_.blend == "linear" ? std::min(distance / falloff_px_, 1.0)
-                                              : options_.constant_h;
+  const double h = linear_blend_ ? std::min(distance / falloff_px_, 1.0) : options_.constant_h;
   return h * toward + (1 - h) * tangent;
 }
 
@@ -267,9 +267,11 @@ Eigen::Vector3d AttractorDirectionField::Lifted(const Eigen::Vector3d& point_in_
     const Eigen::Vector3d lifted =
         (view.world_from_cam * Eigen::Vector3d(f.x() / view.fx, f.y() / view.fy, 0)).normalized();
     sum += length * lifted;
-    const Eigen::Vector3d normal = viewing.cross(lifted);
-    const double n = normal.norm();
-    if (n > 0) normals += length * (normal / n) * (normal / n).transpose();
+    if (options_.combine == "intersect") {
+      const Eigen::Vector3d normal = viewing.cross(lifted);
+      const double n = normal.norm();
+      if (n > 0) normals += length * (normal / n) * (normal / n).transpose();
+    }
   }
   if (!(planes.trace() > 0)) return Eigen::Vector3d::Zero();
   // The least-squares mean: the v whose projections onto the image planes

@@ -124,6 +124,7 @@ class DirectionField2D {
   int cols_ = 0, rows_ = 0;
   double cell_size_ = 1.0;
   double falloff_px_ = 1.0;
+  bool linear_blend_ = true;  // options_.blend == "linear"
   bool empty_ = true;
   std::vector<Segment> segments_;
   // Segments bucketed on a coarse grid for the closest-point search.

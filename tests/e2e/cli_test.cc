@@ -786,6 +786,13 @@ TEST_F(CliTest, AttractorGraphsFromLivewireStrokesAndEdits) {
   EXPECT_NEAR(stroke_graph.nodes[stroke_graph.root].position.y(), s * 9 / 10, 1e-6)
       << "the stroke's lowest point is its root";
 
+  // An edited graph drawn for an image of another shape: refused, naming it.
+  AttractorGraph2D squashed = ReadAttractorGraphJson(attractors / "view_01.json");
+  squashed.height /= 2;
+  WriteAttractorGraphJson(project / "edits" / "view_03.attractors.json", squashed, "view_03.png");
+  ExpectRunFails(project, {"attract", p}, {"view_03.attractors.json"});
+  fs::remove(project / "edits" / "view_03.attractors.json");
+
   // A broken SVG: refused, naming the file; nothing changes.
   WriteFile(project / "edits" / "view_02.strokes.svg", "<svg><path d=\"M 10 10 L 20\"></svg");
   ExpectRunFails(project, {"attract", p}, {"view_02.strokes.svg"});

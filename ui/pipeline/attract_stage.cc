@@ -85,8 +85,8 @@ StageRun RunAttractStage(const StageContext& context) {
     ProgressTask task(context.progress, "attract: attractor graphs");
     std::mutex mutex;
     int done = 0;
-    ParallelForFirstError(n, [&](int v) {
-      task.CheckCancelled();
+    // One view's graph (results[v]).
+    const auto attract_view = [&](int v) {
       const std::string& name = views.views[v].name;
       const Camera& camera = views.CameraOf(v);
       ViewAttractors& result = results[v];
@@ -94,6 +94,11 @@ StageRun RunAttractStage(const StageContext& context) {
       const fs::path strokes_path = project.StrokesPath(name);
       if (!edit.empty()) {
         result.graph = ReadAttractorGraphJson(edit);
+        const double aspect_error = std::abs(result.graph.width * static_cast<double>(camera.height()) -
+                                             result.graph.height * static_cast<double>(camera.width()));
+        SYLVA_CHECK_INPUT(aspect_error <= 0.01 * result.graph.width * camera.height(), edit.string())
+            << "the graph is for a " << result.graph.width << "x" << result.graph.height
+            << " image, the photo is " << camera.width() << "x" << camera.height();
         result.source = "edited";
       } else if (!strokes_path.empty()) {
         const StrokeSet strokes = ReadStrokes(strokes_path, camera.width(), camera.height());
@@ -131,6 +136,10 @@ StageRun RunAttractStage(const StageContext& context) {
         result.graph = SnapGraphToImage(result.graph, photo, matte, options.livewire);
         result.source = "strokes+livewire";
       }
+    };
+    ParallelForFirstError(n, [&](int v) {
+      task.CheckCancelled();
+      attract_view(v);
       std::lock_guard<std::mutex> lock(mutex);
       task.Update(static_cast<double>(++done) / n);
     });
