@@ -12,7 +12,9 @@
 #include <utility>
 #include <vector>
 
+#include "core/geometry/polyline.h"
 #include "core/util/check.h"
+#include "mesh/mesh_checks.h"
 
 namespace sylva {
 namespace {
@@ -22,6 +24,14 @@ constexpr double kPushFactor = 1.25;
 constexpr int kMaxPushes = 16;
 // A convex joint over more nodes than this is split up (see Run()).
 constexpr int kMaxJointNodes = 4;
+// Rounds of meshing again with crossing junctions made convex joints.
+constexpr int kMaxRepairRounds = 4;
+// ... and the most nodes such a joint may swallow (else the crossing stays).
+constexpr int kMaxRepairJointNodes = 8;
+// Meshing attempts in all (each repair and each failed attachment retries).
+constexpr int kMaxAttempts = 64;
+// A crossing within this many radii of a junction node is that junction's.
+constexpr double kNearJunction = 4.0;
 // A ring must lie behind every other ring's plane by this fraction of the
 // joint's largest ring radius.
 constexpr double kFaceClearance = 1e-3;
@@ -70,13 +80,67 @@ class WatertightMesher {
   // Meshes; a junction whose thin lateral found no quad on its parent tube
   // becomes a convex joint and everything is meshed again (at most 4 times).
   TriangleMesh Run() {
-    std::set<int> forced;
+    std::set<int> forced;      // junctions made convex joints for closedness
+    std::set<int> repairs;     // ... and to take their triangles off others
+    std::set<int> given_up;    // repairs whose joint grew too large
+    std::vector<int> batch;    // repairs added for this attempt
+    std::vector<int> pending;  // repairs to try one at a time
+    int rounds = 0;
     for (int attempt = 0;; ++attempt) {
       const BarkMeshSummary clean = *summary_;
+      const std::set<int> spread_before = spread_;
       respread_ = false;
-      TriangleMesh mesh = Attempt(forced);
-      if ((failed_attach_.empty() && !respread_) || attempt == 8) return mesh;
-      forced.insert(failed_attach_.begin(), failed_attach_.end());
+      std::set<int> convex = forced;
+      convex.insert(repairs.begin(), repairs.end());
+      TriangleMesh mesh = Attempt(convex);
+      const bool last = attempt == kMaxAttempts;
+      // A repair whose joint swallowed more than kMaxRepairJointNodes nodes
+      // costs more than its crossing: the batch that made it is undone (one
+      // repair: given up; several: tried again one at a time), and so is all
+      // this attempt did to other junctions (spread, failed attachments).
+      std::map<int, int> sizes;
+      for (int i = 0; i < skeleton_.NumNodes(); ++i) {
+        if (group_[i] >= 0) ++sizes[Group(i)];
+      }
+      bool oversized = false;
+      for (int u : repairs) {
+        oversized = oversized || (group_[u] >= 0 && sizes[Group(u)] > kMaxRepairJointNodes);
+      }
+      bool again = false;
+      if (oversized && !batch.empty() && !last) {
+        for (int u : batch) {
+          repairs.erase(u);
+          if (batch.size() == 1) {
+            given_up.insert(u);
+          } else {
+            pending.push_back(u);
+          }
+        }
+        batch.clear();
+        spread_ = spread_before;
+        again = true;
+      } else if ((!failed_attach_.empty() || respread_) && !last) {
+        forced.insert(failed_attach_.begin(), failed_attach_.end());
+        again = true;
+      } else if (!pending.empty() && !last) {
+        batch = {pending.back()};
+        pending.pop_back();
+        again = true;
+      } else if (rounds < kMaxRepairRounds && !last) {
+        batch.clear();
+        for (int u : CrossingJunctions(mesh)) {
+          if (!given_up.count(u) && !forced.count(u) && !repairs.count(u)) batch.push_back(u);
+        }
+        if (!batch.empty()) {
+          again = true;
+          ++rounds;
+        }
+      }
+      if (!again) {
+        summary_->repaired = static_cast<int>(repairs.size());
+        return mesh;
+      }
+      repairs.insert(batch.begin(), batch.end());
       *summary_ = clean;
       group_.assign(skeleton_.NumNodes(), -1);
       exits_.clear();
@@ -86,7 +150,43 @@ class WatertightMesher {
       taken_.clear();
       removed_.clear();
       failed_attach_.clear();
+      origins_.clear();
     }
+  }
+
+  const std::vector<BarkTriangleOrigin>& origins() const { return origins_; }
+
+  // Junctions next to crossing triangles: those of attached laterals, and
+  // the junction nearest a crossing within kNearJunction of its radius
+  // (tubes of branches crossing far from any junction are left alone).
+  std::set<int> CrossingJunctions(const TriangleMesh& mesh) const {
+    std::vector<int> junctions;
+    for (int i = 0; i < skeleton_.NumNodes(); ++i) {
+      if (children_[i].size() >= 2) junctions.push_back(i);
+    }
+    std::set<int> culprits;
+    for (const auto& [a, b] : FindSelfIntersections(mesh)) {
+      for (const BarkTriangleOrigin* o : {&origins_[a], &origins_[b]}) {
+        if (o->kind == BarkTriangleOrigin::kAttachment) culprits.insert(o->node);
+      }
+      Eigen::Vector3d c = Eigen::Vector3d::Zero();
+      for (int t : {a, b}) {
+        for (int k = 0; k < 3; ++k) c += mesh.vertices[mesh.triangles[t][k]].cast<double>() / 6;
+      }
+      int best = -1;
+      double best_ratio = kNearJunction;
+      for (int u : junctions) {
+        double r = skeleton_.nodes[u].radius;
+        for (int v : children_[u]) r = std::max(r, skeleton_.nodes[v].radius);
+        const double ratio = (c - Position(u)).norm() / RingRadius(r);
+        if (ratio < best_ratio) {
+          best_ratio = ratio;
+          best = u;
+        }
+      }
+      if (best >= 0 && group_[best] < 0) culprits.insert(best);
+    }
+    return culprits;
   }
 
   TriangleMesh Attempt(const std::set<int>& forced) {
@@ -138,9 +238,11 @@ class WatertightMesher {
     material_ = mesh.AddMaterial(options_.tube.bark);
     MeshPieces(&mesh);
     for (auto& [root, rings] : joint_rings_) {
-      (void)root;
       ++summary_->joints;
-      if (rings.size() >= 2 && !BuildHull(rings, &mesh)) ++summary_->failed_joints;
+      BarkTriangleOrigin origin;
+      origin.kind = BarkTriangleOrigin::kJoint;
+      origin.node = root;
+      if (rings.size() >= 2 && !BuildHull(rings, origin, &mesh)) ++summary_->failed_joints;
     }
     return mesh;
   }
@@ -370,10 +472,12 @@ class WatertightMesher {
       if (t < removed_.size() && removed_[t]) continue;
       mesh->triangles[kept] = mesh->triangles[t];
       mesh->triangle_materials[kept] = mesh->triangle_materials[t];
+      origins_[kept] = origins_[t];
       ++kept;
     }
     mesh->triangles.resize(kept);
     mesh->triangle_materials.resize(kept);
+    origins_.resize(kept);
   }
 
   // The tube of `chain` between its start and end cuts (null: the node itself).
@@ -503,6 +607,7 @@ class WatertightMesher {
         planes.push_back({c[t[0]], (c[t[1]] - c[t[0]]).cross(c[t[2]] - c[t[0]]).normalized()});
       }
     }
+    const std::vector<std::pair<Eigen::Vector3d, double>> parent_axis = RingAxis(p, mesh);
     *start = Chain(u, chain[1]);
     const double limit = options_.max_cut_fraction * start->Length() - (end ? end->t : 0.0);
     for (double t = along + 0.5 * RingRadius(skeleton_.nodes[chain[1]].radius); t <= limit;
@@ -511,8 +616,9 @@ class WatertightMesher {
       Place(start);
       const BranchTube tube = MakeTube(chain, start, end);
       if (tube.sides == 0) return false;
-      const TubeRing ring = SampleTubeRings(tube).front();
-      bool ok = true;
+      const std::vector<TubeRing> rings = SampleTubeRings(tube);
+      const TubeRing& ring = rings.front();
+      bool ok = LateralOutsideParent(rings, tube.sides, parent_axis);
       for (const Eigen::Vector3d& v : qv) {
         ok = ok && (v - ring.center).dot(start->direction) < -clearance;
       }
@@ -525,6 +631,80 @@ class WatertightMesher {
       if (ok) return true;
     }
     return false;
+  }
+
+  // True if the circles of rings a and b (b further along the tube) lie
+  // each on its own side of the other's plane, so the band between them
+  // does not fold.
+  static bool RingsApart(const TubeRing& a, const TubeRing& b) {
+    const Eigen::Vector3d na = a.frame.tangent, nb = b.frame.tangent;
+    const double c = std::clamp(na.dot(nb), -1.0, 1.0);
+    const double tilt = std::sqrt(std::max(0.0, 1 - c * c));
+    const Eigen::Vector3d d = b.center - a.center;
+    return d.dot(na) > b.radius * tilt && d.dot(nb) > a.radius * tilt;
+  }
+
+  // The rings without those that fold against their neighbours where the
+  // axis bends more sharply than the radius allows (QSM kinks); the first
+  // and the last ring are kept (joints and caps use them).
+  static std::vector<TubeRing> WithoutCrossingRings(std::vector<TubeRing> rings) {
+    if (rings.size() <= 2) return rings;
+    std::vector<TubeRing> kept = {rings.front()};
+    for (size_t k = 1; k + 1 < rings.size(); ++k) {
+      if (RingsApart(kept.back(), rings[k])) kept.push_back(rings[k]);
+    }
+    while (kept.size() > 1 && !RingsApart(kept.back(), rings.back())) kept.pop_back();
+    kept.push_back(rings.back());
+    return kept;
+  }
+
+  // A tube's ring centres and (circumscribed) radii, from its mesh vertices.
+  std::vector<std::pair<Eigen::Vector3d, double>> RingAxis(const PieceInfo& p,
+                                                          const TriangleMesh& mesh) const {
+    std::vector<std::pair<Eigen::Vector3d, double>> axis(p.rings);
+    for (int i = 0; i < p.rings; ++i) {
+      Eigen::Vector3d c = Eigen::Vector3d::Zero();
+      for (int j = 0; j < p.sides; ++j) {
+        c += mesh.vertices[p.first_vertex + i * p.sides + j].cast<double>() / p.sides;
+      }
+      double r = 0.0;
+      for (int j = 0; j < p.sides; ++j) {
+        r = std::max(r, (mesh.vertices[p.first_vertex + i * p.sides + j].cast<double>() - c).norm());
+      }
+      axis[i] = {c, r};
+    }
+    return axis;
+  }
+
+  // True if the lateral's rings (vertices) stay outside the parent tube,
+  // given by its ring axis, until the first ring entirely clear of it by the
+  // parent's radius: a lateral leaving at a shallow angle, or towards a
+  // parent that bends its way, runs inside the parent beyond its cut.
+  static bool LateralOutsideParent(const std::vector<TubeRing>& rings, int sides,
+                                   const std::vector<std::pair<Eigen::Vector3d, double>>& axis) {
+    for (const TubeRing& ring : rings) {
+      double clearest = std::numeric_limits<double>::infinity();
+      for (int j = 0; j < sides; ++j) {
+        const double a = 2 * M_PI * j / sides;
+        const Eigen::Vector3d v = ring.center + ring.radius * (std::cos(a) * ring.frame.normal +
+                                                               std::sin(a) * ring.frame.binormal);
+        double margin = std::numeric_limits<double>::infinity();  // to the parent's surface
+        double radius = 0.0;
+        for (size_t i = 0; i + 1 < axis.size(); ++i) {
+          double s = 0.0;
+          const double d = std::sqrt(SegmentDistance2(v, axis[i].first, axis[i + 1].first, &s));
+          const double r = (1 - s) * axis[i].second + s * axis[i + 1].second;
+          if (d - r < margin) {
+            margin = d - r;
+            radius = r;
+          }
+        }
+        if (margin <= kFaceClearance * radius) return false;
+        clearest = std::min(clearest, margin / std::max(radius, 1e-300));
+      }
+      if (clearest > 1.0) return true;
+    }
+    return true;
   }
 
   void MeshPiece(const std::vector<int>& chain, bool attach, TriangleMesh* mesh) {
@@ -549,8 +729,13 @@ class WatertightMesher {
     info.first_vertex = mesh->NumVertices();
     info.first_triangle = mesh->NumTriangles();
     info.sides = tube.sides;
-    info.rings = tube.NumRings();
-    AppendTube(SampleTubeRings(tube), tube.sides, material_, mesh, start == nullptr, !end_cut);
+    const std::vector<TubeRing> rings_kept = WithoutCrossingRings(SampleTubeRings(tube));
+    info.rings = static_cast<int>(rings_kept.size());
+    AppendTube(rings_kept, tube.sides, material_, mesh, start == nullptr, !end_cut);
+    BarkTriangleOrigin origin;
+    origin.node = u;
+    origin.next = chain[1];
+    origins_.resize(mesh->NumTriangles(), origin);
     pieces_.push_back(info);
     for (int k = 1; k < last_index; ++k) {
       if (!laterals_[chain[k]].empty()) attach_piece_[chain[k]] = static_cast<int>(pieces_.size()) - 1;
@@ -580,7 +765,11 @@ class WatertightMesher {
       JointRing hole;
       hole.vertices = patch.loop;
       hole.reversed = false;  // the joint uses the removed triangles' edges
-      if (BuildHull({hole, start_ring}, mesh)) {
+      BarkTriangleOrigin origin;
+      origin.kind = BarkTriangleOrigin::kAttachment;
+      origin.node = u;
+      origin.next = chain[1];
+      if (BuildHull({hole, start_ring}, origin, mesh)) {
         ++summary_->attached;
       } else {
         ++summary_->failed_joints;
@@ -603,7 +792,8 @@ class WatertightMesher {
 
   // The convex hull of the rings' vertices without the ring polygons, by
   // gift wrapping from the ring edges. False if it did not close cleanly.
-  bool BuildHull(const std::vector<JointRing>& rings, TriangleMesh* mesh) {
+  bool BuildHull(const std::vector<JointRing>& rings, const BarkTriangleOrigin& origin,
+                 TriangleMesh* mesh) {
     std::vector<int> ids, ring_of;
     for (size_t r = 0; r < rings.size(); ++r) {
       for (int v : rings[r].vertices) {
@@ -671,6 +861,7 @@ class WatertightMesher {
     }
     for (const Eigen::Vector3i& t : triangles) {
       mesh->AddTriangle(ids[t[0]], ids[t[1]], ids[t[2]], material_);
+      origins_.push_back(origin);
     }
     return true;
   }
@@ -696,6 +887,7 @@ class WatertightMesher {
   std::map<int, int> exit_count_;
   std::map<int, std::vector<JointRing>> joint_rings_;
   int material_ = 0;
+  std::vector<BarkTriangleOrigin> origins_;  // one per triangle of the mesh
 };
 
 }  // namespace
@@ -728,7 +920,8 @@ std::string BarkMeshSummary::BriefReport() const {
 }
 
 TriangleMesh MeshBarkWatertight(const SkeletonGraph& skeleton, const BarkMeshOptions& options,
-                                BarkMeshSummary* summary) {
+                                BarkMeshSummary* summary,
+                                std::vector<BarkTriangleOrigin>* origins) {
   const auto start = std::chrono::steady_clock::now();
   BarkMeshSummary local;
   if (summary == nullptr) summary = &local;
@@ -738,11 +931,191 @@ TriangleMesh MeshBarkWatertight(const SkeletonGraph& skeleton, const BarkMeshOpt
   // Validates the skeleton exactly as MeshBranches does.
   PlanBranchTubes(skeleton, options.tube);
   TriangleMesh mesh;
-  if (skeleton.NumNodes() >= 2) mesh = WatertightMesher(skeleton, options, summary).Run();
+  if (origins != nullptr) origins->clear();
+  if (skeleton.NumNodes() >= 2) {
+    WatertightMesher mesher(skeleton, options, summary);
+    mesh = mesher.Run();
+    if (origins != nullptr) *origins = mesher.origins();
+  }
   summary->triangles = mesh.NumTriangles();
   summary->seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return mesh;
+}
+
+}  // namespace sylva
+
+namespace sylva {
+namespace {
+
+// Squared distance between segments [p0, p1] and [q0, q1].
+double SegmentSegmentDistance2(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1,
+                               const Eigen::Vector3d& q0, const Eigen::Vector3d& q1) {
+  const Eigen::Vector3d d1 = p1 - p0, d2 = q1 - q0, r = p0 - q0;
+  const double a = d1.squaredNorm(), e = d2.squaredNorm(), f = d2.dot(r);
+  double s = 0.0, t = 0.0;
+  if (a <= 1e-300 && e <= 1e-300) return r.squaredNorm();
+  if (a <= 1e-300) {
+    t = std::clamp(f / e, 0.0, 1.0);
+  } else {
+    const double c = d1.dot(r);
+    if (e <= 1e-300) {
+      s = std::clamp(-c / a, 0.0, 1.0);
+    } else {
+      const double b = d1.dot(d2), denom = a * e - b * b;
+      s = denom > 1e-300 ? std::clamp((b * f - c * e) / denom, 0.0, 1.0) : 0.0;
+      t = (b * s + f) / e;
+      if (t < 0.0) {
+        t = 0.0;
+        s = std::clamp(-c / a, 0.0, 1.0);
+      } else if (t > 1.0) {
+        t = 1.0;
+        s = std::clamp((b - c) / a, 0.0, 1.0);
+      }
+    }
+  }
+  return ((p0 + s * d1) - (q0 + t * d2)).squaredNorm();
+}
+
+}  // namespace
+
+std::string BarkCrossings::BriefReport() const {
+  std::ostringstream out;
+  out << pairs << " crossing triangle pairs: " << at_junctions << " at junctions, "
+      << within_branch << " within a branch, " << colliding_branches
+      << " where skeleton branches pass through each other, " << other << " other";
+  return out.str();
+}
+
+BarkCrossings ClassifyBarkCrossings(const SkeletonGraph& skeleton, const TriangleMesh& bark,
+                                    const std::vector<BarkTriangleOrigin>& origins) {
+  SYLVA_CHECK(static_cast<int>(origins.size()) == bark.NumTriangles());
+  const std::vector<std::pair<int, int>> pairs = FindSelfIntersections(bark);
+  BarkCrossings result;
+  result.pairs = static_cast<int64_t>(pairs.size());
+  const std::vector<SkeletonNode>& nodes = skeleton.nodes;
+  // Edges are named by their child node.
+  std::vector<int> edges;
+  for (int i = 0; i < skeleton.NumNodes(); ++i) {
+    if (nodes[i].parent_idx >= 0) edges.push_back(i);
+  }
+  // The child continuing each node's branch axis.
+  std::vector<int> axis_child(skeleton.NumNodes(), -1);
+  for (const BranchAxis& axis : skeleton.BranchAxes()) {
+    for (size_t k = 1; k + 1 < axis.size(); ++k) axis_child[axis[k]] = axis[k + 1];
+    if (axis.size() >= 2 && axis_child[axis[0]] < 0) axis_child[axis[0]] = axis[1];
+  }
+  auto nearest_edge = [&](int t) {
+    Eigen::Vector3d c = Eigen::Vector3d::Zero();
+    for (int k = 0; k < 3; ++k) c += bark.vertices[bark.triangles[t][k]].cast<double>() / 3.0;
+    int best = -1;
+    double best_gap = std::numeric_limits<double>::infinity();
+    auto consider = [&](int e) {
+      double s = 0.0;
+      const Eigen::Vector3d& a = nodes[nodes[e].parent_idx].position;
+      const double d = std::sqrt(SegmentDistance2(c, a, nodes[e].position, &s));
+      const double gap = std::abs(d - ((1 - s) * nodes[nodes[e].parent_idx].radius +
+                                       s * nodes[e].radius));
+      if (gap < best_gap) {
+        best_gap = gap;
+        best = e;
+      }
+    };
+    const BarkTriangleOrigin& o = origins[t];
+    if (o.kind == BarkTriangleOrigin::kAttachment) return o.next;
+    if (o.kind == BarkTriangleOrigin::kTube && o.next >= 0) {
+      // Along the tube's axis, down the axis children or up the parents.
+      if (nodes[o.next].parent_idx == o.node) {
+        for (int e = o.next; e >= 0; e = axis_child[e]) consider(e);
+      } else {
+        for (int e = o.node; nodes[e].parent_idx >= 0; e = nodes[e].parent_idx) consider(e);
+      }
+      return best;
+    }
+    for (int e : edges) consider(e);
+    return best;
+  };
+  // Edges between edge a and edge b: 0 the same, 1 sharing a node, ...
+  auto hops = [&](int a, int b) {
+    std::map<int, int> up;
+    int k = 0;
+    for (int x = a; x >= 0; x = nodes[x].parent_idx) up[x] = k++;
+    int steps = 0;
+    for (int x = b; x >= 0; x = nodes[x].parent_idx, ++steps) {
+      const auto it = up.find(x);
+      if (it != up.end()) return it->second + steps;
+    }
+    return std::numeric_limits<int>::max();
+  };
+  const std::vector<std::vector<int>> children = skeleton.Children();
+  // The tree path between nodes x and y (both included).
+  auto path = [&](int x, int y) {
+    std::vector<int> up_x, up_y;
+    std::set<int> on_x;
+    for (int n = x; n >= 0; n = nodes[n].parent_idx) {
+      up_x.push_back(n);
+      on_x.insert(n);
+    }
+    int meet = y;
+    for (; meet >= 0 && !on_x.count(meet); meet = nodes[meet].parent_idx) up_y.push_back(meet);
+    std::vector<int> p;
+    for (int n : up_x) {
+      p.push_back(n);
+      if (n == meet) break;
+    }
+    p.insert(p.end(), up_y.rbegin(), up_y.rend());
+    return p;
+  };
+  // Do edges a and b meet through a node of 2+ children (a junction), on
+  // the shortest path between their end nodes?
+  auto JunctionBetween = [&](int a, int b) {
+    std::vector<int> best;
+    for (int x : {a, nodes[a].parent_idx}) {
+      for (int y : {b, nodes[b].parent_idx}) {
+        std::vector<int> p = path(x, y);
+        if (best.empty() || p.size() < best.size()) best = std::move(p);
+      }
+    }
+    for (int n : best) {
+      if (children[n].size() >= 2) return true;
+    }
+    return false;
+  };
+  auto around = [&](int e) {  // the edge and the edges sharing a node with it
+    std::set<int> near = {e};
+    const int p = nodes[e].parent_idx;
+    if (nodes[p].parent_idx >= 0) near.insert(p);
+    for (int c : children[p]) near.insert(c);
+    for (int c : children[e]) near.insert(c);
+    return near;
+  };
+  for (const auto& [t1, t2] : pairs) {
+    const int e1 = nearest_edge(t1), e2 = nearest_edge(t2);
+    if (e1 < 0 || e2 < 0) {
+      ++result.other;
+      continue;
+    }
+    const int h = e1 == e2 ? 0 : hops(e1, e2);
+    if (h == 0 || (h <= 3 && !JunctionBetween(e1, e2))) {
+      ++result.within_branch;
+    } else if (h <= 3) {
+      ++result.at_junctions;
+    } else {
+      bool collide = false;
+      for (int a : around(e1)) {
+        for (int b : around(e2)) {
+          const double reach = 1.05 * (std::max(nodes[a].radius, nodes[nodes[a].parent_idx].radius) +
+                                       std::max(nodes[b].radius, nodes[nodes[b].parent_idx].radius));
+          collide = collide ||
+                    SegmentSegmentDistance2(nodes[nodes[a].parent_idx].position, nodes[a].position,
+                                            nodes[nodes[b].parent_idx].position,
+                                            nodes[b].position) < reach * reach;
+        }
+      }
+      (collide ? result.colliding_branches : result.other)++;
+    }
+  }
+  return result;
 }
 
 }  // namespace sylva

@@ -49,7 +49,9 @@
 #ifndef SYLVA_MESH_BARK_MESH_H_
 #define SYLVA_MESH_BARK_MESH_H_
 
+#include <cstdint>
 #include <string>
+#include <vector>
 
 #include "core/types/skeleton_graph.h"
 #include "core/types/triangle_mesh.h"
@@ -89,6 +91,7 @@ struct BarkMeshSummary {
   int attached = 0;        // thin laterals glued onto a quad of the parent tube
   int unattached = 0;      // thin laterals that found no quad: capped, overlapping (not closed)
   int failed_joints = 0;   // joints whose hull could not be built (mesh not closed)
+  int repaired = 0;        // junctions made convex joints because their triangles crossed
   int pieces = 0;          // tubes between joints, tips and the root
   int triangles = 0;
   double seconds = 0.0;
@@ -98,11 +101,45 @@ struct BarkMeshSummary {
   std::string BriefReport() const;
 };
 
+// What a bark triangle was made for (diagnostics: where does a mesh cross?).
+struct BarkTriangleOrigin {
+  enum Kind : int { kTube = 0, kAttachment = 1, kJoint = 2 };
+  Kind kind = kTube;
+  // kTube: the first two nodes of the tube's chain (its side and caps).
+  // kAttachment: the junction and the attached lateral's first node.
+  // kJoint: a node of the convex joint (the group's representative), -1.
+  int node = -1;
+  int next = -1;
+};
+
 // The watertight bark of `skeleton` (see the header comment), one material
-// (options.tube.bark). `summary` may be null. Validates the skeleton like
-// MeshBranches (InputError("skeleton", ...)). Deterministic.
+// (options.tube.bark). `summary` and `origins` (one per triangle) may be
+// null. Validates the skeleton like MeshBranches (InputError("skeleton",
+// ...)). Deterministic.
 TriangleMesh MeshBarkWatertight(const SkeletonGraph& skeleton, const BarkMeshOptions& options,
-                                BarkMeshSummary* summary);
+                                BarkMeshSummary* summary,
+                                std::vector<BarkTriangleOrigin>* origins = nullptr);
+
+// Where a bark mesh crosses itself, by the skeleton: each crossing pair of
+// triangles (mesh/mesh_checks.h FindSelfIntersections) is given the skeleton
+// edges the two triangles were made for: an attachment's lateral edge, else
+// the edge whose surface (distance to the edge minus its radius) is nearest
+// the triangle's centroid, among its tube's axis (tubes) or all (joints).
+struct BarkCrossings {
+  int64_t pairs = 0;           // all crossing pairs
+  int64_t within_branch = 0;   // both near the same edge (a kink in one tube)
+  int64_t at_junctions = 0;    // edges 1-3 apart: a junction's pieces cross
+  // Edges further apart whose skeleton capsules (segments with radii, or
+  // those of their neighbouring edges) overlap: branches of the skeleton
+  // itself pass through each other; no junction mesher can help there.
+  int64_t colliding_branches = 0;
+  int64_t other = 0;  // edges further apart whose capsules do not overlap
+
+  std::string BriefReport() const;
+};
+// `bark` and `origins` from MeshBarkWatertight.
+BarkCrossings ClassifyBarkCrossings(const SkeletonGraph& skeleton, const TriangleMesh& bark,
+                                    const std::vector<BarkTriangleOrigin>& origins);
 
 }  // namespace sylva
 

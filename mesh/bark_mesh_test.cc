@@ -65,12 +65,18 @@ BarkMeshOptions FixedSides(int sides) {
 }
 
 // `max_crossing_fraction`: self-intersecting triangle pairs allowed per
-// triangle (0 for the hand-made junctions).
+// triangle (0 for the hand-made junctions); `max_junction_crossings`: of
+// those, pairs at junctions (ClassifyBarkCrossings).
 void ExpectWatertight(const SkeletonGraph& g, const BarkMeshOptions& options, double volume_tol,
-                      const std::string& what, double max_crossing_fraction = 0.0) {
+                      const std::string& what, double max_crossing_fraction = 0.0,
+                      int64_t max_junction_crossings = 0) {
   BarkMeshSummary summary;
-  const TriangleMesh mesh = MeshBarkWatertight(g, options, &summary);
+  std::vector<BarkTriangleOrigin> origins;
+  const TriangleMesh mesh = MeshBarkWatertight(g, options, &summary, &origins);
   const MeshCheck check = CheckMesh(mesh);
+  const BarkCrossings crossings = ClassifyBarkCrossings(g, mesh, origins);
+  EXPECT_EQ(crossings.pairs, check.self_intersections);
+  EXPECT_LE(crossings.at_junctions, max_junction_crossings) << crossings.BriefReport();
   SCOPED_TRACE(what + ": " + summary.BriefReport() + " " + check.BriefReport());
   EXPECT_EQ(summary.failed_joints, 0);
   EXPECT_EQ(check.boundary_edges, 0);
@@ -83,9 +89,9 @@ void ExpectWatertight(const SkeletonGraph& g, const BarkMeshOptions& options, do
   if (volume_tol > 0) {
     const double reference = FrustumVolume(g, options.tube.max_sides);
     EXPECT_NEAR(check.volume / reference, 1.0, volume_tol);
-    std::printf("%s: volume / frustum sum %.4f, %ld self-intersecting pairs in %d triangles\n",
-                what.c_str(), check.volume / reference,
-                static_cast<long>(check.self_intersections), check.triangles);
+    std::printf("%s: volume / frustum sum %.4f, %d triangles, %s (%d junctions repaired)\n",
+                what.c_str(), check.volume / reference, check.triangles,
+                crossings.BriefReport().c_str(), summary.repaired);
   }
 }
 
@@ -103,16 +109,18 @@ TEST(BarkMeshTest, HandMadeJunctionsAreClosedManifolds) {
 }
 
 // Closed, one component, outward, volume within 5 % of the frustum sum
-// (measured 0.94-0.99 on hand-made junctions and synthetic trees: the joints
-// replace the tubes' overlaps, the splines cut corners). NOT yet free of
-// self-intersections: 0.1-1.4 % of the triangles cross another one
-// (measured; mostly near twig clusters: nodes with 3-6 thin children), so
-// the bound below documents the current state, it is no goal.
+// (measured 0.954-0.979: the joints replace the tubes' overlaps, the splines
+// cut corners). NOT yet free of self-intersections (measured with 12 sides,
+// ClassifyBarkCrossings): most crossing pairs (84-792 per tree of ~100k
+// triangles) are where branches of the synthetic skeleton pass through each
+// other, 0-90 within one branch (tight bends), and 0-31 at junctions (0 on
+// five of the ten trees; joints next to twig clusters). The bounds below
+// document that state; they are no goal.
 TEST(BarkMeshTest, SyntheticTreesAreClosedManifolds) {
   SyntheticTreeOptions tree;
   for (uint64_t seed = 1; seed <= 10; ++seed) {
     const SkeletonGraph g = GenerateSyntheticSkeleton(tree, seed);
-    ExpectWatertight(g, FixedSides(12), 0.05, "seed " + std::to_string(seed), 0.02);
+    ExpectWatertight(g, FixedSides(12), 0.05, "seed " + std::to_string(seed), 0.01, 40);
   }
 }
 

@@ -56,7 +56,10 @@ bool TrianglesCross(const Tri& a, const Tri& b, double scale) {
   return false;
 }
 
-int64_t CountSelfIntersections(const TriangleMesh& mesh, const std::vector<int>& selected) {
+// Crossing pairs (indices into mesh.triangles, first < second by position in
+// `selected`); stops after max_pairs (< 0: all). Returns the count found.
+int64_t SelfIntersections(const TriangleMesh& mesh, const std::vector<int>& selected,
+                          int64_t max_pairs, std::vector<std::pair<int, int>>* pairs) {
   if (selected.size() < 2) return 0;
   std::vector<Tri> tris(selected.size());
   std::vector<Eigen::AlignedBox3d> boxes(selected.size());
@@ -113,13 +116,40 @@ int64_t CountSelfIntersections(const TriangleMesh& mesh, const std::vector<int>&
       for (int a = 0; a < 3; ++a)
         for (int b = 0; b < 3; ++b) shared = shared || fi[a] == fj[b];
       if (shared) continue;
-      if (TrianglesCross(tris[i], tris[j], scale)) ++count;
+      if (!TrianglesCross(tris[i], tris[j], scale)) continue;
+      ++count;
+      if (pairs != nullptr) pairs->emplace_back(selected[i], selected[j]);
+      if (max_pairs >= 0 && count >= max_pairs) return count;
     }
   }
   return count;
 }
 
+// Triangles whose material is named `material` (all if empty).
+std::vector<int> SelectTriangles(const TriangleMesh& mesh, const std::string& material) {
+  int material_idx = -1;
+  if (!material.empty()) {
+    for (size_t m = 0; m < mesh.materials.size(); ++m) {
+      if (mesh.materials[m].name == material) material_idx = static_cast<int>(m);
+    }
+  }
+  std::vector<int> selected;
+  for (int t = 0; t < mesh.NumTriangles(); ++t) {
+    if (material.empty() || mesh.triangle_materials[t] == material_idx) selected.push_back(t);
+  }
+  return selected;
+}
+
 }  // namespace
+
+std::vector<std::pair<int, int>> FindSelfIntersections(const TriangleMesh& mesh,
+                                                       const std::string& material,
+                                                       int64_t max_pairs) {
+  mesh.Check();
+  std::vector<std::pair<int, int>> pairs;
+  SelfIntersections(mesh, SelectTriangles(mesh, material), max_pairs, &pairs);
+  return pairs;
+}
 
 bool MeshCheck::IsClosedManifold() const {
   return triangles > 0 && boundary_edges == 0 && nonmanifold_edges == 0 &&
@@ -145,16 +175,7 @@ std::string MeshCheck::BriefReport() const {
 MeshCheck CheckMesh(const TriangleMesh& mesh, const std::string& material,
                     bool self_intersections) {
   mesh.Check();
-  int material_idx = -1;
-  if (!material.empty()) {
-    for (size_t m = 0; m < mesh.materials.size(); ++m) {
-      if (mesh.materials[m].name == material) material_idx = static_cast<int>(m);
-    }
-  }
-  std::vector<int> selected;
-  for (int t = 0; t < mesh.NumTriangles(); ++t) {
-    if (material.empty() || mesh.triangle_materials[t] == material_idx) selected.push_back(t);
-  }
+  const std::vector<int> selected = SelectTriangles(mesh, material);
   MeshCheck check;
   check.triangles = static_cast<int>(selected.size());
   Eigen::AlignedBox3d bounds;
@@ -197,7 +218,7 @@ MeshCheck CheckMesh(const TriangleMesh& mesh, const std::string& material,
   for (int v = 0; v < mesh.NumVertices(); ++v) {
     if (used[v] && Find(&parent, v) == v) ++check.components;
   }
-  if (self_intersections) check.self_intersections = CountSelfIntersections(mesh, selected);
+  if (self_intersections) check.self_intersections = SelfIntersections(mesh, selected, -1, nullptr);
   return check;
 }
 

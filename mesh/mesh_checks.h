@@ -10,6 +10,8 @@
 
 #include <cstdint>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "core/types/triangle_mesh.h"
 
@@ -42,6 +44,13 @@ struct MeshCheck {
 // `self_intersections`. Throws Error for an invalid mesh (TriangleMesh::Check).
 MeshCheck CheckMesh(const TriangleMesh& mesh, const std::string& material = "",
                     bool self_intersections = true);
+
+// The crossing triangle pairs CheckMesh counts, as indices into
+// mesh.triangles (each pair once, in a deterministic order), at most
+// `max_pairs` of them (< 0: all). For diagnostics: where does a mesh cross?
+std::vector<std::pair<int, int>> FindSelfIntersections(const TriangleMesh& mesh,
+                                                       const std::string& material = "",
+                                                       int64_t max_pairs = -1);
 
 }  // namespace sylva
 
