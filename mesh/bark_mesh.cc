@@ -24,12 +24,10 @@ constexpr double kPushFactor = 1.25;
 constexpr int kMaxPushes = 16;
 // A convex joint over more nodes than this is split up (see Run()).
 constexpr int kMaxJointNodes = 4;
-// Rounds of meshing again with crossing junctions made convex joints.
-constexpr int kMaxRepairRounds = 4;
 // ... and the most nodes such a joint may swallow (else the crossing stays).
 constexpr int kMaxRepairJointNodes = 8;
 // Meshing attempts in all (each repair and each failed attachment retries).
-constexpr int kMaxAttempts = 64;
+constexpr int kMaxAttempts = 24;
 // A crossing within this many radii of a junction node is that junction's.
 constexpr double kNearJunction = 4.0;
 // A ring must lie behind every other ring's plane by this fraction of the
@@ -78,13 +76,13 @@ class WatertightMesher {
   }
 
   // Meshes; a junction whose thin lateral found no quad on its parent tube
-  // becomes a convex joint and everything is meshed again (at most 4 times).
+  // becomes a convex joint and everything is meshed again, and so do
+  // junctions next to crossings (repairs, options_.repair_rounds rounds).
   TriangleMesh Run() {
     std::set<int> forced;      // junctions made convex joints for closedness
     std::set<int> repairs;     // ... and to take their triangles off others
     std::set<int> given_up;    // repairs whose joint grew too large
     std::vector<int> batch;    // repairs added for this attempt
-    std::vector<int> pending;  // repairs to try one at a time
     int rounds = 0;
     for (int attempt = 0;; ++attempt) {
       const BarkMeshSummary clean = *summary_;
@@ -92,29 +90,23 @@ class WatertightMesher {
       respread_ = false;
       std::set<int> convex = forced;
       convex.insert(repairs.begin(), repairs.end());
+      repairs_ = repairs;
       TriangleMesh mesh = Attempt(convex);
       const bool last = attempt == kMaxAttempts;
-      // A repair whose joint swallowed more than kMaxRepairJointNodes nodes
-      // costs more than its crossing: the batch that made it is undone (one
-      // repair: given up; several: tried again one at a time), and so is all
-      // this attempt did to other junctions (spread, failed attachments).
-      std::map<int, int> sizes;
-      for (int i = 0; i < skeleton_.NumNodes(); ++i) {
-        if (group_[i] >= 0) ++sizes[Group(i)];
-      }
-      bool oversized = false;
-      for (int u : repairs) {
-        oversized = oversized || (group_[u] >= 0 && sizes[Group(u)] > kMaxRepairJointNodes);
-      }
       bool again = false;
-      if (oversized && !batch.empty() && !last) {
-        for (int u : batch) {
+      if (!overflow_.empty()) {
+        // A repair's joint swallowed more than kMaxRepairJointNodes nodes:
+        // it costs more than its crossing. The repairs of that joint from
+        // the last batch (else all of them) are given up, and all this
+        // attempt did to other junctions is undone.
+        std::vector<int> culprits;
+        for (int u : overflow_) {
+          if (std::find(batch.begin(), batch.end(), u) != batch.end()) culprits.push_back(u);
+        }
+        if (culprits.empty()) culprits = overflow_;
+        for (int u : culprits) {
           repairs.erase(u);
-          if (batch.size() == 1) {
-            given_up.insert(u);
-          } else {
-            pending.push_back(u);
-          }
+          given_up.insert(u);
         }
         batch.clear();
         spread_ = spread_before;
@@ -122,11 +114,7 @@ class WatertightMesher {
       } else if ((!failed_attach_.empty() || respread_) && !last) {
         forced.insert(failed_attach_.begin(), failed_attach_.end());
         again = true;
-      } else if (!pending.empty() && !last) {
-        batch = {pending.back()};
-        pending.pop_back();
-        again = true;
-      } else if (rounds < kMaxRepairRounds && !last) {
+      } else if (rounds < options_.repair_rounds && !last) {
         batch.clear();
         for (int u : CrossingJunctions(mesh)) {
           if (!given_up.count(u) && !forced.count(u) && !repairs.count(u)) batch.push_back(u);
@@ -146,6 +134,7 @@ class WatertightMesher {
       exits_.clear();
       joint_rings_.clear();
       pieces_.clear();
+      ring_axes_.clear();
       attach_piece_.clear();
       taken_.clear();
       removed_.clear();
@@ -220,7 +209,9 @@ class WatertightMesher {
         group_[i] = i;
       }
     }
+    overflow_.clear();
     FormJoints();
+    if (!overflow_.empty()) return TriangleMesh();
     // Junctions of several laterals whose convex joint grew over more than
     // kMaxJointNodes nodes attach their laterals one by one instead.
     std::map<int, int> sizes;
@@ -371,6 +362,22 @@ class WatertightMesher {
     return ok;
   }
 
+  // True (and overflow_ set to its repairs) if the joint of `node` holds a
+  // repair and more than kMaxRepairJointNodes nodes: the attempt stops.
+  bool RepairOverflows(int node) {
+    const int g = Group(node);
+    int size = 0;
+    std::vector<int> repairs;
+    for (int i = 0; i < skeleton_.NumNodes(); ++i) {
+      if (group_[i] < 0 || Group(i) != g) continue;
+      ++size;
+      if (repairs_.count(i)) repairs.push_back(i);
+    }
+    if (repairs.empty() || size <= kMaxRepairJointNodes) return false;
+    overflow_ = repairs;
+    return true;
+  }
+
   // Groups junctions into joints whose cuts fit; fills exits_.
   void FormJoints() {
     bool changed = true;
@@ -411,6 +418,7 @@ class WatertightMesher {
         if (worst >= 0 && (worst_ratio > options_.max_cut_fraction || !faces)) {
           for (int node : exits[worst].path) Join(g, node);
           ++summary_->fallbacks;
+          if (RepairOverflows(g)) return;
           changed = true;
           break;
         }
@@ -427,6 +435,7 @@ class WatertightMesher {
         if (e.t + other->second.t > options_.max_cut_fraction * e.Length()) {
           for (int node : e.path) Join(key.first, node);
           ++summary_->fallbacks;
+          if (RepairOverflows(key.first)) return;
           changed = true;
           break;
         }
@@ -607,9 +616,24 @@ class WatertightMesher {
         planes.push_back({c[t[0]], (c[t[1]] - c[t[0]]).cross(c[t[2]] - c[t[0]]).normalized()});
       }
     }
-    const std::vector<std::pair<Eigen::Vector3d, double>> parent_axis = RingAxis(p, mesh);
     *start = Chain(u, chain[1]);
     const double limit = options_.max_cut_fraction * start->Length() - (end ? end->t : 0.0);
+    // The parent's axis segments within reach of the lateral's cut rings.
+    std::vector<AxisSegment> parent_axis;
+    {
+      auto cached = ring_axes_.find(it->second);
+      if (cached == ring_axes_.end()) {
+        cached = ring_axes_.emplace(it->second, RingAxis(p, mesh)).first;
+      }
+      const std::vector<std::pair<Eigen::Vector3d, double>>& axis = cached->second;
+      double widest = 0.0;
+      for (const auto& ring : axis) widest = std::max(widest, ring.second);
+      const double reach = limit + 2 * widest + 4 * RingRadius(skeleton_.nodes[chain[1]].radius);
+      for (size_t i = 0; i + 1 < axis.size(); ++i) {
+        if (SegmentDistance2(origin, axis[i].first, axis[i + 1].first) > reach * reach) continue;
+        parent_axis.push_back({axis[i].first, axis[i + 1].first, axis[i].second, axis[i + 1].second});
+      }
+    }
     for (double t = along + 0.5 * RingRadius(skeleton_.nodes[chain[1]].radius); t <= limit;
          t *= 1.12) {
       start->t = t;
@@ -658,6 +682,11 @@ class WatertightMesher {
     return kept;
   }
 
+  struct AxisSegment {
+    Eigen::Vector3d a, b;
+    double radius_a = 0.0, radius_b = 0.0;
+  };
+
   // A tube's ring centres and (circumscribed) radii, from its mesh vertices.
   std::vector<std::pair<Eigen::Vector3d, double>> RingAxis(const PieceInfo& p,
                                                           const TriangleMesh& mesh) const {
@@ -681,7 +710,7 @@ class WatertightMesher {
   // parent's radius: a lateral leaving at a shallow angle, or towards a
   // parent that bends its way, runs inside the parent beyond its cut.
   static bool LateralOutsideParent(const std::vector<TubeRing>& rings, int sides,
-                                   const std::vector<std::pair<Eigen::Vector3d, double>>& axis) {
+                                   const std::vector<AxisSegment>& axis) {
     for (const TubeRing& ring : rings) {
       double clearest = std::numeric_limits<double>::infinity();
       for (int j = 0; j < sides; ++j) {
@@ -690,10 +719,10 @@ class WatertightMesher {
                                                                std::sin(a) * ring.frame.binormal);
         double margin = std::numeric_limits<double>::infinity();  // to the parent's surface
         double radius = 0.0;
-        for (size_t i = 0; i + 1 < axis.size(); ++i) {
+        for (const AxisSegment& segment : axis) {
           double s = 0.0;
-          const double d = std::sqrt(SegmentDistance2(v, axis[i].first, axis[i + 1].first, &s));
-          const double r = (1 - s) * axis[i].second + s * axis[i + 1].second;
+          const double d = std::sqrt(SegmentDistance2(v, segment.a, segment.b, &s));
+          const double r = (1 - s) * segment.radius_a + s * segment.radius_b;
           if (d - r < margin) {
             margin = d - r;
             radius = r;
@@ -875,10 +904,14 @@ class WatertightMesher {
   std::vector<int> continuation_;          // axis child of attach junctions, else -1
   std::vector<std::vector<int>> laterals_;  // attached laterals of attach junctions
   std::vector<PieceInfo> pieces_;
+  // Ring centres and radii of pieces (by index) laterals attach to.
+  mutable std::map<int, std::vector<std::pair<Eigen::Vector3d, double>>> ring_axes_;
   std::map<int, int> attach_piece_;  // attach junction -> the piece through it
   std::set<int> taken_;              // first triangles of used quads
   std::vector<char> removed_;        // triangles replaced by attachment joints
   std::set<int> spread_;  // junctions of 3+ children attaching their laterals
+  std::set<int> repairs_;     // junctions made convex joints by repairs
+  std::vector<int> overflow_;  // repairs in a joint that grew too large
   bool respread_ = false;
   std::vector<int> failed_attach_;   // attach junctions with a lateral left unattached
   std::vector<int> group_;  // union-find parent of joint nodes, -1 elsewhere
@@ -894,7 +927,7 @@ class WatertightMesher {
 
 void BarkMeshOptions::Check() const {
   tube.Check();
-  SYLVA_CHECK_INPUT(sphere_margin > 0 && sphere_margin <= 10, "BarkMesh.sphere_margin")
+  SYLVA_CHECK_INPUT(sphere_margin > 0 && sphere_margin <= 10, "BranchMesh.sphere_margin")
       << "must be in (0, 10], got " << sphere_margin;
   SYLVA_CHECK_INPUT(max_cut_fraction > 0 && max_cut_fraction < 1, "BarkMesh.max_cut_fraction")
       << "must be in (0, 1), got " << max_cut_fraction;
@@ -903,6 +936,8 @@ void BarkMeshOptions::Check() const {
       << "must be in (0, 1), got " << min_radius_fraction;
   SYLVA_CHECK_INPUT(attach_ratio >= 0 && attach_ratio <= 1, "BarkMesh.attach_ratio")
       << "must be in [0, 1], got " << attach_ratio;
+  SYLVA_CHECK_INPUT(repair_rounds >= 0 && repair_rounds <= 16, "BranchMesh.repair_rounds")
+      << "must be in [0, 16], got " << repair_rounds;
 }
 
 std::string BarkMeshSummary::BriefReport() const {

@@ -42,10 +42,20 @@
 // deterministically jittered by 1e-7 of the joint's size to break ties of
 // cocircular points. Tips and a non-junction root get flat caps.
 //
-// Known gap: on dense trees (the synthetic trees) 0.1-1.4 % of the triangles
-// still cross another one, mostly within 2-7 parent radii of twig clusters
-// (a node with 3-6 thin children attached one by one); check with CheckMesh
-// (mesh/mesh_checks.h).
+//  4. Repairs. A thin lateral is cut back until its first rings are
+//     outside the parent tube, not only in front of the quad. After
+//     meshing, the crossing triangle pairs (mesh/mesh_checks.h) are looked
+//     up: junctions of crossing attachments, and the junction within 4 radii
+//     of a crossing, are meshed again as convex joints (repair_rounds).
+//     A repair whose joint swallows more than 8 nodes is undone.
+//  5. Tight bends. Tube rings that fold against the previous ring (the axis
+//     bends more sharply than the radius allows, as at QSM kinks) are
+//     dropped.
+//
+// Known gap (ClassifyBarkCrossings): the synthetic trees still have 0-31
+// crossing pairs per ~100k triangles at junctions (next to twig clusters),
+// and more where branches of the skeleton itself pass through each other,
+// which no junction mesher can mend.
 #ifndef SYLVA_MESH_BARK_MESH_H_
 #define SYLVA_MESH_BARK_MESH_H_
 
@@ -76,6 +86,10 @@ struct BarkMeshOptions {
   // of a convex joint around the whole junction; in [0, 1], 0 = never
   // (convex joints only: on dense trees most junctions then merge).
   double attach_ratio = 1.0;
+  // Rounds of repairs (see 4. above): after meshing, junctions next to
+  // crossing triangles are meshed again as convex joints; each round costs
+  // one self-intersection check and one meshing. 0 = no repairs; <= 16.
+  int repair_rounds = 4;
 
   // Throws InputError("BarkMesh.<field>", ...) naming the violated constraint.
   void Check() const;

@@ -192,11 +192,21 @@ int Main(bool quick) {
   std::printf("  %s\n", bark_summary.BriefReport().c_str());
   std::printf("MeshBarkWatertight         %9.2f ms  %6.2f M triangles/s  (%d triangles)\n",
               1e3 * watertight, bark.NumTriangles() / watertight / 1e6, bark.NumTriangles());
+  // Without the repair rounds (each costs a self-intersection check and a
+  // meshing of the whole tree).
+  BarkMeshOptions no_repairs = bark_options;
+  no_repairs.repair_rounds = 0;
+  TriangleMesh unrepaired;
+  const double single = BestSeconds(
+      repetitions, [&] { unrepaired = MeshBarkWatertight(skeleton, no_repairs, nullptr); });
+  std::printf("  ... without repairs      %9.2f ms  %6.2f M triangles/s  (%d triangles)\n",
+              1e3 * single, unrepaired.NumTriangles() / single / 1e6, unrepaired.NumTriangles());
   std::printf("MeshBranches (reference)   %9.2f ms  %6.2f M triangles/s  (%d triangles)\n",
               1e3 * fast, mesh.NumTriangles() / fast / 1e6, mesh.NumTriangles());
   const MeshCheck bark_check = CheckMesh(bark);
   const MeshCheck tube_check = CheckMesh(mesh);
-  std::printf("  watertight: %s\n  tubes:      %s\n", bark_check.BriefReport().c_str(),
+  std::printf("  watertight: %s\n  without repairs: %s\n  tubes:      %s\n",
+              bark_check.BriefReport().c_str(), CheckMesh(unrepaired).BriefReport().c_str(),
               tube_check.BriefReport().c_str());
   const bool closed = bark_check.boundary_edges == 0 && bark_check.nonmanifold_edges == 0 &&
                       bark_check.misoriented_edges == 0 && bark_check.components == 1;

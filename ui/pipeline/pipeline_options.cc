@@ -278,6 +278,8 @@ void RegisterGeometry(TreeGeometryOptions* o, LeafOptions* leaves, OptionRegistr
              "overlapping tubes");
   r->AddDouble("BranchMesh.sphere_margin", &o->bark.sphere_margin, "",
                "junction spheres (eq. 5.25) enlarged by this fraction");
+  r->AddInt("BranchMesh.repair_rounds", &o->bark.repair_rounds, "rounds",
+            "junctions next to crossing triangles meshed again as convex joints; 0 = off");
   r->AddBool("Twigs.enabled", &o->twigs, "grow twigs from the terminal branches (thesis 5.4)");
   r->AddString("Twigs.pattern", &o->twig.pattern, "monopodial or sympodial");
   r->AddDouble("Twigs.twigs_per_length", &o->twig.twigs_per_length, "per twig length",
