@@ -242,6 +242,28 @@ TEST(SubdivisionTest, ForkBarkStaysClosed) {
   }
 }
 
+// A straight branch (2 m, radius 0.05, 40 rings) loses the more volume the
+// fewer sides it has: its polygon rounds inwards. Measured after one level:
+// 4 sides x0.75, 6 x0.87, 8 x0.92, 12 x0.96, 16 x0.97, 24 x0.985.
+TEST(SubdivisionTest, ThinTubesShrinkByTheirNumberOfSides) {
+  SkeletonGraph g;
+  int node = g.AddNode(Eigen::Vector3d::Zero(), 0.05, -1, 0);
+  for (int k = 1; k <= 10; ++k) node = g.AddNode(Eigen::Vector3d(0, 0, 0.2 * k), 0.05, node, 0);
+  double previous = 0;
+  for (int sides : {4, 6, 8, 12, 16, 24}) {
+    BarkMeshOptions options;
+    options.tube.min_sides = options.tube.max_sides = sides;
+    LoopSubdivisionSummary summary;
+    SubdivideLoop(MeshBarkWatertight(g, options, nullptr), 1, &summary);
+    const double ratio = summary.volume / summary.input_volume;
+    std::printf("straight tube, %d sides: volume x%.4f\n", sides, ratio);
+    EXPECT_GT(ratio, previous);
+    EXPECT_LT(ratio, 1.0);
+    previous = ratio;
+  }
+  EXPECT_GT(previous, 0.98);
+}
+
 TEST(SubdivisionTest, SyntheticBarkStaysClosed) {
   for (uint64_t seed = 1; seed <= 3; ++seed) {
     int64_t before = 0, after = 0;
@@ -251,7 +273,7 @@ TEST(SubdivisionTest, SyntheticBarkStaysClosed) {
     EXPECT_GT(ratio, 0.85);
     EXPECT_LT(ratio, 1.0);
     // Smoothing can untangle or create crossings near twig clusters.
-    EXPECT_LE(after, 4 * before + 20);
+    EXPECT_LE(after, 2.5 * before + 20);  // measured x1.4-2.0
   }
 }
 
