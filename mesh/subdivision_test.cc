@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <map>
+#include <utility>
 #include <vector>
 
 #include "core/util/check.h"
@@ -206,11 +208,42 @@ SkeletonGraph Fork() {
   return g;
 }
 
-// One level on bark with `sides` sides: closed, outward, one component; the
-// volume ratio and the crossing triangle pairs before and after are printed
-// (and returned) for the report.
+// The angles between the normals of the two triangles at each edge, in
+// degrees, sorted (a crease measure: junction rims, ring edges, caps).
+std::vector<double> DihedralDegrees(const TriangleMesh& mesh) {
+  std::map<std::pair<int, int>, Eigen::Vector3f> first_normal;
+  std::vector<double> angles;
+  for (const Eigen::Vector3i& t : mesh.triangles) {
+    const Eigen::Vector3f n = (mesh.vertices[t[1]] - mesh.vertices[t[0]])
+                                  .cross(mesh.vertices[t[2]] - mesh.vertices[t[0]])
+                                  .normalized();
+    for (int k = 0; k < 3; ++k) {
+      const int a = t[k], b = t[(k + 1) % 3];
+      const auto key = std::make_pair(std::min(a, b), std::max(a, b));
+      const auto it = first_normal.find(key);
+      if (it == first_normal.end()) {
+        first_normal.emplace(key, n);
+      } else {
+        const double cosine = std::clamp(static_cast<double>(n.dot(it->second)), -1.0, 1.0);
+        angles.push_back(std::acos(cosine) * 180 / M_PI);
+      }
+    }
+  }
+  std::sort(angles.begin(), angles.end());
+  return angles;
+}
+
+double Percentile(const std::vector<double>& sorted, double fraction) {
+  return sorted[static_cast<size_t>(fraction * (sorted.size() - 1))];
+}
+
+// One level on bark with `sides` sides: closed, outward, one component, the
+// 99th percentile of the dihedral angles at most `max_crease_ratio` of the
+// input's; the volume ratio and the crossing triangle pairs before and after
+// are printed (and returned) for the report.
 double ExpectSubdividedBark(const SkeletonGraph& g, int sides, const std::string& what,
-                            int64_t* crossings_before, int64_t* crossings_after) {
+                            double max_crease_ratio, int64_t* crossings_before,
+                            int64_t* crossings_after) {
   BarkMeshOptions options;
   options.tube.min_sides = options.tube.max_sides = sides;
   const TriangleMesh bark = MeshBarkWatertight(g, options, nullptr);
@@ -222,9 +255,17 @@ double ExpectSubdividedBark(const SkeletonGraph& g, int sides, const std::string
   EXPECT_EQ(after.components, before.components);
   EXPECT_EQ(after.triangles, 4 * before.triangles);
   const double ratio = after.volume / before.volume;
-  std::printf("%s, %d sides: volume x%.4f, crossing pairs %ld -> %ld (%d -> %d triangles)\n",
-              what.c_str(), sides, ratio, static_cast<long>(before.self_intersections),
-              static_cast<long>(after.self_intersections), before.triangles, after.triangles);
+  const std::vector<double> crease_before = DihedralDegrees(bark),
+                            crease_after = DihedralDegrees(fine);
+  std::printf(
+      "%s, %d sides: volume x%.4f, crossing pairs %ld -> %ld (%d -> %d triangles), dihedral "
+      "angles: 99th percentile %.1f -> %.1f, largest %.1f -> %.1f degrees\n",
+      what.c_str(), sides, ratio, static_cast<long>(before.self_intersections),
+      static_cast<long>(after.self_intersections), before.triangles, after.triangles,
+      Percentile(crease_before, 0.99), Percentile(crease_after, 0.99), crease_before.back(),
+      crease_after.back());
+  // Smoother: the sharpest edges (99th percentile) are blunted.
+  EXPECT_LT(Percentile(crease_after, 0.99), max_crease_ratio * Percentile(crease_before, 0.99));
   *crossings_before = before.self_intersections;
   *crossings_after = after.self_intersections;
   return ratio;
@@ -233,10 +274,11 @@ double ExpectSubdividedBark(const SkeletonGraph& g, int sides, const std::string
 TEST(SubdivisionTest, ForkBarkStaysClosed) {
   for (int sides : {8, 16}) {
     int64_t before = 0, after = 0;
-    const double ratio = ExpectSubdividedBark(Fork(), sides, "fork", &before, &after);
+    const double ratio = ExpectSubdividedBark(Fork(), sides, "fork", 0.5, &before, &after);
     EXPECT_EQ(before, 0);
     EXPECT_EQ(after, 0);
-    // Measured 0.921 (8 sides) and 0.973 (16 sides).
+    // Measured 0.921 (8 sides) and 0.973 (16 sides); the 99th percentile of
+    // the dihedral angles falls from 90 degrees (the tips' caps) to 42 / 45.
     EXPECT_GT(ratio, sides == 8 ? 0.90 : 0.97);
     EXPECT_LT(ratio, 1.0);
   }
@@ -264,12 +306,16 @@ TEST(SubdivisionTest, ThinTubesShrinkByTheirNumberOfSides) {
   EXPECT_GT(previous, 0.98);
 }
 
+// Measured on seeds 1-3 (8 sides): volume x0.935-0.938; crossing pairs
+// x1.4-2.0 while the triangles grow x4 (the crossings near twig clusters
+// stay); the 99th percentile of the dihedral angles 90 -> 80 degrees (caps
+// of the many tips). tests/bench/subdivision_benchmark prints seeds 1-10.
 TEST(SubdivisionTest, SyntheticBarkStaysClosed) {
   for (uint64_t seed = 1; seed <= 3; ++seed) {
     int64_t before = 0, after = 0;
     const double ratio =
         ExpectSubdividedBark(GenerateSyntheticSkeleton(SyntheticTreeOptions(), seed), 8,
-                             "seed " + std::to_string(seed), &before, &after);
+                             "seed " + std::to_string(seed), 0.95, &before, &after);
     EXPECT_GT(ratio, 0.85);
     EXPECT_LT(ratio, 1.0);
     // Smoothing can untangle or create crossings near twig clusters.
