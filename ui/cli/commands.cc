@@ -11,6 +11,7 @@
 #include "core/util/file_util.h"
 #include "core/util/logging.h"
 #include "datasets/synthetic/synthetic_dataset.h"
+#include "mesh/subdivision.h"
 #include "ui/cli/arguments.h"
 #include "ui/cli/terminal_progress.h"
 #include "ui/pipeline/pipeline.h"
@@ -115,7 +116,8 @@ CommandSpec SynthSpec() {
 
 CommandSpec MeshQsmSpec() {
   return {"mesh-qsm",
-          "sylva mesh-qsm QSM.csv OUT_DIR [--merge F] [--Section.field=value ...]",
+          "sylva mesh-qsm QSM.csv OUT_DIR [--merge F] [--subdivide N] "
+          "[--Section.field=value ...]",
           "Meshes a QSM cylinder table (TreeQSM's columns: id, parent_id, start_x..z,\n"
           "axis_x..z, length, radius, branch, branch_order; e.g. from a laser scan) without a\n"
           "project: one sylva skeleton per root cylinder, the watertight bark of the mesh\n"
@@ -124,6 +126,9 @@ CommandSpec MeshQsmSpec() {
           {{"merge", "F",
             "children starting within F x their radius of the parent's axis hang from it "
             "directly (default 0.1; 0 keeps every connector edge)"},
+           {"subdivide", "N",
+            "N levels of Loop subdivision of the bark, 0-3 (default 0; same as "
+            "--BranchMesh.subdivision=N)"},
            kLogLevelFlag},
           2,
           2,
@@ -135,6 +140,9 @@ int CmdMeshQsm(const ParsedArguments& args) {
   OptionRegistry registry;
   RegisterPipelineOptions(&options, &registry);
   for (const auto& [key, value] : args.options) registry.Set(key, value, "--" + key);
+  if (args.Has("subdivide")) {
+    options.geometry.bark_subdivision = args.GetInt("subdivide", 0, 0, kMaxLoopLevels);
+  }
   options.Check();
   const double merge = args.Has("merge") ? args.GetDouble("merge", 0.1) : 0.1;
   SYLVA_CHECK_INPUT(merge >= 0 && merge < 1, "--merge") << "must be in [0, 1), got " << merge;

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "core/util/check.h"
+#include "mesh/subdivision.h"
 
 namespace sylva {
 
@@ -40,6 +41,9 @@ void SkeletonOptions::Check() const {
 void TreeGeometryOptions::Check() const {
   BarkMeshOptions bark_check = bark;
   bark_check.Check();
+  SYLVA_CHECK_INPUT(bark_subdivision >= 0 && bark_subdivision <= kMaxLoopLevels,
+                    "BranchMesh.subdivision")
+      << "must be in [0, " << kMaxLoopLevels << "], got " << bark_subdivision;
   twig.Check();
 }
 
@@ -280,6 +284,9 @@ void RegisterGeometry(TreeGeometryOptions* o, LeafOptions* leaves, OptionRegistr
                "junction spheres (eq. 5.25) enlarged by this fraction");
   r->AddInt("BranchMesh.repair_rounds", &o->bark.repair_rounds, "rounds",
             "junctions next to crossing triangles meshed again as convex joints; 0 = off");
+  r->AddInt("BranchMesh.subdivision", &o->bark_subdivision, "levels",
+            "Loop subdivision of the bark for smooth junctions: 0 = off, at most 3 (each level "
+            "x4 triangles; thin branches shrink a little)");
   r->AddBool("Twigs.enabled", &o->twigs, "grow twigs from the terminal branches (thesis 5.4)");
   r->AddString("Twigs.pattern", &o->twig.pattern, "monopodial or sympodial");
   r->AddDouble("Twigs.twigs_per_length", &o->twig.twigs_per_length, "per twig length",

@@ -7,6 +7,7 @@
 #include "mesh/bark_mesh.h"
 #include "mesh/gltf_export.h"
 #include "mesh/tree_metrics.h"
+#include "ui/pipeline/tree_building.h"
 
 namespace sylva {
 
@@ -26,6 +27,7 @@ QsmMeshing MeshQsm(const QsmModel& qsm, const PipelineOptions& options, double m
                             : MeshBranches(part.skeleton, options.branch_mesh, nullptr));
     if (options.geometry.watertight_bark) brief << " " << summary.BriefReport();
   }
+  SubdivideBark(options.geometry, &meshing.bark, &brief);
   meshing.brief = brief.str();
   return meshing;
 }

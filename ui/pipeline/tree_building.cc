@@ -4,11 +4,13 @@
 #include <memory>
 #include <sstream>
 
+#include "core/util/check.h"
 #include "core/util/random.h"
 #include "mesh/allometry.h"
 #include "mesh/bark_mesh.h"
 #include "mesh/branch_mesh.h"
 #include "mesh/leaves.h"
+#include "mesh/subdivision.h"
 #include "mesh/twigs.h"
 #include "mesh/trunk_width.h"
 #include "simulate/attractor_field.h"
@@ -133,6 +135,7 @@ TreeGeometry BuildTreeGeometry(const SkeletonGraph& skeleton, const DensityGrid&
     geometry.bark = MeshBranches(*tree, options.branch_mesh, &branch_summary);
     brief << branch_summary.BriefReport();
   }
+  SubdivideBark(options.geometry, &geometry.bark, &brief);
   LeafOptions leaf_options = options.leaves;
   leaf_options.seed = DeriveSeed(options.general.seed, kLeafSeedStream);
   if (leaf_options.num_leaves < 0) {  // a leafless plant
@@ -145,6 +148,18 @@ TreeGeometry BuildTreeGeometry(const SkeletonGraph& skeleton, const DensityGrid&
   }
   geometry.brief = brief.str();
   return geometry;
+}
+
+void SubdivideBark(const TreeGeometryOptions& options, TriangleMesh* bark, std::ostream* brief) {
+  if (options.bark_subdivision == 0) return;
+  LoopSubdivisionSummary summary;
+  try {
+    *bark = SubdivideLoop(*bark, options.bark_subdivision, &summary);
+  } catch (const InputError& error) {
+    SYLVA_INPUT_ERROR("BranchMesh.subdivision")
+        << "cannot subdivide the bark (" << error.message() << "); set BranchMesh.subdivision=0";
+  }
+  *brief << " " << summary.BriefReport();
 }
 
 TriangleMesh BuildTreeMesh(const SkeletonGraph& skeleton, const DensityGrid& density,

@@ -3,6 +3,7 @@
 #ifndef SYLVA_UI_PIPELINE_TREE_BUILDING_H_
 #define SYLVA_UI_PIPELINE_TREE_BUILDING_H_
 
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -36,7 +37,8 @@ BuiltSkeleton BuildSkeleton(const DensityGrid& density, const ImageSet& input_vi
                             const std::vector<AttractorGraph2D>& attractors,
                             const PipelineOptions& options, ProgressReporter* progress);
 
-// The tree's geometry: the bark (watertight or tubes, BranchMesh.*), grown
+// The tree's geometry: the bark (watertight or tubes, BranchMesh.*, then
+// BranchMesh.subdivision levels of Loop subdivision), grown
 // twigs (Twigs.*), and the leaves as instances of one leaf shape (`shape`,
 // may be null: Leaves.shape).
 struct TreeGeometry {
@@ -49,6 +51,12 @@ struct TreeGeometry {
 TreeGeometry BuildTreeGeometry(const SkeletonGraph& skeleton, const DensityGrid& density,
                                const ImageSet& input_views, const std::vector<FloatImage>& mattes,
                                const PipelineOptions& options, const LeafShape* shape = nullptr);
+
+// Smooths `bark` by BranchMesh.subdivision levels of Loop subdivision
+// (mesh/subdivision.h; nothing if 0) and appends its summary to `brief`.
+// A bark that is not a closed 2-manifold (a failed joint, see
+// BarkMeshSummary) is refused: InputError("BranchMesh.subdivision", ...).
+void SubdivideBark(const TreeGeometryOptions& options, TriangleMesh* bark, std::ostream* brief);
 
 // BuildTreeGeometry(...).Baked(); `brief` (may be null) receives the summaries.
 TriangleMesh BuildTreeMesh(const SkeletonGraph& skeleton, const DensityGrid& density,
