@@ -180,7 +180,8 @@ class WatertightMesher {
 
   TriangleMesh Attempt(const std::set<int>& forced) {
     // The child continuing each node's axis.
-    std::vector<int> axis_child(skeleton_.NumNodes(), -1);
+    std::vector<int>& axis_child = axis_child_;
+    axis_child.assign(skeleton_.NumNodes(), -1);
     const std::vector<BranchAxis> axes = skeleton_.BranchAxes();
     for (size_t a = 0; a < axes.size(); ++a) {
       for (size_t k = a == 0 ? 0 : 1; k + 1 < axes[a].size(); ++k) {
@@ -422,6 +423,19 @@ class WatertightMesher {
           changed = true;
           break;
         }
+        // A cut beyond a junction whose laterals attach to this chain would
+        // leave those laterals inside the joint: the joint takes the chain
+        // up to that junction, and the laterals become its exits.
+        for (const Exit& e : exits) {
+          for (size_t k = 1; k + 1 < e.path.size() && e.arc[k] < e.t && !changed; ++k) {
+            if (laterals_[e.path[k]].empty()) continue;
+            for (size_t m = 1; m <= k; ++m) Join(g, e.path[m]);
+            ++summary_->absorbed;
+            if (RepairOverflows(g)) return;
+            changed = true;
+          }
+        }
+        if (changed) break;
         if (pushes > 0) push_count_[g] = pushes;
         exit_count_[g] = static_cast<int>(exits.size());
         for (const Exit& e : exits) exits_[{e.path[0], e.path[1]}] = e;
@@ -632,6 +646,20 @@ class WatertightMesher {
       for (size_t i = 0; i + 1 < axis.size(); ++i) {
         if (SegmentDistance2(origin, axis[i].first, axis[i + 1].first) > reach * reach) continue;
         parent_axis.push_back({axis[i].first, axis[i + 1].first, axis[i].second, axis[i + 1].second});
+      }
+      // The parent's skeleton axis too, up and down from the junction: where
+      // the parent's tube ends at a joint nearby, the joint's hull fills
+      // about that volume.
+      for (int down = 0; down < 2; ++down) {
+        int a = u;
+        while (true) {
+          const int b = down ? axis_child_[a] : skeleton_.nodes[a].parent_idx;
+          if (b < 0) break;
+          const double ra = RingRadius(EdgeRadius(a, b)), rb = ra;
+          parent_axis.push_back({Position(a), Position(b), ra, rb});
+          if ((Position(b) - origin).norm() > reach) break;
+          a = b;
+        }
       }
     }
     for (double t = along + 0.5 * RingRadius(skeleton_.nodes[chain[1]].radius); t <= limit;
@@ -902,6 +930,7 @@ class WatertightMesher {
   double max_radius_ = 0.0;
   int root_ = -1;
   std::vector<int> continuation_;          // axis child of attach junctions, else -1
+  std::vector<int> axis_child_;            // the child continuing each node's axis
   std::vector<std::vector<int>> laterals_;  // attached laterals of attach junctions
   std::vector<PieceInfo> pieces_;
   // Ring centres and radii of pieces (by index) laterals attach to.
@@ -944,7 +973,8 @@ std::string BarkMeshSummary::BriefReport() const {
   std::ostringstream out;
   out << "Watertight bark: " << junctions << " junctions in " << joints << " joints (" << bridged
       << " single-junction, " << fallbacks << " fallback merges, " << pushed_out
-      << " pushed out, " << swallowed_tips << " tips swallowed), " << attached
+      << " pushed out, " << swallowed_tips << " tips swallowed, " << absorbed
+      << " attach junctions absorbed), " << attached
       << " laterals attached to their parent's tube";
   if (unattached > 0) out << " (" << unattached << " NOT attached: overlapping)";
   out << " (";
