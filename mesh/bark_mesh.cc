@@ -26,6 +26,8 @@ constexpr int kMaxPushes = 16;
 constexpr int kMaxJointNodes = 4;
 // ... and the most nodes such a joint may swallow (else the crossing stays).
 constexpr int kMaxRepairJointNodes = 8;
+// Repairs take chains of at most this many nodes into a joint.
+constexpr int kMaxMergedChainNodes = 4;
 // Meshing attempts in all (each repair and each failed attachment retries).
 constexpr int kMaxAttempts = 24;
 // A crossing within this many radii of a junction node is that junction's.
@@ -116,10 +118,13 @@ class WatertightMesher {
         again = true;
       } else if (rounds < options_.repair_rounds && !last) {
         batch.clear();
-        for (int u : CrossingJunctions(mesh)) {
+        std::set<std::pair<int, int>> merges;
+        for (int u : CrossingJunctions(mesh, &merges)) {
           if (!given_up.count(u) && !forced.count(u) && !repairs.count(u)) batch.push_back(u);
         }
-        if (!batch.empty()) {
+        const size_t merged_before = merges_.size();
+        merges_.insert(merges.begin(), merges.end());
+        if (!batch.empty() || merges_.size() > merged_before) {
           again = true;
           ++rounds;
         }
@@ -148,7 +153,11 @@ class WatertightMesher {
   // Junctions next to crossing triangles: those of attached laterals, and
   // the junction nearest a crossing within kNearJunction of its radius
   // (tubes of branches crossing far from any junction are left alone).
-  std::set<int> CrossingJunctions(const TriangleMesh& mesh) const {
+  // `merges` receives chains (first two nodes) to take into the joint they
+  // leave: short chains whose tube crosses a joint at one of its ends, and
+  // the chain between two joints whose hulls cross.
+  std::set<int> CrossingJunctions(const TriangleMesh& mesh,
+                                  std::set<std::pair<int, int>>* merges) const {
     std::vector<int> junctions;
     for (int i = 0; i < skeleton_.NumNodes(); ++i) {
       if (children_[i].size() >= 2) junctions.push_back(i);
@@ -157,6 +166,27 @@ class WatertightMesher {
     for (const auto& [a, b] : FindSelfIntersections(mesh)) {
       for (const BarkTriangleOrigin* o : {&origins_[a], &origins_[b]}) {
         if (o->kind == BarkTriangleOrigin::kAttachment) culprits.insert(o->node);
+      }
+      for (int k = 0; k < 2; ++k) {
+        const BarkTriangleOrigin& o = origins_[k == 0 ? a : b];
+        const BarkTriangleOrigin& joint = origins_[k == 0 ? b : a];
+        if (joint.kind != BarkTriangleOrigin::kJoint) continue;
+        if (o.kind == BarkTriangleOrigin::kTube && group_[o.node] >= 0) {
+          const Exit chain = Chain(o.node, o.next);
+          const int end = chain.path.back();
+          if (static_cast<int>(chain.path.size()) <= kMaxMergedChainNodes &&
+              (Group(o.node) == joint.node || (group_[end] >= 0 && Group(end) == joint.node))) {
+            merges->insert({o.node, o.next});
+          }
+        } else if (o.kind == BarkTriangleOrigin::kJoint && k == 0 && o.node != joint.node) {
+          for (const auto& [key, e] : exits_) {
+            const int end = e.path.back();
+            if (Group(key.first) == o.node && group_[end] >= 0 && Group(end) == joint.node &&
+                static_cast<int>(e.path.size()) <= kMaxMergedChainNodes) {
+              merges->insert(key);
+            }
+          }
+        }
       }
       Eigen::Vector3d c = Eigen::Vector3d::Zero();
       for (int t : {a, b}) {
@@ -381,6 +411,10 @@ class WatertightMesher {
 
   // Groups junctions into joints whose cuts fit; fills exits_.
   void FormJoints() {
+    for (const auto& [u, v] : merges_) {
+      if (group_[u] < 0) continue;
+      for (int node : Chain(u, v).path) Join(u, node);
+    }
     bool changed = true;
     while (changed) {
       changed = false;
@@ -941,6 +975,7 @@ class WatertightMesher {
   std::set<int> spread_;  // junctions of 3+ children attaching their laterals
   std::set<int> repairs_;     // junctions made convex joints by repairs
   std::vector<int> overflow_;  // repairs in a joint that grew too large
+  std::set<std::pair<int, int>> merges_;  // repairs: chains taken into their joint
   bool respread_ = false;
   std::vector<int> failed_attach_;   // attach junctions with a lateral left unattached
   std::vector<int> group_;  // union-find parent of joint nodes, -1 elsewhere
