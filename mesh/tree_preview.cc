@@ -59,25 +59,54 @@ std::string AzimuthName(double azimuth_deg) {
   return "azimuth_" + number;
 }
 
-// Orthographic camera framing the projection of `bounds` seen through `pose`.
-Camera FramingCamera(const Box3d& bounds, const Rigid3d& cam_from_world,
+// Orthographic camera framing the projections of the points that
+// `for_each_point(visit)` visits, seen through `cam_from_world`: their
+// bounding rectangle centred, scaled to leave the margin on the tighter side.
+template <typename ForEachPoint>
+Camera FramingCamera(const ForEachPoint& for_each_point, const Rigid3d& cam_from_world,
                      const TreePreviewOptions& options) {
   Eigen::Vector2d lo = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
   Eigen::Vector2d hi = -lo;
-  for (int corner = 0; corner < 8; ++corner) {
-    const Eigen::Vector3d point_in_cam =
-        cam_from_world * bounds.corner(static_cast<Box3d::CornerType>(corner));
-    lo = lo.cwiseMin(point_in_cam.head<2>());
-    hi = hi.cwiseMax(point_in_cam.head<2>());
-  }
+  const Eigen::Matrix<double, 2, 3> xy_from_world =
+      cam_from_world.rotation.toRotationMatrix().topRows<2>();
+  for_each_point([&](const Eigen::Vector3d& point_in_world) {
+    const Eigen::Vector2d xy = xy_from_world * point_in_world;
+    lo = lo.cwiseMin(xy);
+    hi = hi.cwiseMax(xy);
+  });
   const double border = 2.0 * options.margin * std::min(options.width, options.height);
   const Eigen::Vector2d extent = (hi - lo).cwiseMax(1e-12 * (hi - lo).maxCoeff());
   const double pixels_per_unit = std::min((options.width - border) / extent.x(),
                                           (options.height - border) / extent.y());
-  const Eigen::Vector2d mid = 0.5 * (lo + hi);
+  const Eigen::Vector2d mid = 0.5 * (lo + hi) + cam_from_world.translation.head<2>();
   return Camera(CameraModel::kOrthographic, options.width, options.height,
                 {pixels_per_unit, pixels_per_unit, 0.5 * options.width - pixels_per_unit * mid.x(),
                  0.5 * options.height - pixels_per_unit * mid.y()});
+}
+
+// The views of options around `bounds`, without their cameras.
+std::vector<PreviewView> PosesAround(const Box3d& bounds, const TreePreviewOptions& options) {
+  options.Check();
+  SYLVA_CHECK_INPUT(!bounds.isEmpty() && bounds.diagonal().norm() > 0, "tree preview")
+      << "nothing to frame: the scene is empty or a single point";
+  const Eigen::Vector3d center = bounds.center();
+  const double distance = bounds.diagonal().norm();  // puts the image plane outside the box
+  std::vector<PreviewView> views;
+  for (double azimuth : options.azimuths_deg) {
+    PreviewView view;
+    view.name = AzimuthName(azimuth);
+    view.cam_from_world = LookAt(center + distance * TowardsCamera(azimuth, options.elevation_deg),
+                                 center, Eigen::Vector3d::UnitZ());
+    views.push_back(view);
+  }
+  if (options.top_view) {
+    PreviewView view;
+    view.name = "top";
+    view.cam_from_world =
+        LookAt(center + distance * Eigen::Vector3d::UnitZ(), center, Eigen::Vector3d::UnitY());
+    views.push_back(view);
+  }
+  return views;
 }
 
 // What a ray sees where it hits, with normals turned towards the viewer.
@@ -121,27 +150,13 @@ void TreePreviewOptions::Check() const {
 
 std::vector<PreviewView> FramedPreviewViews(const Box3d& bounds,
                                             const TreePreviewOptions& options) {
-  options.Check();
-  SYLVA_CHECK_INPUT(!bounds.isEmpty() && bounds.diagonal().norm() > 0, "tree preview")
-      << "nothing to frame: the scene is empty or a single point";
-  const Eigen::Vector3d center = bounds.center();
-  const double distance = bounds.diagonal().norm();  // puts the image plane outside the box
-  std::vector<PreviewView> views;
-  for (double azimuth : options.azimuths_deg) {
-    PreviewView view;
-    view.name = AzimuthName(azimuth);
-    view.cam_from_world = LookAt(center + distance * TowardsCamera(azimuth, options.elevation_deg),
-                                 center, Eigen::Vector3d::UnitZ());
-    views.push_back(view);
-  }
-  if (options.top_view) {
-    PreviewView view;
-    view.name = "top";
-    view.cam_from_world =
-        LookAt(center + distance * Eigen::Vector3d::UnitZ(), center, Eigen::Vector3d::UnitY());
-    views.push_back(view);
-  }
-  for (PreviewView& view : views) view.camera = FramingCamera(bounds, view.cam_from_world, options);
+  std::vector<PreviewView> views = PosesAround(bounds, options);
+  const auto corners = [&](const auto& visit) {
+    for (int corner = 0; corner < 8; ++corner) {
+      visit(bounds.corner(static_cast<Box3d::CornerType>(corner)));
+    }
+  };
+  for (PreviewView& view : views) view.camera = FramingCamera(corners, view.cam_from_world, options);
   return views;
 }
 
@@ -171,6 +186,7 @@ class TreePreviewRenderer::Impl {
   Impl& operator=(const Impl&) = delete;
 
   FloatImage Render(const PreviewView& view, const TreePreviewOptions& options) const;
+  std::vector<PreviewView> FramedViews(const TreePreviewOptions& options) const;
 
   Box3d bounds;
   TreePreviewStats stats;
@@ -209,6 +225,7 @@ class TreePreviewRenderer::Impl {
   // The leaves.
   Leaf leaf_;
   std::vector<Eigen::Matrix3f> leaf_rotations_;  // world_from_leaf, per instance
+  std::vector<LeafInstance> leaf_instances_;
   float shadow_offset_ = 0.0f;
 };
 
@@ -290,6 +307,7 @@ void TreePreviewRenderer::Impl::AddLeaves(const LeafInstances& leaves) {
   rtcCommitScene(leaf_scene_);
   // ... drawn once per leaf under its transform (world = t + s R p).
   leaf_rotations_.reserve(leaves.instances.size());
+  leaf_instances_ = leaves.instances;
   for (size_t k = 0; k < leaves.instances.size(); ++k) {
     const LeafInstance& instance = leaves.instances[k];
     const Eigen::Matrix3f rotation = instance.rotation.normalized().toRotationMatrix();
@@ -494,6 +512,26 @@ FloatImage TreePreviewRenderer::Impl::Render(const PreviewView& view,
   return image;
 }
 
+std::vector<PreviewView> TreePreviewRenderer::Impl::FramedViews(
+    const TreePreviewOptions& options) const {
+  std::vector<PreviewView> views = PosesAround(bounds, options);
+  // Every vertex drawn (padding excluded): the silhouette's exact extent.
+  const auto points = [&](const auto& visit) {
+    for (const Eigen::Vector3i& triangle : triangles_) {
+      for (int k = 0; k < 3; ++k) visit(vertices_[triangle[k]].cast<double>());
+    }
+    if (leaf_.triangles.empty()) return;
+    for (size_t k = 0; k < leaf_instances_.size(); ++k) {
+      const LeafInstance& leaf = leaf_instances_[k];
+      for (size_t p = 0; p + 1 < leaf_.points.size(); ++p) {
+        visit((leaf.translation + leaf.scale * (leaf_rotations_[k] * leaf_.points[p])).cast<double>());
+      }
+    }
+  };
+  for (PreviewView& view : views) view.camera = FramingCamera(points, view.cam_from_world, options);
+  return views;
+}
+
 // ---- Public API ----
 
 TreePreviewRenderer::TreePreviewRenderer(const TriangleMesh& mesh, const LeafInstances* leaves)
@@ -505,6 +543,10 @@ TreePreviewRenderer& TreePreviewRenderer::operator=(TreePreviewRenderer&&) noexc
 Box3d TreePreviewRenderer::Bounds() const { return impl_->bounds; }
 const TreePreviewStats& TreePreviewRenderer::Stats() const { return impl_->stats; }
 
+std::vector<PreviewView> TreePreviewRenderer::FramedViews(const TreePreviewOptions& options) const {
+  return impl_->FramedViews(options);
+}
+
 FloatImage TreePreviewRenderer::Render(const PreviewView& view,
                                        const TreePreviewOptions& options) const {
   return impl_->Render(view, options);
@@ -515,7 +557,7 @@ std::vector<FloatImage> RenderTreePreviews(const TriangleMesh& mesh, const LeafI
   options.Check();
   const TreePreviewRenderer renderer(mesh, leaves);
   std::vector<FloatImage> pictures;
-  for (const PreviewView& view : FramedPreviewViews(renderer.Bounds(), options)) {
+  for (const PreviewView& view : renderer.FramedViews(options)) {
     pictures.push_back(renderer.Render(view, options));
   }
   return pictures;

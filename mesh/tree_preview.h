@@ -119,6 +119,12 @@ class TreePreviewRenderer {
   Box3d Bounds() const;
   const TreePreviewStats& Stats() const;
 
+  // FramedPreviewViews' views, with each camera framing the projections of
+  // every vertex (of the mesh and of every leaf) instead of the bounding
+  // box's corners: the silhouette itself fills the picture up to the margin
+  // on its tighter side. Throws InputError for bad options or an empty scene.
+  std::vector<PreviewView> FramedViews(const TreePreviewOptions& options) const;
+
   // An RGBA picture of view.camera's size (see TreePreviewOptions for the
   // background and encoding). Const and thread-safe.
   FloatImage Render(const PreviewView& view, const TreePreviewOptions& options) const;
@@ -128,7 +134,7 @@ class TreePreviewRenderer {
   std::unique_ptr<Impl> impl_;
 };
 
-// One picture per FramedPreviewViews(bounds of the scene) view. Throws
+// One picture per TreePreviewRenderer::FramedViews view. Throws
 // InputError for bad options, and if the scene is empty.
 std::vector<FloatImage> RenderTreePreviews(const TriangleMesh& mesh, const LeafInstances* leaves,
                                            const TreePreviewOptions& options);
