@@ -10,6 +10,7 @@
 #include <limits>
 
 #include "core/util/check.h"
+#include "mesh/embree_util.h"
 
 namespace sylva {
 namespace {
@@ -30,12 +31,6 @@ constexpr float kCosCreaseAngle = 0.766f;
 constexpr unsigned kMeshGeometryId = 0;
 // Elevation of the views is limited to keep the up vector usable.
 constexpr double kMaxElevationDeg = 89.0;
-
-void CheckDevice(RTCDevice device, const char* step) {
-  const RTCError error = rtcGetDeviceError(device);
-  SYLVA_CHECK(error == RTC_ERROR_NONE)
-      << "Embree error " << static_cast<int>(error) << " in " << step;
-}
 
 float SrgbFromLinear(float value) {
   const float v = std::clamp(value, 0.0f, 1.0f);
@@ -239,7 +234,7 @@ TreePreviewRenderer::Impl::Impl(const TriangleMesh& mesh, const LeafInstances* l
   if (mesh.NumTriangles() > 0) AddMesh(mesh);
   if (leaves != nullptr && !leaves->instances.empty()) AddLeaves(*leaves);
   rtcCommitScene(scene_);
-  CheckDevice(device_, "building the preview scene");
+  CheckEmbreeDevice(device_, "building the preview scene");
   shadow_offset_ = bounds.isEmpty()
                        ? 0.0f
                        : kShadowOffset * static_cast<float>(bounds.diagonal().norm()) + 1e-6f;
@@ -273,7 +268,7 @@ void TreePreviewRenderer::Impl::AddMesh(const TriangleMesh& mesh) {
   rtcCommitGeometry(geometry);
   rtcAttachGeometryByID(scene_, geometry, kMeshGeometryId);
   rtcReleaseGeometry(geometry);
-  CheckDevice(device_, "adding the mesh");
+  CheckEmbreeDevice(device_, "adding the mesh");
 }
 
 void TreePreviewRenderer::Impl::AddLeaves(const LeafInstances& leaves) {
@@ -325,7 +320,7 @@ void TreePreviewRenderer::Impl::AddLeaves(const LeafInstances& leaves) {
     rtcAttachGeometryByID(scene_, geometry, static_cast<unsigned>(k + 1));
     rtcReleaseGeometry(geometry);
   }
-  CheckDevice(device_, "adding the leaf instances");
+  CheckEmbreeDevice(device_, "adding the leaf instances");
 }
 
 const float* TreePreviewRenderer::Impl::LeafTexel(unsigned triangle_idx, float u, float v) const {
@@ -402,19 +397,7 @@ bool TreePreviewRenderer::Impl::Resolve(const RTCRayHit& ray_hit, bool smooth_no
 
 bool TreePreviewRenderer::Impl::Occluded(const Eigen::Vector3f& origin,
                                          const Eigen::Vector3f& direction) const {
-  RTCRay ray;
-  ray.org_x = origin.x();
-  ray.org_y = origin.y();
-  ray.org_z = origin.z();
-  ray.dir_x = direction.x();
-  ray.dir_y = direction.y();
-  ray.dir_z = direction.z();
-  ray.tnear = 0.0f;
-  ray.tfar = std::numeric_limits<float>::infinity();
-  ray.time = 0.0f;
-  ray.mask = ~0u;
-  ray.id = 0;
-  ray.flags = 0;
+  RTCRay ray = EmbreeRay(origin, direction, 0.0f, std::numeric_limits<float>::infinity());
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   rtcOccluded1(scene_, &context, &ray);
@@ -460,21 +443,9 @@ Eigen::Vector4f TreePreviewRenderer::Impl::RenderPixel(const PreviewView& view,
       const Eigen::Vector3f origin = (world_from_cam * ray_in_cam.origin).cast<float>();
       const Eigen::Vector3f direction =
           (world_from_cam.rotation * ray_in_cam.direction).cast<float>();
-      RTCRayHit ray_hit;
-      ray_hit.ray.org_x = origin.x();
-      ray_hit.ray.org_y = origin.y();
-      ray_hit.ray.org_z = origin.z();
-      ray_hit.ray.dir_x = direction.x();
-      ray_hit.ray.dir_y = direction.y();
-      ray_hit.ray.dir_z = direction.z();
-      ray_hit.ray.tnear = 0.0f;  // orthographic rays start on the image plane
-      ray_hit.ray.tfar = std::numeric_limits<float>::infinity();
-      ray_hit.ray.time = 0.0f;
-      ray_hit.ray.mask = ~0u;
-      ray_hit.ray.id = 0;
-      ray_hit.ray.flags = 0;
-      ray_hit.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-      ray_hit.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+      // Orthographic rays start on the image plane.
+      RTCRayHit ray_hit =
+          EmbreeRayHit(origin, direction, 0.0f, std::numeric_limits<float>::infinity());
       rtcIntersect1(scene_, &context, &ray_hit);
       SurfacePoint point;
       if (!Resolve(ray_hit, options.smooth_normals, &point)) continue;

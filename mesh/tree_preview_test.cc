@@ -282,6 +282,16 @@ TEST(TreePreviewTest, SyntheticTreeStaysInsideEveryView) {
     }
     EXPECT_EQ(border, 0.0);
     EXPECT_GT(SumChannel(picture, 3), 0.03 * 96 * 96);
+    // Framed on the vertices, the silhouette reaches the margin (3.84 px) on
+    // its tighter axis.
+    int x0 = 96, x1 = -1, y0 = 96, y1 = -1;
+    for (int y = 0; y < 96; ++y) {
+      for (int x = 0; x < 96; ++x) {
+        if (picture.at(x, y, 3) <= 0) continue;
+        x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
+      }
+    }
+    EXPECT_GE(std::max(x1 - x0, y1 - y0) + 1, 96 - 2 * 3.84 - 2);
   }
 }
 
@@ -294,24 +304,20 @@ TEST(TreePreviewTest, BadOptionsNameTheOption) {
     }
     return std::string("no error");
   };
-  TreePreviewOptions options;
-  options.width = 0;
-  EXPECT_NE(message_of(options).find("TreePreview.width"), std::string::npos);
-  options = TreePreviewOptions();
-  options.samples_per_axis = 0;
-  EXPECT_NE(message_of(options).find("TreePreview.samples_per_axis"), std::string::npos);
-  options = TreePreviewOptions();
-  options.elevation_deg = 95;
-  EXPECT_NE(message_of(options).find("TreePreview.elevation_deg"), std::string::npos);
-  options = TreePreviewOptions();
-  options.margin = 0.5;
-  EXPECT_NE(message_of(options).find("TreePreview.margin"), std::string::npos);
-  options = TreePreviewOptions();
-  options.azimuths_deg.clear();
-  EXPECT_NE(message_of(options).find("TreePreview.azimuths_deg"), std::string::npos);
-  options = TreePreviewOptions();
-  options.sun_direction.setZero();
-  EXPECT_NE(message_of(options).find("TreePreview.sun_direction"), std::string::npos);
+  const std::vector<std::pair<std::string, void (*)(TreePreviewOptions*)>> cases = {
+      {"TreePreview.width", [](TreePreviewOptions* o) { o->width = 0; }},
+      {"TreePreview.samples_per_axis", [](TreePreviewOptions* o) { o->samples_per_axis = 0; }},
+      {"TreePreview.elevation_deg", [](TreePreviewOptions* o) { o->elevation_deg = 95; }},
+      {"TreePreview.margin", [](TreePreviewOptions* o) { o->margin = 0.5; }},
+      {"TreePreview.azimuths_deg", [](TreePreviewOptions* o) { o->azimuths_deg.clear(); }},
+      {"TreePreview.sun_direction", [](TreePreviewOptions* o) { o->sun_direction.setZero(); }},
+      {"TreePreview.leaf_translucency", [](TreePreviewOptions* o) { o->leaf_translucency = 2; }},
+  };
+  for (const auto& [name, spoil] : cases) {
+    TreePreviewOptions options;
+    spoil(&options);
+    EXPECT_NE(message_of(options).find(name), std::string::npos) << name;
+  }
   EXPECT_THROW(RenderTreePreviews(TriangleMesh(), nullptr, TreePreviewOptions()), InputError);
   EXPECT_THROW(CloseUpView(Eigen::Vector3d::Zero(), 0.0, 0, 0, TreePreviewOptions()), InputError);
 }
