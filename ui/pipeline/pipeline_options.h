@@ -74,7 +74,7 @@ struct ReportOptions {
   // Width and height of the preview pictures, pixels, in [64, 4096].
   int preview_size = 640;
   // Rays per preview pixel along each axis (anti-aliasing), in [1, 8].
-  int preview_samples_per_axis = 3;
+  int preview_samples_per_axis = 2;
   void Check() const;
 };
 
