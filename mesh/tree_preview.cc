@@ -116,9 +116,10 @@ struct SurfacePoint {
 }  // namespace
 
 void TreePreviewOptions::Check() const {
-  SYLVA_CHECK_INPUT(width >= 8 && height >= 8 && width <= 16384 && height <= 16384,
-                    "TreePreview.width/height")
-      << "must be in [8, 16384] pixels, got " << width << " x " << height;
+  SYLVA_CHECK_INPUT(width >= 8 && width <= 16384, "TreePreview.width")
+      << "must be in [8, 16384] pixels, got " << width;
+  SYLVA_CHECK_INPUT(height >= 8 && height <= 16384, "TreePreview.height")
+      << "must be in [8, 16384] pixels, got " << height;
   SYLVA_CHECK_INPUT(samples_per_axis >= 1 && samples_per_axis <= 16,
                     "TreePreview.samples_per_axis")
       << "must be in [1, 16], got " << samples_per_axis;
@@ -196,6 +197,8 @@ class TreePreviewRenderer::Impl {
   };
   void AddMesh(const TriangleMesh& mesh);
   void AddLeaves(const LeafInstances& leaves);
+  // Leaf k (Embree geometry id k + 1) as an instance of the leaf scene.
+  void AddLeafInstance(const LeafInstance& instance, size_t k);
   // The texel under the barycentric point (u, v) of leaf triangle `triangle_idx`.
   const float* LeafTexel(unsigned triangle_idx, float u, float v) const;
   static void LeafAlphaFilter(const RTCFilterFunctionNArguments* args);
@@ -303,24 +306,26 @@ void TreePreviewRenderer::Impl::AddLeaves(const LeafInstances& leaves) {
   // ... drawn once per leaf under its transform (world = t + s R p).
   leaf_rotations_.reserve(leaves.instances.size());
   leaf_instances_ = leaves.instances;
-  for (size_t k = 0; k < leaves.instances.size(); ++k) {
-    const LeafInstance& instance = leaves.instances[k];
-    const Eigen::Matrix3f rotation = instance.rotation.normalized().toRotationMatrix();
-    leaf_rotations_.push_back(rotation);
-    Eigen::Matrix<float, 3, 4> world_from_leaf;  // column-major, as Embree wants it
-    world_from_leaf.leftCols<3>() = instance.scale * rotation;
-    world_from_leaf.col(3) = instance.translation;
-    for (const Eigen::Vector2f& p : leaves.shape.points) {
-      bounds.extend((world_from_leaf.leftCols<2>() * p + instance.translation).cast<double>());
-    }
-    RTCGeometry geometry = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_INSTANCE);
-    rtcSetGeometryInstancedScene(geometry, leaf_scene_);
-    rtcSetGeometryTransform(geometry, 0, RTC_FORMAT_FLOAT3X4_COLUMN_MAJOR, world_from_leaf.data());
-    rtcCommitGeometry(geometry);
-    rtcAttachGeometryByID(scene_, geometry, static_cast<unsigned>(k + 1));
-    rtcReleaseGeometry(geometry);
-  }
+  for (size_t k = 0; k < leaves.instances.size(); ++k) AddLeafInstance(leaves.instances[k], k);
   CheckEmbreeDevice(device_, "adding the leaf instances");
+}
+
+void TreePreviewRenderer::Impl::AddLeafInstance(const LeafInstance& instance, size_t k) {
+  const Eigen::Matrix3f rotation = instance.rotation.normalized().toRotationMatrix();
+  leaf_rotations_.push_back(rotation);
+  Eigen::Matrix<float, 3, 4> world_from_leaf;  // column-major, as Embree wants it
+  world_from_leaf.leftCols<3>() = instance.scale * rotation;
+  world_from_leaf.col(3) = instance.translation;
+  for (size_t p = 0; p + 1 < leaf_.points.size(); ++p) {  // the last point is padding
+    bounds.extend((world_from_leaf.leftCols<3>() * leaf_.points[p] + instance.translation)
+                      .cast<double>());
+  }
+  RTCGeometry geometry = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_INSTANCE);
+  rtcSetGeometryInstancedScene(geometry, leaf_scene_);
+  rtcSetGeometryTransform(geometry, 0, RTC_FORMAT_FLOAT3X4_COLUMN_MAJOR, world_from_leaf.data());
+  rtcCommitGeometry(geometry);
+  rtcAttachGeometryByID(scene_, geometry, static_cast<unsigned>(k + 1));
+  rtcReleaseGeometry(geometry);
 }
 
 const float* TreePreviewRenderer::Impl::LeafTexel(unsigned triangle_idx, float u, float v) const {

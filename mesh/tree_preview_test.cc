@@ -306,6 +306,7 @@ TEST(TreePreviewTest, BadOptionsNameTheOption) {
   };
   const std::vector<std::pair<std::string, void (*)(TreePreviewOptions*)>> cases = {
       {"TreePreview.width", [](TreePreviewOptions* o) { o->width = 0; }},
+      {"TreePreview.height", [](TreePreviewOptions* o) { o->height = 100000; }},
       {"TreePreview.samples_per_axis", [](TreePreviewOptions* o) { o->samples_per_axis = 0; }},
       {"TreePreview.elevation_deg", [](TreePreviewOptions* o) { o->elevation_deg = 95; }},
       {"TreePreview.margin", [](TreePreviewOptions* o) { o->margin = 0.5; }},
