@@ -523,8 +523,51 @@ void WriteGlb(const std::filesystem::path& path, const TriangleMesh& mesh,
   WriteModel(path, model);
 }
 
-TriangleMesh ReadGlb(const std::filesystem::path& path,
-                     std::map<std::string, std::string>* asset_extras, int64_t* num_instances) {
+namespace {
+
+// The leaf shape of an instanced mesh (`prototype`: its triangles as read):
+// the positions' (x, y) in the leaf frame, and where its first primitive has
+// TEXCOORD_0 and a base colour texture decoded as 8-bit RGBA, those.
+LeafInstances LeafInstancesFromGlb(const tinygltf::Model& model, const tinygltf::Mesh& mesh,
+                                   const TriangleMesh& prototype, const std::string& source) {
+  LeafInstances leaves;
+  leaves.shape.name = mesh.name;
+  for (const Eigen::Vector3f& v : prototype.vertices) leaves.shape.points.emplace_back(v.x(), v.y());
+  leaves.shape.triangles = prototype.triangles;
+  if (!prototype.triangle_materials.empty()) {
+    leaves.material = prototype.materials[prototype.triangle_materials[0]];
+  }
+  const tinygltf::Primitive& primitive = mesh.primitives.front();
+  const auto uvs = primitive.attributes.find("TEXCOORD_0");
+  if (uvs == primitive.attributes.end() || primitive.material < 0 ||
+      primitive.material >= static_cast<int>(model.materials.size())) {
+    return leaves;
+  }
+  const int texture = model.materials[primitive.material].pbrMetallicRoughness.baseColorTexture.index;
+  if (texture < 0 || texture >= static_cast<int>(model.textures.size())) return leaves;
+  const int image_idx = model.textures[texture].source;
+  if (image_idx < 0 || image_idx >= static_cast<int>(model.images.size())) return leaves;
+  const tinygltf::Image& image = model.images[image_idx];
+  const std::vector<float> uv = ReadFloats(model, uvs->second, TINYGLTF_TYPE_VEC2, 2, source);
+  if (image.component != 4 || image.bits != 8 || uv.size() != 2 * leaves.shape.points.size() ||
+      image.image.size() != size_t(4) * image.width * image.height) {
+    return leaves;
+  }
+  for (size_t k = 0; k < leaves.shape.points.size(); ++k) {
+    leaves.shape.uvs.emplace_back(uv[2 * k], uv[2 * k + 1]);
+  }
+  leaves.shape.texture = FloatImage(image.width, image.height, 4);
+  for (size_t i = 0; i < image.image.size(); ++i) {
+    leaves.shape.texture.values()[i] = image.image[i] / 255.0f;
+  }
+  return leaves;
+}
+
+// ReadGlb; with `leaves`, the first instanced node's mesh and transforms
+// go there instead of being expanded.
+TriangleMesh ReadGlbImpl(const std::filesystem::path& path,
+                         std::map<std::string, std::string>* asset_extras, int64_t* num_instances,
+                         LeafInstances* leaves) {
   const std::string source = path.string();
   tinygltf::Model model;
   tinygltf::TinyGLTF loader;
@@ -553,10 +596,15 @@ TriangleMesh ReadGlb(const std::filesystem::path& path,
     for (const tinygltf::Primitive& primitive : model.meshes[node.mesh].primitives) {
       ReadPrimitive(model, primitive, source, &first_vertex, &prototype);
     }
-    const std::vector<LeafInstance> instances =
+    std::vector<LeafInstance> instances =
         ReadInstances(model, node.extensions.at(kInstancing), source);
-    AppendInstances(prototype, instances, &mesh);
     if (num_instances != nullptr) *num_instances += static_cast<int64_t>(instances.size());
+    if (leaves != nullptr && leaves->instances.empty() && !instances.empty()) {
+      *leaves = LeafInstancesFromGlb(model, model.meshes[node.mesh], prototype, source);
+      leaves->instances = std::move(instances);
+      continue;
+    }
+    AppendInstances(prototype, instances, &mesh);
   }
   // Materials no primitive used still come back, in the file's order of appearance.
   for (size_t m = 0; m < model.materials.size(); ++m) {
@@ -573,6 +621,19 @@ TriangleMesh ReadGlb(const std::filesystem::path& path,
     }
   }
   return mesh;
+}
+
+}  // namespace
+
+TriangleMesh ReadGlb(const std::filesystem::path& path,
+                     std::map<std::string, std::string>* asset_extras, int64_t* num_instances) {
+  return ReadGlbImpl(path, asset_extras, num_instances, nullptr);
+}
+
+TriangleMesh ReadGlbKeepingLeafInstances(const std::filesystem::path& path,
+                                         LeafInstances* leaves) {
+  SYLVA_CHECK(leaves != nullptr);
+  return ReadGlbImpl(path, nullptr, nullptr, leaves);
 }
 
 }  // namespace sylva

@@ -83,6 +83,15 @@ TriangleMesh ReadGlb(const std::filesystem::path& path,
                      std::map<std::string, std::string>* asset_extras = nullptr,
                      int64_t* num_instances = nullptr);
 
+// ReadGlb, except that the first node with EXT_mesh_gpu_instancing is not
+// expanded: its mesh becomes `leaves`' shape (positions' (x, y) in the leaf
+// frame, triangles, and for image leaves TEXCOORD_0 and the decoded 8-bit
+// RGBA base colour texture), its first primitive's material `leaves`'
+// material, and its transforms `leaves`' instances (so a renderer can draw
+// them as instances, mesh/tree_preview.h). The rest comes back as ReadGlb's.
+TriangleMesh ReadGlbKeepingLeafInstances(const std::filesystem::path& path,
+                                         LeafInstances* leaves);
+
 }  // namespace sylva
 
 #endif  // SYLVA_MESH_GLTF_EXPORT_H_

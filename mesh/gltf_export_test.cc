@@ -226,6 +226,25 @@ TEST_F(GltfExportTest, InstancedLeavesReadBackAsTheBakedOnes) {
   }
   EXPECT_TRUE(FindMaterial(back, "leaves")->double_sided);
 
+  // Kept as instances: the bark's triangles, and the leaves as written.
+  LeafInstances kept;
+  const TriangleMesh bark_back = ReadGlbKeepingLeafInstances(path, &kept);
+  EXPECT_EQ(bark_back.NumTriangles(), bark.NumTriangles());
+  ASSERT_EQ(kept.instances.size(), 200u);
+  EXPECT_EQ(kept.shape.triangles, leaves.shape.triangles);
+  ASSERT_EQ(kept.shape.points.size(), leaves.shape.points.size());
+  for (size_t i = 0; i < kept.shape.points.size(); ++i) {
+    EXPECT_LT((kept.shape.points[i] - leaves.shape.points[i]).norm(), 1e-6f);
+  }
+  EXPECT_TRUE(kept.material.double_sided);
+  EXPECT_LT((kept.material.diffuse_color - leaves.material.diffuse_color).norm(), 1e-6f);
+  EXPECT_TRUE(kept.shape.uvs.empty() && kept.shape.texture.empty());
+  TriangleMesh rebaked = bark_back;
+  rebaked.Append(kept.Bake());
+  for (int i = 0; i < expected.NumVertices(); i += 97) {
+    EXPECT_LT((rebaked.vertices[i] - expected.vertices[i]).norm(), 1e-5f) << i;
+  }
+
   const nlohmann::json json = GlbJson(path);
   ASSERT_EQ(json["extensionsUsed"].size(), 1u);
   EXPECT_EQ(json["extensionsUsed"][0], "EXT_mesh_gpu_instancing");
@@ -287,6 +306,17 @@ TEST_F(GltfExportTest, ImageLeavesCarryAnAlphaMaskedTexture) {
   const TriangleMesh back = ReadGlb(path, nullptr, &instances);
   EXPECT_EQ(instances, 20);
   EXPECT_EQ(back.NumTriangles(), TreeLikeMesh().NumTriangles() + 40);
+  // Kept as instances, the leaf keeps its UVs and its (8-bit) texture.
+  LeafInstances kept;
+  ReadGlbKeepingLeafInstances(path, &kept);
+  EXPECT_EQ(kept.instances.size(), 20u);
+  EXPECT_EQ(kept.shape.uvs, leaves.shape.uvs);
+  ASSERT_EQ(kept.shape.texture.width(), 16);
+  ASSERT_EQ(kept.shape.texture.height(), 32);
+  ASSERT_EQ(kept.shape.texture.channels(), 4);
+  EXPECT_NEAR(kept.shape.texture.at(5, 3, 1), 0.5f, 0.51f / 255);
+  EXPECT_EQ(kept.shape.texture.at(5, 3, 3), 1.0f);
+  EXPECT_EQ(kept.shape.texture.at(1, 3, 3), 0.0f);
 }
 
 }  // namespace

@@ -12,6 +12,7 @@
 
 #include "core/geometry/box.h"
 #include "core/util/check.h"
+#include "mesh/embree_util.h"
 
 namespace sylva {
 namespace {
@@ -26,12 +27,6 @@ struct Hit {
   int triangle_idx = -1;
   Eigen::Vector3f normal;  // geometric normal, not normalized
 };
-
-void CheckDevice(RTCDevice device, const char* step) {
-  const RTCError error = rtcGetDeviceError(device);
-  SYLVA_CHECK(error == RTC_ERROR_NONE)
-      << "Embree error " << static_cast<int>(error) << " in " << step;
-}
 
 // The image positions of the S x S stratified samples of pixel (col, row).
 Eigen::Vector2d SampleInPixel(int col, int row, int s, int t, int samples_per_axis) {
@@ -121,7 +116,7 @@ MeshRenderer::Impl::Impl(const TriangleMesh& mesh) {
   rtcSetSceneFlags(scene_, RTC_SCENE_FLAG_ROBUST);
   if (mesh.NumTriangles() > 0) AddGeometry(mesh);
   rtcCommitScene(scene_);
-  CheckDevice(device_, "building the scene");
+  CheckEmbreeDevice(device_, "building the scene");
 }
 
 MeshRenderer::Impl::~Impl() {
@@ -137,7 +132,7 @@ void MeshRenderer::Impl::AddGeometry(const TriangleMesh& mesh) {
   auto* indices = static_cast<unsigned*>(
       rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
                               3 * sizeof(unsigned), mesh.triangles.size()));
-  CheckDevice(device_, "allocating geometry buffers");
+  CheckEmbreeDevice(device_, "allocating geometry buffers");
   for (size_t v = 0; v < mesh.vertices.size(); ++v) {
     for (int k = 0; k < 3; ++k) vertices[3 * v + k] = mesh.vertices[v][k];
   }
@@ -150,7 +145,6 @@ void MeshRenderer::Impl::AddGeometry(const TriangleMesh& mesh) {
 }
 
 RTCRayHit MeshRenderer::Impl::MakeRayHit(const Ray3d& ray, double* t_start) const {
-  RTCRayHit ray_hit;
   // Embree needs tnear >= 0, and a full line (t_min = -inf) has no start:
   // clip the ray to the (padded) mesh bounds and start it there. Rays that
   // miss the bounds are made inactive (tnear > tfar), which Embree skips.
@@ -158,21 +152,8 @@ RTCRayHit MeshRenderer::Impl::MakeRayHit(const Ray3d& ray, double* t_start) cons
   const bool inside = ClipRayToBox(ray, padded_bounds_, &t_enter, &t_exit);
   *t_start = inside ? t_enter : 0.0;
   const Eigen::Vector3d origin = ray.origin + *t_start * ray.direction;
-  ray_hit.ray.org_x = static_cast<float>(origin.x());
-  ray_hit.ray.org_y = static_cast<float>(origin.y());
-  ray_hit.ray.org_z = static_cast<float>(origin.z());
-  ray_hit.ray.dir_x = static_cast<float>(ray.direction.x());
-  ray_hit.ray.dir_y = static_cast<float>(ray.direction.y());
-  ray_hit.ray.dir_z = static_cast<float>(ray.direction.z());
-  ray_hit.ray.tnear = inside ? 0.0f : 1.0f;
-  ray_hit.ray.tfar = inside ? std::numeric_limits<float>::infinity() : 0.0f;
-  ray_hit.ray.time = 0.0f;
-  ray_hit.ray.mask = ~0u;
-  ray_hit.ray.id = 0;
-  ray_hit.ray.flags = 0;
-  ray_hit.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-  ray_hit.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-  return ray_hit;
+  return EmbreeRayHit(origin.cast<float>(), ray.direction.cast<float>(), inside ? 0.0f : 1.0f,
+                      inside ? std::numeric_limits<float>::infinity() : 0.0f);
 }
 
 bool MeshRenderer::Impl::Intersect(const Ray3d& ray, Hit* hit) const {

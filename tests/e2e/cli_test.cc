@@ -124,6 +124,25 @@ bool Contains(const std::string& text, const std::string& part) {
   return text.find(part) != std::string::npos;
 }
 
+// A preview picture: a size x size PNG, opaque, mostly white background with
+// a darker tree in it that does not touch the border.
+void ExpectTreePicture(const fs::path& path, int size) {
+  const FloatImage picture = ReadImage(path);
+  ASSERT_EQ(picture.width(), size) << path;
+  ASSERT_EQ(picture.height(), size) << path;
+  int tree = 0, border_tree = 0;
+  for (int y = 0; y < size; ++y) {
+    for (int x = 0; x < size; ++x) {
+      const bool dark = picture.at(x, y, 0) < 0.9f;
+      tree += dark;
+      border_tree += dark && (x == 0 || y == 0 || x == size - 1 || y == size - 1);
+    }
+  }
+  EXPECT_GT(tree, size / 2) << path;
+  EXPECT_LT(tree, size * size / 2) << path;
+  EXPECT_EQ(border_tree, 0) << path;
+}
+
 // The command failed cleanly with `exit_code`: no signal, and stderr holds
 // exactly one "sylva: error:" line, which contains every string of `names`.
 ::testing::AssertionResult FailedNaming(const SubprocessResult& result, int exit_code,
@@ -333,6 +352,14 @@ TEST_F(CliTest, InitRunAndCachedReruns) {
   EXPECT_GT(report.at("input_views").at("mean_iou").get<double>(), 0.5) << report.dump(2);
   EXPECT_EQ(report.at("input_views").at("num_views").get<int>(), 6);
   EXPECT_EQ(report.at("held_out_views").at("num_views").get<int>(), 1);
+  // Preview pictures of the tree, listed in report.json and shown in report.html.
+  ASSERT_EQ(report.at("previews").size(), 4u);
+  const std::string html = ReadFileToString(out / "report.html");
+  EXPECT_TRUE(Contains(html, "<h2>Tree</h2>") && Contains(html, "crown volume")) << html;
+  for (const auto& preview : report.at("previews")) {
+    EXPECT_TRUE(Contains(html, preview.get<std::string>()));
+    ExpectTreePicture(out / preview.get<std::string>(), 640);
+  }
   EXPECT_TRUE(TempFilesUnder(project).empty());
   const FileFacts first = Facts(out / "density.vdb");
 
@@ -811,15 +838,24 @@ TEST_F(CliTest, AttractorGraphsFromLivewireStrokesAndEdits) {
 
 // `sylva mesh-qsm` on the four ITSMe TreeQSM tables (laser-scanned trees):
 // the bark is a closed, 2-manifold, outward solid whose volume matches the
-// cylinders'; qsm.csv gives the table back; a broken table is refused.
+// cylinders'; qsm.csv gives the table back; preview pictures (small here,
+// none with --no-previews); a broken table is refused.
 TEST_F(CliTest, MeshQsmMakesClosedBarkFromLaserScanCylinders) {
   const fs::path data = fs::path(SYLVA_SOURCE_DIR) / "datasets" / "itsme-qsm";
   for (const char* name : {"tree_1_qsm", "tree_2_qsm", "buttressed_tree_1_qsm_1",
                            "buttressed_tree_2_qsm_1"}) {
     const fs::path out = work_ / name;
+    const bool previews = std::string(name) != "tree_2_qsm";
     const SubprocessResult result =
-        Sylva({"mesh-qsm", (data / (std::string(name) + ".csv")).string(), out.string()});
+        Sylva({"mesh-qsm", (data / (std::string(name) + ".csv")).string(), out.string(),
+               previews ? "--Report.preview_size=96" : "--no-previews"});
     ASSERT_TRUE(Succeeded(result)) << name;
+    for (int k = 0; k < 4; ++k) {
+      const fs::path preview = out / ("preview_" + std::to_string(k) + ".png");
+      EXPECT_EQ(fs::exists(preview), previews) << preview;
+      EXPECT_EQ(Contains(result.out, preview.string()), previews) << result.out;
+      if (previews) ExpectTreePicture(preview, 96);
+    }
     const QsmModel input = ReadQsmCsv(data / (std::string(name) + ".csv"));
     double cylinders = 0;
     for (const QsmCylinder& c : input.cylinders) cylinders += M_PI * c.radius * c.radius * c.length;

@@ -116,19 +116,21 @@ CommandSpec SynthSpec() {
 
 CommandSpec MeshQsmSpec() {
   return {"mesh-qsm",
-          "sylva mesh-qsm QSM.csv OUT_DIR [--merge F] [--subdivide N] "
+          "sylva mesh-qsm QSM.csv OUT_DIR [--merge F] [--subdivide N] [--no-previews] "
           "[--Section.field=value ...]",
           "Meshes a QSM cylinder table (TreeQSM's columns: id, parent_id, start_x..z,\n"
           "axis_x..z, length, radius, branch, branch_order; e.g. from a laser scan) without a\n"
           "project: one sylva skeleton per root cylinder, the watertight bark of the mesh\n"
           "stage (BranchMesh.* options). Writes OUT_DIR/bark.obj (closed solid), tree.obj,\n"
-          "tree.glb, qsm.csv (the table as read) and metrics.json.",
+          "tree.glb, qsm.csv (the table as read), metrics.json and preview pictures of the\n"
+          "bark from 4 sides, preview_0.png .. preview_3.png (Report.preview_* options).",
           {{"merge", "F",
             "children starting within F x their radius of the parent's axis hang from it "
             "directly (default 0.1; 0 keeps every connector edge)"},
            {"subdivide", "N",
             "N levels of Loop subdivision of the bark, 0-3 (default 0; same as "
             "--BranchMesh.subdivision=N)"},
+           {"no-previews", "", "do not render the preview pictures (same as --Report.previews=false)"},
            kLogLevelFlag},
           2,
           2,
@@ -149,7 +151,8 @@ int CmdMeshQsm(const ParsedArguments& args) {
   const QsmModel qsm = ReadQsmCsv(args.positional[0]);
   const QsmMeshing meshing = MeshQsm(qsm, options, merge);
   std::cout << meshing.brief << "\n";
-  for (const fs::path& path : WriteQsmMeshing(meshing, qsm, args.positional[1])) {
+  if (args.Has("no-previews")) options.report.previews = false;
+  for (const fs::path& path : WriteQsmMeshing(meshing, qsm, args.positional[1], options.report)) {
     std::cout << "  " << path.string() << "\n";
   }
   return kExitOk;

@@ -66,6 +66,19 @@ TEST(OptionRegistryTest, BadValuesNameTheSourceAndKey) {
   } catch (const InputError& error) {
     EXPECT_EQ(error.source(), "Density.resolution");
   }
+  for (const auto& [key, value] : std::vector<std::pair<std::string, std::string>>{
+           {"Report.preview_size", "32"}, {"Report.preview_samples_per_axis", "0"}}) {
+    PipelineOptions preview_options;
+    OptionRegistry preview_registry;
+    RegisterPipelineOptions(&preview_options, &preview_registry);
+    preview_registry.Set(key, value, "cli");
+    try {
+      preview_options.Check();
+      FAIL() << key << "=" << value << " accepted";
+    } catch (const InputError& error) {
+      EXPECT_EQ(error.source(), key);
+    }
+  }
 }
 
 TEST(OptionRegistryTest, HelpListsEveryOptionWithDefaultAndUnit) {

@@ -66,7 +66,7 @@ const std::vector<StageDefinition>& Definitions() {
       {{Stage::kReport, "report",
         "per-view fidelity of the density and the mesh against the mattes, tree metrics "
         "(out/report.json, report.html)"},
-       "report/2", {"Report."}, {Stage::kDensity, Stage::kSkeleton, Stage::kMesh}, true,
+       "report/3", {"Report."}, {Stage::kDensity, Stage::kSkeleton, Stage::kMesh}, true,
        RunReportStage, Always},
   };
   return definitions;

@@ -22,6 +22,11 @@ void ReportOptions::Check() const {
   SYLVA_CHECK_INPUT(mesh_samples_per_axis >= 1 && mesh_samples_per_axis <= 16,
                     "Report.mesh_samples_per_axis")
       << "must be between 1 and 16, got " << mesh_samples_per_axis;
+  SYLVA_CHECK_INPUT(preview_size >= 64 && preview_size <= 4096, "Report.preview_size")
+      << "must be between 64 and 4096 pixels, got " << preview_size;
+  SYLVA_CHECK_INPUT(preview_samples_per_axis >= 1 && preview_samples_per_axis <= 8,
+                    "Report.preview_samples_per_axis")
+      << "must be between 1 and 8, got " << preview_samples_per_axis;
 }
 
 void SkeletonOptions::Check() const {
@@ -326,6 +331,13 @@ void RegisterReport(ReportOptions* o, OptionRegistry* r) {
             "rays per compared pixel along each axis when rendering the mesh");
   r->AddBool("Report.write_images", &o->write_images,
              "write per-view comparison pictures, renders and report.html");
+  r->AddBool("Report.previews", &o->previews,
+             "preview pictures of the tree (bark + leaves, sun and shadows, 4 views) in "
+             "report/preview_<k>.png");
+  r->AddInt("Report.preview_size", &o->preview_size, "pixels",
+            "width and height of the preview pictures");
+  r->AddInt("Report.preview_samples_per_axis", &o->preview_samples_per_axis, "rays",
+            "rays per preview pixel along each axis (anti-aliasing)");
 }
 
 void RegisterMatting(MattingOptions* o, MatteStageOptions* stage, OptionRegistry* r) {

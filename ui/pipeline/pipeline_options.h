@@ -66,6 +66,15 @@ struct ReportOptions {
   int mesh_samples_per_axis = 4;
   // Write per-view comparison pictures, renders and report.html under out/.
   bool write_images = true;
+  // Preview pictures of the tree (mesh/tree_preview.h: bark and instanced
+  // leaves, sun with shadows + sky, 4 views around it at 15 degrees
+  // elevation) in out/report/preview_<k>.png, shown in report.html; also
+  // written by `sylva mesh-qsm`.
+  bool previews = true;
+  // Width and height of the preview pictures, pixels, in [64, 4096].
+  int preview_size = 640;
+  // Rays per preview pixel along each axis (anti-aliasing), in [1, 8].
+  int preview_samples_per_axis = 2;
   void Check() const;
 };
 

@@ -7,6 +7,7 @@
 #include "mesh/bark_mesh.h"
 #include "mesh/gltf_export.h"
 #include "mesh/tree_metrics.h"
+#include "ui/pipeline/report.h"
 #include "ui/pipeline/tree_building.h"
 
 namespace sylva {
@@ -34,7 +35,8 @@ QsmMeshing MeshQsm(const QsmModel& qsm, const PipelineOptions& options, double m
 
 std::vector<std::filesystem::path> WriteQsmMeshing(const QsmMeshing& meshing,
                                                    const QsmModel& qsm,
-                                                   const std::filesystem::path& out_dir) {
+                                                   const std::filesystem::path& out_dir,
+                                                   const ReportOptions& report) {
   SYLVA_CHECK(!meshing.parts.empty()) << "nothing to write";
   std::filesystem::create_directories(out_dir);
   size_t largest = 0;
@@ -46,7 +48,7 @@ std::vector<std::filesystem::path> WriteQsmMeshing(const QsmMeshing& meshing,
   GltfExportOptions gltf;
   gltf.extras["units"] = qsm.units;
   gltf.extras["branch_radii"] = "from the QSM (" + qsm.radius_source + ")";
-  const std::vector<std::filesystem::path> paths = {
+  std::vector<std::filesystem::path> paths = {
       out_dir / "bark.obj", out_dir / "tree.obj", out_dir / "tree.glb", out_dir / "qsm.csv",
       out_dir / "metrics.json"};
   WriteObj(paths[0], meshing.bark);
@@ -57,6 +59,10 @@ std::vector<std::filesystem::path> WriteQsmMeshing(const QsmMeshing& meshing,
   WriteQsmCsv(paths[3], qsm);
   WriteTreeMetricsJson(paths[4],
                        ComputeTreeMetrics(meshing.parts[largest].skeleton, nullptr, qsm.units));
+  for (const std::filesystem::path& preview :
+       WritePreviewPngs(RenderReportPreviews(meshing.bark, nullptr, report), out_dir)) {
+    paths.push_back(preview);
+  }
   return paths;
 }
 

@@ -11,6 +11,7 @@
 #include "core/util/check.h"
 #include "core/util/file_util.h"
 #include "mesh/mesh_renderer.h"
+#include "mesh/tree_preview.h"
 #include "reconstruct/density/opacity_projection.h"
 
 namespace sylva {
@@ -99,6 +100,11 @@ Json TreeJson(const TreeMetrics& tree) {
           {"triangles", tree.num_triangles}};
 }
 
+// out/report/preview_<k>.png
+fs::path PreviewPath(size_t k) {
+  return fs::path("report") / ("preview_" + std::to_string(k) + ".png");
+}
+
 Json ReportJson(const FidelityReport& report, const std::map<std::string, std::string>& briefs) {
   Json views = Json::array();
   for (const ViewFidelity& view : report.views) views.push_back(ViewJson(view));
@@ -123,6 +129,11 @@ Json ReportJson(const FidelityReport& report, const std::map<std::string, std::s
     json["mesh_held_out_views"] = GroupJson(report.mesh_held_out);
     json["tree"] = TreeJson(report.tree);
   }
+  Json previews = Json::array();
+  for (size_t k = 0; k < report.previews.size(); ++k) {
+    previews.push_back(PreviewPath(k).generic_string());
+  }
+  json["previews"] = previews;
   return json;
 }
 
@@ -149,14 +160,59 @@ std::string ImageCell(const std::string& kind, const std::string& view_name) {
   return "<td><img src=\"" + HtmlEscape(PicturePath(kind, view_name).generic_string()) + "\"></td>";
 }
 
+// One row of the Tree section's table; `value` already formatted.
+std::string MetricRow(const std::string& name, const std::string& value) {
+  return "<tr><td>" + HtmlEscape(name) + "</td><td>" + HtmlEscape(value) + "</td></tr>\n";
+}
+
+std::string Number(double value, const std::string& unit) {
+  std::ostringstream out;
+  out << std::setprecision(4) << value << (unit.empty() ? "" : " " + unit);
+  return out.str();
+}
+
+// The previews beside the mesh stage's tree metrics.
+std::string TreeSectionHtml(const FidelityReport& report) {
+  if (report.previews.empty() && !report.has_metrics) return "";
+  std::ostringstream html;
+  html << "<h2>Tree</h2>\n<div>";
+  for (size_t k = 0; k < report.previews.size(); ++k) {
+    html << "<img class=\"preview\" src=\"" << PreviewPath(k).generic_string() << "\">";
+  }
+  html << "</div>\n";
+  if (!report.has_metrics) return html.str();
+  const TreeMetricsReport& m = report.metrics;
+  html << "<table>\n" << MetricRow("height", Number(m.height, m.units))
+       << MetricRow("crown width", Number(m.crown_width, m.units))
+       << MetricRow("crown depth", Number(m.crown_depth, m.units))
+       << MetricRow("crown base height", Number(m.crown_base_height, m.units))
+       << MetricRow("crown volume (convex hull)", Number(m.crown_volume_hull, m.units + "^3"));
+  if (m.crown_volume_density) {
+    html << MetricRow("crown volume (density voxels)",
+                      Number(*m.crown_volume_density, m.units + "^3"));
+  }
+  html << MetricRow("DBH", m.dbh ? Number(*m.dbh, m.units) : "none: " + m.dbh_note)
+       << MetricRow("tips", std::to_string(m.num_tips))
+       << MetricRow("total branch length", Number(m.total_length, m.units));
+  for (const OrderMetrics& order : m.orders) {
+    std::string value = std::to_string(order.num_branches) + " branches, " +
+                        Number(order.total_length, m.units);
+    if (order.num_angles > 0) value += ", mean angle " + Number(order.mean_angle_deg, "deg");
+    html << MetricRow("order " + std::to_string(order.order), value);
+  }
+  html << "</table>\n<p>Metrics from out/metrics.json; branch radii are an allometric prior.</p>\n";
+  return html.str();
+}
+
 std::string ReportHtml(const FidelityReport& report,
                        const std::map<std::string, std::string>& briefs) {
   std::ostringstream html;
   html << std::fixed << std::setprecision(3)
        << "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>sylva report</title>"
           "<style>body{font-family:sans-serif}td,th{padding:4px 8px}img{width:256px;"
-          "image-rendering:pixelated}</style></head><body>\n<h1>sylva report</h1>\n<pre>"
-       << HtmlEscape(report.BriefReport()) << "</pre>\n<ul>";
+          "image-rendering:pixelated}img.preview{width:320px;image-rendering:auto}</style></head>"
+          "<body>\n<h1>sylva report</h1>\n<pre>"
+       << HtmlEscape(report.BriefReport()) << "</pre>\n" << TreeSectionHtml(report) << "<ul>";
   for (const auto& [stage, brief] : briefs) {
     html << "<li><b>" << HtmlEscape(stage) << "</b>: " << HtmlEscape(brief) << "</li>\n";
   }
@@ -296,10 +352,31 @@ void AddMeshFidelity(const TriangleMesh& mesh, const SkeletonGraph& skeleton,
   report->mesh_held_out = Summarise(report->views, true, true);
 }
 
+std::vector<FloatImage> RenderReportPreviews(const TriangleMesh& bark, const LeafInstances* leaves,
+                                             const ReportOptions& options) {
+  options.Check();
+  const bool has_leaves = leaves != nullptr && !leaves->instances.empty();
+  if (!options.previews || (bark.NumTriangles() == 0 && !has_leaves)) return {};
+  TreePreviewOptions preview;
+  preview.width = preview.height = options.preview_size;
+  preview.samples_per_axis = options.preview_samples_per_axis;
+  return RenderTreePreviews(bark, has_leaves ? leaves : nullptr, preview);
+}
+
+std::vector<fs::path> WritePreviewPngs(const std::vector<FloatImage>& previews,
+                                       const fs::path& dir) {
+  std::vector<fs::path> written;
+  for (size_t k = 0; k < previews.size(); ++k) {
+    written.push_back(dir / PreviewPath(k).filename());
+    WriteImage(written.back(), previews[k]);
+  }
+  return written;
+}
+
 std::vector<fs::path> WriteFidelityReport(const FidelityReport& report,
                                           const std::map<std::string, std::string>& stage_briefs,
                                           const ReportOptions& options, const fs::path& out_dir) {
-  std::vector<fs::path> written;
+  std::vector<fs::path> written = WritePreviewPngs(report.previews, out_dir / "report");
   if (options.write_images) {
     for (const ViewFidelity& view : report.views) {
       const fs::path density = out_dir / PicturePath("density", view.name);

@@ -16,6 +16,8 @@
 #include "core/types/skeleton_graph.h"
 #include "core/types/triangle_mesh.h"
 #include "datasets/eval/silhouette_metrics.h"
+#include "mesh/leaves.h"
+#include "mesh/tree_metrics.h"
 #include "ui/pipeline/pipeline_options.h"
 
 namespace sylva {
@@ -56,6 +58,13 @@ struct FidelityReport {
   FidelityGroup mesh_input, mesh_held_out;  // mesh (if any)
   bool has_tree = false;
   TreeMetrics tree;
+  // The mesh stage's tree metrics (out/metrics.json), for report.html's
+  // "Tree" section.
+  bool has_metrics = false;
+  TreeMetricsReport metrics;
+  // Preview pictures of the tree (Report.previews), written as
+  // out/report/preview_<k>.png.
+  std::vector<FloatImage> previews;
   // Grid facts.
   double voxel_size = 0;
   int64_t num_voxels = 0;
@@ -83,6 +92,17 @@ void AddMeshFidelity(const TriangleMesh& mesh, const SkeletonGraph& skeleton,
                      FidelityReport* report);
 
 TreeMetrics ComputeTreeMetrics(const SkeletonGraph& skeleton, const TriangleMesh& mesh);
+
+// Preview pictures of a tree (mesh/tree_preview.h) at Report.preview_size
+// with Report.preview_samples_per_axis, 4 views (azimuths 0, 90, 180, 270
+// degrees, 15 degrees up), white background, sRGB; none if Report.previews
+// is off or the scene is empty. `leaves` (may be null) are drawn as instances.
+std::vector<FloatImage> RenderReportPreviews(const TriangleMesh& bark, const LeafInstances* leaves,
+                                             const ReportOptions& options);
+
+// Writes dir/preview_<k>.png (k = 0, 1, ...) atomically; returns the paths.
+std::vector<std::filesystem::path> WritePreviewPngs(const std::vector<FloatImage>& previews,
+                                                    const std::filesystem::path& dir);
 
 // out/report.json (+ out/report/*.png and out/report.html if asked); returns
 // the files written. `stage_briefs` maps stage names to their summaries.

@@ -1,7 +1,7 @@
 // The report stage: the density's projection and, once the tree exists, the
 // mesh's rendered silhouette against every view's matte (input and held-out
-// separately), plus the tree's metrics -> out/report.json, report.html and
-// pictures under out/report/.
+// separately), plus the tree's metrics and preview pictures (leaves drawn as
+// instances) -> out/report.json, report.html and pictures under out/report/.
 #include "core/io/skeleton_io.h"
 #include "core/io/vdb_io.h"
 #include "mesh/gltf_export.h"
@@ -21,9 +21,18 @@ StageRun RunReportStage(const StageContext& context) {
   report.units = context.Units();
   std::error_code ec;
   if (fs::is_regular_file(context.Out("tree.glb"), ec)) {
-    const TriangleMesh mesh = ReadGlb(context.Out("tree.glb"));
+    LeafInstances leaves;
+    const TriangleMesh bark = ReadGlbKeepingLeafInstances(context.Out("tree.glb"), &leaves);
+    TriangleMesh mesh = bark;
+    mesh.Append(leaves.Bake());
     const SkeletonGraph skeleton = ReadSkeletonJson(context.RequireOutput("skeleton.json", "skeleton"));
     AddMeshFidelity(mesh, skeleton, image_set, context.options.report, &report);
+    report.metrics = ComputeTreeMetrics(skeleton, &grid, report.units);
+    report.has_metrics = true;
+    ProgressTask progress(context.progress, "report: preview pictures");
+    progress.Update(0.0);
+    report.previews = RenderReportPreviews(bark, &leaves, context.options.report);
+    progress.Update(1.0);
   }
   std::map<std::string, std::string> briefs;
   for (const char* stage : {"density", "skeleton", "mesh"}) {
