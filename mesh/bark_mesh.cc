@@ -28,6 +28,9 @@ constexpr int kMaxJointNodes = 4;
 constexpr int kMaxRepairJointNodes = 8;
 // Repairs take chains of at most this many nodes into a joint.
 constexpr int kMaxMergedChainNodes = 4;
+// Attempts a repair round may take to undo overflowing repairs one joint at a
+// time before it is given up as a whole.
+constexpr int kMaxOverflowsPerRound = 2;
 // Meshing attempts in all (each repair and each failed attachment retries).
 constexpr int kMaxAttempts = 24;
 // A crossing within this many radii of a junction node is that junction's.
@@ -85,6 +88,8 @@ class WatertightMesher {
     std::set<int> repairs;     // ... and to take their triangles off others
     std::set<int> given_up;    // repairs whose joint grew too large
     std::vector<int> batch;    // repairs added for this attempt
+    std::vector<int> forced_batch;  // junctions forced for the last attempt
+    int overflows_this_round = 0;
     int rounds = 0;
     for (int attempt = 0;; ++attempt) {
       const BarkMeshSummary clean = *summary_;
@@ -93,34 +98,60 @@ class WatertightMesher {
       std::set<int> convex = forced;
       convex.insert(repairs.begin(), repairs.end());
       repairs_ = repairs;
+      forced_ = forced;
       TriangleMesh mesh = Attempt(convex);
       const bool last = attempt == kMaxAttempts;
       bool again = false;
       if (!overflow_.empty()) {
         // A repair's joint swallowed more than kMaxRepairJointNodes nodes:
         // it costs more than its crossing. The repairs of that joint from
-        // the last batch (else all of them) are given up, and all this
-        // attempt did to other junctions is undone.
+        // the last round's batch (else all of that joint's) are given up,
+        // and all this attempt did to other junctions is undone. Junctions
+        // forced for a lateral that found no quad leave their laterals
+        // capped and overlapping the parent instead.
         std::vector<int> culprits;
         for (int u : overflow_) {
           if (std::find(batch.begin(), batch.end(), u) != batch.end()) culprits.push_back(u);
         }
         if (culprits.empty()) culprits = overflow_;
-        for (int u : culprits) {
-          repairs.erase(u);
-          given_up.insert(u);
+        // A round whose repairs keep overflowing is given up as a whole.
+        if (++overflows_this_round > kMaxOverflowsPerRound) culprits = batch;
+        if (attempt >= kMaxAttempts) {  // out of attempts: no repairs, no forcing
+          culprits.assign(repairs.begin(), repairs.end());
+          culprits.insert(culprits.end(), forced.begin(), forced.end());
         }
-        batch.clear();
+        // The whole forced batch goes (one by one would mean an attempt for
+        // each of hundreds on dense trees).
+        for (int u : culprits) {
+          if (overlapping_.count(u)) continue;
+          if (forced.count(u)) {
+            for (int f : forced_batch) {
+              forced.erase(f);
+              overlapping_.insert(f);
+            }
+            forced.erase(u);
+            overlapping_.insert(u);
+          } else {
+            repairs.erase(u);
+            given_up.insert(u);
+          }
+        }
+        forced_batch.clear();
+        for (int u : culprits) batch.erase(std::remove(batch.begin(), batch.end(), u), batch.end());
         spread_ = spread_before;
         again = true;
       } else if ((!failed_attach_.empty() || respread_) && !last) {
         forced.insert(failed_attach_.begin(), failed_attach_.end());
+        forced_batch.assign(failed_attach_.begin(), failed_attach_.end());
         again = true;
       } else if (rounds < options_.repair_rounds && !last) {
         batch.clear();
         std::set<std::pair<int, int>> merges;
+        overflows_this_round = 0;
         for (int u : CrossingJunctions(mesh, &merges)) {
-          if (!given_up.count(u) && !forced.count(u) && !repairs.count(u)) batch.push_back(u);
+          if (!given_up.count(u) && !forced.count(u) && !repairs.count(u) && !overlapping_.count(u)) {
+            batch.push_back(u);
+          }
         }
         const size_t merged_before = merges_.size();
         merges_.insert(merges.begin(), merges.end());
@@ -224,7 +255,7 @@ class WatertightMesher {
       if (children_[i].size() < 2) continue;
       ++summary_->junctions;
       // Laterals thin against the parent are attached to its tube.
-      bool thin = i != root_ && axis_child[i] >= 0 && !forced.count(i) &&
+      bool thin = (i != root_ || spread_.count(i)) && axis_child[i] >= 0 && !forced.count(i) &&
                   (children_[i].size() == 2 || spread_.count(i));
       for (int c : children_[i]) {
         if (c == axis_child[i]) continue;
@@ -242,7 +273,7 @@ class WatertightMesher {
     }
     overflow_.clear();
     FormJoints();
-    if (!overflow_.empty()) return TriangleMesh();
+    if (!overflow_.empty() || respread_) return TriangleMesh();
     // Junctions of several laterals whose convex joint grew over more than
     // kMaxJointNodes nodes attach their laterals one by one instead.
     std::map<int, int> sizes;
@@ -395,14 +426,27 @@ class WatertightMesher {
 
   // True (and overflow_ set to its repairs) if the joint of `node` holds a
   // repair and more than kMaxRepairJointNodes nodes: the attempt stops.
+  // Also true (respread_ set) if the joint grew over more than
+  // kMaxJointNodes nodes and holds junctions of 3+ children (or the root)
+  // that may attach their laterals one by one instead: growing it further
+  // would only swallow more of the tree.
   bool RepairOverflows(int node) {
     const int g = Group(node);
     int size = 0;
-    std::vector<int> repairs;
+    std::vector<int> repairs, spreadable;
     for (int i = 0; i < skeleton_.NumNodes(); ++i) {
       if (group_[i] < 0 || Group(i) != g) continue;
       ++size;
-      if (repairs_.count(i)) repairs.push_back(i);
+      if (repairs_.count(i) || forced_.count(i)) repairs.push_back(i);
+      if ((children_[i].size() > 2 || (i == root_ && children_[i].size() > 1)) &&
+          !spread_.count(i) && !repairs_.count(i) && !forced_.count(i)) {
+        spreadable.push_back(i);
+      }
+    }
+    if (size > kMaxJointNodes && !spreadable.empty()) {
+      spread_.insert(spreadable.begin(), spreadable.end());
+      respread_ = true;
+      return true;
     }
     if (repairs.empty() || size <= kMaxRepairJointNodes) return false;
     overflow_ = repairs;
@@ -513,14 +557,15 @@ class WatertightMesher {
     for (int u : order) {
       const bool attach_junction = group_[u] < 0 && !laterals_[u].empty();
       if (group_[u] < 0 && u != root_ && !attach_junction) continue;
-      const std::vector<int>& starts = attach_junction ? laterals_[u] : children_[u];
+      std::vector<int> starts = attach_junction ? laterals_[u] : children_[u];
+      if (attach_junction && u == root_) starts.insert(starts.begin(), continuation_[u]);
       for (int v : starts) {
         if (group_[u] >= 0 && Group(v) == Group(u)) continue;  // inside a joint
         std::vector<int> chain = {u, v};
         for (int next; (next = ChainNext(chain.back(), chain[chain.size() - 2])) >= 0;) {
           chain.push_back(next);
         }
-        MeshPiece(chain, attach_junction, mesh);
+        MeshPiece(chain, attach_junction && !(u == root_ && v == continuation_[u]), mesh);
       }
     }
     // Drop the parent quads that attached laterals replaced.
@@ -810,7 +855,7 @@ class WatertightMesher {
     const bool attached = attach && FindAttachment(chain, *mesh, end, &patch, &attach_cut);
     if (attach && !attached) {
       ++summary_->unattached;
-      failed_attach_.push_back(u);
+      if (!overlapping_.count(u)) failed_attach_.push_back(u);
     }
     const Exit* start =
         start_cut ? &exits_.at({u, chain[1]}) : (attached ? &attach_cut : nullptr);
@@ -828,6 +873,7 @@ class WatertightMesher {
     origin.next = chain[1];
     origins_.resize(mesh->NumTriangles(), origin);
     pieces_.push_back(info);
+    if (u == root_ && continuation_[u] == chain[1]) attach_piece_[u] = static_cast<int>(pieces_.size()) - 1;
     for (int k = 1; k < last_index; ++k) {
       if (!laterals_[chain[k]].empty()) attach_piece_[chain[k]] = static_cast<int>(pieces_.size()) - 1;
     }
@@ -975,6 +1021,8 @@ class WatertightMesher {
   std::set<int> spread_;  // junctions of 3+ children attaching their laterals
   std::set<int> repairs_;     // junctions made convex joints by repairs
   std::vector<int> overflow_;  // repairs in a joint that grew too large
+  std::set<int> forced_;       // junctions made joints because a lateral found no quad
+  std::set<int> overlapping_;  // ... whose joint grew too large: laterals left overlapping
   std::set<std::pair<int, int>> merges_;  // repairs: chains taken into their joint
   bool respread_ = false;
   std::vector<int> failed_attach_;   // attach junctions with a lateral left unattached

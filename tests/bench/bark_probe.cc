@@ -11,7 +11,9 @@
 // synthetic tree (seed 1) with both meshers side by side (left: watertight,
 // right: MeshBranches), PNG.
 //
-// usage: sylva_bark_probe [--picture out.png] [qsm.csv ...]
+// --skeleton PATH: a sylva skeleton (out/skeleton.json of a project).
+//
+// usage: sylva_bark_probe [--picture out.png] [--skeleton skeleton.json] [qsm.csv ...]
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -24,6 +26,7 @@
 #include "core/geometry/rigid3.h"
 #include "core/io/image_io.h"
 #include "core/io/qsm_io.h"
+#include "core/io/skeleton_io.h"
 #include "core/geometry/polyline.h"
 #include "core/util/check.h"
 #include "datasets/synthetic/synthetic_tree.h"
@@ -203,6 +206,11 @@ void Picture(const std::string& path) {
 
 int Main(int argc, char** argv) {
   for (int a = 1; a < argc; ++a) {
+    if (std::strcmp(argv[a], "--skeleton") == 0 && a + 1 < argc) {
+      const SkeletonGraph g = ReadSkeletonJson(argv[++a]);
+      Probe(g, argv[a], 0.0);
+      continue;
+    }
     if (std::strcmp(argv[a], "--classify") == 0 && a + 1 < argc) {
       // N: seeds 1..N; -S: seed S alone.
       const int seeds = std::atoi(argv[++a]);
