@@ -1060,9 +1060,9 @@ std::string BarkMeshSummary::BriefReport() const {
       << " attach junctions absorbed), " << attached
       << " laterals attached to their parent's tube";
   if (unattached > 0) out << " (" << unattached << " NOT attached: overlapping)";
-  out << " (";
-  if (failed_joints > 0) out << ", " << failed_joints << " FAILED";
-  out << "), " << pieces << " tubes, " << triangles << " triangles in " << seconds
+  if (failed_joints > 0) out << ", " << failed_joints << " joints FAILED";
+  if (repaired > 0) out << ", " << repaired << " junctions made joints to mend crossings";
+  out << ", " << pieces << " tubes, " << triangles << " triangles in " << seconds
       << " s; radii: " << radius_source << ".";
   return out.str();
 }
