@@ -102,6 +102,14 @@ struct BranchTube {
 std::vector<BranchTube> PlanBranchTubes(const SkeletonGraph& skeleton,
                                         const BranchMeshOptions& options);
 
+// The tube of one `axis` (node indices of `skeleton`, as BranchAxes() lists
+// them), planned as PlanBranchTubes plans it: `is_trunk` for the root axis,
+// else the first ring takes the radius of the axis' first edge; sides from
+// TubeSides(axis radius, `max_radius`). An axis whose nodes all coincide
+// gives an empty tube (sides == 0). No validation (callers check).
+BranchTube PlanAxisTube(const SkeletonGraph& skeleton, const BranchAxis& axis, bool is_trunk,
+                        double max_radius, const BranchMeshOptions& options);
+
 // A cross-section of a tube: centre on the spline, frame, radius.
 struct TubeRing {
   Eigen::Vector3d center = Eigen::Vector3d::Zero();  // world units

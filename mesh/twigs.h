@@ -14,6 +14,16 @@
 //     more than the input's highest order), their side shoots (monopodial
 //     laterals, sympodial spent apices) with twig_order + 1, and strands 0;
 //     Select them with `node.order >= summary.twig_order`.
+//
+// Meshing the twigs. Joined (the default of the pipeline for few twigs),
+// the grown skeleton is meshed as one watertight bark: one closed surface,
+// but the twigs multiply the bark's triangles (~11x on the synthetic trees)
+// and its thin junctions slow the bark mesher down. Separate: the bark is
+// the watertight mesh of RemoveTwigs(grown) (the branches, with the split
+// nodes where the twigs start), and MeshTwigTubes gives each twig axis its
+// own closed, capped tube in the material "twigs" (as MeshBranches does for
+// every axis). The tubes' bases sit inside the bark and overlap it, so the
+// tree is then a closed bark plus closed twig tubes, not one manifold.
 #ifndef SYLVA_MESH_TWIGS_H_
 #define SYLVA_MESH_TWIGS_H_
 
@@ -22,6 +32,8 @@
 
 #include "core/types/density_grid.h"
 #include "core/types/skeleton_graph.h"
+#include "core/types/triangle_mesh.h"
+#include "mesh/branch_mesh.h"
 
 namespace sylva {
 
@@ -83,6 +95,50 @@ struct TwigSummary {
 // other axis starts. `skeleton` needs radii. Deterministic for a seed.
 SkeletonGraph GrowTwigs(const SkeletonGraph& skeleton, const DensityGrid& density,
                         const TwigOptions& options, TwigSummary* summary = nullptr);
+
+// How the twigs are meshed (see the header comment).
+struct TwigMeshOptions {
+  // "joined": part of the bark mesh; "separate": closed tubes of their own
+  // beside the bark; "auto": separate when a tree has more than
+  // separate_above twigs.
+  std::string mode = "auto";
+  // Twigs above which "auto" meshes them separately (>= 0). Measured on the
+  // synthetic trees (tests/bench/twig_mesh_benchmark.cc, README): joined,
+  // the bark mesher's time grows with the twig count much faster than the
+  // tubes' (XXX).
+  int separate_above = 1000;
+  // The twig tubes' material (single-sided: the tubes are closed).
+  Material material = {"twigs", Eigen::Vector3f(0.45f, 0.35f, 0.22f), false};
+
+  // Whether a tree with `twigs` twigs gets separate twig tubes.
+  bool Separate(int twigs) const;
+  // Throws InputError("Twigs.mesh" / "Twigs.separate_above", ...).
+  void Check() const;
+};
+
+struct TwigTubesSummary {
+  int tubes = 0;  // one per twig axis (twig, lateral shoot or spent apex)
+  int triangles = 0;
+  double seconds = 0.0;
+  std::string BriefReport() const;
+};
+
+// `grown` (from GrowTwigs, with its `summary`) without the twig nodes: the
+// input skeleton plus the split nodes on the terminal branches, which lie on
+// the branch edges they split, so that the branches' splines pass through
+// the twigs' bases. Nodes below summary.first_added_node keep their index,
+// the kept split nodes follow in their order.
+SkeletonGraph RemoveTwigs(const SkeletonGraph& grown, const TwigSummary& summary);
+
+// One closed tube per twig axis of `grown`: every BranchAxes() axis from its
+// last node before the twig nodes (the split node or twig node it leaves)
+// to its tip, planned and swept like MeshBranches' laterals (PlanAxisTube,
+// sides relative to the largest radius in `grown`, `tube` options), capped
+// at both ends, all in options.material. `summary` (may be null) gets the
+// counts. Throws InputError for bad options, or a skeleton failing Check().
+TriangleMesh MeshTwigTubes(const SkeletonGraph& grown, const TwigSummary& twigs,
+                           const BranchMeshOptions& tube, const TwigMeshOptions& options,
+                           TwigTubesSummary* summary = nullptr);
 
 }  // namespace sylva
 

@@ -92,6 +92,9 @@ struct TreeGeometryOptions {
   // triangles about tenfold.
   bool twigs = false;
   TwigOptions twig;
+  // Twigs joined to the bark, or as separate closed tubes beside it (many
+  // twigs; mesh/twigs.h): Twigs.mesh, Twigs.separate_above.
+  TwigMeshOptions twig_mesh;
   // A leaf picture (RGBA, alpha = the leaf's outline) used as a textured
   // leaf instead of Leaves.shape; a path absolute or relative to the project.
   std::string leaf_image;
