@@ -103,10 +103,13 @@ struct TwigMeshOptions {
   // separate_above twigs.
   std::string mode = "auto";
   // Twigs above which "auto" meshes them separately (>= 0). Measured on the
-  // synthetic trees (tests/bench/twig_mesh_benchmark.cc, README): joined,
-  // the bark mesher's time grows with the twig count much faster than the
-  // tubes' (XXX).
-  int separate_above = 1000;
+  // default synthetic trees, seeds 1-3 (tests/bench/twig_mesh_benchmark.cc):
+  // joined, the bark stays right up to ~220 twigs (1.5-3.5x the separate
+  // time, 2.4x the bare bark's triangles), but from 367 twigs (seed 2) and
+  // at the default rate (740-810 twigs, seeds 2 and 3) the watertight mesher
+  // collapses the tree into a 220-440 triangle hull after 14-220 s, while
+  // the separate bark stays closed in < 0.5 s.
+  int separate_above = 200;
   // The twig tubes' material (single-sided: the tubes are closed).
   Material material = {"twigs", Eigen::Vector3f(0.45f, 0.35f, 0.22f), false};
 

@@ -10,14 +10,17 @@
 //
 // Trees: the synthetic generator's default tree (seeds 1-3), radii as
 // generated, twigs grown with the default TwigOptions and no density grid
-// (the rate as is); then, on seed 1, the twig rate scaled to see how the
-// joined mesher's time grows with the number of twigs.
+// (the rate as is); then the twig rate scaled to see how the
+// joined mesher's time and result change with the number of twigs, on
+// seeds 1-3.
 //
-// usage: sylva_twig_mesh_benchmark [--quick]   (--quick: smoke test, seed 1,
-// fewer twigs, one run, no self-intersection test)
+// usage: sylva_twig_mesh_benchmark [--quick] [--scaling]
+//   --quick: smoke test (seed 1, fewer twigs, one run, no crossing test);
+//   --scaling: only the second part (twig rates on seeds 1-3).
 #include <cstdio>
 #include <cstring>
 #include <string>
+#include <vector>
 
 #include "datasets/synthetic/synthetic_tree.h"
 #include "mesh/bark_mesh.h"
@@ -70,53 +73,71 @@ std::string Verdict(const MeshCheck& check) {
   return text;
 }
 
-void PrintRow(const char* label, int twigs, const Meshed& m) {
-  std::printf("  %-9s %6d twigs  bark %8d tri  twig tubes %8d tri  %7.2f s  bark: %s\n", label,
-              twigs, m.bark_triangles, m.twig_triangles, m.seconds, Verdict(m.bark_check).c_str());
+// `bare`: triangles of the bark without twigs; a bark with fewer collapsed
+// (the mesher merged most of the tree into one convex joint).
+void PrintRow(const char* label, int twigs, const Meshed& m, int bare) {
+  std::printf("  %-9s %6d twigs  bark %8d tri  twig tubes %8d tri  %7.2f s  bark: %s%s\n", label,
+              twigs, m.bark_triangles, m.twig_triangles, m.seconds, Verdict(m.bark_check).c_str(),
+              m.bark_triangles < bare ? "  COLLAPSED" : "");
 }
 
-int Main(bool quick) {
-  std::printf("Twig meshing benchmark (%s): joined (reference) vs separate\n",
-              quick ? "quick mode" : "full mode");
-  const int repetitions = quick ? 1 : 2;
-  const bool crossings = !quick;
-  TwigOptions twig_options;
-  if (quick) twig_options.twigs_per_length = 0.3;
+// Part 1: the default twig rate on each seed, with the crossing pairs.
+void CompareAtDefaultRate(bool quick, const TwigOptions& twig_options) {
   const int num_seeds = quick ? 1 : 3;
   for (int seed = 1; seed <= num_seeds; ++seed) {
     const SkeletonGraph skeleton = GenerateSyntheticSkeleton(SyntheticTreeOptions(), seed);
     TwigSummary summary;
     const SkeletonGraph grown = GrowTwigs(skeleton, DensityGrid(), twig_options, &summary);
-    const double bare_seconds = BestSeconds(repetitions, [&] {
-      MeshBarkWatertight(skeleton, BarkMeshOptions(), nullptr);
+    TriangleMesh bare;
+    const double bare_seconds = BestSeconds(quick ? 1 : 3, [&] {
+      bare = MeshBarkWatertight(skeleton, BarkMeshOptions(), nullptr);
     });
-    const int bare_triangles = MeshBarkWatertight(skeleton, BarkMeshOptions(), nullptr).NumTriangles();
     std::printf("Seed %d: %d nodes, %d twigs (%d nodes added); bark without twigs %d tri in %.2f s\n",
-                seed, skeleton.NumNodes(), summary.twigs, summary.nodes_added, bare_triangles,
+                seed, skeleton.NumNodes(), summary.twigs, summary.nodes_added, bare.NumTriangles(),
                 bare_seconds);
-    const Meshed joined = MeshJoined(grown, repetitions, crossings);
-    const Meshed separate = MeshSeparate(grown, summary, repetitions, crossings);
-    PrintRow("joined", summary.twigs, joined);
-    PrintRow("separate", summary.twigs, separate);
+    // The joined reference runs once (it can take minutes), the separate best of 3.
+    const Meshed joined = MeshJoined(grown, 1, !quick);
+    const Meshed separate = MeshSeparate(grown, summary, quick ? 1 : 3, !quick);
+    PrintRow("joined", summary.twigs, joined, bare.NumTriangles());
+    PrintRow("separate", summary.twigs, separate, bare.NumTriangles());
     std::printf("  joined / separate: time x%.2f, triangles x%.2f\n",
                 joined.seconds / separate.seconds,
                 static_cast<double>(joined.bark_triangles) /
                     (separate.bark_triangles + separate.twig_triangles));
+    std::fflush(stdout);
   }
-  // How the joined mesher scales with the number of twigs (seed 1).
-  std::printf("Scaling with the twig rate (seed 1):\n");
-  const SkeletonGraph skeleton = GenerateSyntheticSkeleton(SyntheticTreeOptions(), 1);
+}
+
+// Part 2: how the joined mesher's time and result change with the number
+// of twigs (one run each, no crossing test).
+void ScaleTwigRate(bool quick, const TwigOptions& twig_options) {
   const std::vector<double> rates =
-      quick ? std::vector<double>{0.1} : std::vector<double>{0.05, 0.1, 0.2, 0.4, 0.8, 1.5};
-  for (double rate : rates) {
-    TwigOptions scaled = twig_options;
-    scaled.twigs_per_length = rate;
-    TwigSummary summary;
-    const SkeletonGraph grown = GrowTwigs(skeleton, DensityGrid(), scaled, &summary);
-    std::printf(" rate %.2f per twig length:\n", rate);
-    PrintRow("joined", summary.twigs, MeshJoined(grown, repetitions, false));
-    PrintRow("separate", summary.twigs, MeshSeparate(grown, summary, repetitions, false));
+      quick ? std::vector<double>{0.1} : std::vector<double>{0.1, 0.2, 0.4, 0.8};
+  const int num_seeds = quick ? 1 : 3;
+  for (int seed = 1; seed <= num_seeds; ++seed) {
+    const SkeletonGraph skeleton = GenerateSyntheticSkeleton(SyntheticTreeOptions(), seed);
+    const int bare = MeshBarkWatertight(skeleton, BarkMeshOptions(), nullptr).NumTriangles();
+    std::printf("Scaling with the twig rate (seed %d):\n", seed);
+    for (double rate : rates) {
+      TwigOptions scaled = twig_options;
+      scaled.twigs_per_length = rate;
+      TwigSummary summary;
+      const SkeletonGraph grown = GrowTwigs(skeleton, DensityGrid(), scaled, &summary);
+      std::printf(" rate %.2f per twig length:\n", rate);
+      PrintRow("joined", summary.twigs, MeshJoined(grown, 1, false), bare);
+      PrintRow("separate", summary.twigs, MeshSeparate(grown, summary, 1, false), bare);
+      std::fflush(stdout);
+    }
   }
+}
+
+int Main(bool quick, bool scaling_only) {
+  std::printf("Twig meshing benchmark (%s): joined (reference) vs separate\n",
+              quick ? "quick mode" : "full mode");
+  TwigOptions twig_options;
+  if (quick) twig_options.twigs_per_length = 0.3;
+  if (!scaling_only) CompareAtDefaultRate(quick, twig_options);
+  ScaleTwigRate(quick, twig_options);
   return 0;
 }
 
@@ -124,6 +145,10 @@ int Main(bool quick) {
 }  // namespace sylva
 
 int main(int argc, char** argv) {
-  const bool quick = argc > 1 && std::strcmp(argv[1], "--quick") == 0;
-  return sylva::GuardedMain([&] { return sylva::Main(quick); });
+  bool quick = false, scaling_only = false;
+  for (int i = 1; i < argc; ++i) {
+    quick = quick || std::strcmp(argv[i], "--quick") == 0;
+    scaling_only = scaling_only || std::strcmp(argv[i], "--scaling") == 0;
+  }
+  return sylva::GuardedMain([&] { return sylva::Main(quick, scaling_only); });
 }
