@@ -21,17 +21,6 @@ constexpr double kCoincidentFraction = 1e-9;
 // counts as zero; the chord direction is used instead.
 constexpr double kDegenerateDerivative = 1e-9;
 
-// SkeletonGraph::Check() as an input error: the skeleton is the user's data.
-void CheckSkeleton(const SkeletonGraph& skeleton) {
-  try {
-    skeleton.Check();
-  } catch (const InputError&) {
-    throw;
-  } catch (const Error& error) {
-    SYLVA_INPUT_ERROR("skeleton") << error.what();
-  }
-}
-
 double MaxRadius(const SkeletonGraph& skeleton) {
   double max_radius = 0.0;
   for (const SkeletonNode& node : skeleton.nodes) max_radius = std::max(max_radius, node.radius);
@@ -60,7 +49,7 @@ Eigen::Vector3d TangentAt(const CubicBSpline& spline, double u) {
 std::vector<BranchTube> PlanTubes(const SkeletonGraph& skeleton, const BranchMeshOptions& options,
                                   int* skipped) {
   options.Check();
-  CheckSkeleton(skeleton);
+  CheckSkeletonInput(skeleton);
   std::vector<BranchTube> tubes;
   if (skeleton.NumNodes() < 2) return tubes;
   const double max_radius = MaxRadius(skeleton);
@@ -105,6 +94,16 @@ std::string BranchMeshSummary::BriefReport() const {
   out << ", " << rings << " rings, " << triangles << " triangles in " << seconds
       << " s; radii: " << radius_source << ".";
   return out.str();
+}
+
+void CheckSkeletonInput(const SkeletonGraph& skeleton) {
+  try {
+    skeleton.Check();
+  } catch (const InputError&) {
+    throw;
+  } catch (const Error& error) {
+    SYLVA_INPUT_ERROR("skeleton") << error.what();
+  }
 }
 
 int TubeSides(double axis_radius, double max_radius, const BranchMeshOptions& options) {

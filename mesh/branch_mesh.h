@@ -132,6 +132,10 @@ std::vector<TubeRing> SampleTubeRings(const BranchTube& tube);
 void AppendTube(const std::vector<TubeRing>& rings, int sides, int material, TriangleMesh* mesh,
                 bool base_cap = true, bool tip_cap = true);
 
+// SkeletonGraph::Check() as an input error (the skeleton is the user's
+// data): throws InputError("skeleton", ...) naming the broken invariant.
+void CheckSkeletonInput(const SkeletonGraph& skeleton);
+
 // Sides of a tube whose largest radius is `axis_radius` in a skeleton whose
 // largest radius is `max_radius` (> 0): see the header comment.
 int TubeSides(double axis_radius, double max_radius, const BranchMeshOptions& options);

@@ -267,13 +267,7 @@ TriangleMesh MeshTwigTubes(const SkeletonGraph& grown, const TwigSummary& twigs,
   tube.Check();
   options.Check();
   CheckGrown(grown, twigs);
-  try {
-    grown.Check();
-  } catch (const InputError&) {
-    throw;
-  } catch (const Error& error) {
-    SYLVA_INPUT_ERROR("skeleton") << error.what();
-  }
+  CheckSkeletonInput(grown);
   TwigTubesSummary local;
   if (summary == nullptr) summary = &local;
   *summary = TwigTubesSummary();

@@ -326,6 +326,14 @@ TEST(TwigsTest, SympodialTwigTubesAndRemoveTwigsWithoutTwigs) {
   // Each twig: its zig-zag axis plus one spent-apex stub per later unit.
   EXPECT_EQ(tubes.tubes, summary.twigs * options.segments);
   EXPECT_EQ(CheckMesh(mesh, "", false).components, tubes.tubes);
+  SkeletonGraph broken = grown;
+  broken.nodes.back().radius = -1;
+  try {
+    MeshTwigTubes(broken, summary, BranchMeshOptions(), TwigMeshOptions());
+    FAIL() << "a negative radius was meshed";
+  } catch (const InputError& error) {
+    EXPECT_EQ(error.source(), "skeleton");
+  }
 
   // Nothing grown: the skeleton comes back as it was, and no tubes.
   options.twigs_per_length = 0;
