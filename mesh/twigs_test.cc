@@ -249,6 +249,28 @@ std::pair<int, int> TipsReached(const SkeletonGraph& grown, const TwigSummary& s
   return {reached, far};
 }
 
+// Whether `point` is inside the closed `mesh`: crossings of a ray in a
+// fixed, generic direction (Moller-Trumbore), counted modulo 2.
+bool Inside(const TriangleMesh& mesh, const Eigen::Vector3d& point) {
+  const Eigen::Vector3d dir = Eigen::Vector3d(0.3137, 0.5821, 0.7507).normalized();
+  int crossings = 0;
+  for (const Eigen::Vector3i& t : mesh.triangles) {
+    const Eigen::Vector3d a = mesh.vertices[t[0]].cast<double>();
+    const Eigen::Vector3d e1 = mesh.vertices[t[1]].cast<double>() - a;
+    const Eigen::Vector3d e2 = mesh.vertices[t[2]].cast<double>() - a;
+    const Eigen::Vector3d p = dir.cross(e2);
+    const double det = e1.dot(p);
+    if (std::abs(det) < 1e-15) continue;
+    const Eigen::Vector3d s = point - a;
+    const double u = s.dot(p) / det;
+    const Eigen::Vector3d q = s.cross(e1);
+    const double v = dir.dot(q) / det;
+    if (u < 0 || v < 0 || u + v > 1 || e2.dot(q) / det <= 0) continue;
+    ++crossings;
+  }
+  return crossings % 2 == 1;
+}
+
 // Separate twig meshing on a synthetic tree: the bark of RemoveTwigs is one
 // closed manifold that reaches no twig tip, the twigs are one closed tube
 // per twig axis whose volume is the twig edges' frustum volume.
@@ -302,6 +324,14 @@ TEST(TwigsTest, SeparateMeshingGivesClosedBarkAndOneTubePerTwigAxis) {
       << twig_check.BriefReport();
   EXPECT_EQ(twig_check.components, tubes_summary.tubes);
   EXPECT_EQ(TipsReached(grown, summary, branches, twigs, reach).first, far_tips);
+  // The twigs stay attached: their bases (the split nodes) are inside the bark.
+  int inside = 0;
+  for (int i = skeleton.NumNodes(); i < branches.NumNodes(); ++i) {
+    inside += Inside(bark, branches.nodes[i].position);
+  }
+  // Measured 209 of 210: one base sits on an edge leaving a junction, where
+  // the bark mesher cuts branches back to their joint (3 cm from the bark).
+  EXPECT_GE(inside, 0.98 * summary.twigs);
   // The tubes are MeshBranches' tubes of the twig axes: their volume is what
   // the twigs add to MeshBranches' overlapping tubes, and close to the twig
   // edges' frustums (measured 0.926: the splines of these short, bent axes
