@@ -15,10 +15,12 @@
 //     laterals, sympodial spent apices) with twig_order + 1, and strands 0;
 //     Select them with `node.order >= summary.twig_order`.
 //
-// Meshing the twigs. Joined (the default of the pipeline for few twigs),
-// the grown skeleton is meshed as one watertight bark: one closed surface,
-// but the twigs multiply the bark's triangles (~11x on the synthetic trees)
-// and its thin junctions slow the bark mesher down. Separate: the bark is
+// Meshing the twigs. Joined (the pipeline's choice for few twigs), the
+// grown skeleton is meshed as one watertight bark: one closed surface, but
+// the twigs multiply the bark's triangles (5.8x with ~800 twigs on a
+// synthetic tree) and their many thin junctions slow the bark mesher down
+// or, on dense trees, make it collapse the tree into one convex hull (see
+// TwigMeshOptions::separate_above). Separate: the bark is
 // the watertight mesh of RemoveTwigs(grown) (the branches, with the split
 // nodes where the twigs start), and MeshTwigTubes gives each twig axis its
 // own closed, capped tube in the material "twigs" (as MeshBranches does for
