@@ -106,10 +106,10 @@ struct TwigMeshOptions {
   std::string mode = "auto";
   // Twigs above which "auto" meshes them separately (>= 0). Measured on the
   // default synthetic trees, seeds 1-3 (tests/bench/twig_mesh_benchmark.cc):
-  // joined, the bark stays right up to ~220 twigs (1.5-3.5x the separate
+  // joined, the bark stays right up to ~220 twigs (1.4-8x the separate
   // time, 2.4x the bare bark's triangles), but from 367 twigs (seed 2) and
   // at the default rate (740-810 twigs, seeds 2 and 3) the watertight mesher
-  // collapses the tree into a 220-440 triangle hull after 14-220 s, while
+  // collapses the tree into a 220-440 triangle hull after 14-225 s, while
   // the separate bark stays closed in < 0.5 s.
   int separate_above = 200;
   // The twig tubes' material (single-sided: the tubes are closed).
