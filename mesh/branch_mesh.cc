@@ -21,17 +21,6 @@ constexpr double kCoincidentFraction = 1e-9;
 // counts as zero; the chord direction is used instead.
 constexpr double kDegenerateDerivative = 1e-9;
 
-// SkeletonGraph::Check() as an input error: the skeleton is the user's data.
-void CheckSkeleton(const SkeletonGraph& skeleton) {
-  try {
-    skeleton.Check();
-  } catch (const InputError&) {
-    throw;
-  } catch (const Error& error) {
-    SYLVA_INPUT_ERROR("skeleton") << error.what();
-  }
-}
-
 double MaxRadius(const SkeletonGraph& skeleton) {
   double max_radius = 0.0;
   for (const SkeletonNode& node : skeleton.nodes) max_radius = std::max(max_radius, node.radius);
@@ -42,31 +31,7 @@ bool Coincident(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
   return (a - b).norm() <= kCoincidentFraction * (1.0 + b.norm());
 }
 
-// The tube of one axis, or an empty tube if its nodes all coincide.
-BranchTube PlanTube(const SkeletonGraph& skeleton, const BranchAxis& axis, bool is_trunk,
-                    double max_radius, const BranchMeshOptions& options) {
-  BranchTube tube;
-  if (axis.size() < 2) return tube;
-  for (size_t k = 0; k < axis.size(); ++k) {
-    const SkeletonNode& node = skeleton.nodes[axis[k]];
-    // A lateral's junction ring takes the lateral's first edge radius.
-    const double radius = (k == 0 && !is_trunk) ? skeleton.nodes[axis[1]].radius : node.radius;
-    if (!tube.control_points.empty() && Coincident(node.position, tube.control_points.back())) {
-      tube.radii.back() = radius;
-      continue;
-    }
-    tube.control_points.push_back(node.position);
-    tube.radii.push_back(radius);
-  }
-  if (tube.control_points.size() < 2) return BranchTube();
-  for (size_t k = 0; k + 1 < tube.control_points.size(); ++k) {
-    const double length = (tube.control_points[k + 1] - tube.control_points[k]).norm();
-    tube.rings_per_segment.push_back(TubeRingsPerSegment(length, options));
-  }
-  const double axis_radius = *std::max_element(tube.radii.begin(), tube.radii.end());
-  tube.sides = TubeSides(axis_radius, max_radius, options);
-  return tube;
-}
+
 
 // Unit tangent of the tube's spline at u, or the segment's chord direction
 // where the derivative vanishes (control points doubling back).
@@ -84,7 +49,7 @@ Eigen::Vector3d TangentAt(const CubicBSpline& spline, double u) {
 std::vector<BranchTube> PlanTubes(const SkeletonGraph& skeleton, const BranchMeshOptions& options,
                                   int* skipped) {
   options.Check();
-  CheckSkeleton(skeleton);
+  CheckSkeletonInput(skeleton);
   std::vector<BranchTube> tubes;
   if (skeleton.NumNodes() < 2) return tubes;
   const double max_radius = MaxRadius(skeleton);
@@ -92,7 +57,7 @@ std::vector<BranchTube> PlanTubes(const SkeletonGraph& skeleton, const BranchMes
       << "all radii are zero; assign radii first (e.g. AssignPipeModelRadii)";
   const std::vector<BranchAxis> axes = skeleton.BranchAxes();
   for (size_t a = 0; a < axes.size(); ++a) {
-    BranchTube tube = PlanTube(skeleton, axes[a], a == 0, max_radius, options);
+    BranchTube tube = PlanAxisTube(skeleton, axes[a], a == 0, max_radius, options);
     if (tube.sides > 0) {
       tubes.push_back(std::move(tube));
     } else if (skipped != nullptr) {
@@ -131,6 +96,16 @@ std::string BranchMeshSummary::BriefReport() const {
   return out.str();
 }
 
+void CheckSkeletonInput(const SkeletonGraph& skeleton) {
+  try {
+    skeleton.Check();
+  } catch (const InputError&) {
+    throw;
+  } catch (const Error& error) {
+    SYLVA_INPUT_ERROR("skeleton") << error.what();
+  }
+}
+
 int TubeSides(double axis_radius, double max_radius, const BranchMeshOptions& options) {
   const int sides = static_cast<int>(std::ceil(options.max_sides * axis_radius / max_radius));
   return std::clamp(sides, options.min_sides, options.max_sides);
@@ -151,6 +126,31 @@ int BranchTube::NumRings() const {
 int BranchTube::NumVertices() const { return sides * NumRings() + 2; }
 
 int BranchTube::NumTriangles() const { return 2 * sides * (NumRings() - 1) + 2 * sides; }
+
+BranchTube PlanAxisTube(const SkeletonGraph& skeleton, const BranchAxis& axis, bool is_trunk,
+                        double max_radius, const BranchMeshOptions& options) {
+  BranchTube tube;
+  if (axis.size() < 2) return tube;
+  for (size_t k = 0; k < axis.size(); ++k) {
+    const SkeletonNode& node = skeleton.nodes[axis[k]];
+    // A lateral's junction ring takes the lateral's first edge radius.
+    const double radius = (k == 0 && !is_trunk) ? skeleton.nodes[axis[1]].radius : node.radius;
+    if (!tube.control_points.empty() && Coincident(node.position, tube.control_points.back())) {
+      tube.radii.back() = radius;
+      continue;
+    }
+    tube.control_points.push_back(node.position);
+    tube.radii.push_back(radius);
+  }
+  if (tube.control_points.size() < 2) return BranchTube();
+  for (size_t k = 0; k + 1 < tube.control_points.size(); ++k) {
+    const double length = (tube.control_points[k + 1] - tube.control_points[k]).norm();
+    tube.rings_per_segment.push_back(TubeRingsPerSegment(length, options));
+  }
+  const double axis_radius = *std::max_element(tube.radii.begin(), tube.radii.end());
+  tube.sides = TubeSides(axis_radius, max_radius, options);
+  return tube;
+}
 
 std::vector<BranchTube> PlanBranchTubes(const SkeletonGraph& skeleton,
                                         const BranchMeshOptions& options) {

@@ -102,6 +102,14 @@ struct BranchTube {
 std::vector<BranchTube> PlanBranchTubes(const SkeletonGraph& skeleton,
                                         const BranchMeshOptions& options);
 
+// The tube of one `axis` (node indices of `skeleton`, as BranchAxes() lists
+// them), planned as PlanBranchTubes plans it: `is_trunk` for the root axis,
+// else the first ring takes the radius of the axis' first edge; sides from
+// TubeSides(axis radius, `max_radius`). An axis whose nodes all coincide
+// gives an empty tube (sides == 0). No validation (callers check).
+BranchTube PlanAxisTube(const SkeletonGraph& skeleton, const BranchAxis& axis, bool is_trunk,
+                        double max_radius, const BranchMeshOptions& options);
+
 // A cross-section of a tube: centre on the spline, frame, radius.
 struct TubeRing {
   Eigen::Vector3d center = Eigen::Vector3d::Zero();  // world units
@@ -123,6 +131,10 @@ std::vector<TubeRing> SampleTubeRings(const BranchTube& tube);
 // first ring and j + 1 -> j on the last one.
 void AppendTube(const std::vector<TubeRing>& rings, int sides, int material, TriangleMesh* mesh,
                 bool base_cap = true, bool tip_cap = true);
+
+// SkeletonGraph::Check() as an input error (the skeleton is the user's
+// data): throws InputError("skeleton", ...) naming the broken invariant.
+void CheckSkeletonInput(const SkeletonGraph& skeleton);
 
 // Sides of a tube whose largest radius is `axis_radius` in a skeleton whose
 // largest radius is `max_radius` (> 0): see the header comment.

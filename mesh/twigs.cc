@@ -2,6 +2,7 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -194,7 +195,101 @@ std::vector<Site> DrawSites(const SkeletonGraph& skeleton, const std::vector<Bra
   return sites;
 }
 
+bool IsTwigNode(const SkeletonGraph& grown, const TwigSummary& summary, int node) {
+  return node >= summary.first_added_node && grown.nodes[node].order >= summary.twig_order;
+}
+
+// The part of `axis` made of twig nodes, with the node it leaves from
+// first; empty if it has none.
+BranchAxis TwigPart(const SkeletonGraph& grown, const TwigSummary& summary,
+                    const BranchAxis& axis) {
+  for (size_t k = 1; k < axis.size(); ++k) {
+    if (IsTwigNode(grown, summary, axis[k])) return BranchAxis(axis.begin() + (k - 1), axis.end());
+  }
+  return {};
+}
+
+void CheckGrown(const SkeletonGraph& grown, const TwigSummary& summary) {
+  SYLVA_CHECK_INPUT(summary.first_added_node >= 0 && summary.first_added_node <= grown.NumNodes(),
+                    "skeleton")
+      << "the twig summary's first added node " << summary.first_added_node
+      << " is not a node of the grown skeleton (" << grown.NumNodes() << " nodes)";
+}
+
 }  // namespace
+
+bool TwigMeshOptions::Separate(int twigs) const {
+  return mode == "separate" || (mode == "auto" && twigs > separate_above);
+}
+
+void TwigMeshOptions::Check() const {
+  SYLVA_CHECK_INPUT(mode == "joined" || mode == "separate" || mode == "auto", "Twigs.mesh")
+      << "must be joined, separate or auto, got \"" << mode << "\"";
+  SYLVA_CHECK_INPUT(separate_above >= 0, "Twigs.separate_above")
+      << "must be >= 0 twigs, got " << separate_above;
+  SYLVA_CHECK_INPUT(!material.name.empty(), "Twigs.material") << "the material needs a name";
+}
+
+std::string TwigTubesSummary::BriefReport() const {
+  std::ostringstream out;
+  out << "Twig tubes: " << tubes << " closed tubes, " << triangles << " triangles in " << seconds
+      << " s (beside the bark, overlapping it at their bases).";
+  return out.str();
+}
+
+SkeletonGraph RemoveTwigs(const SkeletonGraph& grown, const TwigSummary& summary) {
+  CheckGrown(grown, summary);
+  std::vector<int> new_index(grown.NumNodes(), -1);
+  int kept = 0;
+  for (int i = 0; i < grown.NumNodes(); ++i) {
+    if (!IsTwigNode(grown, summary, i)) new_index[i] = kept++;
+  }
+  SkeletonGraph branches;
+  branches.radius_source = grown.radius_source;
+  branches.nodes.reserve(kept);
+  for (int i = 0; i < grown.NumNodes(); ++i) {
+    if (new_index[i] < 0) continue;
+    SkeletonNode node = grown.nodes[i];
+    if (node.parent_idx >= 0) {
+      node.parent_idx = new_index[node.parent_idx];
+      SYLVA_CHECK_INPUT(node.parent_idx >= 0, "skeleton")
+          << "node " << i << " is no twig but its parent is one";
+    }
+    branches.nodes.push_back(node);
+  }
+  return branches;
+}
+
+TriangleMesh MeshTwigTubes(const SkeletonGraph& grown, const TwigSummary& twigs,
+                           const BranchMeshOptions& tube, const TwigMeshOptions& options,
+                           TwigTubesSummary* summary) {
+  const auto start = std::chrono::steady_clock::now();
+  tube.Check();
+  options.Check();
+  CheckGrown(grown, twigs);
+  CheckSkeletonInput(grown);
+  TwigTubesSummary local;
+  if (summary == nullptr) summary = &local;
+  *summary = TwigTubesSummary();
+  TriangleMesh mesh;
+  const int material = mesh.AddMaterial(options.material);
+  double max_radius = 0.0;
+  for (const SkeletonNode& node : grown.nodes) max_radius = std::max(max_radius, node.radius);
+  SYLVA_CHECK_INPUT(max_radius > 0, "skeleton")
+      << "all radii are zero; assign radii first (e.g. AssignPipeModelRadii)";
+  for (const BranchAxis& axis : grown.BranchAxes()) {
+    const BranchAxis twig = TwigPart(grown, twigs, axis);
+    if (twig.empty()) continue;
+    const BranchTube planned = PlanAxisTube(grown, twig, /*is_trunk=*/false, max_radius, tube);
+    if (planned.sides == 0) continue;
+    AppendTube(SampleTubeRings(planned), planned.sides, material, &mesh);
+    ++summary->tubes;
+  }
+  summary->triangles = mesh.NumTriangles();
+  summary->seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return mesh;
+}
 
 void TwigOptions::Check() const {
   SYLVA_CHECK_INPUT(pattern == "monopodial" || pattern == "sympodial", "Twigs.pattern")

@@ -14,6 +14,18 @@
 //     more than the input's highest order), their side shoots (monopodial
 //     laterals, sympodial spent apices) with twig_order + 1, and strands 0;
 //     Select them with `node.order >= summary.twig_order`.
+//
+// Meshing the twigs. Joined (the pipeline's choice for few twigs), the
+// grown skeleton is meshed as one watertight bark: one closed surface, but
+// the twigs multiply the bark's triangles (5.8x with ~800 twigs on a
+// synthetic tree) and their many thin junctions slow the bark mesher down
+// or, on dense trees, make it collapse the tree into one convex hull (see
+// TwigMeshOptions::separate_above). Separate: the bark is
+// the watertight mesh of RemoveTwigs(grown) (the branches, with the split
+// nodes where the twigs start), and MeshTwigTubes gives each twig axis its
+// own closed, capped tube in the material "twigs" (as MeshBranches does for
+// every axis). The tubes' bases sit inside the bark and overlap it, so the
+// tree is then a closed bark plus closed twig tubes, not one manifold.
 #ifndef SYLVA_MESH_TWIGS_H_
 #define SYLVA_MESH_TWIGS_H_
 
@@ -22,6 +34,8 @@
 
 #include "core/types/density_grid.h"
 #include "core/types/skeleton_graph.h"
+#include "core/types/triangle_mesh.h"
+#include "mesh/branch_mesh.h"
 
 namespace sylva {
 
@@ -83,6 +97,53 @@ struct TwigSummary {
 // other axis starts. `skeleton` needs radii. Deterministic for a seed.
 SkeletonGraph GrowTwigs(const SkeletonGraph& skeleton, const DensityGrid& density,
                         const TwigOptions& options, TwigSummary* summary = nullptr);
+
+// How the twigs are meshed (see the header comment).
+struct TwigMeshOptions {
+  // "joined": part of the bark mesh; "separate": closed tubes of their own
+  // beside the bark; "auto": separate when a tree has more than
+  // separate_above twigs.
+  std::string mode = "auto";
+  // Twigs above which "auto" meshes them separately (>= 0). Measured on the
+  // default synthetic trees, seeds 1-3 (tests/bench/twig_mesh_benchmark.cc):
+  // joined, the bark stays right up to ~220 twigs (1.4-8x the separate
+  // time, 2.4x the bare bark's triangles), but from 367 twigs (seed 2) and
+  // at the default rate (740-810 twigs, seeds 2 and 3) the watertight mesher
+  // collapses the tree into a 220-440 triangle hull after 14-225 s, while
+  // the separate bark stays closed in < 0.5 s.
+  int separate_above = 200;
+  // The twig tubes' material (single-sided: the tubes are closed).
+  Material material = {"twigs", Eigen::Vector3f(0.45f, 0.35f, 0.22f), false};
+
+  // Whether a tree with `twigs` twigs gets separate twig tubes.
+  bool Separate(int twigs) const;
+  // Throws InputError("Twigs.mesh" / "Twigs.separate_above", ...).
+  void Check() const;
+};
+
+struct TwigTubesSummary {
+  int tubes = 0;  // one per twig axis (twig, lateral shoot or spent apex)
+  int triangles = 0;
+  double seconds = 0.0;
+  std::string BriefReport() const;
+};
+
+// `grown` (from GrowTwigs, with its `summary`) without the twig nodes: the
+// input skeleton plus the split nodes on the terminal branches, which lie on
+// the branch edges they split, so that the branches' splines pass through
+// the twigs' bases. Nodes below summary.first_added_node keep their index,
+// the kept split nodes follow in their order.
+SkeletonGraph RemoveTwigs(const SkeletonGraph& grown, const TwigSummary& summary);
+
+// One closed tube per twig axis of `grown`: every BranchAxes() axis from its
+// last node before the twig nodes (the split node or twig node it leaves)
+// to its tip, planned and swept like MeshBranches' laterals (PlanAxisTube,
+// sides relative to the largest radius in `grown`, `tube` options), capped
+// at both ends, all in options.material. `summary` (may be null) gets the
+// counts. Throws InputError for bad options, or a skeleton failing Check().
+TriangleMesh MeshTwigTubes(const SkeletonGraph& grown, const TwigSummary& twigs,
+                           const BranchMeshOptions& tube, const TwigMeshOptions& options,
+                           TwigTubesSummary* summary = nullptr);
 
 }  // namespace sylva
 

@@ -776,6 +776,7 @@ TEST_F(CliTest, TreeStagesRefuseBadInputs) {
                  {"Allometry.diameter_exponent"});
   ExpectRunFails(project, {"mesh", p, "--Leaves.leaf_aspect=-2"}, {"Leaves.leaf_aspect"});
   ExpectRunFails(project, {"mesh", p, "--BranchMesh.subdivision=4"}, {"BranchMesh.subdivision"});
+  ExpectRunFails(project, {"mesh", p, "--Twigs.mesh=glued"}, {"Twigs.mesh"});
   ExpectRunFails(project, {"run", p, "--ParticleFlow.neighbor_search=kdtree"},
                  {"ParticleFlow.neighbor_search"});
   // An empty density grid (say, every voxel carved away by hand edits).
@@ -931,6 +932,27 @@ TEST_F(CliTest, BarkSubdivisionKeepsItClosed) {
       Sylva({"mesh-qsm", table.string(), (work_ / "q4").string(), "--subdivide", "4"});
   EXPECT_TRUE(FailedNaming(refused, kExitBadInput, {"--subdivide"}));
   EXPECT_FALSE(fs::exists(work_ / "q4"));
+}
+
+// Twigs.mesh=separate: the twigs are closed tubes of their own material in
+// tree.obj and tree.glb; bark.obj stays the closed bark without them.
+TEST_F(CliTest, SeparateTwigsLeaveTheBarkClosed) {
+  const fs::path project = CopyBaseProject();
+  const fs::path out = project / "out";
+  ASSERT_TRUE(Succeeded(
+      Sylva({"mesh", project.string(), "--Twigs.enabled=true", "--Twigs.mesh=separate"})));
+  const TriangleMesh tree = ReadObj(out / "tree.obj");
+  const MeshCheck twigs = CheckMesh(tree, "twigs", false);
+  EXPECT_GT(twigs.triangles, 100);
+  EXPECT_EQ(twigs.boundary_edges + twigs.nonmanifold_edges + twigs.misoriented_edges, 0)
+      << twigs.BriefReport();
+  EXPECT_EQ(CheckMesh(ReadGlb(out / "tree.glb"), "twigs", false).triangles, twigs.triangles);
+  const TriangleMesh bark_obj = ReadObj(out / "bark.obj");
+  const MeshCheck bark = CheckMesh(bark_obj, "", false);
+  EXPECT_TRUE(bark.IsClosedManifold()) << bark.BriefReport();
+  EXPECT_EQ(bark.components, 1) << bark.BriefReport();
+  EXPECT_EQ(CheckMesh(bark_obj, "twigs", false).triangles, 0);
+  EXPECT_EQ(CheckMesh(tree, "bark", false).triangles, bark.triangles);
 }
 
 // The bundled demo, initialised the way scripts/demo.sh does it (COLMAP model,

@@ -1,6 +1,7 @@
 // The mesh stage (thesis 5.2, 5.4): skeleton with radii -> branch tubes +
 // leaves -> out/tree.glb (glTF 2.0, leaves instanced) and out/tree.obj
-// (+ tree.mtl), the bark alone as a closed solid in out/bark.obj; and the
+// (+ tree.mtl), the bark alone as a closed solid in out/bark.obj (without
+// separately meshed twigs: Twigs.mesh, whose tubes are in tree.*); and the
 // scientific outputs: out/qsm.csv (one cylinder per skeleton edge, TreeQSM's
 // columns, radii marked as an allometric prior) and out/metrics.json (height,
 // crown, DBH when metric, branches per order).
@@ -48,7 +49,7 @@ StageRun RunMeshStage(const StageContext& context) {
   gltf.instance_leaves = geometry_options.instance_leaves;
   run.outputs = {context.Out("tree.glb"), context.Out("tree.obj"), context.Out("bark.obj"),
                  context.Out("qsm.csv"), context.Out("metrics.json")};
-  WriteGlb(run.outputs[0], geometry.bark, geometry.leaves, gltf);
+  WriteGlb(run.outputs[0], geometry.Wood(), geometry.leaves, gltf);
   WriteObj(run.outputs[1], mesh);
   WriteObj(run.outputs[2], geometry.bark);
   WriteQsmCsv(run.outputs[3], QsmFromSkeleton(skeleton, units));

@@ -50,6 +50,7 @@ void TreeGeometryOptions::Check() const {
                     "BranchMesh.subdivision")
       << "must be in [0, " << kMaxLoopLevels << "], got " << bark_subdivision;
   twig.Check();
+  twig_mesh.Check();
 }
 
 void AttractStageOptions::Check() const {
@@ -302,6 +303,11 @@ void RegisterGeometry(TreeGeometryOptions* o, LeafOptions* leaves, OptionRegistr
                "angle between a twig and its branch");
   r->AddDouble("Twigs.tropism", &o->twig.tropism, "", "> 0 bends twigs up, < 0 droops them");
   r->AddDouble("Twigs.stiffness", &o->twig.stiffness, "", "resistance to tropism, [0, 1]");
+  r->AddString("Twigs.mesh", &o->twig_mesh.mode,
+               "joined (part of the watertight bark), separate (closed tubes of their own beside "
+               "the bark; bark.obj without them) or auto (separate above Twigs.separate_above)");
+  r->AddInt("Twigs.separate_above", &o->twig_mesh.separate_above, "twigs",
+            "Twigs.mesh=auto meshes the twigs separately when a tree has more than this");
   r->AddString("Leaves.shape", &leaves->shape, "quad, ovate, lanceolate or needle");
   r->AddString("Leaves.image", &o->leaf_image,
                "a leaf picture (RGBA; alpha = outline) used as a textured leaf");

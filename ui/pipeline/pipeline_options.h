@@ -97,10 +97,13 @@ struct TreeGeometryOptions {
   // level a 4-sided branch keeps ~75 % of its volume, 8 sides ~92 %, 24 ~98 %).
   int bark_subdivision = 0;
   // Twigs grown from the terminal branches in proportion to density before
-  // leaves are placed (mesh/twigs.h). Off by default: they multiply the bark's
-  // triangles about tenfold.
+  // leaves are placed (mesh/twigs.h). Off by default: they multiply the
+  // wood's triangles about sixfold (~800 twigs on a synthetic tree).
   bool twigs = false;
   TwigOptions twig;
+  // Twigs joined to the bark, or as separate closed tubes beside it (many
+  // twigs; mesh/twigs.h): Twigs.mesh, Twigs.separate_above.
+  TwigMeshOptions twig_mesh;
   // A leaf picture (RGBA, alpha = the leaf's outline) used as a textured
   // leaf instead of Leaves.shape; a path absolute or relative to the project.
   std::string leaf_image;

@@ -103,8 +103,14 @@ BuiltSkeleton BuildSkeleton(const DensityGrid& density, const ImageSet& input_vi
   return built;
 }
 
-TriangleMesh TreeGeometry::Baked() const {
+TriangleMesh TreeGeometry::Wood() const {
   TriangleMesh mesh = bark;
+  if (twigs.NumTriangles() > 0) mesh.Append(twigs);
+  return mesh;
+}
+
+TriangleMesh TreeGeometry::Baked() const {
+  TriangleMesh mesh = Wood();
   if (!leaves.instances.empty()) mesh.Append(leaves.Bake());
   return mesh;
 }
@@ -114,25 +120,36 @@ TreeGeometry BuildTreeGeometry(const SkeletonGraph& skeleton, const DensityGrid&
                                const PipelineOptions& options, const LeafShape* shape) {
   TreeGeometry geometry;
   std::ostringstream brief;
-  SkeletonGraph grown;
-  const SkeletonGraph* tree = &skeleton;
+  SkeletonGraph grown, branches;
+  const SkeletonGraph* tree = &skeleton;  // leaves grow on it (with twigs)
+  const SkeletonGraph* barked = &skeleton;
   if (options.geometry.twigs) {
     TwigOptions twig = options.geometry.twig;
     twig.seed = DeriveSeed(options.general.seed, kTwigSeedStream);
     TwigSummary twig_summary;
     grown = GrowTwigs(skeleton, density, twig, &twig_summary);
-    tree = &grown;
+    tree = barked = &grown;
     brief << twig_summary.BriefReport() << " ";
+    const TwigMeshOptions& twig_mesh = options.geometry.twig_mesh;
+    if (twig_mesh.Separate(twig_summary.twigs)) {
+      branches = RemoveTwigs(grown, twig_summary);
+      barked = &branches;
+      TwigTubesSummary tubes;
+      geometry.twigs = MeshTwigTubes(grown, twig_summary, options.branch_mesh, twig_mesh, &tubes);
+      brief << "Twigs meshed apart (Twigs.mesh=" << twig_mesh.mode;
+      if (twig_mesh.mode == "auto") brief << ", more than " << twig_mesh.separate_above;
+      brief << "): " << tubes.BriefReport() << " ";
+    }
   }
   if (options.geometry.watertight_bark) {
     BarkMeshOptions bark = options.geometry.bark;
     bark.tube = options.branch_mesh;
     BarkMeshSummary bark_summary;
-    geometry.bark = MeshBarkWatertight(*tree, bark, &bark_summary);
+    geometry.bark = MeshBarkWatertight(*barked, bark, &bark_summary);
     brief << bark_summary.BriefReport();
   } else {
     BranchMeshSummary branch_summary;
-    geometry.bark = MeshBranches(*tree, options.branch_mesh, &branch_summary);
+    geometry.bark = MeshBranches(*barked, options.branch_mesh, &branch_summary);
     brief << branch_summary.BriefReport();
   }
   SubdivideBark(options.geometry, &geometry.bark, &brief);

@@ -40,13 +40,19 @@ BuiltSkeleton BuildSkeleton(const DensityGrid& density, const ImageSet& input_vi
 // The tree's geometry: the bark (watertight or tubes, BranchMesh.*, then
 // BranchMesh.subdivision levels of Loop subdivision), grown
 // twigs (Twigs.*), and the leaves as instances of one leaf shape (`shape`,
-// may be null: Leaves.shape).
+// may be null: Leaves.shape). Twigs are part of the bark (Twigs.mesh=joined)
+// or closed tubes of their own in `twigs` (separate; mesh/twigs.h), whose
+// bases sit inside the bark; either way the leaves grow on the skeleton with
+// its twigs.
 struct TreeGeometry {
-  TriangleMesh bark;
+  TriangleMesh bark;   // one closed surface when watertight (no separate twigs)
+  TriangleMesh twigs;  // separate twig tubes, material "twigs"; empty if joined or none
   LeafInstances leaves;  // empty for leafless plants
   std::string brief;
-  // Bark + baked leaves.
+  // Bark + twigs + baked leaves.
   TriangleMesh Baked() const;
+  // Bark + twigs (the wood, without leaves).
+  TriangleMesh Wood() const;
 };
 TreeGeometry BuildTreeGeometry(const SkeletonGraph& skeleton, const DensityGrid& density,
                                const ImageSet& input_views, const std::vector<FloatImage>& mattes,

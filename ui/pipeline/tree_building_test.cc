@@ -5,6 +5,9 @@
 #include <sstream>
 
 #include "core/util/check.h"
+#include "datasets/synthetic/synthetic_tree.h"
+#include "mesh/mesh_checks.h"
+#include "ui/pipeline/option_registry.h"
 
 namespace sylva {
 namespace {
@@ -53,6 +56,82 @@ TEST(TreeBuildingTest, SubdivideBarkRefusesAnOpenBark) {
   } catch (const InputError& error) {
     EXPECT_EQ(error.source(), "BranchMesh.subdivision");
     EXPECT_NE(error.message().find("3 boundary half-edges"), std::string::npos) << error.message();
+  }
+}
+
+// The wood of a synthetic tree with a few twigs, no leaves.
+TreeGeometry TwiggedTree(const std::string& mode, int separate_above = 1000) {
+  PipelineOptions options;
+  options.geometry.twigs = true;
+  options.geometry.twig.twigs_per_length = 0.15;
+  options.geometry.twig_mesh.mode = mode;
+  options.geometry.twig_mesh.separate_above = separate_above;
+  options.leaves.num_leaves = -1;
+  options.Check();
+  const SkeletonGraph skeleton = GenerateSyntheticSkeleton(SyntheticTreeOptions(), 1);
+  return BuildTreeGeometry(skeleton, DensityGrid(), ImageSet(), {}, options);
+}
+
+bool HasMaterial(const TriangleMesh& mesh, const std::string& name) {
+  for (const Material& material : mesh.materials) {
+    if (material.name == name) return true;
+  }
+  return false;
+}
+
+// Twigs.mesh: joined = one closed bark with the twigs (as before the option);
+// separate = a closed bark without them plus twig tubes in "twigs"; auto
+// picks by Twigs.separate_above.
+TEST(TreeBuildingTest, TwigsJoinedOrSeparateByOption) {
+  const TreeGeometry joined = TwiggedTree("joined");
+  const TreeGeometry separate = TwiggedTree("separate");
+  EXPECT_EQ(joined.twigs.NumTriangles(), 0);
+  const MeshCheck joined_bark = CheckMesh(joined.bark, "", false);
+  const MeshCheck separate_bark = CheckMesh(separate.bark, "", false);
+  const MeshCheck tubes = CheckMesh(separate.twigs, "twigs", false);
+  for (const MeshCheck* check : {&joined_bark, &separate_bark}) {
+    EXPECT_EQ(check->boundary_edges + check->nonmanifold_edges + check->misoriented_edges, 0)
+        << check->BriefReport();
+    EXPECT_EQ(check->components, 1) << check->BriefReport();
+  }
+  EXPECT_FALSE(HasMaterial(separate.bark, "twigs"));
+  EXPECT_EQ(tubes.boundary_edges, 0) << tubes.BriefReport();
+  EXPECT_EQ(tubes.triangles, separate.twigs.NumTriangles());
+  // Monopodial twigs: one tube for the twig, one per lateral (2).
+  ASSERT_EQ(tubes.components % 3, 0);
+  const int num_twigs = tubes.components / 3;
+  EXPECT_NE(separate.brief.find("Twig tubes: " + std::to_string(tubes.components)),
+            std::string::npos)
+      << separate.brief;
+  // The separate bark lost the twigs' triangles and joints.
+  EXPECT_LT(separate_bark.triangles, joined_bark.triangles - num_twigs * 20);
+  const TriangleMesh wood = separate.Wood();
+  EXPECT_EQ(wood.NumTriangles(), separate.bark.NumTriangles() + separate.twigs.NumTriangles());
+  EXPECT_TRUE(HasMaterial(separate.Baked(), "twigs"));
+  EXPECT_EQ(CheckMesh(wood, "twigs", false).components, tubes.components);
+
+  // auto: separate above the threshold only.
+  EXPECT_EQ(TwiggedTree("auto", num_twigs - 1).twigs.NumTriangles(), tubes.triangles);
+  const TreeGeometry at_threshold = TwiggedTree("auto", num_twigs);
+  EXPECT_EQ(at_threshold.twigs.NumTriangles(), 0);
+  EXPECT_EQ(at_threshold.bark.vertices, joined.bark.vertices);
+}
+
+TEST(TreeBuildingTest, BadTwigMeshOptionIsRefusedByName) {
+  PipelineOptions options;
+  OptionRegistry registry;
+  RegisterPipelineOptions(&options, &registry);
+  registry.Set("Twigs.mesh", "separate", "test");
+  registry.Set("Twigs.separate_above", "50", "test");
+  EXPECT_EQ(options.geometry.twig_mesh.mode, "separate");
+  EXPECT_EQ(options.geometry.twig_mesh.separate_above, 50);
+  registry.Set("Twigs.mesh", "glued", "--Twigs.mesh");
+  try {
+    options.Check();
+    FAIL() << "Twigs.mesh=glued accepted";
+  } catch (const InputError& error) {
+    EXPECT_EQ(error.source(), "Twigs.mesh");
+    EXPECT_NE(error.message().find("glued"), std::string::npos) << error.message();
   }
 }
 
