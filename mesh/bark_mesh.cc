@@ -140,7 +140,7 @@ class WatertightMesher {
         for (int u : culprits) batch.erase(std::remove(batch.begin(), batch.end(), u), batch.end());
         spread_ = spread_before;
         again = true;
-      } else if ((!failed_attach_.empty() || respread_) && !last) {
+      } else if (!failed_attach_.empty() && !last) {
         forced.insert(failed_attach_.begin(), failed_attach_.end());
         forced_batch.assign(failed_attach_.begin(), failed_attach_.end());
         again = true;
@@ -249,43 +249,55 @@ class WatertightMesher {
         axis_child[axes[a][k]] = axes[a][k + 1];
       }
     }
-    continuation_.assign(skeleton_.NumNodes(), -1);
-    laterals_.assign(skeleton_.NumNodes(), {});
-    for (int i = 0; i < skeleton_.NumNodes(); ++i) {
-      if (children_[i].size() < 2) continue;
-      ++summary_->junctions;
-      // Laterals thin against the parent are attached to its tube.
-      bool thin = (i != root_ || spread_.count(i)) && axis_child[i] >= 0 && !forced.count(i) &&
-                  (children_[i].size() == 2 || spread_.count(i));
-      for (int c : children_[i]) {
-        if (c == axis_child[i]) continue;
-        thin = thin && skeleton_.nodes[c].radius <=
-                           options_.attach_ratio * skeleton_.nodes[i].radius;
-      }
-      if (thin) {
-        continuation_[i] = axis_child[i];
+    // Plan the joints; junctions whose joints grow too large attach their
+    // laterals one by one instead, and the plan is made again (spread_ only
+    // grows, so this ends).
+    const BarkMeshSummary clean = *summary_;
+    while (true) {
+      *summary_ = clean;
+      respread_ = false;
+      group_.assign(skeleton_.NumNodes(), -1);
+      continuation_.assign(skeleton_.NumNodes(), -1);
+      laterals_.assign(skeleton_.NumNodes(), {});
+      for (int i = 0; i < skeleton_.NumNodes(); ++i) {
+        if (children_[i].size() < 2) continue;
+        ++summary_->junctions;
+        // Laterals thin against the parent are attached to its tube.
+        bool thin = (i != root_ || spread_.count(i)) && axis_child[i] >= 0 && !forced.count(i) &&
+                    (children_[i].size() == 2 || spread_.count(i));
         for (int c : children_[i]) {
-          if (c != axis_child[i]) laterals_[i].push_back(c);
+          if (c == axis_child[i]) continue;
+          thin = thin && skeleton_.nodes[c].radius <=
+                             options_.attach_ratio * skeleton_.nodes[i].radius;
         }
-      } else {
-        group_[i] = i;
+        if (thin) {
+          continuation_[i] = axis_child[i];
+          for (int c : children_[i]) {
+            if (c != axis_child[i]) laterals_[i].push_back(c);
+          }
+        } else {
+          group_[i] = i;
+        }
       }
-    }
-    overflow_.clear();
-    FormJoints();
-    if (!overflow_.empty() || respread_) return TriangleMesh();
-    // Junctions of several laterals whose convex joint grew over more than
-    // kMaxJointNodes nodes attach their laterals one by one instead.
-    std::map<int, int> sizes;
-    for (int i = 0; i < skeleton_.NumNodes(); ++i) {
-      if (group_[i] >= 0) ++sizes[Group(i)];
-    }
-    for (int i = 0; i < skeleton_.NumNodes(); ++i) {
-      if (group_[i] >= 0 && sizes[Group(i)] > kMaxJointNodes && children_[i].size() > 2 &&
-          !spread_.count(i)) {
-        spread_.insert(i);
-        respread_ = true;
+      overflow_.clear();
+      FormJoints();
+      if (!overflow_.empty()) return TriangleMesh();
+      if (!respread_) {
+        // Junctions of several laterals whose convex joint grew over more
+        // than kMaxJointNodes nodes.
+        std::map<int, int> sizes;
+        for (int i = 0; i < skeleton_.NumNodes(); ++i) {
+          if (group_[i] >= 0) ++sizes[Group(i)];
+        }
+        for (int i = 0; i < skeleton_.NumNodes(); ++i) {
+          if (group_[i] >= 0 && sizes[Group(i)] > kMaxJointNodes && children_[i].size() > 2 &&
+              !spread_.count(i)) {
+            spread_.insert(i);
+            respread_ = true;
+          }
+        }
       }
+      if (!respread_) break;
     }
     TriangleMesh mesh;
     material_ = mesh.AddMaterial(options_.tube.bark);
