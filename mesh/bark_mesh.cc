@@ -94,7 +94,6 @@ class WatertightMesher {
     for (int attempt = 0;; ++attempt) {
       const BarkMeshSummary clean = *summary_;
       const std::set<int> spread_before = spread_;
-      respread_ = false;
       std::set<int> convex = forced;
       convex.insert(repairs.begin(), repairs.end());
       repairs_ = repairs;
@@ -436,13 +435,14 @@ class WatertightMesher {
     return ok;
   }
 
-  // True (and overflow_ set to its repairs) if the joint of `node` holds a
-  // repair and more than kMaxRepairJointNodes nodes: the attempt stops.
+  // True (and overflow_ set to its repairs and forced junctions) if the joint
+  // of `node` holds one of those and more than kMaxRepairJointNodes nodes:
+  // the attempt stops.
   // Also true (respread_ set) if the joint grew over more than
   // kMaxJointNodes nodes and holds junctions of 3+ children (or the root)
   // that may attach their laterals one by one instead: growing it further
   // would only swallow more of the tree.
-  bool RepairOverflows(int node) {
+  bool JointOverflows(int node) {
     const int g = Group(node);
     int size = 0;
     std::vector<int> repairs, spreadable;
@@ -509,23 +509,10 @@ class WatertightMesher {
         if (worst >= 0 && (worst_ratio > options_.max_cut_fraction || !faces)) {
           for (int node : exits[worst].path) Join(g, node);
           ++summary_->fallbacks;
-          if (RepairOverflows(g)) return;
+          if (JointOverflows(g)) return;
           changed = true;
           break;
         }
-        // A cut beyond a junction whose laterals attach to this chain would
-        // leave those laterals inside the joint: the joint takes the chain
-        // up to that junction, and the laterals become its exits.
-        for (const Exit& e : exits) {
-          for (size_t k = 1; k + 1 < e.path.size() && e.arc[k] < e.t && !changed; ++k) {
-            if (laterals_[e.path[k]].empty()) continue;
-            for (size_t m = 1; m <= k; ++m) Join(g, e.path[m]);
-            ++summary_->absorbed;
-            if (RepairOverflows(g)) return;
-            changed = true;
-          }
-        }
-        if (changed) break;
         if (pushes > 0) push_count_[g] = pushes;
         exit_count_[g] = static_cast<int>(exits.size());
         for (const Exit& e : exits) exits_[{e.path[0], e.path[1]}] = e;
@@ -539,7 +526,7 @@ class WatertightMesher {
         if (e.t + other->second.t > options_.max_cut_fraction * e.Length()) {
           for (int node : e.path) Join(key.first, node);
           ++summary_->fallbacks;
-          if (RepairOverflows(key.first)) return;
+          if (JointOverflows(key.first)) return;
           changed = true;
           break;
         }
@@ -1068,8 +1055,7 @@ std::string BarkMeshSummary::BriefReport() const {
   std::ostringstream out;
   out << "Watertight bark: " << junctions << " junctions in " << joints << " joints (" << bridged
       << " single-junction, " << fallbacks << " fallback merges, " << pushed_out
-      << " pushed out, " << swallowed_tips << " tips swallowed, " << absorbed
-      << " attach junctions absorbed), " << attached
+      << " pushed out, " << swallowed_tips << " tips swallowed), " << attached
       << " laterals attached to their parent's tube";
   if (unattached > 0) out << " (" << unattached << " NOT attached: overlapping)";
   if (failed_joints > 0) out << ", " << failed_joints << " joints FAILED";

@@ -102,7 +102,6 @@ struct BarkMeshSummary {
   int fallbacks = 0;       // chains merged into a joint
   int pushed_out = 0;      // joints whose cuts had to be pushed beyond the sphere
   int swallowed_tips = 0;  // tips inside a joint (their branch is the hull)
-  int absorbed = 0;        // attach junctions a joint's cut passed, taken into the joint
   int attached = 0;        // thin laterals glued onto a quad of the parent tube
   int unattached = 0;      // thin laterals that found no quad: capped, overlapping (not closed)
   int failed_joints = 0;   // joints whose hull could not be built (mesh not closed)

@@ -182,33 +182,6 @@ int ContinuationByOrder(const SkeletonGraph& skeleton, int node, const std::vect
   return best;
 }
 
-// Branch axes as SkeletonGraph::BranchAxes() lists them, but continuing into
-// the child of lowest node order first (see the header).
-std::vector<BranchAxis> AxesByOrder(const SkeletonGraph& skeleton, std::vector<int>* orders) {
-  const std::vector<std::vector<int>> children = skeleton.Children();
-  struct Start {
-    int junction, first, order;
-  };
-  std::vector<Start> queue = {{-1, skeleton.RootIdx(), 0}};
-  std::vector<BranchAxis> axes;
-  for (size_t q = 0; q < queue.size(); ++q) {
-    const Start start = queue[q];
-    BranchAxis axis;
-    if (start.junction >= 0) axis.push_back(start.junction);
-    for (int node = start.first; node >= 0;) {
-      axis.push_back(node);
-      const int next = ContinuationByOrder(skeleton, node, children[node]);
-      for (int child : children[node]) {
-        if (child != next) queue.push_back({node, child, start.order + 1});
-      }
-      node = next;
-    }
-    axes.push_back(std::move(axis));
-    orders->push_back(start.order);
-  }
-  return axes;
-}
-
 // Largest horizontal distance between two of `points`, by brute force
 // (O(n^2): 0.1 s for 10^4 crown nodes).
 double HorizontalDiameter(const std::vector<Eigen::Vector3d>& points) {
@@ -364,7 +337,12 @@ TreeMetricsReport ComputeTreeMetrics(const SkeletonGraph& skeleton, const Densit
     report.height = std::max(report.height, node.position.z() - base_z);
   }
   std::vector<int> orders;
-  const std::vector<BranchAxis> axes = AxesByOrder(skeleton, &orders);
+  // Axes continue into the child of lowest node order first (see the header).
+  const std::vector<BranchAxis> axes = skeleton.BranchAxes(
+      [&skeleton](int node, const std::vector<int>& children) {
+        return ContinuationByOrder(skeleton, node, children);
+      },
+      &orders);
   const int fork = FirstTrunkBranching(axes[0], skeleton.Children());
   report.crown_base_height = fork < 0 ? report.height : skeleton.nodes[fork].position.z() - base_z;
   report.crown_depth = report.height - report.crown_base_height;

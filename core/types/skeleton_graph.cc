@@ -57,6 +57,13 @@ int ContinuationChild(const SkeletonGraph& graph, const std::vector<int>& childr
 }  // namespace
 
 std::vector<BranchAxis> SkeletonGraph::BranchAxes(std::vector<int>* orders) const {
+  return BranchAxes(
+      [this](int, const std::vector<int>& children) { return ContinuationChild(*this, children); },
+      orders);
+}
+
+std::vector<BranchAxis> SkeletonGraph::BranchAxes(const ContinuationRule& continuation,
+                                                  std::vector<int>* orders) const {
   std::vector<BranchAxis> axes;
   std::vector<int> axis_orders;
   const int root = RootIdx();
@@ -73,7 +80,7 @@ std::vector<BranchAxis> SkeletonGraph::BranchAxes(std::vector<int>* orders) cons
     if (start.junction >= 0) axis.push_back(start.junction);
     for (int node = start.first; node >= 0;) {
       axis.push_back(node);
-      const int next = ContinuationChild(*this, children[node]);
+      const int next = continuation(node, children[node]);
       for (int child : children[node]) {
         if (child != next) queue.push_back({node, child, start.order + 1});
       }

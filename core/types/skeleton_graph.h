@@ -7,6 +7,7 @@
 #define SYLVA_CORE_TYPES_SKELETON_GRAPH_H_
 
 #include <Eigen/Core>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -48,6 +49,12 @@ class SkeletonGraph {
   // Axes are listed trunk first, then by order, then in order of discovery.
   // `orders` (optional) receives each axis' branch order.
   std::vector<BranchAxis> BranchAxes(std::vector<int>* orders = nullptr) const;
+  // The same split with another rule for the child an axis continues into:
+  // `continuation(node, children)` returns one of `children`, or -1 to end
+  // the axis at `node` (every child then starts a new axis).
+  using ContinuationRule = std::function<int(int node, const std::vector<int>& children)>;
+  std::vector<BranchAxis> BranchAxes(const ContinuationRule& continuation,
+                                     std::vector<int>* orders) const;
   // Sets every node's `order` from BranchAxes() (a junction node keeps the
   // order of the axis it continues).
   void AssignOrders();
