@@ -16,6 +16,16 @@ void DensityOptions::Check() const {
   SYLVA_CHECK_INPUT(hull_alpha_threshold >= 0 && hull_alpha_threshold < 1,
                     "Density.hull_alpha_threshold")
       << "must be in [0, 1), got " << hull_alpha_threshold;
+  SYLVA_CHECK_INPUT(view_outlier_fraction >= 0 && view_outlier_fraction < 0.5,
+                    "Density.view_outlier_fraction")
+      << "must be in [0, 0.5), got " << view_outlier_fraction;
+  SYLVA_CHECK_INPUT(view_consensus_min_views >= 3, "Density.view_consensus_min_views")
+      << "must be >= 3, got " << view_consensus_min_views;
+  SYLVA_CHECK_INPUT(view_max_carved_share > 0 && view_max_carved_share <= 1,
+                    "Density.view_max_carved_share")
+      << "must be in (0, 1], got " << view_max_carved_share;
+  SYLVA_CHECK_INPUT(view_carved_share_ratio > 1, "Density.view_carved_share_ratio")
+      << "must be > 1, got " << view_carved_share_ratio;
   SYLVA_CHECK_INPUT(carve_threshold >= 0 && carve_threshold < 1, "Density.carve_threshold")
       << "must be in [0, 1), got " << carve_threshold;
   SYLVA_CHECK_INPUT(pixels_per_voxel > 0 && pixels_per_voxel <= 64, "Density.pixels_per_voxel")

@@ -26,6 +26,19 @@ struct DensityOptions {
   // this (alpha, unitless).
   double hull_alpha_threshold = 0.05;
 
+  // Wrong mattes (reconstruct/density/view_consensus.h): at most this share
+  // of the views may be wrong, in [0, 0.5): the consensus hull keeps voxels
+  // that at most floor(fraction x views) views carve away. 0 trusts every
+  // view (the thesis' strict carving).
+  double view_outlier_fraction = 0.2;
+  // Fewer views than this are not tested (>= 3).
+  int view_consensus_min_views = 5;
+  // A view is distrusted (left out, and named in the summary) when it carves
+  // away more than this share of the consensus hull it sees (in (0, 1]) ...
+  double view_max_carved_share = 0.3;
+  // ... and more than this many times the median view's share (> 1).
+  double view_carved_share_ratio = 2.5;
+
   // Implicit carving (thesis 3.3): a voxel's initial opacity is the minimum
   // over views of the mean matte value over its footprint; voxels below this
   // opacity are dropped from the solve (alpha, unitless).

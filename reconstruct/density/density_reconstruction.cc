@@ -8,6 +8,7 @@
 
 #include "core/util/check.h"
 #include "reconstruct/density/ray_system.h"
+#include "reconstruct/density/view_consensus.h"
 #include "reconstruct/density/view_sampling.h"
 #include "reconstruct/density/visual_hull.h"
 
@@ -47,19 +48,62 @@ VoxelBlock GridBlock(const Box3d& bounds, int resolution) {
   return block;
 }
 
-Box3d ComputeBounds(const ImageSet& image_set, const std::vector<FloatImage>& mattes,
-                    const DensityOptions& options, const ProgressTask& progress) {
-  if (!options.bounds.isEmpty()) return options.bounds;
-  std::vector<FloatImage> masks(mattes.size());
-  tbb::parallel_for(size_t{0}, mattes.size(), [&](size_t v) {
-    masks[v] = ForegroundMask(mattes[v], options.hull_alpha_threshold);
-  });
-  Box3d bounds = VisualHullBounds(image_set, masks, options.hull_resolution, progress);
+Box3d WithMargin(Box3d bounds, const DensityOptions& options) {
   const double margin =
       options.bounds_margin_voxels * bounds.sizes().maxCoeff() / options.resolution;
   bounds.min().array() -= margin;
   bounds.max().array() += margin;
   return bounds;
+}
+
+// The views listed in `views` with their cameras, in order.
+ImageSet SubsetOf(const ImageSet& image_set, const std::vector<int>& views) {
+  ImageSet subset;
+  subset.cameras = image_set.cameras;
+  for (int v : views) subset.views.push_back(image_set.views[v]);
+  return subset;
+}
+
+template <typename T>
+std::vector<T> Pick(const std::vector<T>& items, const std::vector<int>& indices) {
+  std::vector<T> picked;
+  for (int i : indices) picked.push_back(items[i]);
+  return picked;
+}
+
+// The views the reconstruction uses: those whose mattes agree with the
+// others (view_consensus.h); the others are named in the summary. Fills
+// `trusted` with their indices.
+void ChooseTrustedViews(const ImageSet& image_set, const std::vector<FloatImage>& masks,
+                        const DensityOptions& options, const ProgressTask& progress,
+                        std::vector<int>* trusted, DensitySummary* summary) {
+  const std::vector<std::string> screened = ScreenForegroundMasks(masks);
+  std::vector<int> plausible;
+  for (int v = 0; v < image_set.NumViews(); ++v) {
+    if (screened[v].empty()) plausible.push_back(v);
+  }
+  SYLVA_CHECK_INPUT(!plausible.empty(), "mattes") << "every matte is empty (no foreground)";
+  // The frusta of the plausible views bound the consensus test (a wrong but
+  // non-empty matte only loosens them).
+  const Box3d frustum_bounds = options.bounds.isEmpty()
+                                   ? FrustumIntersectionBounds(SubsetOf(image_set, plausible),
+                                                               Pick(masks, plausible))
+                                   : options.bounds;
+  const ViewConsensus consensus =
+      AssessViewConsensus(image_set, masks, frustum_bounds, options, screened, progress);
+  summary->allowed_dissent = consensus.allowed_dissent;
+  summary->median_carved_share = consensus.median_carved_share;
+  for (int v = 0; v < image_set.NumViews(); ++v) {
+    if (consensus.trusted[v]) {
+      trusted->push_back(v);
+      continue;
+    }
+    const std::string& name = image_set.views[v].name;
+    summary->distrusted_views.push_back(name);
+    summary->warnings.push_back(
+        {"distrusted-view", name + ": left out of the density, " + consensus.reasons[v], name});
+  }
+  SYLVA_CHECK_INPUT(!trusted->empty(), "mattes") << "no view agrees with the others";
 }
 
 // Dense voxel index -> column of the unknown, -1 for carved voxels.
@@ -150,7 +194,11 @@ DensityGrid MakeGrid(const VoxelBlock& block, const std::vector<int64_t>& voxel_
 
 std::string DensitySummary::BriefReport() const {
   std::ostringstream out;
-  out << "Density: " << num_views << " views, grid " << grid_dims.x() << "x" << grid_dims.y()
+  out << "Density: " << num_views << " views";
+  if (!distrusted_views.empty()) {
+    out << " (" << distrusted_views.size() << " left out: their mattes disagree with the others)";
+  }
+  out << ", grid " << grid_dims.x() << "x" << grid_dims.y()
       << "x" << grid_dims.z() << " (voxel " << voxel_size << "), "
       << (automatic_bounds ? "visual-hull" : "given") << " bounds; " << num_carved_voxels
       << " voxels after carving, " << num_rows << " pixel rays, " << num_nonzeros
@@ -167,24 +215,42 @@ std::string DensitySummary::BriefReport() const {
   return out.str();
 }
 
-DensityGrid ReconstructDensity(const ImageSet& image_set, const std::vector<FloatImage>& mattes,
+DensityGrid ReconstructDensity(const ImageSet& all_views, const std::vector<FloatImage>& all_mattes,
                                const DensityOptions& options, ProgressReporter* reporter,
                                DensitySummary* summary) {
   options.Check();
-  image_set.Check("cameras");
-  CheckMattes(image_set, mattes);
+  all_views.Check("cameras");
+  CheckMattes(all_views, all_mattes);
   DensitySummary local_summary;
   if (summary == nullptr) summary = &local_summary;
   *summary = DensitySummary();
-  summary->num_views = image_set.NumViews();
   const Clock::time_point start = Clock::now();
   const ProgressTask progress(reporter, "density");
 
-  // 1. Bounds.
+  // 1. Views whose mattes agree with the others, and the bounds: the visual
+  // hull of those views.
   Clock::time_point step = Clock::now();
+  std::vector<FloatImage> masks(all_mattes.size());
+  tbb::parallel_for(size_t{0}, all_mattes.size(), [&](size_t v) {
+    masks[v] = ForegroundMask(all_mattes[v], options.hull_alpha_threshold);
+  });
+  std::vector<int> trusted_views;
+  ChooseTrustedViews(all_views, masks, options, progress.SubTask("density: views", 0.0, 0.03),
+                     &trusted_views, summary);
+  const ImageSet image_set = SubsetOf(all_views, trusted_views);
+  const bool all_trusted = image_set.NumViews() == all_views.NumViews();
+  const std::vector<FloatImage> picked_mattes =
+      all_trusted ? std::vector<FloatImage>() : Pick(all_mattes, trusted_views);
+  const std::vector<FloatImage>& mattes = all_trusted ? all_mattes : picked_mattes;
+  if (!all_trusted) masks = Pick(masks, trusted_views);
+  summary->num_views = image_set.NumViews();
   summary->automatic_bounds = options.bounds.isEmpty();
-  summary->bounds = ComputeBounds(image_set, mattes, options,
-                                  progress.SubTask("density: bounds", 0.0, 0.05));
+  summary->bounds = summary->automatic_bounds
+                        ? WithMargin(VisualHullBounds(image_set, masks, options.hull_resolution,
+                                                      progress.SubTask("density: bounds", 0.03, 0.05)),
+                                     options)
+                        : options.bounds;
+  masks.clear();
   const VoxelBlock block = GridBlock(summary->bounds, options.resolution);
   summary->grid_dims = block.dims;
   summary->voxel_size = block.voxel_size;

@@ -1,6 +1,9 @@
 // The density stage (thesis 3.3): from mattes and cameras to a sparse grid
 // of per-voxel opacity.
 //
+//  0. Views: a view whose matte disagrees with the others' consensus (an
+//     inverted or half-empty matte would carve away what they agree on) is
+//     left out and named (view_consensus.h).
 //  1. Bounds: the visual hull's bounding box (or DensityOptions::bounds).
 //  2. Initialisation and implicit carving: each voxel's opacity starts as the
 //     minimum over views of the mean matte over its footprint; voxels below
@@ -24,13 +27,20 @@
 #include "core/types/float_image.h"
 #include "core/types/image_set.h"
 #include "core/util/progress.h"
+#include "core/util/warning.h"
 #include "reconstruct/density/density_options.h"
 #include "reconstruct/density/sparse_system.h"
 
 namespace sylva {
 
 struct DensitySummary {
-  int num_views = 0;
+  int num_views = 0;                                // views used (trusted)
+  // Views whose mattes disagree with the others and were left out
+  // (view_consensus.h), with a "distrusted-view" warning each.
+  std::vector<std::string> distrusted_views;
+  int allowed_dissent = 0;           // views that may carve a consensus voxel away
+  double median_carved_share = 0.0;  // share of the consensus the median view carves
+  std::vector<Warning> warnings;
   bool automatic_bounds = true;
   Box3d bounds;                                     // world units
   Eigen::Vector3i grid_dims = Eigen::Vector3i::Zero();
@@ -53,8 +63,8 @@ struct DensitySummary {
 
 // Reconstructs the density grid from `mattes` (one single-channel alpha
 // image per view of `image_set`, of the camera's size). Throws InputError
-// naming the view for empty or wrongly sized mattes, and for inconsistent
-// cameras; Cancelled if `progress` asks to stop.
+// naming the view for wrongly sized mattes, and for inconsistent cameras or
+// when every matte is empty; Cancelled if `progress` asks to stop.
 DensityGrid ReconstructDensity(const ImageSet& image_set, const std::vector<FloatImage>& mattes,
                                const DensityOptions& options, ProgressReporter* progress,
                                DensitySummary* summary);

@@ -107,12 +107,18 @@ std::vector<SummedAreaTable> MakeSummedAreaTables(const std::vector<FloatImage>&
   return tables;
 }
 
-std::vector<float> MinFootprintMeans(const ImageSet& image_set,
-                                     const std::vector<SummedAreaTable>& tables,
-                                     const VoxelBlock& block, const ProgressTask& progress) {
+namespace {
+
+// Calls visit(view, linear voxel index, footprint mean) for every voxel of
+// `block` and every view of `views` that sees it (the voxel in front of the
+// camera and its footprint at least partly inside the image). All calls for
+// one voxel come from one thread, so `visit` may update per-voxel state
+// without locks; calls for different voxels run in parallel.
+template <typename Visit>
+void ForEachFootprint(const ImageSet& image_set, const std::vector<SummedAreaTable>& tables,
+                      const std::vector<int>& views, const VoxelBlock& block,
+                      const ProgressTask& progress, Visit&& visit) {
   SYLVA_CHECK(static_cast<int>(tables.size()) == image_set.NumViews());
-  constexpr float kUnseen = std::numeric_limits<float>::infinity();
-  std::vector<float> result(block.NumVoxels(), kUnseen);
   std::vector<ViewProjector> projectors;
   for (int v = 0; v < image_set.NumViews(); ++v) projectors.emplace_back(image_set, v);
   const int nx = block.dims.x(), ny = block.dims.y(), nz = block.dims.z();
@@ -120,27 +126,80 @@ std::vector<float> MinFootprintMeans(const ImageSet& image_set,
   tbb::parallel_for(0, num_tasks, [&](int task) {
     progress.CheckCancelled();
     CornerLayer lower, upper;
-    for (int v = 0; v < image_set.NumViews(); ++v) {
+    for (int v : views) {
       const int z_begin = task * kSlicesPerTask, z_end = std::min(nz, z_begin + kSlicesPerTask);
       ProjectCornerLayer(projectors[v], block, z_begin, &lower);
       for (int z = z_begin; z < z_end; ++z) {
         ProjectCornerLayer(projectors[v], block, z + 1, &upper);
         for (int y = 0; y < ny; ++y) {
           for (int x = 0; x < nx; ++x) {
-            float& value = result[block.LinearIndex({x, y, z})];
-            if (value == 0.0f) continue;  // cannot get lower
+            const int64_t i = block.LinearIndex({x, y, z});
+            if (!visit.Wants(i)) continue;
             const double mean = FootprintMean(lower, upper, nx + 1, x, y, tables[v]);
-            if (mean >= 0.0) value = std::min(value, static_cast<float>(mean));
+            if (mean >= 0.0) visit(v, i, mean);
           }
         }
         std::swap(lower, upper);
       }
     }
   });
+}
+
+std::vector<int> AllViews(const ImageSet& image_set) {
+  std::vector<int> views(image_set.NumViews());
+  for (int v = 0; v < image_set.NumViews(); ++v) views[v] = v;
+  return views;
+}
+
+// Keeps the smallest footprint mean per voxel.
+struct MinimumVisitor {
+  std::vector<float>* result;
+  bool Wants(int64_t i) const { return (*result)[i] != 0.0f; }  // 0 cannot get lower
+  void operator()(int, int64_t i, double mean) const {
+    (*result)[i] = std::min((*result)[i], static_cast<float>(mean));
+  }
+};
+
+// Counts the views that see a voxel and those whose footprint mean is at
+// most a threshold (the views that carve it away).
+struct VetoVisitor {
+  const std::vector<char>* wanted;  // null: every voxel
+  double threshold;
+  FootprintVotes* votes;
+  bool Wants(int64_t i) const { return wanted == nullptr || (*wanted)[i]; }
+  void operator()(int, int64_t i, double mean) const {
+    ++votes->seen[i];
+    if (mean <= threshold) ++votes->vetoes[i];
+  }
+};
+
+}  // namespace
+
+std::vector<float> MinFootprintMeans(const ImageSet& image_set,
+                                     const std::vector<SummedAreaTable>& tables,
+                                     const VoxelBlock& block, const ProgressTask& progress,
+                                     const std::vector<int>* views) {
+  constexpr float kUnseen = std::numeric_limits<float>::infinity();
+  std::vector<float> result(block.NumVoxels(), kUnseen);
+  ForEachFootprint(image_set, tables, views != nullptr ? *views : AllViews(image_set), block,
+                   progress, MinimumVisitor{&result});
   for (float& value : result) {
     if (value == kUnseen) value = 0.0f;
   }
   return result;
+}
+
+FootprintVotes CountFootprintVetoes(const ImageSet& image_set,
+                                    const std::vector<SummedAreaTable>& tables,
+                                    const std::vector<int>& views, const VoxelBlock& block,
+                                    double threshold, const std::vector<char>* wanted,
+                                    const ProgressTask& progress) {
+  FootprintVotes votes;
+  votes.seen.assign(block.NumVoxels(), 0);
+  votes.vetoes.assign(block.NumVoxels(), 0);
+  ForEachFootprint(image_set, tables, views, block, progress,
+                   VetoVisitor{wanted, threshold, &votes});
+  return votes;
 }
 
 }  // namespace sylva

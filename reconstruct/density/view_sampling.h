@@ -5,6 +5,7 @@
 #define SYLVA_RECONSTRUCT_DENSITY_VIEW_SAMPLING_H_
 
 #include <Eigen/Core>
+#include <cstdint>
 #include <vector>
 
 #include "core/geometry/voxel_traversal.h"
@@ -58,15 +59,34 @@ class ViewProjector {
 // Summed-area tables of single-channel images, built in parallel.
 std::vector<SummedAreaTable> MakeSummedAreaTables(const std::vector<FloatImage>& images);
 
-// For every voxel of `block` (dense index), the minimum over views of the
-// mean of `tables[view]`'s image over the voxel's footprint (the bounding
-// rectangle of its 8 projected corners). Views in which the voxel is behind
-// the camera or outside the image are skipped; a voxel no view sees gets 0.
-// With mattes this is the thesis' initial density (3.3); with a binary
-// foreground mask it is a conservative visual-hull test (> 0 = kept).
+// For every voxel of `block` (dense index), the minimum over views (all of
+// them, or those listed in `views`) of the mean of `tables[view]`'s image over
+// the voxel's footprint (the bounding rectangle of its 8 projected corners).
+// Views in which the voxel is behind the camera or outside the image are
+// skipped; a voxel no view sees gets 0. With mattes this is the thesis'
+// initial density (3.3); with a binary foreground mask it is a conservative
+// visual-hull test (> 0 = kept).
 std::vector<float> MinFootprintMeans(const ImageSet& image_set,
                                      const std::vector<SummedAreaTable>& tables,
-                                     const VoxelBlock& block, const ProgressTask& progress);
+                                     const VoxelBlock& block, const ProgressTask& progress,
+                                     const std::vector<int>* views = nullptr);
+
+// Per voxel of a block: how many of the given views see it, and how many of
+// those carve it away (footprint mean <= a threshold).
+struct FootprintVotes {
+  std::vector<uint16_t> seen;
+  std::vector<uint16_t> vetoes;
+};
+
+// The votes of `views` (indices into image_set, at most 65535) on every voxel
+// of `block`, or only on those where `wanted` (if not null; one entry per
+// voxel) is non-zero. A view vetoes a voxel when the mean of its table over
+// the voxel's footprint is <= `threshold`.
+FootprintVotes CountFootprintVetoes(const ImageSet& image_set,
+                                    const std::vector<SummedAreaTable>& tables,
+                                    const std::vector<int>& views, const VoxelBlock& block,
+                                    double threshold, const std::vector<char>* wanted,
+                                    const ProgressTask& progress);
 
 }  // namespace sylva
 

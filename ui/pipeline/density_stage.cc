@@ -14,6 +14,7 @@ StageRun RunDensityStage(const StageContext& context) {
   grid.SetMetadata("units", context.Units());
   StageRun run;
   run.brief = summary.BriefReport();
+  run.warnings = summary.warnings;
   run.outputs = {context.Out("density.vdb")};
   WriteDensityGrid(run.outputs[0], grid);
   return run;

@@ -1,12 +1,18 @@
 // The matte stage (projects without given mattes): every photo -> an alpha
 // matte (automatic trimap, or the painted one in edits/trimaps/, refined by
-// alpha matting) -> out/mattes/<photo>.png (8-bit, same relative name).
+// alpha matting), then the whole set is checked (reconstruct/matting/
+// matte_set.h): static structure of a fixed-camera rig becomes background,
+// and implausible mattes (border-filling, foreground far from the others'
+// share, e.g. inverted) are re-matted against the backdrop the other photos
+// agree on, or named -> out/mattes/<photo>.png (8-bit, same relative name).
 //
-// Mattes are cached per photo: cache/mattes.json records, for each photo,
-// a key of the photo file, its trimap hint and the Matting options; a photo
-// whose key is unchanged and whose matte exists is not recomputed.
+// Each photo's own matte is cached: cache/mattes/<photo>.png, with
+// cache/mattes.json recording for each photo a key of the photo file, its
+// trimap hint and the Matting options, and the trimap source and backdrop
+// colour found; a photo whose key is unchanged is not matted again. The set
+// checks are quick (small copies) and run whenever the stage runs.
+#include <algorithm>
 #include <atomic>
-#include <mutex>
 #include <sstream>
 
 #include "core/io/image_io.h"
@@ -15,6 +21,8 @@
 #include "core/util/file_util.h"
 #include "core/util/logging.h"
 #include "core/util/threading.h"
+#include "reconstruct/matting/matte_set.h"
+#include "reconstruct/matting/matte_tools.h"
 #include "reconstruct/matting/matting.h"
 #include "reconstruct/matting/trimap_io.h"
 #include "ui/pipeline/stage_context.h"
@@ -22,65 +30,112 @@
 namespace sylva {
 namespace {
 
-constexpr char kMatteVersion[] = "matte/1";
+constexpr char kMatteVersion[] = "matte/2";
 
 fs::path MatteRecordsPath(const Project& project) { return project.CacheDir() / "mattes.json"; }
 
-// cache/mattes.json's "photos" object (empty if missing or unreadable: the
-// cache is safe to delete).
-Json ReadMatteRecords(const Project& project) {
-  const fs::path path = MatteRecordsPath(project);
-  std::error_code ec;
-  if (!fs::is_regular_file(path, ec)) return Json::object();
-  try {
-    const Json json = ReadJsonFile(path);
-    if (json.is_object() && json.contains("photos") && json["photos"].is_object()) {
-      return json["photos"];
-    }
-  } catch (const InputError& error) {
-    SYLVA_LOG(kWarning) << error.what() << " (ignored; mattes will be recomputed)";
-  }
-  return Json::object();
+// Where a photo's own matte (before the set checks) is cached.
+fs::path OwnMattePath(const Project& project, const std::string& name) {
+  return project.CacheDir() / "mattes" / fs::path(name).replace_extension(".png");
 }
 
-}  // namespace
+// What matting one photo found, kept with its cached matte, and the key of
+// the final matte made from it (out/mattes/), which is only rewritten when
+// that key changes.
+struct OwnMatte {
+  std::string key;
+  std::string trimap_source;
+  std::array<double, 3> backdrop_rgb = {0, 0, 0};
+  std::string final_key;
+  bool repaired = false;  // the final matte was matted again (MatteSet checks)
+};
 
-StageRun RunMatteStage(const StageContext& context) {
+Json OwnMatteJson(const OwnMatte& own) {
+  return {{"key", own.key},
+          {"trimap_source", own.trimap_source},
+          {"backdrop_rgb", {own.backdrop_rgb[0], own.backdrop_rgb[1], own.backdrop_rgb[2]}},
+          {"final_key", own.final_key},
+          {"repaired", own.repaired}};
+}
+
+// cache/mattes.json's records by photo name (none if missing or unreadable:
+// the cache is safe to delete).
+std::map<std::string, OwnMatte> ReadMatteRecords(const Project& project) {
+  std::map<std::string, OwnMatte> records;
+  const fs::path path = MatteRecordsPath(project);
+  std::error_code ec;
+  if (!fs::is_regular_file(path, ec)) return records;
+  try {
+    const Json json = ReadJsonFile(path);
+    if (!json.is_object() || !json.contains("photos") || !json["photos"].is_object()) return records;
+    for (const auto& [name, record] : json["photos"].items()) {
+      if (!record.is_object() || !record.contains("backdrop_rgb")) continue;
+      OwnMatte own;
+      own.key = record.value("key", "");
+      own.trimap_source = record.value("trimap_source", "");
+      own.final_key = record.value("final_key", "");
+      own.repaired = record.value("repaired", false);
+      for (int c = 0; c < 3; ++c) own.backdrop_rgb[c] = record["backdrop_rgb"].at(c).get<double>();
+      records[name] = own;
+    }
+  } catch (const std::exception& error) {
+    SYLVA_LOG(kWarning) << path.string() << ": " << error.what()
+                        << " (ignored; mattes will be recomputed)";
+  }
+  return records;
+}
+
+// The background photo (Matting's difference keying), or empty.
+FloatImage ReadBackgroundPhoto(const StageContext& context, std::string* key) {
+  const std::string& given = context.options.matte_stage.background_photo;
+  if (given.empty()) return FloatImage();
+  const fs::path path = fs::path(given).is_absolute() ? fs::path(given)
+                                                      : context.project.root() / given;
+  *key = FileKey(context.project, path);
+  return ReadImage(path);
+}
+
+// A photo, its painted trimap hint (may be empty), checked against each other
+// and the background photo.
+struct PhotoInputs {
+  FloatImage photo, hint;
+};
+
+PhotoInputs ReadPhotoInputs(const StageContext& context, const std::string& name,
+                            const FloatImage& background) {
+  const Project& project = context.project;
+  PhotoInputs inputs;
+  const fs::path photo_path = project.PhotoPath(name);
+  inputs.photo = ReadImage(photo_path);
+  SYLVA_CHECK_INPUT(inputs.photo.channels() >= 3, photo_path.string())
+      << "photo has " << inputs.photo.channels() << " channel(s); matting needs colour photos";
+  const fs::path hint_path = project.TrimapHintPath(name);
+  if (!hint_path.empty()) {
+    inputs.hint = ReadHintTrimap(hint_path);
+    SYLVA_CHECK_INPUT(inputs.hint.width() == inputs.photo.width() &&
+                          inputs.hint.height() == inputs.photo.height(),
+                      hint_path.string())
+        << "trimap is " << inputs.hint.width() << "x" << inputs.hint.height()
+        << " but the photo is " << inputs.photo.width() << "x" << inputs.photo.height();
+  }
+  if (!background.empty()) {
+    SYLVA_CHECK_INPUT(background.width() == inputs.photo.width() &&
+                          background.height() == inputs.photo.height(),
+                      context.options.matte_stage.background_photo)
+        << "background photo is " << background.width() << "x" << background.height()
+        << " but photo '" << name << "' is " << inputs.photo.width() << "x"
+        << inputs.photo.height();
+  }
+  return inputs;
+}
+
+// Mattes every photo listed in `to_compute` into cache/mattes/ (through a
+// staging folder, so a failed or cancelled stage leaves the cache as it was)
+// and fills their records.
+void ComputeOwnMattes(const StageContext& context, const std::vector<int>& to_compute,
+                      const FloatImage& background, std::vector<OwnMatte>* records) {
   const Project& project = context.project;
   const std::vector<std::string>& names = project.photo_names();
-  const std::string options_text = OptionsText(context.options, {"Matting."});
-  const fs::path background_path = context.options.matte_stage.background_photo.empty()
-                                       ? fs::path()
-                                       : fs::path(context.options.matte_stage.background_photo);
-  FloatImage background;
-  std::string background_key;
-  if (!background_path.empty()) {
-    const fs::path resolved =
-        background_path.is_absolute() ? background_path : project.root() / background_path;
-    background = ReadImage(resolved);
-    background_key = FileKey(project, resolved);
-  }
-
-  // Which photos need a new matte.
-  const Json previous = ReadMatteRecords(project);
-  std::vector<std::string> keys(names.size());
-  std::vector<int> to_compute;
-  for (size_t i = 0; i < names.size(); ++i) {
-    const fs::path hint = project.TrimapHintPath(names[i]);
-    keys[i] = HexString(Fnv1a64(std::string(kMatteVersion) + ";" +
-                                FileKey(project, project.PhotoPath(names[i])) + ";" +
-                                (hint.empty() ? "no hint" : FileKey(project, hint)) + ";" +
-                                background_key + ";" + options_text));
-    std::error_code exists_ec;
-    const bool cached = previous.contains(names[i]) && previous[names[i]].is_string() &&
-                        previous[names[i]].get<std::string>() == keys[i] &&
-                        fs::is_regular_file(project.ComputedMattePath(names[i]), exists_ec);
-    if (!cached) to_compute.push_back(static_cast<int>(i));
-  }
-
-  // New mattes are written to a staging folder and moved into out/mattes/
-  // only when every one succeeded, so a failed or cancelled stage changes
-  // nothing in out/.
   const fs::path staging = TempPathBeside(project.CacheDir() / "matte-staging");
   std::error_code ec;
   fs::remove_all(staging, ec);
@@ -90,35 +145,16 @@ StageRun RunMatteStage(const StageContext& context) {
   ProgressTask progress(context.progress, "matte: computing mattes");
   progress.Update(0.0);
   std::atomic<int> done{0};
-  std::vector<double> foreground(names.size(), -1.0);
   try {
     ParallelForFirstError(static_cast<int>(to_compute.size()), [&](int t) {
       progress.CheckCancelled();
       const int i = to_compute[t];
-      const fs::path photo_path = project.PhotoPath(names[i]);
-      const FloatImage photo = ReadImage(photo_path);
-      SYLVA_CHECK_INPUT(photo.channels() >= 3, photo_path.string())
-          << "photo has " << photo.channels() << " channel(s); matting needs colour photos";
-      FloatImage hint;
-      const fs::path hint_path = project.TrimapHintPath(names[i]);
-      if (!hint_path.empty()) {
-        hint = ReadHintTrimap(hint_path);
-        SYLVA_CHECK_INPUT(hint.width() == photo.width() && hint.height() == photo.height(),
-                          hint_path.string())
-            << "trimap is " << hint.width() << "x" << hint.height() << " but the photo is "
-            << photo.width() << "x" << photo.height();
-      }
-      if (!background.empty()) {
-        SYLVA_CHECK_INPUT(
-            background.width() == photo.width() && background.height() == photo.height(),
-            context.options.matte_stage.background_photo)
-            << "background photo is " << background.width() << "x" << background.height()
-            << " but photo '" << names[i] << "' is " << photo.width() << "x" << photo.height();
-      }
-      const FloatImage matte = ComputeMatte(photo, hint, background, context.options.matting);
-      double sum = 0.0;
-      for (float a : matte.values()) sum += a;
-      foreground[i] = sum / static_cast<double>(matte.NumPixels());
+      const PhotoInputs inputs = ReadPhotoInputs(context, names[i], background);
+      MattingSummary summary;
+      const FloatImage matte = ComputeMatte(inputs.photo, inputs.hint, background,
+                                            context.options.matting, nullptr, &summary);
+      (*records)[i].trimap_source = summary.trimap_source;
+      (*records)[i].backdrop_rgb = summary.backdrop_rgb;
       fs::create_directories(staged(names[i]).parent_path());
       WriteImage(staged(names[i]), matte, PixelFormat::kUint8);
       progress.Update(static_cast<double>(++done) / to_compute.size());
@@ -128,31 +164,240 @@ StageRun RunMatteStage(const StageContext& context) {
     throw;
   }
   for (int i : to_compute) {
-    const fs::path target = project.ComputedMattePath(names[i]);
+    const fs::path target = OwnMattePath(project, names[i]);
     fs::create_directories(target.parent_path());
     fs::rename(staged(names[i]), target);
   }
   fs::remove_all(staging, ec);
   progress.Update(1.0);
+}
 
-  Json records = Json::object();
-  for (size_t i = 0; i < names.size(); ++i) records[names[i]] = keys[i];
-  WriteJsonFile(MatteRecordsPath(project), Json{{"photos", records}});
+// The photo set at analysis size, with its own mattes.
+struct SmallSet {
+  std::vector<FloatImage> photos, mattes;
+  std::vector<int> factors;
+};
 
-  double mean_foreground = 0.0;
-  int computed = 0;
-  for (double f : foreground) {
-    if (f < 0) continue;
-    mean_foreground += f;
-    ++computed;
+SmallSet ReadSmallSet(const StageContext& context, const MatteSetOptions& options) {
+  const std::vector<std::string>& names = context.project.photo_names();
+  SmallSet set;
+  set.photos.resize(names.size());
+  set.mattes.resize(names.size());
+  set.factors.resize(names.size());
+  ProgressTask progress(context.progress, "matte: checking the set");
+  ParallelForFirstError(static_cast<int>(names.size()), [&](int i) {
+    progress.CheckCancelled();
+    const FloatImage photo = ReadImage(context.project.PhotoPath(names[i]));
+    set.factors[i] = MatteSetFactor(photo.width(), photo.height(), options);
+    set.photos[i] = DownsampleChannels(photo, set.factors[i]);
+    set.mattes[i] =
+        SmallMatte(ReadMatte(OwnMattePath(context.project, names[i])), set.factors[i]);
+  });
+  return set;
+}
+
+// `matte` with the static structure (an analysis-size mask, may be empty)
+// made background.
+FloatImage WithoutStructure(FloatImage matte, const FloatImage& structure, int factor) {
+  if (structure.empty()) return matte;
+  for (int y = 0; y < matte.height(); ++y) {
+    for (int x = 0; x < matte.width(); ++x) {
+      if (structure.at(x / factor, y / factor) > 0.5f) matte.at(x, y) = 0.0f;
+    }
   }
+  return matte;
+}
+
+// A key of an image's size and values (empty images: "none").
+std::string ImageKey(const FloatImage& image) {
+  if (image.empty()) return "none";
+  return std::to_string(image.width()) + "x" + std::to_string(image.height()) + ":" +
+         HexString(Fnv1a64(image.data(), image.values().size() * sizeof(float)));
+}
+
+double MedianForegroundShare(const std::vector<MatteShape>& shapes) {
+  if (shapes.size() < 3) return 0.0;  // too few photos to compare
+  std::vector<double> shares;
+  for (const MatteShape& shape : shapes) shares.push_back(shape.foreground_share);
+  std::nth_element(shares.begin(), shares.begin() + shares.size() / 2, shares.end());
+  return shares[shares.size() / 2];
+}
+
+// The backdrop colour most photos were keyed against (per-channel median of
+// the plausible photos keyed by "backdrop"); false if none.
+bool ConsensusBackdrop(const std::vector<OwnMatte>& records, const std::vector<std::string>& reasons,
+                       std::array<double, 3>* rgb) {
+  std::array<std::vector<double>, 3> channels;
+  for (size_t i = 0; i < records.size(); ++i) {
+    if (records[i].trimap_source != "backdrop" || !reasons[i].empty()) continue;
+    for (int c = 0; c < 3; ++c) channels[c].push_back(records[i].backdrop_rgb[c]);
+  }
+  if (channels[0].empty()) return false;
+  for (int c = 0; c < 3; ++c) {
+    std::nth_element(channels[c].begin(), channels[c].begin() + channels[c].size() / 2,
+                     channels[c].end());
+    (*rgb)[c] = channels[c][channels[c].size() / 2];
+  }
+  return true;
+}
+
+std::string RgbText(const std::array<double, 3>& rgb) {
+  std::ostringstream out;
+  out << std::lround(255 * rgb[0]) << "," << std::lround(255 * rgb[1]) << ","
+      << std::lround(255 * rgb[2]);
+  return out.str();
+}
+
+// A new matte of photo i keyed against `backdrop` (the other photos'), with
+// the static structure removed; empty if it is no more plausible than before.
+FloatImage RepairMatte(const StageContext& context, int i, const std::array<double, 3>& backdrop,
+                       const FloatImage& structure, const MatteSetOptions& options,
+                       double median_share, const FloatImage& background) {
+  MattingOptions matting = context.options.matting;
+  matting.trimap = "backdrop";
+  matting.backdrop_color = RgbText(backdrop);
+  const PhotoInputs inputs =
+      ReadPhotoInputs(context, context.project.photo_names()[i], background);
+  const int factor = MatteSetFactor(inputs.photo.width(), inputs.photo.height(), options);
+  FloatImage matte = WithoutStructure(ComputeMatte(inputs.photo, inputs.hint, FloatImage(), matting),
+                                      structure, factor);
+  const MatteShape shape = MeasureMatte(SmallMatte(matte, factor));
+  if (!ImplausibleMatteReason(shape, median_share, options).empty()) return FloatImage();
+  return matte;
+}
+
+}  // namespace
+
+StageRun RunMatteStage(const StageContext& context) {
+  const Project& project = context.project;
+  const std::vector<std::string>& names = project.photo_names();
+  const MatteSetOptions& set_options = context.options.matte_set;
+  set_options.Check();
+  std::string background_key;
+  const FloatImage background = ReadBackgroundPhoto(context, &background_key);
+  const std::string options_text = OptionsText(context.options, {"Matting."});
+
+  // 1. Each photo's own matte, matted again only when its inputs changed.
+  const std::map<std::string, OwnMatte> previous = ReadMatteRecords(project);
+  std::vector<OwnMatte> records(names.size());
+  std::vector<int> to_compute;
+  for (size_t i = 0; i < names.size(); ++i) {
+    const fs::path hint = project.TrimapHintPath(names[i]);
+    records[i].key = HexString(Fnv1a64(std::string(kMatteVersion) + ";" +
+                                       FileKey(project, project.PhotoPath(names[i])) + ";" +
+                                       (hint.empty() ? "no hint" : FileKey(project, hint)) + ";" +
+                                       background_key + ";" + options_text));
+    const auto found = previous.find(names[i]);
+    std::error_code exists_ec;
+    if (found != previous.end() && found->second.key == records[i].key &&
+        fs::is_regular_file(OwnMattePath(project, names[i]), exists_ec)) {
+      records[i] = found->second;
+    } else {
+      to_compute.push_back(static_cast<int>(i));
+    }
+  }
+  ComputeOwnMattes(context, to_compute, background, &records);
+  Json json_records = Json::object();
+  for (size_t i = 0; i < names.size(); ++i) json_records[names[i]] = OwnMatteJson(records[i]);
+  WriteJsonFile(MatteRecordsPath(project), Json{{"photos", json_records}});
+
+  // 2. The set: static structure, implausible mattes.
+  StageRun run;
+  const SmallSet small = ReadSmallSet(context, set_options);
+  const std::vector<FloatImage> structure =
+      FindStaticStructure(small.photos, small.mattes, set_options, &run.warnings);
+  std::vector<MatteShape> shapes;
+  for (size_t i = 0; i < names.size(); ++i) {
+    shapes.push_back(MeasureMatte(WithoutStructure(small.mattes[i], structure[i], 1)));
+  }
+  const double median_share = MedianForegroundShare(shapes);
+  std::vector<std::string> reasons;
+  for (const MatteShape& shape : shapes) {
+    reasons.push_back(ImplausibleMatteReason(shape, median_share, set_options));
+  }
+  std::array<double, 3> backdrop{};
+  const bool has_consensus = ConsensusBackdrop(records, reasons, &backdrop);
+
+  // 3. The final mattes: each one's key covers its own matte, the static
+  // structure removed from it and its repair; those whose key changed are
+  // written together (staging folder, then renamed).
+  std::vector<std::string> previous_final(names.size());
+  std::vector<int> to_write;
+  for (size_t i = 0; i < names.size(); ++i) {
+    previous_final[i] = records[i].final_key;
+    const std::string repair =
+        reasons[i].empty() || !has_consensus ? "none" : "backdrop " + RgbText(backdrop);
+    records[i].final_key = HexString(Fnv1a64(
+        records[i].key + ";" + ImageKey(structure[i]) + ";" + repair + ";" +
+        OptionsText(context.options, {"MatteSet."})));
+    std::error_code exists_ec;
+    if (records[i].final_key != previous_final[i] ||
+        !fs::is_regular_file(project.ComputedMattePath(names[i]), exists_ec)) {
+      to_write.push_back(static_cast<int>(i));
+    }
+  }
+  const fs::path staging = TempPathBeside(project.CacheDir() / "matte-final");
+  std::error_code ec;
+  fs::remove_all(staging, ec);
+  std::vector<char> repaired(names.size(), 0);
+  for (size_t i = 0; i < names.size(); ++i) repaired[i] = records[i].repaired;
+  try {
+    ParallelForFirstError(static_cast<int>(to_write.size()), [&](int t) {
+      const int i = to_write[t];
+      FloatImage matte;
+      repaired[i] = 0;
+      if (!reasons[i].empty() && has_consensus) {
+        matte = RepairMatte(context, i, backdrop, structure[i], set_options, median_share,
+                            background);
+        repaired[i] = !matte.empty();
+      }
+      if (matte.empty()) {
+        matte = WithoutStructure(ReadMatte(OwnMattePath(project, names[i])), structure[i],
+                                 small.factors[i]);
+      }
+      const fs::path target = staging / fs::path(names[i]).replace_extension(".png");
+      fs::create_directories(target.parent_path());
+      WriteImage(target, matte, PixelFormat::kUint8);
+    });
+  } catch (...) {
+    fs::remove_all(staging, ec);
+    throw;
+  }
+  for (int i : to_write) {
+    const fs::path target = project.ComputedMattePath(names[i]);
+    fs::create_directories(target.parent_path());
+    fs::rename(staging / fs::path(names[i]).replace_extension(".png"), target);
+  }
+  fs::remove_all(staging, ec);
+  for (size_t i = 0; i < names.size(); ++i) {
+    records[i].repaired = repaired[i];
+    json_records[names[i]] = OwnMatteJson(records[i]);
+  }
+  WriteJsonFile(MatteRecordsPath(project), Json{{"photos", json_records}});
+  for (size_t i = 0; i < names.size(); ++i) {
+    if (reasons[i].empty()) continue;
+    if (repaired[i]) {
+      run.warnings.push_back({"repaired-matte",
+                              names[i] + ": " + reasons[i] + "; matted again against the backdrop "
+                                  "the other photos agree on (RGB " + RgbText(backdrop) + ")",
+                              names[i]});
+    } else {
+      run.warnings.push_back({"implausible-matte",
+                              names[i] + ": " + reasons[i] + "; kept (the density stage tests it "
+                                  "against the other views; paint a trimap in edits/trimaps/ "
+                                  "to fix it)",
+                              names[i]});
+    }
+  }
+
   std::ostringstream brief;
   brief << names.size() << " mattes in out/mattes/ (" << to_compute.size() << " computed, "
         << names.size() - to_compute.size() << " unchanged)";
-  if (computed > 0) {
-    brief << "; mean foreground " << 100.0 * mean_foreground / computed << " % of the pixels";
+  double mean_share = 0.0;
+  for (const MatteShape& shape : shapes) mean_share += shape.foreground_share;
+  if (!shapes.empty()) {
+    brief << "; mean foreground " << 100.0 * mean_share / shapes.size() << " % of the pixels";
   }
-  StageRun run;
   run.brief = brief.str();
   for (const std::string& name : names) run.outputs.push_back(project.ComputedMattePath(name));
   return run;

@@ -39,7 +39,7 @@ const std::vector<StageDefinition>& Definitions() {
       {{Stage::kMatte, "matte",
         "alpha mattes from the photos: automatic trimap refined by alpha matting, painted "
         "trimaps in edits/trimaps/ override it (out/mattes/)"},
-       "matte/1", {"Matting."}, {}, true, RunMatteStage, WhenComputingMattes},
+       "matte/2", {"Matting.", "MatteSet."}, {}, true, RunMatteStage, WhenComputingMattes},
       {{Stage::kRegister, "register",
         "cameras of the photos (given, COLMAP, or loose azimuths refined with Ceres) in "
         "sylva's world frame: up +Z, tree base at the origin (out/cameras/)"},
@@ -47,7 +47,7 @@ const std::vector<StageDefinition>& Definitions() {
        RunRegisterStage, Always},
       {{Stage::kDensity, "density",
         "back-project the mattes into a voxel density grid (out/density.vdb)"},
-       "density/2", {"Density."}, {Stage::kRegister}, false, RunDensityStage, Always},
+       "density/3", {"Density."}, {Stage::kRegister}, false, RunDensityStage, Always},
       {{Stage::kAttract, "attract",
         "attractor graphs per photo: edited graphs or drawn strokes in edits/, else traced by "
         "livewire to the tree base (out/attractors/)"},
@@ -66,7 +66,7 @@ const std::vector<StageDefinition>& Definitions() {
       {{Stage::kReport, "report",
         "per-view fidelity of the density and the mesh against the mattes, tree metrics "
         "(out/report.json, report.html)"},
-       "report/3", {"Report."}, {Stage::kDensity, Stage::kSkeleton, Stage::kMesh}, true,
+       "report/4", {"Report."}, {Stage::kDensity, Stage::kSkeleton, Stage::kMesh}, true,
        RunReportStage, Always},
   };
   return definitions;
@@ -116,6 +116,7 @@ std::string RunSummary::BriefReport() const {
   for (const StageRun& run : stages) {
     out << GetStageInfo(run.stage).name << ": "
         << (run.up_to_date ? "up to date (inputs unchanged)" : run.brief) << "\n";
+    for (const Warning& warning : run.warnings) out << "  warning " << warning.ToString() << "\n";
   }
   return out.str();
 }
@@ -199,10 +200,16 @@ void Pipeline::Record(const StageRun& run) const {
   for (const fs::path& output : run.outputs) {
     outputs.push_back(fs::relative(output, project_.root()).generic_string());
   }
+  Json warnings = Json::array();
+  for (const Warning& warning : run.warnings) {
+    warnings.push_back(
+        {{"code", warning.code}, {"message", warning.message}, {"subject", warning.subject}});
+  }
   records[GetStageInfo(run.stage).name] = {{"key", StageKey(run.stage)},
                                            {"outputs", outputs},
                                            {"seconds", run.seconds},
                                            {"summary", run.brief},
+                                           {"warnings", warnings},
                                            {"finished", LocalTime()}};
   WriteJsonFile(project_.CacheDir() / "stages.json", records);
 }
@@ -250,6 +257,7 @@ RunSummary Pipeline::Run(Stage until, bool force) {
       StageRun skipped;
       skipped.stage = stage;
       skipped.up_to_date = true;
+      skipped.warnings = ReadRecordedWarnings(project_, definition.info.name);
       summary.stages.push_back(skipped);
     }
     if (stage == until) break;

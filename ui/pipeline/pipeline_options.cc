@@ -63,6 +63,7 @@ void AttractStageOptions::Check() const {
 void PipelineOptions::Check() const {
   general.Check();
   matting.Check();
+  matte_set.Check();
   colmap.Check();
   world_frame.Check();
   loose_init.Check();
@@ -102,6 +103,16 @@ void RegisterDensity(DensityOptions* o, OptionRegistry* r) {
             "coarse carving grid that finds automatic bounds (longest side)");
   r->AddDouble("Density.hull_alpha_threshold", &o->hull_alpha_threshold, "alpha",
                "matte value above which a pixel is foreground for the visual hull");
+  r->AddDouble("Density.view_outlier_fraction", &o->view_outlier_fraction, "share of views",
+               "at most this share of the mattes may be wrong: the consensus hull that tests "
+               "every view tolerates that many dissenting views (0 = trust every view)");
+  r->AddInt("Density.view_consensus_min_views", &o->view_consensus_min_views, "views",
+            "fewer input views than this are not tested against the others");
+  r->AddDouble("Density.view_max_carved_share", &o->view_max_carved_share, "share",
+               "a view is left out when its matte carves away more than this share of what "
+               "the other views agree on ...");
+  r->AddDouble("Density.view_carved_share_ratio", &o->view_carved_share_ratio, "",
+               "... and more than this many times the median view's share");
   r->AddDouble("Density.carve_threshold", &o->carve_threshold, "alpha",
                "voxels whose initial opacity (min over views of the mean matte over the "
                "footprint) is below this are carved (thesis 3.3)");
@@ -411,6 +422,29 @@ void RegisterMatting(MattingOptions* o, MatteStageOptions* stage, OptionRegistry
   r->AddInt("Matting.seed", &o->seed, "", "seed of GrabCut's k-means initialisation");
 }
 
+void RegisterMatteSet(MatteSetOptions* o, OptionRegistry* r) {
+  r->AddBool("MatteSet.remove_static", &o->remove_static,
+             "make background what is foreground at the same pixels in (nearly) every photo "
+             "of a fixed camera: a cabin's frame, rails, pot holder");
+  r->AddInt("MatteSet.static_min_photos", &o->static_min_photos, "photos",
+            "photos of one size needed to call pixels static");
+  r->AddDouble("MatteSet.static_photo_fraction", &o->static_photo_fraction, "share of photos",
+               "static = foreground and unchanged in at least this share of the photos");
+  r->AddDouble("MatteSet.static_color_tolerance", &o->static_color_tolerance, "RGB in [0, 1]",
+               "unchanged = every channel within this of the per-pixel median photo");
+  r->AddInt("MatteSet.static_margin_px", &o->static_margin_px, "analysis pixels",
+            "static structure grown by this margin");
+  r->AddDouble("MatteSet.static_min_moving_share", &o->static_min_moving_share, "share",
+               "if less of the foreground moves between photos, nothing is removed");
+  r->AddDouble("MatteSet.max_border_share", &o->max_border_share, "share",
+               "a matte covering more of the image border is implausible (re-matted or named)");
+  r->AddDouble("MatteSet.max_foreground_ratio", &o->max_foreground_ratio, "",
+               "a matte with more than this many times the median photo's foreground (or less "
+               "than its inverse) is implausible");
+  r->AddInt("MatteSet.analysis_size", &o->analysis_size, "pixels",
+            "the set checks run on copies at most this large");
+}
+
 void RegisterColmap(ColmapOptions* o, OptionRegistry* r) {
   r->AddString("Colmap.executable", &o->executable,
                "the COLMAP program (name on PATH or a path)");
@@ -473,6 +507,7 @@ void RegisterLoose(LooseInitOptions* init, LooseRefineOptions* refine, OptionReg
 void RegisterPipelineOptions(PipelineOptions* options, OptionRegistry* registry) {
   RegisterGeneral(&options->general, registry);
   RegisterMatting(&options->matting, &options->matte_stage, registry);
+  RegisterMatteSet(&options->matte_set, registry);
   RegisterColmap(&options->colmap, registry);
   RegisterWorldFrame(&options->world_frame, registry);
   RegisterLoose(&options->loose_init, &options->loose_refine, registry);

@@ -15,6 +15,7 @@
 #include "mesh/twigs.h"
 #include "reconstruct/attractors/livewire.h"
 #include "reconstruct/density/density_options.h"
+#include "reconstruct/matting/matte_set.h"
 #include "reconstruct/matting/matting.h"
 #include "reconstruct/registration/colmap_runner.h"
 #include "reconstruct/registration/loose_registration.h"
@@ -132,6 +133,7 @@ struct PipelineOptions {
   GeneralOptions general;
   MattingOptions matting;
   MatteStageOptions matte_stage;
+  MatteSetOptions matte_set;
   ColmapOptions colmap;
   WorldFrameOptions world_frame;
   LooseInitOptions loose_init;

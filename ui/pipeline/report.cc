@@ -79,8 +79,18 @@ Json GroupJson(const FidelityGroup& group) {
           {"mean_recall", group.mean_recall}};
 }
 
+Json WarningsJson(const std::vector<Warning>& warnings) {
+  Json json = Json::array();
+  for (const Warning& warning : warnings) {
+    json.push_back({{"code", warning.code}, {"message", warning.message}});
+    if (!warning.subject.empty()) json.back()["subject"] = warning.subject;
+  }
+  return json;
+}
+
 Json ViewJson(const ViewFidelity& view) {
   Json json = ScoresJson(view.scores);
+  if (!view.warnings.empty()) json["warnings"] = WarningsJson(view.warnings);
   json["name"] = view.name;
   json["held_out"] = view.held_out;
   json["downsample_factor"] = view.downsample_factor;
@@ -123,6 +133,7 @@ Json ReportJson(const FidelityReport& report, const std::map<std::string, std::s
       {"input_views", GroupJson(report.input)},
       {"held_out_views", GroupJson(report.held_out)},
       {"stages", briefs},
+      {"warnings", WarningsJson(report.warnings)},
       {"views", views}};
   if (report.has_tree) {
     json["mesh_input_views"] = GroupJson(report.mesh_input);
@@ -204,15 +215,28 @@ std::string TreeSectionHtml(const FidelityReport& report) {
   return html.str();
 }
 
+// The warnings as a list (nothing if there are none).
+std::string WarningsHtml(const std::vector<Warning>& warnings) {
+  if (warnings.empty()) return "";
+  std::string html = "<h2>Warnings</h2>\n<ul>\n";
+  for (const Warning& warning : warnings) {
+    html += "<li class=\"warning\"><b>" + HtmlEscape(warning.code) + "</b>: " +
+            HtmlEscape(warning.message) + "</li>\n";
+  }
+  return html + "</ul>\n";
+}
+
 std::string ReportHtml(const FidelityReport& report,
                        const std::map<std::string, std::string>& briefs) {
   std::ostringstream html;
   html << std::fixed << std::setprecision(3)
        << "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>sylva report</title>"
           "<style>body{font-family:sans-serif}td,th{padding:4px 8px}img{width:256px;"
-          "image-rendering:pixelated}img.preview{width:320px;image-rendering:auto}</style></head>"
+          "image-rendering:pixelated}img.preview{width:320px;image-rendering:auto}"
+          ".warning{color:#b00}</style></head>"
           "<body>\n<h1>sylva report</h1>\n<pre>"
-       << HtmlEscape(report.BriefReport()) << "</pre>\n" << TreeSectionHtml(report) << "<ul>";
+       << HtmlEscape(report.BriefReport()) << "</pre>\n" << WarningsHtml(report.warnings)
+       << TreeSectionHtml(report) << "<ul>";
   for (const auto& [stage, brief] : briefs) {
     html << "<li><b>" << HtmlEscape(stage) << "</b>: " << HtmlEscape(brief) << "</li>\n";
   }
@@ -220,8 +244,12 @@ std::string ReportHtml(const FidelityReport& report,
        << "</p>\n<table><tr><th>view</th><th>held out</th><th>density IoU</th><th>mesh IoU</th>"
        << "<th>density vs matte</th><th>mesh vs matte</th><th>mesh</th></tr>\n";
   for (const ViewFidelity& view : report.views) {
-    html << "<tr><td>" << HtmlEscape(view.name) << "</td><td>" << (view.held_out ? "yes" : "")
-         << "</td><td>" << view.scores.iou << "</td><td>";
+    html << "<tr><td>" << HtmlEscape(view.name);
+    for (const Warning& warning : view.warnings) {
+      html << "<br><span class=\"warning\">" << HtmlEscape(warning.code) << "</span>";
+    }
+    html << "</td><td>" << (view.held_out ? "yes" : "") << "</td><td>" << view.scores.iou
+         << "</td><td>";
     if (view.has_mesh) html << view.mesh_scores.iou;
     html << "</td>" << ImageCell("density", view.name);
     if (view.has_mesh) html << ImageCell("mesh", view.name) << ImageCell("render", view.name);
@@ -286,6 +314,15 @@ FidelityReport ComputeFidelity(const DensityGrid& grid, const ImageSet& image_se
   report.input = Summarise(report.views, false, false);
   report.held_out = Summarise(report.views, true, false);
   return report;
+}
+
+void AddWarnings(const std::vector<Warning>& warnings, FidelityReport* report) {
+  for (const Warning& warning : warnings) {
+    report->warnings.push_back(warning);
+    for (ViewFidelity& view : report->views) {
+      if (!warning.subject.empty() && warning.subject == view.name) view.warnings.push_back(warning);
+    }
+  }
 }
 
 TreeMetrics ComputeTreeMetrics(const SkeletonGraph& skeleton, const TriangleMesh& mesh) {

@@ -15,6 +15,7 @@
 #include "core/types/image_set.h"
 #include "core/types/skeleton_graph.h"
 #include "core/types/triangle_mesh.h"
+#include "core/util/warning.h"
 #include "datasets/eval/silhouette_metrics.h"
 #include "mesh/leaves.h"
 #include "mesh/tree_metrics.h"
@@ -34,6 +35,8 @@ struct ViewFidelity {
   SilhouetteScores mesh_scores;  // the mesh's rendered silhouette
   FloatImage mesh_coverage;
   FloatImage mesh_render;        // shaded RGBA picture of the mesh from this view
+  // The stages' warnings about this view (a distrusted or repaired matte).
+  std::vector<Warning> warnings;
 };
 
 // Facts about the reconstructed tree (world units of the project).
@@ -65,6 +68,9 @@ struct FidelityReport {
   // Preview pictures of the tree (Report.previews), written as
   // out/report/preview_<k>.png.
   std::vector<FloatImage> previews;
+  // Every stage's warnings (core/util/warning.h), in pipeline order; those
+  // about one view are also in that view's ViewFidelity::warnings.
+  std::vector<Warning> warnings;
   // Grid facts.
   double voxel_size = 0;
   int64_t num_voxels = 0;
@@ -82,6 +88,10 @@ FidelityReport ComputeFidelity(const DensityGrid& grid, const ImageSet& image_se
                                const std::vector<FloatImage>& mattes,
                                const std::vector<bool>& held_out,
                                const ReportOptions& options);
+
+// Adds `warnings` to the report, and each one about a view (its subject) to
+// that view too.
+void AddWarnings(const std::vector<Warning>& warnings, FidelityReport* report);
 
 // Renders `mesh` (Embree) from every view of `image_set` at the resolution
 // each view was compared at, and compares its coverage with the matte; also

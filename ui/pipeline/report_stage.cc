@@ -39,6 +39,9 @@ StageRun RunReportStage(const StageContext& context) {
     const std::string brief = context.RecordedBrief(stage);
     if (!brief.empty()) briefs[stage] = brief;
   }
+  for (const char* stage : {"matte", "register", "density", "attract", "skeleton", "mesh"}) {
+    AddWarnings(context.RecordedWarnings(stage), &report);
+  }
   StageRun run;
   run.brief = report.BriefReport();
   run.outputs = WriteFidelityReport(report, briefs, context.options.report, context.project.OutDir());

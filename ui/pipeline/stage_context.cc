@@ -55,6 +55,23 @@ std::string StageContext::RecordedBrief(const std::string& stage_name) const {
   return records[stage_name].value("summary", "");
 }
 
+std::vector<Warning> ReadRecordedWarnings(const Project& project, const std::string& stage_name) {
+  const Json records = ParseJson(ReadStageRecordsText(project), "stage records");
+  std::vector<Warning> warnings;
+  if (!records.contains(stage_name)) return warnings;
+  for (const Json& warning : records[stage_name].value("warnings", Json::array())) {
+    if (warning.is_object()) {
+      warnings.push_back({warning.value("code", ""), warning.value("message", ""),
+                          warning.value("subject", "")});
+    }
+  }
+  return warnings;
+}
+
+std::vector<Warning> StageContext::RecordedWarnings(const std::string& stage_name) const {
+  return ReadRecordedWarnings(project, stage_name);
+}
+
 std::string OptionsText(const PipelineOptions& options, const std::vector<std::string>& prefixes) {
   PipelineOptions copy = options;
   OptionRegistry registry;

@@ -15,6 +15,7 @@
 #include "core/types/float_image.h"
 #include "core/types/image_set.h"
 #include "core/util/progress.h"
+#include "core/util/warning.h"
 #include "ui/pipeline/pipeline_options.h"
 #include "ui/pipeline/project.h"
 
@@ -27,6 +28,9 @@ struct StageRun {
   bool up_to_date = false;  // skipped: inputs unchanged since the last run
   double seconds = 0.0;
   std::string brief;        // the stage's BriefReport()
+  // What the user must know about the result (core/util/warning.h); kept in
+  // cache/stages.json, so an up-to-date stage still reports them.
+  std::vector<Warning> warnings;
   std::vector<std::filesystem::path> outputs;
 };
 
@@ -48,6 +52,8 @@ struct StageContext {
   std::string Units() const;
   // The BriefReport() recorded by an earlier stage ("" if none).
   std::string RecordedBrief(const std::string& stage_name) const;
+  // The warnings recorded by an earlier stage (none if it has not run).
+  std::vector<Warning> RecordedWarnings(const std::string& stage_name) const;
 };
 
 StageRun RunMatteStage(const StageContext& context);
@@ -70,6 +76,10 @@ std::string OptionsText(const PipelineOptions& options, const std::vector<std::s
 // files inside it, so a moved project stays up to date) and its stamp (size
 // and modification time; 0 for a missing file).
 std::string FileKey(const Project& project, const std::filesystem::path& file);
+
+// The warnings recorded for a stage in cache/stages.json (none if the stage
+// has not run or the cache is unreadable).
+std::vector<Warning> ReadRecordedWarnings(const Project& project, const std::string& stage_name);
 
 // cache/stages.json as JSON text ("{}" if missing or unreadable: the cache is
 // safe to delete, a corrupt one only means re-running).
