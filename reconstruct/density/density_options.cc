@@ -7,6 +7,10 @@ namespace sylva {
 void DensityOptions::Check() const {
   SYLVA_CHECK_INPUT(resolution >= 4 && resolution <= 2048, "Density.resolution")
       << "must be between 4 and 2048 voxels, got " << resolution;
+  SYLVA_CHECK_INPUT(max_resolution >= 0 && max_resolution <= 2048, "Density.max_resolution")
+      << "must be between 0 and 2048 voxels, got " << max_resolution;
+  SYLVA_CHECK_INPUT(max_thin_share > 0 && max_thin_share <= 1, "Density.max_thin_share")
+      << "must be in (0, 1], got " << max_thin_share;
   SYLVA_CHECK_INPUT(bounds.isEmpty() || (bounds.sizes().array() > 0).all(), "Density.bounds")
       << "must have positive size on every axis";
   SYLVA_CHECK_INPUT(bounds_margin_voxels >= 0, "Density.bounds_margin_voxels")
@@ -28,6 +32,8 @@ void DensityOptions::Check() const {
       << "must be > 1, got " << view_carved_share_ratio;
   SYLVA_CHECK_INPUT(carve_threshold >= 0 && carve_threshold < 1, "Density.carve_threshold")
       << "must be in [0, 1), got " << carve_threshold;
+  SYLVA_CHECK_INPUT(carve_dissent >= 0 && carve_dissent < 0.5, "Density.carve_dissent")
+      << "must be in [0, 0.5), got " << carve_dissent;
   SYLVA_CHECK_INPUT(pixels_per_voxel > 0 && pixels_per_voxel <= 64, "Density.pixels_per_voxel")
       << "must be in (0, 64], got " << pixels_per_voxel;
   SYLVA_CHECK_INPUT(rays_per_axis >= 1 && rays_per_axis <= 8, "Density.rays_per_axis")

@@ -13,6 +13,12 @@ struct DensityOptions {
   // Voxels along the longest side of the reconstruction bounds. The thesis
   // used ~25; finer grids follow thin crowns better at a cubic memory cost.
   int resolution = 128;
+  // Where more than max_thin_share of the mattes' foreground is thinner than
+  // a voxel (thin_structure.h), the grid is refined by steps of 1.5x up to
+  // this many voxels; a "thin-structure" warning says when that is not
+  // enough. <= resolution: never refined.
+  int max_resolution = 384;
+  double max_thin_share = 0.1;
 
   // World-space bounds of the grid. Empty (the default) means automatic: the
   // bounding box of the visual hull of the mattes.
@@ -43,6 +49,12 @@ struct DensityOptions {
   // over views of the mean matte value over its footprint; voxels below this
   // opacity are dropped from the solve (alpha, unitless).
   double carve_threshold = 0.02;
+  // Share of the views whose footprint may be (nearly) empty without carving
+  // a voxel, in [0, 0.5): its initial opacity is the floor(carve_dissent x
+  // views)-th lowest footprint mean instead of the lowest. Keeps structures
+  // thinner than the registration error (a thin stem missed by a view or two)
+  // for the least squares to decide; 0 = the thesis' minimum.
+  double carve_dissent = 0.0;
 
   // Images are box-downsampled by an integer factor so that one voxel covers
   // about this many pixels (across) at the grid centre; keeps the system

@@ -4,10 +4,12 @@
 
 #include <chrono>
 #include <cmath>
+#include <iomanip>
 #include <sstream>
 
 #include "core/util/check.h"
 #include "reconstruct/density/ray_system.h"
+#include "reconstruct/density/thin_structure.h"
 #include "reconstruct/density/view_consensus.h"
 #include "reconstruct/density/view_sampling.h"
 #include "reconstruct/density/visual_hull.h"
@@ -106,6 +108,38 @@ void ChooseTrustedViews(const ImageSet& image_set, const std::vector<FloatImage>
   SYLVA_CHECK_INPUT(!trusted->empty(), "mattes") << "no view agrees with the others";
 }
 
+// How many views implicit carving lets disagree (DensityOptions::carve_dissent).
+int CarveRank(int num_views, const DensityOptions& options) {
+  return static_cast<int>(std::floor(options.carve_dissent * num_views));
+}
+
+// Views whose mattes are looked at for thin structure (evenly spread).
+constexpr int kThinStructureViews = 6;
+
+// Density.resolution, refined by steps of 1.5x up to Density.max_resolution
+// while too much of the mattes is thinner than a voxel (thin_structure.h).
+void ChooseResolution(const ImageSet& image_set, const std::vector<FloatImage>& mattes,
+                      const DensityOptions& options, DensitySummary* summary) {
+  const Eigen::Vector3d center = summary->bounds.center();
+  const double longest = summary->bounds.sizes().maxCoeff();
+  const ThinStructureProbe probe(image_set, mattes, kThinStructureViews);
+  const auto share = [&](int resolution) { return probe.ThinShare(center, longest / resolution); };
+  int resolution = options.resolution;
+  double thin = share(resolution);
+  while (thin > options.max_thin_share && resolution < options.max_resolution) {
+    resolution = std::min(options.max_resolution, (3 * resolution + 1) / 2);
+    thin = share(resolution);
+  }
+  summary->resolution = resolution;
+  summary->thin_share = thin;
+  if (thin <= options.max_thin_share) return;
+  std::ostringstream message;
+  message << std::setprecision(3) << 100.0 * thin << " % of the mattes' centre lines are in "
+          << "structure thinner than a voxel (" << longest / resolution << " world units, grid " << resolution
+          << "); thin branches may be lost or faint (raise Density.max_resolution)";
+  summary->warnings.push_back({"thin-structure", message.str()});
+}
+
 // Dense voxel index -> column of the unknown, -1 for carved voxels.
 std::vector<int32_t> ColumnsOfKeptVoxels(const std::vector<float>& initial, double threshold,
                                          std::vector<int64_t>* voxel_of_column) {
@@ -199,7 +233,8 @@ std::string DensitySummary::BriefReport() const {
     out << " (" << distrusted_views.size() << " left out: their mattes disagree with the others)";
   }
   out << ", grid " << grid_dims.x() << "x" << grid_dims.y()
-      << "x" << grid_dims.z() << " (voxel " << voxel_size << "), "
+      << "x" << grid_dims.z() << " (voxel " << voxel_size << "; "
+      << std::lround(100.0 * thin_share) << " % of the mattes' centre lines thinner), "
       << (automatic_bounds ? "visual-hull" : "given") << " bounds; " << num_carved_voxels
       << " voxels after carving, " << num_rows << " pixel rays, " << num_nonzeros
       << " non-zeros";
@@ -251,7 +286,8 @@ DensityGrid ReconstructDensity(const ImageSet& all_views, const std::vector<Floa
                                      options)
                         : options.bounds;
   masks.clear();
-  const VoxelBlock block = GridBlock(summary->bounds, options.resolution);
+  ChooseResolution(image_set, mattes, options, summary);
+  const VoxelBlock block = GridBlock(summary->bounds, summary->resolution);
   summary->grid_dims = block.dims;
   summary->voxel_size = block.voxel_size;
   summary->seconds_bounds = SecondsSince(step);
@@ -260,7 +296,8 @@ DensityGrid ReconstructDensity(const ImageSet& all_views, const std::vector<Floa
   step = Clock::now();
   std::vector<SummedAreaTable> tables = MakeSummedAreaTables(mattes);
   const std::vector<float> initial =
-      MinFootprintMeans(image_set, tables, block, progress.SubTask("density: init", 0.05, 0.2));
+      LowFootprintMeans(image_set, tables, block, CarveRank(image_set.NumViews(), options),
+                        progress.SubTask("density: init", 0.05, 0.2));
   tables.clear();
   std::vector<int64_t> voxel_of_column;
   const std::vector<int32_t> column_of_voxel =

@@ -44,6 +44,8 @@ struct DensitySummary {
   bool automatic_bounds = true;
   Box3d bounds;                                     // world units
   Eigen::Vector3i grid_dims = Eigen::Vector3i::Zero();
+  int resolution = 0;        // voxels along the longest side (Density.resolution or refined)
+  double thin_share = 0.0;   // of the mattes' centre lines thinner than a voxel at it
   double voxel_size = 0.0;                          // world units
   std::vector<int> downsample_factors;              // per view
   int64_t num_carved_voxels = 0;     // voxels kept by implicit carving (unknowns)

@@ -160,6 +160,20 @@ struct MinimumVisitor {
   }
 };
 
+// Keeps the `rank` + 1 smallest footprint means per voxel, sorted.
+struct LowestVisitor {
+  int kept;                   // rank + 1
+  std::vector<float>* lowest;  // kept values per voxel, +inf where unfilled
+  bool Wants(int64_t i) const { return (*lowest)[i * kept + kept - 1] != 0.0f; }
+  void operator()(int, int64_t i, double mean) const {
+    float* values = lowest->data() + i * kept;
+    float value = static_cast<float>(mean);
+    for (int k = 0; k < kept; ++k) {
+      if (value < values[k]) std::swap(value, values[k]);
+    }
+  }
+};
+
 // Counts the views that see a voxel and those whose footprint mean is at
 // most a threshold (the views that carve it away).
 struct VetoVisitor {
@@ -185,6 +199,29 @@ std::vector<float> MinFootprintMeans(const ImageSet& image_set,
                    progress, MinimumVisitor{&result});
   for (float& value : result) {
     if (value == kUnseen) value = 0.0f;
+  }
+  return result;
+}
+
+std::vector<float> LowFootprintMeans(const ImageSet& image_set,
+                                     const std::vector<SummedAreaTable>& tables,
+                                     const VoxelBlock& block, int rank,
+                                     const ProgressTask& progress) {
+  if (rank <= 0) return MinFootprintMeans(image_set, tables, block, progress);
+  constexpr float kUnseen = std::numeric_limits<float>::infinity();
+  const int kept = rank + 1;
+  std::vector<float> lowest(block.NumVoxels() * kept, kUnseen);
+  ForEachFootprint(image_set, tables, AllViews(image_set), block, progress,
+                   LowestVisitor{kept, &lowest});
+  std::vector<float> result(block.NumVoxels(), 0.0f);
+  for (int64_t i = 0; i < block.NumVoxels(); ++i) {
+    // The rank-th smallest, or the largest seen where fewer views see it.
+    for (int k = kept - 1; k >= 0; --k) {
+      if (lowest[i * kept + k] != kUnseen) {
+        result[i] = lowest[i * kept + k];
+        break;
+      }
+    }
   }
   return result;
 }

@@ -71,6 +71,14 @@ std::vector<float> MinFootprintMeans(const ImageSet& image_set,
                                      const VoxelBlock& block, const ProgressTask& progress,
                                      const std::vector<int>* views = nullptr);
 
+// Like MinFootprintMeans, but the (rank + 1)-th smallest mean over the views
+// that see each voxel (rank 0: the minimum; where fewer views see a voxel,
+// the largest of theirs): carving that `rank` views may disagree with.
+std::vector<float> LowFootprintMeans(const ImageSet& image_set,
+                                     const std::vector<SummedAreaTable>& tables,
+                                     const VoxelBlock& block, int rank,
+                                     const ProgressTask& progress);
+
 // Per voxel of a block: how many of the given views see it, and how many of
 // those carve it away (footprint mean <= a threshold).
 struct FootprintVotes {

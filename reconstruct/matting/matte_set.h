@@ -50,7 +50,7 @@ struct MatteSetOptions {
   double static_color_tolerance = 0.08;
   // Static structure is grown by this many analysis pixels (its blended
   // edges), in [0, 10].
-  int static_margin_px = 1;
+  int static_margin_px = 2;
   // If less than this share of the foreground moves between photos, the
   // scene itself does not move (the same view photographed again): nothing
   // is removed, and a warning says why. In [0, 1).

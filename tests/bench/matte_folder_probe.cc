@@ -4,7 +4,11 @@
 // (e.g. sylva's out/mattes/ of the Phenomenal cabin photos against upstream's
 // silhouettes).
 //
-//   sylva_matte_folder_probe MATTES_DIR TRUTH_DIR
+//   sylva_matte_folder_probe MATTES_DIR TRUTH_DIR [DIFF_DIR]
+//
+// With DIFF_DIR, writes a picture per matte there: white where both are
+// foreground, red where only the matte is (false foreground), blue where only
+// the truth is (missed).
 //
 // Every image under TRUTH_DIR is compared with the matte of the same relative
 // name (any image extension) under MATTES_DIR; truth images with several
@@ -23,9 +27,24 @@
 namespace sylva {
 namespace {
 
+FloatImage DiffPicture(const FloatImage& matte, const FloatImage& truth) {
+  FloatImage picture(matte.width(), matte.height(), 3);
+  for (int y = 0; y < matte.height(); ++y) {
+    for (int x = 0; x < matte.width(); ++x) {
+      const bool m = matte.at(x, y) >= 0.5f, t = truth.at(x, y) >= 0.5f;
+      picture.at(x, y, 0) = m ? 1.0f : 0.0f;
+      picture.at(x, y, 1) = m && t ? 1.0f : 0.0f;
+      picture.at(x, y, 2) = t ? 1.0f : 0.0f;
+    }
+  }
+  return picture;
+}
+
 int Run(int argc, char** argv) {
-  SYLVA_CHECK_INPUT(argc == 3, "arguments") << "usage: sylva_matte_folder_probe MATTES_DIR TRUTH_DIR";
+  SYLVA_CHECK_INPUT(argc == 3 || argc == 4, "arguments")
+      << "usage: sylva_matte_folder_probe MATTES_DIR TRUTH_DIR [DIFF_DIR]";
   const fs::path mattes_dir = argv[1], truth_dir = argv[2];
+  const fs::path diff_dir = argc == 4 ? fs::path(argv[3]) : fs::path();
   std::vector<double> ious;
   for (const std::string& name : ListImageFiles(truth_dir)) {
     const fs::path matte_path = FindMatteFile(mattes_dir, name);
@@ -39,6 +58,11 @@ int Run(int argc, char** argv) {
     std::printf("%-28s IoU %.4f precision %.4f recall %.4f\n", name.c_str(), s.iou, s.precision,
                 s.recall);
     ious.push_back(s.iou);
+    if (!diff_dir.empty()) {
+      const fs::path out = diff_dir / fs::path(name).replace_extension(".png");
+      fs::create_directories(out.parent_path());
+      WriteImage(out, DiffPicture(matte, truth));
+    }
   }
   SYLVA_CHECK_INPUT(!ious.empty(), truth_dir.string()) << "no matte matched a truth image";
   std::sort(ious.begin(), ious.end());

@@ -95,6 +95,12 @@ void RegisterGeneral(GeneralOptions* o, OptionRegistry* r) {
 void RegisterDensity(DensityOptions* o, OptionRegistry* r) {
   r->AddInt("Density.resolution", &o->resolution, "voxels",
             "voxels along the longest side of the bounds");
+  r->AddInt("Density.max_resolution", &o->max_resolution, "voxels",
+            "the grid is refined up to this when the mattes show structure thinner than a "
+            "voxel (<= Density.resolution: never)");
+  r->AddDouble("Density.max_thin_share", &o->max_thin_share, "share",
+               "refine while more than this share of the mattes' foreground is thinner than a "
+               "voxel");
   r->AddBox("Density.bounds", &o->bounds, "world units",
             "grid bounds x0,y0,z0,x1,y1,z1, or auto (visual hull of the mattes)");
   r->AddDouble("Density.bounds_margin_voxels", &o->bounds_margin_voxels, "voxels",
@@ -116,6 +122,10 @@ void RegisterDensity(DensityOptions* o, OptionRegistry* r) {
   r->AddDouble("Density.carve_threshold", &o->carve_threshold, "alpha",
                "voxels whose initial opacity (min over views of the mean matte over the "
                "footprint) is below this are carved (thesis 3.3)");
+  r->AddDouble("Density.carve_dissent", &o->carve_dissent, "share of views",
+               "implicit carving lets this share of the views see (nearly) nothing where a "
+               "voxel is: thin structure missed by a view or two stays for the least squares "
+               "to decide (0 = minimum over views, the thesis)");
   r->AddDouble("Density.pixels_per_voxel", &o->pixels_per_voxel, "pixels",
                "images are downsampled so a voxel covers about this many pixels across");
   r->AddInt("Density.rays_per_axis", &o->rays_per_axis, "rays",
