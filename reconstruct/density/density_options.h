@@ -13,10 +13,11 @@ struct DensityOptions {
   // Voxels along the longest side of the reconstruction bounds. The thesis
   // used ~25; finer grids follow thin crowns better at a cubic memory cost.
   int resolution = 128;
-  // Where more than max_thin_share of the mattes' foreground is thinner than
-  // a voxel (thin_structure.h), the grid is refined by steps of 1.5x up to
-  // this many voxels; a "thin-structure" warning says when that is not
-  // enough. <= resolution: never refined.
+  // Where more than max_thin_share of the mattes' centre lines lie in
+  // structure thinner than a voxel (thin_structure.h), the grid is refined by
+  // steps of 1.5x up to this many voxels, as long as the photos show the
+  // finer voxels at least two pixels wide; a "thin-structure" warning says
+  // when the cap is not enough. <= resolution: never refined.
   int max_resolution = 384;
   double max_thin_share = 0.1;
 

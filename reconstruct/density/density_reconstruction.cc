@@ -115,28 +115,45 @@ int CarveRank(int num_views, const DensityOptions& options) {
 
 // Views whose mattes are looked at for thin structure (evenly spread).
 constexpr int kThinStructureViews = 6;
+// Fewer views than this do not pin thin structure down in depth: a finer grid
+// only adds unknowns (two orthographic views of synthetic trees: held-out IoU
+// 0.74-0.80 at 192 voxels against 0.75-0.81 at 128), so it is not refined.
+constexpr int kMinViewsToRefine = 4;
 
 // Density.resolution, refined by steps of 1.5x up to Density.max_resolution
-// while too much of the mattes is thinner than a voxel (thin_structure.h).
+// while too much of the mattes is thinner than a voxel (thin_structure.h)
+// and the photos can show structure as fine as the next step's voxels.
 void ChooseResolution(const ImageSet& image_set, const std::vector<FloatImage>& mattes,
                       const DensityOptions& options, DensitySummary* summary) {
   const Eigen::Vector3d center = summary->bounds.center();
   const double longest = summary->bounds.sizes().maxCoeff();
   const ThinStructureProbe probe(image_set, mattes, kThinStructureViews);
-  const auto share = [&](int resolution) { return probe.ThinShare(center, longest / resolution); };
+  const auto next = [&](int resolution) {
+    return std::min(options.max_resolution, (3 * resolution + 1) / 2);
+  };
   int resolution = options.resolution;
-  double thin = share(resolution);
-  while (thin > options.max_thin_share && resolution < options.max_resolution) {
-    resolution = std::min(options.max_resolution, (3 * resolution + 1) / 2);
-    thin = share(resolution);
+  double thin = probe.ThinShare(center, longest / resolution);
+  bool capped = thin > options.max_thin_share && image_set.NumViews() < kMinViewsToRefine;
+  while (!capped && thin > options.max_thin_share) {
+    if (!probe.Resolvable(center, longest / next(resolution))) break;  // the photos' limit
+    if (next(resolution) <= resolution) {
+      capped = true;
+      break;
+    }
+    resolution = next(resolution);
+    thin = probe.ThinShare(center, longest / resolution);
   }
   summary->resolution = resolution;
   summary->thin_share = thin;
-  if (thin <= options.max_thin_share) return;
+  if (!capped) return;
   std::ostringstream message;
   message << std::setprecision(3) << 100.0 * thin << " % of the mattes' centre lines are in "
-          << "structure thinner than a voxel (" << longest / resolution << " world units, grid " << resolution
-          << "); thin branches may be lost or faint (raise Density.max_resolution)";
+          << "structure thinner than a voxel (" << longest / resolution << " world units, grid "
+          << resolution << "); thin branches may be lost or faint ("
+          << (image_set.NumViews() < kMinViewsToRefine
+                  ? "too few views to refine the grid"
+                  : "raise Density.max_resolution")
+          << ")";
   summary->warnings.push_back({"thin-structure", message.str()});
 }
 

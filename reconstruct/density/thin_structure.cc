@@ -91,4 +91,14 @@ double ThinStructureProbe::ThinShare(const Eigen::Vector3d& center_in_world,
   return all > 0 ? static_cast<double>(thin_all) / all : 0.0;
 }
 
+bool ThinStructureProbe::Resolvable(const Eigen::Vector3d& center_in_world,
+                                    double voxel_size) const {
+  int wide_enough = 0;
+  for (const auto& view : views_) {
+    wide_enough += VoxelPixels(image_set_, view->view_idx, center_in_world, voxel_size) >=
+                   kMinVoxelPixels;
+  }
+  return 2 * wide_enough > static_cast<int>(views_.size());
+}
+
 }  // namespace sylva

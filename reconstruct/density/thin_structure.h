@@ -35,6 +35,10 @@ class ThinStructureProbe {
   // voxel is under two pixels wide in every view looked at.
   double ThinShare(const Eigen::Vector3d& center_in_world, double voxel_size) const;
 
+  // Whether the photos can show structure as fine as a voxel of
+  // `voxel_size`: it is at least two pixels wide in most views looked at.
+  bool Resolvable(const Eigen::Vector3d& center_in_world, double voxel_size) const;
+
  private:
   struct View;
   const ImageSet& image_set_;
