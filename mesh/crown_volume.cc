@@ -45,6 +45,10 @@ class DenseBox {
   int Coordinate(size_t index, int axis) const {
     return static_cast<int>(index / strides_[axis] % dims_[axis]);
   }
+  // The world z of the centres of box layer `layer`.
+  double WorldZ(const DensityGrid& density, int layer) const {
+    return density.WorldFromIndex(Eigen::Vector3d(0, 0, lo_.z() + layer)).z();
+  }
   // The box layer of the first voxels whose centres lie at or above `z`.
   int FirstLayerAbove(const DensityGrid& density, double z) const {
     const double k = std::ceil(density.IndexFromWorld(Eigen::Vector3d(0, 0, z)).z() - 1e-9);
@@ -161,31 +165,42 @@ double Share(const DenseBox& box, const std::vector<char>& envelope,
 
 }  // namespace
 
-double DensityCrownVolume(const DensityGrid& density, double crown_base_z,
-                          const CrownVolumeOptions& options) {
+DensityCrown MeasureDensityCrown(const DensityGrid& density, double crown_base_z,
+                                 const CrownVolumeOptions& options) {
   options.Check();
-  if (density.IsEmpty()) return 0.0;
+  DensityCrown crown;
+  if (density.IsEmpty()) return crown;
   const double voxel_size = density.voxel_size();
   const int w = static_cast<int>(std::lround(options.scale / voxel_size));
   const DenseBox box(density, w + 2);
   const std::vector<float> sigma =
       CrownExtinction(density, box, box.FirstLayerAbove(density, crown_base_z));
-  std::vector<float> crown;
+  std::vector<float> active;
   for (float s : sigma) {
-    if (s > 0) crown.push_back(s);
+    if (s > 0) active.push_back(s);
   }
-  if (crown.empty()) return 0.0;
-  const double support = options.support_fraction * SelfWeightedMedian(std::move(crown));
+  if (active.empty()) return crown;
+  const double support = options.support_fraction * SelfWeightedMedian(std::move(active));
   std::vector<char> envelope(sigma.size());
   for (size_t i = 0; i < sigma.size(); ++i) envelope[i] = sigma[i] > 0 && sigma[i] >= support;
   Close(box, w, &envelope);
   FillCavities(box, &envelope);
   double voxels = 0.0;
+  int top_layer = -1;
   std::vector<float> neighbours;
   for (size_t i = 0; i < envelope.size(); ++i) {
-    if (envelope[i]) voxels += Share(box, envelope, sigma, i, &neighbours);
+    if (!envelope[i]) continue;
+    voxels += Share(box, envelope, sigma, i, &neighbours);
+    top_layer = std::max(top_layer, box.Coordinate(i, 2));
   }
-  return voxels * std::pow(voxel_size, 3);
+  crown.volume = voxels * std::pow(voxel_size, 3);
+  if (top_layer >= 0) crown.top_z = box.WorldZ(density, top_layer);
+  return crown;
+}
+
+double DensityCrownVolume(const DensityGrid& density, double crown_base_z,
+                          const CrownVolumeOptions& options) {
+  return MeasureDensityCrown(density, crown_base_z, options).volume;
 }
 
 }  // namespace sylva

@@ -418,6 +418,15 @@ TreeMetricsReport ComputeTreeMetrics(const SkeletonGraph& skeleton, const Densit
       &orders);
   const std::optional<double> crown_base_z =
       CrownBaseZ(skeleton, axes, orders, options.major_branch_fraction);
+  if (density != nullptr) {
+    DensityCrown crown;
+    if (crown_base_z) {
+      crown = MeasureDensityCrown(*density, *crown_base_z, CrownVolumeOf(options, report.height));
+    }
+    report.crown_volume_density = crown.volume;
+    // The leaves above the last branch tip.
+    if (crown.top_z) report.height = std::max(report.height, *crown.top_z - base_z);
+  }
   // A crown drooping below the base starts at the base.
   report.crown_base_height =
       crown_base_z ? std::max(0.0, *crown_base_z - base_z) : report.height;
@@ -429,12 +438,6 @@ TreeMetricsReport ComputeTreeMetrics(const SkeletonGraph& skeleton, const Densit
     }
     report.crown_width = HorizontalDiameter(crown);
     report.crown_volume_hull = ConvexHullVolume(crown);
-  }
-  if (density != nullptr) {
-    report.crown_volume_density =
-        crown_base_z ? DensityCrownVolume(*density, base_z + report.crown_base_height,
-                                          CrownVolumeOf(options, report.height))
-                     : 0.0;
   }
   MeasureDbh(skeleton, axes[0], units, options.dbh_height_m, &report);
   report.orders = BranchMetrics(skeleton, axes, orders, options.direction_fraction);

@@ -2,8 +2,11 @@
 // (TreeQSM's treedata, ITSMe): height, crown size and volume, DBH, branch
 // counts, lengths and angles per order, tips.
 //
-// Conventions: +Z is up and the base is the skeleton's root node; the
-// tree's height is SkeletonGraph::Height().
+// Conventions: +Z is up and the base is the skeleton's root node. The
+// tree's height is its top above the base: the highest skeleton node
+// (SkeletonGraph::Height(), TreeQSM's TreeHeight for a QSM) or, with a
+// density and a crown, the top of the density's crown envelope (below) if
+// that is higher: the leaves above the last branch tip.
 //
 // Crown base height: the height above the base of the lowest point of the
 // crown's major branches (TreeQSM's CrownBaseHeight: the lowest start or
@@ -120,7 +123,7 @@ struct OrderMetrics {
 
 struct TreeMetricsReport {
   std::string units;               // of every length; areas and volumes in units^2, ^3
-  double height = 0.0;             // highest node above the base
+  double height = 0.0;             // the tree's top above the base (see above)
   double crown_base_height = 0.0;  // lowest point of the major branches, above the base
   double crown_depth = 0.0;        // height - crown_base_height
   double crown_width = 0.0;        // largest horizontal distance between two crown nodes

@@ -159,6 +159,19 @@ TEST(TreeMetricsTest, DensityCrownVolumeStartsAtTheCrownBase) {
   const TreeMetricsReport report = ComputeTreeMetrics(HandBuiltY(), &grid, "m");
   ASSERT_TRUE(report.crown_volume_density.has_value());
   EXPECT_NEAR(*report.crown_volume_density, 8.0, 1e-9);
+  EXPECT_NEAR(report.height, 4.0, 1e-12);  // the skeleton reaches above the density's top voxel
+  // Leaves above the skeleton's top (the box grown to z = 5): the height is
+  // the top voxel's centre, 4.875; the crown 3 m deep.
+  DensityGrid taller = grid;
+  for (int j = -4; j < 4; ++j) {
+    for (int i = -4; i < 4; ++i) {
+      for (int k = 16; k < 20; ++k) taller.SetValue({i, j, k}, 0.2f);
+    }
+  }
+  const TreeMetricsReport leafy = ComputeTreeMetrics(HandBuiltY(), &taller, "m");
+  EXPECT_NEAR(leafy.height, 4.875, 1e-12);
+  EXPECT_NEAR(leafy.crown_depth, 2.875, 1e-12);
+  EXPECT_NEAR(*leafy.crown_volume_density, 12.0, 1e-9);
 }
 
 TEST(TreeMetricsTest, DbhNeedsMetricUnitsAndATallEnoughTrunk) {

@@ -11,6 +11,7 @@
 
 #include "datasets/eval/point_metrics.h"
 #include "datasets/synthetic/synthetic_dataset.h"
+#include "mesh/tree_metrics.h"
 #include "reconstruct/density/density_reconstruction.h"
 #include "ui/pipeline/report.h"
 #include "ui/pipeline/tree_building.h"
@@ -20,6 +21,8 @@ namespace {
 
 struct TreeResult {
   FidelityReport report;
+  TreeMetricsReport metrics;  // as the mesh stage computes them
+  double true_crown_base = 0;
   double chamfer_over_height = 0;
   double root_error_over_height = 0;
   double height = 0;
@@ -47,7 +50,10 @@ TreeResult ReconstructTree(uint64_t seed) {
   report_options.write_images = false;
   result.report =
       ComputeFidelity(density, data.image_set, data.mattes, data.HeldOutFlags(), report_options);
-  AddMeshFidelity(mesh, built.skeleton, data.image_set, report_options, &result.report);
+  AddMeshFidelity(mesh, data.image_set, report_options, &result.report);
+  result.metrics = ComputeTreeMetrics(built.skeleton, &density, "m", TreeMetricsOptions(),
+                                      SkeletonSources::Reconstruction());
+  result.true_crown_base = ComputeTreeMetrics(data.tree.skeleton, nullptr, "m").crown_base_height;
   result.height = data.tree.mesh.Bounds().max().z();  // the true base is at z = 0
   const double spacing = 0.005 * result.height;
   const PointSetDistances distances = ComparePointSets(built.skeleton.SamplePoints(spacing),
@@ -62,12 +68,13 @@ class TreeFidelity : public ::testing::TestWithParam<uint64_t> {};
 
 TEST_P(TreeFidelity, MeshSilhouettesSkeletonAndRoot) {
   const TreeResult result = ReconstructTree(GetParam());
-  const TreeMetrics& tree = result.report.tree;
-  std::printf("  true height %.3f; reconstructed height %.3f, crown width %.3f, trunk radius %.4f,"
-              " branch length %.1f\n  skeleton Chamfer %.2f %% of height, root %.2f %% of height "
-              "from the true base\n",
-              result.height, tree.height, tree.crown_width, tree.trunk_radius,
-              tree.total_branch_length, 100 * result.chamfer_over_height,
+  const TreeMetricsReport& tree = result.metrics;
+  std::printf("  true height %.3f; reconstructed height %.3f, crown base %.3f (true %.3f), crown "
+              "width %.3f, crown volume %.2f (hull %.2f), DBH %.4f, branch length %.1f\n"
+              "  skeleton Chamfer %.2f %% of height, root %.2f %% of height from the true base\n",
+              result.height, tree.height, tree.crown_base_height, result.true_crown_base,
+              tree.crown_width, tree.crown_volume_density.value_or(0), tree.crown_volume_hull,
+              tree.dbh.value_or(0), tree.total_length, 100 * result.chamfer_over_height,
               100 * result.root_error_over_height);
   for (const ViewFidelity& view : result.report.views) {
     std::printf("  %-16s %s mesh IoU %.3f precision %.3f recall %.3f | density IoU %.3f\n",
