@@ -141,35 +141,6 @@ TEST(CrownVolumeTest, GapsNarrowerThanTheScaleAndAHollowInsideAreCrown) {
   }
 }
 
-// The union volume of `clusters` by Monte Carlo: points uniform in each
-// cluster count when no earlier cluster holds them.
-double UnionVolume(const std::vector<SyntheticLeafCluster>& clusters, int samples_per_cluster) {
-  RandomEngine random(3);
-  double volume = 0.0;
-  for (size_t k = 0; k < clusters.size(); ++k) {
-    const SyntheticLeafCluster& c = clusters[k];
-    std::vector<size_t> earlier;  // whose bounding spheres overlap this one's
-    for (size_t j = 0; j < k; ++j) {
-      const double reach =
-          std::max(c.along, c.across) + std::max(clusters[j].along, clusters[j].across);
-      if ((clusters[j].centre - c.centre).norm() < reach) earlier.push_back(j);
-    }
-    const Eigen::Vector3d e1 = c.axis.unitOrthogonal(), e2 = c.axis.cross(e1);
-    int first = 0;
-    for (int s = 0; s < samples_per_cluster;) {
-      const Eigen::Vector3d u(random.Uniform(-1, 1), random.Uniform(-1, 1), random.Uniform(-1, 1));
-      if (u.squaredNorm() > 1) continue;
-      ++s;
-      const Eigen::Vector3d p =
-          c.centre + c.across * (u.x() * e1 + u.y() * e2) + c.along * u.z() * c.axis;
-      first += std::none_of(earlier.begin(), earlier.end(),
-                            [&](size_t j) { return clusters[j].Contains(p); });
-    }
-    volume += c.Volume() * first / samples_per_cluster;
-  }
-  return volume;
-}
-
 // The leaf clusters as a density grid: each cluster's ellipsoid with its
 // extinction `sigmas[k]` (overlaps add), averaged over n^3 points per voxel;
 // voxel faces at multiples of `voxel_size`.
@@ -218,7 +189,7 @@ TEST(CrownVolumeTest, SyntheticTreeLeafClustersGiveTheirUnionAtTwoResolutions) {
   for (const SyntheticLeafCluster& c : tree.clusters) {
     sigmas.push_back(0.5 * options.leaves_per_cluster * mean_area / c.Volume());
   }
-  const double exact = UnionVolume(tree.clusters, 4000);
+  const double exact = LeafClustersUnionVolume(tree.clusters, 4000, 3);
   const double tolerance[] = {0.07, 0.03};
   int k = 0;
   for (double voxel_size : {0.1, 0.05}) {

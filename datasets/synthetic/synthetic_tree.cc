@@ -298,6 +298,33 @@ bool SyntheticLeafCluster::Contains(const Eigen::Vector3d& point) const {
 
 double SyntheticLeafCluster::Volume() const { return 4.0 / 3.0 * M_PI * along * across * across; }
 
+double LeafClustersUnionVolume(const std::vector<SyntheticLeafCluster>& clusters,
+                               int samples_per_cluster, uint64_t seed) {
+  SYLVA_CHECK(samples_per_cluster > 0);
+  RandomEngine random(seed);
+  double volume = 0.0;
+  for (size_t k = 0; k < clusters.size(); ++k) {
+    const SyntheticLeafCluster& c = clusters[k];
+    std::vector<size_t> earlier;  // whose bounding spheres overlap this one's
+    for (size_t j = 0; j < k; ++j) {
+      const double reach =
+          std::max(c.along, c.across) + std::max(clusters[j].along, clusters[j].across);
+      if ((clusters[j].centre - c.centre).norm() < reach) earlier.push_back(j);
+    }
+    const Eigen::Vector3d e1 = AnyPerpendicular(c.axis), e2 = c.axis.cross(e1);
+    int first = 0;
+    for (int s = 0; s < samples_per_cluster; ++s) {
+      const Eigen::Vector3d u = RandomInUnitBall(&random);
+      const Eigen::Vector3d p =
+          c.centre + c.across * (u.x() * e1 + u.y() * e2) + c.along * u.z() * c.axis;
+      first += std::none_of(earlier.begin(), earlier.end(),
+                            [&](size_t j) { return clusters[j].Contains(p); });
+    }
+    volume += c.Volume() * first / samples_per_cluster;
+  }
+  return volume;
+}
+
 void SyntheticTreeOptions::Check() const {
   CheckPositive(trunk_length, "trunk_length");
   CheckPositive(trunk_base_radius, "trunk_base_radius");

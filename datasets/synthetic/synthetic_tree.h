@@ -131,6 +131,13 @@ struct SyntheticTree {
 
 SyntheticTree GenerateSyntheticTree(const SyntheticTreeOptions& options, uint64_t seed);
 
+// The volume of the union of `clusters` (the region the crown's leaves
+// fill), by Monte Carlo: `samples_per_cluster` points uniform in each
+// cluster count when no earlier cluster holds them. Relative standard error
+// about 1 / sqrt(samples_per_cluster x clusters); same seed, same value.
+double LeafClustersUnionVolume(const std::vector<SyntheticLeafCluster>& clusters,
+                               int samples_per_cluster, uint64_t seed);
+
 // The pieces, for tests and other generators.
 // The skeleton alone (same as GenerateSyntheticTree(options, seed).skeleton).
 SkeletonGraph GenerateSyntheticSkeleton(const SyntheticTreeOptions& options, uint64_t seed);

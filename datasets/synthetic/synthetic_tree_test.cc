@@ -142,6 +142,28 @@ TEST(SyntheticTreeTest, SizeAndLeavesAreInTheDocumentedRange) {
   }
 }
 
+TEST(SyntheticTreeTest, LeafClustersUnionVolumeCountsOverlapsOnce) {
+  SyntheticLeafCluster a;
+  a.along = 0.6;
+  a.across = 0.4;
+  SyntheticLeafCluster far = a;
+  far.centre = Eigen::Vector3d(5, 0, 0);
+  far.axis = Eigen::Vector3d(1, 0, 0);
+  // Disjoint: the sum; the same twice: one; one inside another: the outer.
+  EXPECT_NEAR(LeafClustersUnionVolume({a, far}, 20000, 1), a.Volume() + far.Volume(), 1e-12);
+  EXPECT_NEAR(LeafClustersUnionVolume({a, a}, 20000, 1), a.Volume(), 1e-12);
+  SyntheticLeafCluster inner = a;
+  inner.along = inner.across = 0.2;
+  EXPECT_NEAR(LeafClustersUnionVolume({a, inner}, 20000, 1), a.Volume(), 1e-12);
+  // Two spheres of radius 1 whose centres are 1 apart: 2 x 4/3 pi - the lens
+  // (5/12 pi), within Monte Carlo error (about 0.5 %).
+  SyntheticLeafCluster left, right;
+  left.along = left.across = right.along = right.across = 1.0;
+  right.centre = Eigen::Vector3d(0.6, 0.8, 0);
+  const double exact = 8.0 / 3.0 * M_PI - 5.0 / 12.0 * M_PI;
+  EXPECT_NEAR(LeafClustersUnionVolume({left, right}, 20000, 1), exact, 0.02 * exact);
+}
+
 TEST(SyntheticTreeTest, OptionsAreChecked) {
   SyntheticTreeOptions options;
   EXPECT_NO_THROW(options.Check());
