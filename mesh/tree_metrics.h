@@ -9,9 +9,9 @@
 // that is higher: the leaves above the last branch tip.
 //
 // Crown base height: the height above the base of the lowest point of the
-// crown's major branches (TreeQSM's CrownBaseHeight: the lowest start or
-// end of the cylinders of the first major branch and its sub-branches, so
-// a drooping branch lowers it). A first-order branch (an axis leaving the
+// crown's major branches and their sub-branches, so a drooping branch
+// lowers it (TreeQSM's CrownBaseHeight: the lowest start or end of the
+// cylinders of the first major branch and its sub-branches). A first-order branch (an axis leaving the
 // trunk axis, BranchAxes()[0]) is major when the branch length it carries
 // (its own and its sub-branches', from the junction) is at least
 // major_branch_fraction of what the largest first-order branch carries. So
