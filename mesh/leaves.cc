@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <sstream>
 
 #include "core/geometry/point_grid.h"
@@ -30,12 +29,6 @@ std::vector<Eigen::Vector3d> ThinBranchPoints(const SkeletonGraph& skeleton, dou
       points.push_back(parent + (node.position - parent) * (double(s) / steps));
   }
   return points;
-}
-
-double TreeHeight(const SkeletonGraph& skeleton) {
-  double top = -std::numeric_limits<double>::infinity();
-  for (const SkeletonNode& node : skeleton.nodes) top = std::max(top, node.position.z());
-  return top - skeleton.nodes[skeleton.RootIdx()].position.z();
 }
 
 // Beer-Lambert projection factor of randomly oriented leaves (mean |cos|).
@@ -415,7 +408,7 @@ LeafInstances GenerateLeafInstances(const SkeletonGraph& skeleton, const Density
 
   const double length = options.leaf_length > 0
                             ? options.leaf_length
-                            : options.leaf_length_fraction * TreeHeight(skeleton);
+                            : options.leaf_length_fraction * skeleton.Height();
   summary->leaf_length = length;
   const double trunk_radius = skeleton.nodes[skeleton.RootIdx()].radius;
   double thin_radius = options.thin_branch_radius_fraction * trunk_radius;

@@ -2,19 +2,27 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <tuple>
 #include <unordered_set>
 
 #include "core/io/json_util.h"
 #include "core/util/check.h"
 #include "core/util/file_util.h"
+#include "mesh/crown_volume.h"
 
 namespace sylva {
 
 void TreeMetricsOptions::Check() const {
   SYLVA_CHECK_INPUT(dbh_height_m > 0, "TreeMetrics.dbh_height_m") << "must be > 0";
-  SYLVA_CHECK_INPUT(density_threshold > 0 && density_threshold <= 1,
-                    "TreeMetrics.density_threshold")
+  SYLVA_CHECK_INPUT(major_branch_fraction > 0 && major_branch_fraction <= 1,
+                    "TreeMetrics.major_branch_fraction")
+      << "must be in (0, 1]";
+  SYLVA_CHECK_INPUT(crown_scale_fraction >= 0 && crown_scale_fraction < 1,
+                    "TreeMetrics.crown_scale_fraction")
+      << "must be in [0, 1)";
+  SYLVA_CHECK_INPUT(density_support_fraction > 0 && density_support_fraction <= 1,
+                    "TreeMetrics.density_support_fraction")
       << "must be in (0, 1]";
   SYLVA_CHECK_INPUT(direction_fraction > 0 && direction_fraction <= 1,
                     "TreeMetrics.direction_fraction")
@@ -155,12 +163,54 @@ double UnitsPerMetre(const std::string& units) {
   return 0.0;
 }
 
-// The first node on the trunk axis with two or more children; -1 if none.
-int FirstTrunkBranching(const BranchAxis& trunk, const std::vector<std::vector<int>>& children) {
-  for (int node : trunk) {
-    if (children[node].size() >= 2) return node;
+// Per node: the branch length its subtree holds (the edges below it) and
+// the lowest z in its subtree (itself included).
+struct Subtrees {
+  std::vector<double> length;
+  std::vector<double> lowest_z;
+};
+
+Subtrees MeasureSubtrees(const SkeletonGraph& skeleton,
+                         const std::vector<std::vector<int>>& children) {
+  // Parents before children (depth first from the root), then backwards.
+  std::vector<int> order = {skeleton.RootIdx()};
+  for (size_t k = 0; k < order.size(); ++k) {
+    for (int child : children[order[k]]) order.push_back(child);
   }
-  return -1;
+  Subtrees subtrees{std::vector<double>(skeleton.nodes.size(), 0.0), {}};
+  for (const SkeletonNode& node : skeleton.nodes) subtrees.lowest_z.push_back(node.position.z());
+  for (auto it = order.rbegin(); it != order.rend(); ++it) {
+    const SkeletonNode& node = skeleton.nodes[*it];
+    if (node.parent_idx < 0) continue;
+    const double edge = (node.position - skeleton.nodes[node.parent_idx].position).norm();
+    subtrees.length[node.parent_idx] += edge + subtrees.length[*it];
+    subtrees.lowest_z[node.parent_idx] =
+        std::min(subtrees.lowest_z[node.parent_idx], subtrees.lowest_z[*it]);
+  }
+  return subtrees;
+}
+
+// The z of the lowest point of the major first-order branches (see the
+// header); nullopt if there is no first-order branch.
+std::optional<double> CrownBaseZ(const SkeletonGraph& skeleton, const std::vector<BranchAxis>& axes,
+                                 const std::vector<int>& orders, double major_branch_fraction) {
+  const Subtrees subtrees = MeasureSubtrees(skeleton, skeleton.Children());
+  std::vector<std::pair<double, double>> branches;  // (carried length, lowest z)
+  double largest = 0.0;
+  for (size_t a = 1; a < axes.size(); ++a) {
+    if (orders[a] != 1) continue;
+    const SkeletonNode& junction = skeleton.nodes[axes[a][0]];
+    const SkeletonNode& first = skeleton.nodes[axes[a][1]];
+    const double carried = (first.position - junction.position).norm() + subtrees.length[axes[a][1]];
+    branches.emplace_back(carried, std::min(junction.position.z(), subtrees.lowest_z[axes[a][1]]));
+    largest = std::max(largest, carried);
+  }
+  if (branches.empty()) return std::nullopt;
+  double lowest = std::numeric_limits<double>::infinity();
+  for (const auto& [carried, lowest_z] : branches) {
+    if (carried >= major_branch_fraction * largest) lowest = std::min(lowest, lowest_z);
+  }
+  return lowest;
 }
 
 // The child the axis through `node` continues into: among the children of
@@ -302,40 +352,63 @@ void MeasureDbh(const SkeletonGraph& skeleton, const BranchAxis& trunk, const st
     const double z1 = skeleton.nodes[trunk[k]].position.z();
     if ((z0 <= z && z < z1) || (z1 <= z && z < z0)) {
       report->dbh = 2.0 * skeleton.nodes[trunk[k]].radius;
-      report->dbh_note = "trunk edge radius at breast height";
+      report->dbh_note = "2 x the radius of the trunk edge at breast height; radii: " +
+                         skeleton.radius_source;
       return;
     }
   }
   report->dbh_note = "the trunk does not reach breast height";
 }
 
-// Crown volume from density voxels at or above the crown base.
-double DensityCrownVolume(const DensityGrid& density, double crown_base_z, double threshold) {
-  int64_t count = 0;
-  density.ForEachActive([&](const Eigen::Vector3i& ijk, float alpha) {
-    if (alpha >= threshold && density.WorldFromIndex(ijk.cast<double>()).z() >= crown_base_z) {
-      ++count;
-    }
-  });
-  return static_cast<double>(count) * std::pow(density.voxel_size(), 3);
+// The crown volume's options for a tree `height` tall.
+CrownVolumeOptions CrownVolumeOf(const TreeMetricsOptions& options, double height) {
+  CrownVolumeOptions crown;
+  crown.scale = options.crown_scale_fraction * height;
+  crown.support_fraction = options.density_support_fraction;
+  return crown;
+}
+
+// The labels of the figures (see the header).
+std::vector<std::pair<std::string, std::string>> FigureSources(
+    const std::string& radius_source, const SkeletonSources& skeleton) {
+  std::vector<std::pair<std::string, std::string>> sources;
+  for (const char* figure :
+       {"height", "crown_base_height", "crown_depth", "crown_width", "crown_volume_hull"}) {
+    sources.emplace_back(figure, skeleton.positions);
+  }
+  sources.emplace_back("crown_volume_density", kMeasured);
+  sources.emplace_back("dbh", radius_source);
+  for (const char* figure : {"num_tips", "total_length", "orders"}) {
+    sources.emplace_back(figure, skeleton.branching);
+  }
+  return sources;
 }
 
 }  // namespace
 
+std::string TreeMetricsReport::SourceOf(const std::string& figure) const {
+  for (const auto& [name, label] : sources) {
+    if (name == figure) return label;
+  }
+  return "unknown";
+}
+
 TreeMetricsReport ComputeTreeMetrics(const SkeletonGraph& skeleton, const DensityGrid* density,
-                                     const std::string& units, const TreeMetricsOptions& options) {
+                                     const std::string& units, const TreeMetricsOptions& options,
+                                     const SkeletonSources& sources) {
   options.Check();
   skeleton.Check();
   SYLVA_CHECK(skeleton.NumNodes() > 0) << "tree metrics of an empty skeleton";
   TreeMetricsReport report;
   report.units = units;
+  report.radius_source = skeleton.radius_source;
+  report.skeleton_sources = sources;
+  report.sources = FigureSources(skeleton.radius_source, sources);
   report.num_nodes = skeleton.NumNodes();
   report.num_tips = static_cast<int>(skeleton.Tips().size());
   report.total_length = skeleton.TotalLength();
+  report.height = skeleton.Height();
   const double base_z = skeleton.nodes[skeleton.RootIdx()].position.z();
-  for (const SkeletonNode& node : skeleton.nodes) {
-    report.height = std::max(report.height, node.position.z() - base_z);
-  }
   std::vector<int> orders;
   // Axes continue into the child of lowest node order first (see the header).
   const std::vector<BranchAxis> axes = skeleton.BranchAxes(
@@ -343,22 +416,28 @@ TreeMetricsReport ComputeTreeMetrics(const SkeletonGraph& skeleton, const Densit
         return ContinuationByOrder(skeleton, node, children);
       },
       &orders);
-  const int fork = FirstTrunkBranching(axes[0], skeleton.Children());
-  report.crown_base_height = fork < 0 ? report.height : skeleton.nodes[fork].position.z() - base_z;
+  const std::optional<double> crown_base_z =
+      CrownBaseZ(skeleton, axes, orders, options.major_branch_fraction);
+  if (density != nullptr) {
+    DensityCrown crown;
+    if (crown_base_z) {
+      crown = MeasureDensityCrown(*density, *crown_base_z, CrownVolumeOf(options, report.height));
+    }
+    report.crown_volume_density = crown.volume;
+    // The leaves above the last branch tip.
+    if (crown.top_z) report.height = std::max(report.height, *crown.top_z - base_z);
+  }
+  // A crown drooping below the base starts at the base.
+  report.crown_base_height =
+      crown_base_z ? std::max(0.0, *crown_base_z - base_z) : report.height;
   report.crown_depth = report.height - report.crown_base_height;
-  if (fork >= 0) {
+  if (crown_base_z) {
     std::vector<Eigen::Vector3d> crown;
     for (const SkeletonNode& node : skeleton.nodes) {
       if (node.position.z() - base_z >= report.crown_base_height) crown.push_back(node.position);
     }
     report.crown_width = HorizontalDiameter(crown);
     report.crown_volume_hull = ConvexHullVolume(crown);
-  }
-  if (density != nullptr) {
-    report.crown_volume_density =
-        fork < 0 ? 0.0
-                 : DensityCrownVolume(*density, base_z + report.crown_base_height,
-                                      options.density_threshold);
   }
   MeasureDbh(skeleton, axes[0], units, options.dbh_height_m, &report);
   report.orders = BranchMetrics(skeleton, axes, orders, options.direction_fraction);
@@ -367,16 +446,33 @@ TreeMetricsReport ComputeTreeMetrics(const SkeletonGraph& skeleton, const Densit
 
 namespace {
 
+constexpr const char* kFormat = "sylva-tree-metrics";
+constexpr int kVersion = 2;
+
 Json AngleOrNull(const OrderMetrics& m, double angle) {
   return m.num_angles > 0 ? Json(angle) : Json(nullptr);
+}
+
+// What each source label sylva writes means.
+Json SourceMeanings() {
+  return {{kMeasured,
+           "from the photos' evidence: the density reconstructed from the mattes, or the "
+           "positions of a skeleton that follows it"},
+          {kPrior,
+           "follows from the model, not measured: the particle count and merging decide how "
+           "many branches there are, how long and at what angles"},
+          {"allometric prior",
+           "radii from the pipe model, scaled to the trunk width: an estimate, not a measurement"},
+          {"ground truth", "exact (a synthetic tree)"},
+          {"unknown", "not recorded by the source (e.g. a QSM table without source columns)"}};
 }
 
 }  // namespace
 
 std::string TreeMetricsReport::ToJson() const {
   Json json;
-  json["format"] = "sylva-tree-metrics";
-  json["version"] = 1;
+  json["format"] = kFormat;
+  json["version"] = kVersion;
   json["units"] = units;
   json["height"] = height;
   json["crown_base_height"] = crown_base_height;
@@ -400,11 +496,79 @@ std::string TreeMetricsReport::ToJson() const {
                               {"mean_angle_deg", AngleOrNull(m, m.mean_angle_deg)},
                               {"median_angle_deg", AngleOrNull(m, m.median_angle_deg)}});
   }
+  json["radius_source"] = radius_source;
+  json["position_source"] = skeleton_sources.positions;
+  json["branching_source"] = skeleton_sources.branching;
+  json["sources"] = Json::object();
+  for (const auto& [figure, label] : sources) json["sources"][figure] = label;
+  json["source_meanings"] = SourceMeanings();
   return json.dump(2);
 }
 
 void WriteTreeMetricsJson(const std::filesystem::path& path, const TreeMetricsReport& report) {
   AtomicWriteString(path, report.ToJson() + "\n");
+}
+
+namespace {
+
+std::optional<double> OptionalDouble(const JsonCursor& value) {
+  if (value.value().is_null()) return std::nullopt;
+  return value.AsDouble();
+}
+
+OrderMetrics ReadOrderMetrics(const JsonCursor& json) {
+  OrderMetrics m;
+  m.order = json["order"].AsInt();
+  m.num_branches = json["num_branches"].AsInt();
+  m.total_length = json["total_length"].AsDouble();
+  m.num_angles = json["num_angles"].AsInt();
+  m.mean_angle_deg = OptionalDouble(json["mean_angle_deg"]).value_or(0.0);
+  m.median_angle_deg = OptionalDouble(json["median_angle_deg"]).value_or(0.0);
+  return m;
+}
+
+// The sources of a version 2 file.
+void ReadSources(const JsonCursor& root, TreeMetricsReport* report) {
+  report->radius_source = root["radius_source"].AsString();
+  report->skeleton_sources.positions = root["position_source"].AsString();
+  report->skeleton_sources.branching = root["branching_source"].AsString();
+  const JsonCursor sources = root["sources"];
+  if (!sources.IsObject()) sources.Fail("expected an object");
+  for (const auto& [figure, label] : sources.value().items()) {
+    report->sources.emplace_back(figure, sources[figure].AsString());
+  }
+}
+
+}  // namespace
+
+TreeMetricsReport ReadTreeMetricsJson(const std::filesystem::path& path) {
+  const Json json = ReadJsonFile(path);
+  const JsonCursor root(json, path.string());
+  if (!root.IsObject() || !root.Has("format") || root["format"].AsString() != kFormat) {
+    root.Fail(std::string("not a ") + kFormat + " file");
+  }
+  const int version = root["version"].AsInt();
+  if (version < 1 || version > kVersion) {
+    root["version"].Fail("unsupported version " + std::to_string(version) + " (1 to " +
+                         std::to_string(kVersion) + " are read)");
+  }
+  TreeMetricsReport report;
+  report.units = root["units"].AsString();
+  report.height = root["height"].AsDouble();
+  report.crown_base_height = root["crown_base_height"].AsDouble();
+  report.crown_depth = root["crown_depth"].AsDouble();
+  report.crown_width = root["crown_width"].AsDouble();
+  report.crown_volume_hull = root["crown_volume_hull"].AsDouble();
+  report.crown_volume_density = OptionalDouble(root["crown_volume_density"]);
+  report.dbh = OptionalDouble(root["dbh"]);
+  report.dbh_note = root["dbh_note"].AsString();
+  report.num_nodes = root["num_nodes"].AsInt();
+  report.num_tips = root["num_tips"].AsInt();
+  report.total_length = root["total_length"].AsDouble();
+  const JsonCursor orders = root["orders"];
+  for (size_t k = 0; k < orders.Size(); ++k) report.orders.push_back(ReadOrderMetrics(orders[k]));
+  if (version >= 2) ReadSources(root, &report);
+  return report;
 }
 
 }  // namespace sylva

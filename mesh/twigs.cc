@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <limits>
 #include <map>
 #include <sstream>
 
@@ -22,12 +21,6 @@ const double kGoldenAngle = M_PI * (3.0 - std::sqrt(5.0));
 constexpr double kLateralLength = 0.5;
 // Sympodial units: the spent apex left behind is this fraction of a unit long.
 constexpr double kSpentApexLength = 0.3;
-
-double TreeHeight(const SkeletonGraph& skeleton) {
-  double top = -std::numeric_limits<double>::infinity();
-  for (const SkeletonNode& node : skeleton.nodes) top = std::max(top, node.position.z());
-  return top - skeleton.nodes[skeleton.RootIdx()].position.z();
-}
 
 // Local opacity relative to the mean of the active voxels (1 without a grid).
 class DensityFactor {
@@ -347,7 +340,7 @@ SkeletonGraph GrowTwigs(const SkeletonGraph& skeleton, const DensityGrid& densit
   summary->twig_order = max_order + 1;
   if (skeleton.NumNodes() < 2 || options.twigs_per_length == 0) return out;
 
-  const double height = TreeHeight(skeleton);
+  const double height = skeleton.Height();
   summary->twig_length = options.length > 0 ? options.length : options.length_fraction * height;
   if (summary->twig_length <= 0) return out;
   const std::vector<BranchAxis> axes = TerminalAxes(skeleton);

@@ -242,6 +242,8 @@ QsmModel ReadQsmCsv(const std::filesystem::path& path) {
     const CsvRow row(SplitCsvLine(line), columns, where);
     qsm.cylinders.push_back(ParseCylinder(row));
     ReadUniformColumn(row, "radius_source", lines.empty(), &qsm.radius_source);
+    ReadUniformColumn(row, "position_source", lines.empty(), &qsm.position_source);
+    ReadUniformColumn(row, "branching_source", lines.empty(), &qsm.branching_source);
     ReadUniformColumn(row, "units", lines.empty(), &qsm.units);
     lines.push_back(line_number);
   }
@@ -276,8 +278,9 @@ void WriteQsmCsv(const std::filesystem::path& path, const QsmModel& qsm) {
   qsm.Check();
   std::string out;
   for (const char* name : kColumns) out += std::string(name) + ",";
-  out += "radius_source,units\n";
-  const std::string tail = CsvText(qsm.radius_source) + "," + CsvText(qsm.units) + "\n";
+  out += "radius_source,position_source,branching_source,units\n";
+  const std::string tail = CsvText(qsm.radius_source) + "," + CsvText(qsm.position_source) + "," +
+                           CsvText(qsm.branching_source) + "," + CsvText(qsm.units) + "\n";
   for (const QsmCylinder& c : qsm.cylinders) {
     out += std::to_string(c.id) + "," + std::to_string(c.parent_id);
     for (int k = 0; k < 3; ++k) AppendDouble(c.start[k], &(out += ","));

@@ -4,9 +4,9 @@
 //
 // The CSV cylinder table (one header line, then one row per cylinder):
 //
-//   id,parent_id,start_x,start_y,start_z,axis_x,axis_y,axis_z,length,radius,branch,branch_order,radius_source,units
+//   id,parent_id,start_x,start_y,start_z,axis_x,axis_y,axis_z,length,radius,branch,branch_order,radius_source,position_source,branching_source,units
 //   1,0,22.25206,112.20287,-11.652903,-0.04426492,-0.008478129,0.99898386,0.37862566,0.08678285,1,0,ground
-//   truth,m
+//   truth,ground truth,ground truth,m
 //
 //   id            stable cylinder id, an integer > 0 (TreeQSM: the 1-based row)
 //   parent_id     id of the parent cylinder; 0 = none (a root: several allowed,
@@ -19,6 +19,13 @@
 //   branch_order  0 = trunk, 1 = a branch on the trunk, ...
 //   radius_source optional: what the radii are ("ground truth", "allometric
 //                 prior", "measured", ...); the same on every row
+//   position_source  optional: what start, axis and length are ("measured":
+//                 sylva's reconstructions follow the density from the photos;
+//                 "ground truth"; ...); the same on every row
+//   branching_source optional: what parent_id, branch and branch_order are
+//                 ("prior": in sylva's reconstructions the particle count and
+//                 merging decide how many branches there are; ...); the same
+//                 on every row. Tables without these columns read "unknown".
 //   units         optional: unit of lengths ("m" if absent, as in TreeQSM)
 //
 // These are TreeQSM's cylinder fields (cylinder.start/axis/length/radius/
@@ -58,6 +65,8 @@ struct QsmCylinder {
 struct QsmModel {
   std::vector<QsmCylinder> cylinders;
   std::string radius_source = "unknown";  // see SkeletonGraph::radius_source
+  std::string position_source = "unknown";   // see the file comment
+  std::string branching_source = "unknown";  // see the file comment
   std::string units = "m";                // unit of start, length and radius
 
   // Throws Error naming the first broken invariant.
@@ -71,7 +80,7 @@ struct QsmModel {
 // cycle, differing radius_source or units values.
 QsmModel ReadQsmCsv(const std::filesystem::path& path);
 
-// Writes every column above (radius_source and units included) atomically,
+// Writes every column above (the sources and units included) atomically,
 // doubles in their shortest exact text, so ReadQsmCsv gives back the same
 // numbers. Throws Error if the model fails Check().
 void WriteQsmCsv(const std::filesystem::path& path, const QsmModel& qsm);

@@ -188,6 +188,8 @@ TEST(QsmIoTest, SkeletonToQsmAndBackSharesJunctionNodes) {
 TEST(QsmIoTest, CsvRoundTripIsExact) {
   QsmModel qsm;
   qsm.radius_source = "allometric prior";
+  qsm.position_source = "measured";
+  qsm.branching_source = "prior";
   qsm.units = "arbitrary";
   QsmCylinder a;
   a.id = 7;
@@ -206,6 +208,8 @@ TEST(QsmIoTest, CsvRoundTripIsExact) {
   WriteQsmCsv(path, qsm);
   const QsmModel back = ReadQsmCsv(path);
   EXPECT_EQ(back.radius_source, "allometric prior");
+  EXPECT_EQ(back.position_source, "measured");
+  EXPECT_EQ(back.branching_source, "prior");
   EXPECT_EQ(back.units, "arbitrary");
   ASSERT_EQ(back.cylinders.size(), 2u);
   for (int i = 0; i < 2; ++i) {
@@ -229,6 +233,8 @@ TEST(QsmIoTest, ReadsColumnsByNameInAnyOrderWithQuotesCrLfAndBom) {
   const QsmModel qsm = ReadQsmCsv(path);
   ASSERT_EQ(qsm.cylinders.size(), 2u);
   EXPECT_EQ(qsm.radius_source, "measured");
+  EXPECT_EQ(qsm.position_source, "unknown");  // no such column
+  EXPECT_EQ(qsm.branching_source, "unknown");
   EXPECT_EQ(qsm.units, "m");
   EXPECT_EQ(qsm.cylinders[0].start, Eigen::Vector3d(1, 2, 3));
   EXPECT_EQ(qsm.cylinders[0].axis, Eigen::Vector3d(0, 0, 1));  // normalised

@@ -1,5 +1,6 @@
 #include "core/types/skeleton_graph.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/util/check.h"
@@ -108,6 +109,14 @@ double SkeletonGraph::TotalLength() const {
     if (node.parent_idx >= 0) length += (node.position - nodes[node.parent_idx].position).norm();
   }
   return length;
+}
+
+double SkeletonGraph::Height() const {
+  const int root = RootIdx();
+  if (root < 0) return 0.0;
+  double top = nodes[root].position.z();
+  for (const SkeletonNode& node : nodes) top = std::max(top, node.position.z());
+  return top - nodes[root].position.z();
 }
 
 std::vector<Eigen::Vector3d> SkeletonGraph::SamplePoints(double spacing) const {

@@ -60,6 +60,10 @@ class SkeletonGraph {
   void AssignOrders();
   // Sum of edge lengths.
   double TotalLength() const;
+  // The tree's height: how far the highest node lies above the root node
+  // along +Z (the up axis), in world units; 0 for an empty skeleton. Every
+  // stage that scales by the tree's size uses this one definition.
+  double Height() const;
   // Points sampled along every edge at most `spacing` apart (plus the nodes).
   std::vector<Eigen::Vector3d> SamplePoints(double spacing) const;
 

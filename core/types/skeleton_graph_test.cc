@@ -20,6 +20,24 @@ TEST(SkeletonGraphTest, BuildsAndChecksATree) {
   EXPECT_EQ(graph.SamplePoints(0.5).size(), 3u + 3u + 1u);
 }
 
+TEST(SkeletonGraphTest, HeightIsTheHighestNodeAboveTheRoot) {
+  EXPECT_EQ(SkeletonGraph().Height(), 0.0);
+  SkeletonGraph graph;
+  // Root at z = 1.5, not the lowest node: a root hanging below it (z = 0.5)
+  // and the top at z = 4 give a height of 2.5.
+  const int root = graph.AddNode({3, -2, 1.5}, 0.2, -1, 0);
+  graph.AddNode({3, -2, 0.5}, 0.1, root, 1);
+  const int top = graph.AddNode({2, -2, 4}, 0.1, root, 0);
+  graph.AddNode({0, -2, 3}, 0.1, top, 1);
+  EXPECT_DOUBLE_EQ(graph.Height(), 2.5);
+  // A single node, or every node below the root: height 0.
+  SkeletonGraph hanging;
+  hanging.AddNode({0, 0, 1}, 0.1, -1, 0);
+  EXPECT_EQ(hanging.Height(), 0.0);
+  hanging.AddNode({0, 0, -1}, 0.1, 0, 0);
+  EXPECT_EQ(hanging.Height(), 0.0);
+}
+
 TEST(SkeletonGraphTest, BranchAxesFollowTheMostStrands) {
   // 0 -> 1 -> {2 (3 strands) -> 4, 3 (5 strands) -> 5 -> {6, 7 (1 strand)}}
   SkeletonGraph graph;

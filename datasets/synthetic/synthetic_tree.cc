@@ -248,9 +248,11 @@ void AddLeaf(const Eigen::Vector3d& centre, const Eigen::Vector3d& along,
   mesh->AddTriangle(stalk, tip, left, material);
 }
 
-// One ellipsoidal cluster of leaves around the tip `tip_idx`.
-void AddLeafCluster(const SkeletonGraph& skeleton, int tip_idx, const SyntheticTreeOptions& options,
-                    int material, RandomEngine* rng, TriangleMesh* mesh) {
+// One ellipsoidal cluster of leaves around the tip `tip_idx`; returns its
+// ellipsoid.
+SyntheticLeafCluster AddLeafCluster(const SkeletonGraph& skeleton, int tip_idx,
+                                    const SyntheticTreeOptions& options, int material,
+                                    RandomEngine* rng, TriangleMesh* mesh) {
   const SkeletonNode& tip = skeleton.nodes[tip_idx];
   const Eigen::Vector3d axis =
       tip.parent_idx >= 0 ? (tip.position - skeleton.nodes[tip.parent_idx].position).normalized()
@@ -272,6 +274,7 @@ void AddLeafCluster(const SkeletonGraph& skeleton, int tip_idx, const SyntheticT
     AddLeaf(leaf_centre, leaf_along, leaf_across, length, length * options.leaf_aspect, material,
             mesh);
   }
+  return {centre, axis, along, across};
 }
 
 void CheckPositive(double value, const char* name) {
@@ -285,6 +288,42 @@ void CheckRange(double value, double lo, double hi, const char* name) {
 }
 
 }  // namespace
+
+bool SyntheticLeafCluster::Contains(const Eigen::Vector3d& point) const {
+  const Eigen::Vector3d d = point - centre;
+  const double on_axis = d.dot(axis);
+  const double off_axis_squared = d.squaredNorm() - on_axis * on_axis;
+  return on_axis * on_axis / (along * along) + off_axis_squared / (across * across) <= 1.0;
+}
+
+double SyntheticLeafCluster::Volume() const { return 4.0 / 3.0 * M_PI * along * across * across; }
+
+double LeafClustersUnionVolume(const std::vector<SyntheticLeafCluster>& clusters,
+                               int samples_per_cluster, uint64_t seed) {
+  SYLVA_CHECK(samples_per_cluster > 0);
+  RandomEngine random(seed);
+  double volume = 0.0;
+  for (size_t k = 0; k < clusters.size(); ++k) {
+    const SyntheticLeafCluster& c = clusters[k];
+    std::vector<size_t> earlier;  // whose bounding spheres overlap this one's
+    for (size_t j = 0; j < k; ++j) {
+      const double reach =
+          std::max(c.along, c.across) + std::max(clusters[j].along, clusters[j].across);
+      if ((clusters[j].centre - c.centre).norm() < reach) earlier.push_back(j);
+    }
+    const Eigen::Vector3d e1 = AnyPerpendicular(c.axis), e2 = c.axis.cross(e1);
+    int first = 0;
+    for (int s = 0; s < samples_per_cluster; ++s) {
+      const Eigen::Vector3d u = RandomInUnitBall(&random);
+      const Eigen::Vector3d p =
+          c.centre + c.across * (u.x() * e1 + u.y() * e2) + c.along * u.z() * c.axis;
+      first += std::none_of(earlier.begin(), earlier.end(),
+                            [&](size_t j) { return clusters[j].Contains(p); });
+    }
+    volume += c.Volume() * first / samples_per_cluster;
+  }
+  return volume;
+}
 
 void SyntheticTreeOptions::Check() const {
   CheckPositive(trunk_length, "trunk_length");
@@ -354,7 +393,7 @@ SyntheticTree GenerateSyntheticTree(const SyntheticTreeOptions& options, uint64_
   const std::vector<std::vector<int>> children = tree.skeleton.Children();
   for (int i = 0; i < tree.skeleton.NumNodes(); ++i) {
     if (!children[i].empty()) continue;
-    AddLeafCluster(tree.skeleton, i, options, leaves, &rng, &tree.mesh);
+    tree.clusters.push_back(AddLeafCluster(tree.skeleton, i, options, leaves, &rng, &tree.mesh));
     ++tree.num_clusters;
   }
   tree.num_leaves = tree.num_clusters * options.leaves_per_cluster;

@@ -22,6 +22,7 @@
 #include <Eigen/Core>
 #include <array>
 #include <cstdint>
+#include <vector>
 
 #include "core/types/skeleton_graph.h"
 #include "core/types/triangle_mesh.h"
@@ -103,6 +104,17 @@ struct SyntheticTreeOptions {
   void Check() const;
 };
 
+// The ellipsoid a tip's leaves fill: semi-axis `along` on `axis` (the tip
+// edge's unit direction), `across` on the two directions perpendicular to it.
+struct SyntheticLeafCluster {
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();  // metres
+  Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();   // unit
+  double along = 0.0, across = 0.0;                  // semi-axes, metres
+
+  bool Contains(const Eigen::Vector3d& point) const;
+  double Volume() const;  // 4/3 pi along across^2
+};
+
 struct SyntheticTree {
   // Ground-truth skeleton: radii are exact (radius_source "ground truth"),
   // node order is the branch order (0 = trunk).
@@ -112,9 +124,19 @@ struct SyntheticTree {
   TriangleMesh mesh;
   int num_leaves = 0;
   int num_clusters = 0;
+  // Every leaf cluster's ellipsoid, in the order of their tips' node index
+  // (the crown's true shape: the region its leaves fill is their union).
+  std::vector<SyntheticLeafCluster> clusters;
 };
 
 SyntheticTree GenerateSyntheticTree(const SyntheticTreeOptions& options, uint64_t seed);
+
+// The volume of the union of `clusters` (the region the crown's leaves
+// fill), by Monte Carlo: `samples_per_cluster` points uniform in each
+// cluster count when no earlier cluster holds them. Relative standard error
+// about 1 / sqrt(samples_per_cluster x clusters); same seed, same value.
+double LeafClustersUnionVolume(const std::vector<SyntheticLeafCluster>& clusters,
+                               int samples_per_cluster, uint64_t seed);
 
 // The pieces, for tests and other generators.
 // The skeleton alone (same as GenerateSyntheticTree(options, seed).skeleton).

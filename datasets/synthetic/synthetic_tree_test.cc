@@ -7,6 +7,7 @@
 #include <map>
 
 #include "core/util/check.h"
+#include "core/util/random.h"
 
 namespace sylva {
 namespace {
@@ -102,6 +103,35 @@ TEST(SyntheticTreeTest, SizeAndLeavesAreInTheDocumentedRange) {
     int tips = 0;
     for (const auto& children : tree.skeleton.Children()) tips += children.empty() ? 1 : 0;
     EXPECT_EQ(tree.num_clusters, tips);
+    // Each cluster's ellipsoid holds its leaves' centres (4 vertices per
+    // leaf, after the bark's; the leaves of cluster k come k-th).
+    ASSERT_EQ(static_cast<int>(tree.clusters.size()), tree.num_clusters);
+    const int first_leaf_vertex = tree.mesh.NumVertices() - 4 * tree.num_leaves;
+    for (int leaf = 0; leaf < tree.num_leaves; ++leaf) {
+      Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+      for (int k = 0; k < 4; ++k) {
+        centre += tree.mesh.vertices[first_leaf_vertex + 4 * leaf + k].cast<double>() / 4.0;
+      }
+      const SyntheticLeafCluster& cluster = tree.clusters[leaf / options.leaves_per_cluster];
+      // float vertices: allow 1e-5 of the cluster's size
+      SyntheticLeafCluster grown = cluster;
+      grown.along += 1e-5;
+      grown.across += 1e-5;
+      ASSERT_TRUE(grown.Contains(centre)) << "leaf " << leaf;
+    }
+    // Contains() and Volume() agree: Monte Carlo over the enclosing cube.
+    const SyntheticLeafCluster& cluster = tree.clusters.front();
+    const double half = std::max(cluster.along, cluster.across);
+    RandomEngine random(seed);
+    int inside = 0;
+    const int samples = 200000;
+    for (int i = 0; i < samples; ++i) {
+      const Eigen::Vector3d offset(random.Uniform(-half, half), random.Uniform(-half, half),
+                                   random.Uniform(-half, half));
+      inside += cluster.Contains(cluster.centre + offset) ? 1 : 0;
+    }
+    EXPECT_NEAR(std::pow(2 * half, 3) * inside / samples, cluster.Volume(),
+                0.02 * cluster.Volume());
     ASSERT_EQ(tree.mesh.materials.size(), 2u);
     EXPECT_EQ(tree.mesh.materials[0].name, "bark");
     EXPECT_EQ(tree.mesh.materials[1].name, "leaves");
@@ -110,6 +140,28 @@ TEST(SyntheticTreeTest, SizeAndLeavesAreInTheDocumentedRange) {
     for (int m : tree.mesh.triangle_materials) leaf_triangles += m == 1 ? 1 : 0;
     EXPECT_EQ(leaf_triangles, 2 * tree.num_leaves);
   }
+}
+
+TEST(SyntheticTreeTest, LeafClustersUnionVolumeCountsOverlapsOnce) {
+  SyntheticLeafCluster a;
+  a.along = 0.6;
+  a.across = 0.4;
+  SyntheticLeafCluster far = a;
+  far.centre = Eigen::Vector3d(5, 0, 0);
+  far.axis = Eigen::Vector3d(1, 0, 0);
+  // Disjoint: the sum; the same twice: one; one inside another: the outer.
+  EXPECT_NEAR(LeafClustersUnionVolume({a, far}, 20000, 1), a.Volume() + far.Volume(), 1e-12);
+  EXPECT_NEAR(LeafClustersUnionVolume({a, a}, 20000, 1), a.Volume(), 1e-12);
+  SyntheticLeafCluster inner = a;
+  inner.along = inner.across = 0.2;
+  EXPECT_NEAR(LeafClustersUnionVolume({a, inner}, 20000, 1), a.Volume(), 1e-12);
+  // Two spheres of radius 1 whose centres are 1 apart: 2 x 4/3 pi - the lens
+  // (5/12 pi), within Monte Carlo error (about 0.5 %).
+  SyntheticLeafCluster left, right;
+  left.along = left.across = right.along = right.across = 1.0;
+  right.centre = Eigen::Vector3d(0.6, 0.8, 0);
+  const double exact = 8.0 / 3.0 * M_PI - 5.0 / 12.0 * M_PI;
+  EXPECT_NEAR(LeafClustersUnionVolume({left, right}, 20000, 1), exact, 0.02 * exact);
 }
 
 TEST(SyntheticTreeTest, OptionsAreChecked) {

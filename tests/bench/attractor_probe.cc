@@ -53,7 +53,7 @@ Result Evaluate(const SyntheticDataset& data, const BuiltSkeleton& built, const 
   ReportOptions report_options;
   report_options.write_images = false;
   FidelityReport report = ComputeFidelity(density, data.image_set, data.mattes, data.HeldOutFlags(), report_options);
-  AddMeshFidelity(mesh, built.skeleton, data.image_set, report_options, &report);
+  AddMeshFidelity(mesh, data.image_set, report_options, &report);
   int n = 0;
   for (const ViewFidelity& view : report.views) {
     if (view.held_out) continue;

@@ -48,12 +48,6 @@ using Clock = BenchClock;
 
 
 
-double Height(const SkeletonGraph& skeleton) {
-  double top = -std::numeric_limits<double>::infinity();
-  for (const SkeletonNode& node : skeleton.nodes) top = std::max(top, node.position.z());
-  return top - skeleton.nodes[skeleton.RootIdx()].position.z();
-}
-
 // Voxels within one voxel of the thin branches' sample points, opacity 0.4.
 DensityGrid ThinBranchDensity(const SkeletonGraph& skeleton, double thin_radius, double voxel) {
   DensityGrid grid(voxel, Eigen::Vector3d::Zero());
@@ -249,7 +243,7 @@ void KeepFiles(const std::filesystem::path& folder, const SkeletonGraph& with_tw
 
 int Main(bool quick, const std::string& keep) {
   SkeletonGraph skeleton = GenerateSyntheticSkeleton(SyntheticTreeOptions(), 1);
-  const double height = Height(skeleton);
+  const double height = skeleton.Height();
   const double thin = 0.35 * skeleton.nodes[skeleton.RootIdx()].radius;
   const DensityGrid density = ThinBranchDensity(skeleton, thin, 0.02 * height);
   TwigOptions twig_options;

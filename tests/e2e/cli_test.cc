@@ -713,9 +713,11 @@ TEST_F(CliTest, TreeOutputsReloadAndFollowTheSeed) {
   const double mesh_iou = report.at("mesh_input_views").at("mean_iou").get<double>();
   EXPECT_GT(mesh_iou, 0.5);
   // The scientific outputs: one cylinder per (non-degenerate) skeleton edge,
-  // radii marked as a prior; the metrics' height is the skeleton's.
+  // positions marked measured, the branching and radii priors.
   const QsmModel qsm = ReadQsmCsv(out / "qsm.csv");
   EXPECT_EQ(qsm.radius_source, "allometric prior");
+  EXPECT_EQ(qsm.position_source, "measured");
+  EXPECT_EQ(qsm.branching_source, "prior");
   EXPECT_GT(static_cast<int>(qsm.cylinders.size()), skeleton.NumNodes() / 2);
   EXPECT_LE(static_cast<int>(qsm.cylinders.size()), skeleton.NumNodes() - 1);
   double cylinder_length = 0;
@@ -742,11 +744,20 @@ TEST_F(CliTest, TreeOutputsReloadAndFollowTheSeed) {
   EXPECT_GT(instances, 1000);
   const Json metrics = ReadJsonFile(out / "metrics.json");
   EXPECT_EQ(metrics.at("format"), "sylva-tree-metrics");
-  // The report's height is the mesh's (leaves reach above the skeleton).
-  const double report_height = report.at("tree").at("height").get<double>();
-  EXPECT_LE(metrics.at("height").get<double>(), report_height * 1.001);
-  EXPECT_GE(metrics.at("height").get<double>(), report_height * 0.9);
+  EXPECT_EQ(metrics.at("version"), 2);
+  // The report's tree figures are metrics.json's: one definition of each.
+  EXPECT_EQ(report.at("tree"), metrics);
+  // The height reaches the crown's top: about the mesh's (leaves included).
+  const double mesh_top = ReadObj(out / "tree.obj").Bounds().max().z() -
+                          skeleton.nodes[skeleton.RootIdx()].position.z();
+  EXPECT_NEAR(metrics.at("height").get<double>(), mesh_top, 0.1 * mesh_top);
+  EXPECT_GE(metrics.at("height").get<double>(), skeleton.Height());
   EXPECT_GT(metrics.at("crown_volume_hull").get<double>(), 0);
+  // Measured or prior, per figure.
+  EXPECT_EQ(metrics.at("sources").at("height"), "measured");
+  EXPECT_EQ(metrics.at("sources").at("crown_volume_density"), "measured");
+  EXPECT_EQ(metrics.at("sources").at("dbh"), "allometric prior");
+  EXPECT_EQ(metrics.at("sources").at("orders"), "prior");
 
   const std::string glb_bytes = ReadFileToString(out / "tree.glb");
   const std::string skeleton_bytes = ReadFileToString(out / "skeleton.json");
@@ -894,7 +905,11 @@ TEST_F(CliTest, MeshQsmMakesClosedBarkFromLaserScanCylinders) {
       EXPECT_NEAR(a.length, b.length, 1e-6 * a.length);
       EXPECT_NEAR(a.radius, b.radius, 1e-6 * a.radius);
     }
-    EXPECT_TRUE(ReadJsonFile(out / "metrics.json").at("dbh").is_number()) << name;
+    const Json metrics = ReadJsonFile(out / "metrics.json");
+    EXPECT_TRUE(metrics.at("dbh").is_number()) << name;
+    // ITSMe's tables record no sources: the figures say so.
+    EXPECT_EQ(metrics.at("sources").at("dbh"), "unknown") << name;
+    EXPECT_EQ(metrics.at("sources").at("height"), "unknown") << name;
   }
   const fs::path broken = work_ / "broken.csv";
   WriteFile(broken, "id,parent_id,start_x,start_y,start_z,axis_x,axis_y,axis_z,length,radius,"
@@ -988,6 +1003,18 @@ TEST_F(CliTest, BundledDemoMeetsItsFidelityTargets) {
   const Box3d bounds = grid.ActiveWorldBounds();
   EXPECT_LT(bounds.min().z(), 0.5);
   EXPECT_GT(bounds.max().z(), 5.5);
+  // The metrics against the generator's tree (seed 1: top 5.84 m, crown
+  // base 1.50 m, its leaf clusters' union 27.8 m^3); they once said crown
+  // base 0 (twigs at the base) and a density crown volume of 0.018 m^3.
+  const Json metrics = ReadJsonFile(project / "out" / "metrics.json");
+  const double height = metrics.at("height").get<double>();
+  EXPECT_NEAR(height, 5.84, 0.05 * 5.84);
+  EXPECT_GT(metrics.at("crown_base_height").get<double>(), 0.5 * 1.50);
+  EXPECT_LT(metrics.at("crown_base_height").get<double>(), 1.5 * 1.50);
+  const double volume = metrics.at("crown_volume_density").get<double>();
+  EXPECT_GT(volume, 0.8 * 27.8);
+  EXPECT_LT(volume, metrics.at("crown_volume_hull").get<double>());
+  EXPECT_TRUE(Contains(run.out, "Tree (out/metrics.json): height")) << run.out;
 }
 
 // ---- Real photos (issue 4): matting, registration, world frame ----
@@ -1158,6 +1185,12 @@ TEST_F(CliTest, ManualRegistrationOfTwoOrthographicViews) {
   EXPECT_EQ(registration.at("unregistered").size(), 1u);
   const Json report = ReadJsonFile(project / "out" / "report.json");
   EXPECT_GT(report.at("input_views").at("mean_iou").get<double>(), 0.85) << report.dump(2);
+  // No held-out views: their figures are absent, not 0.
+  EXPECT_EQ(report.at("held_out_views").at("num_views").get<int>(), 0);
+  EXPECT_TRUE(report.at("held_out_views").at("mean_iou").is_null()) << report.dump(2);
+  EXPECT_TRUE(report.at("held_out_views").at("min_iou").is_null());
+  EXPECT_FALSE(Contains(run.out, "held-out views (0)")) << run.out;
+  EXPECT_TRUE(Contains(run.out, "no held-out views")) << run.out;
 }
 
 // Bad real-photo input: a photo that does not decode, mixed alpha, a

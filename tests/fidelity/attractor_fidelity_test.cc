@@ -67,7 +67,7 @@ std::vector<double> MeshIoUs(const BuiltSkeleton& built, const DensityGrid& dens
   report_options.write_images = false;
   FidelityReport report =
       ComputeFidelity(density, data.image_set, data.mattes, data.HeldOutFlags(), report_options);
-  AddMeshFidelity(mesh, built.skeleton, data.image_set, report_options, &report);
+  AddMeshFidelity(mesh, data.image_set, report_options, &report);
   std::vector<double> ious;
   for (const ViewFidelity& view : report.views) ious.push_back(view.mesh_scores.iou);
   return ious;

@@ -3,8 +3,9 @@
 // (+ tree.mtl), the bark alone as a closed solid in out/bark.obj (without
 // separately meshed twigs: Twigs.mesh, whose tubes are in tree.*); and the
 // scientific outputs: out/qsm.csv (one cylinder per skeleton edge, TreeQSM's
-// columns, radii marked as an allometric prior) and out/metrics.json (height,
-// crown, DBH when metric, branches per order).
+// columns; positions marked measured, branching a prior, radii an allometric
+// prior) and out/metrics.json (height, crown, DBH when metric, branches per
+// order; each figure labelled measured or prior).
 #include <sstream>
 
 #include "core/io/mesh_io.h"
@@ -45,19 +46,27 @@ StageRun RunMeshStage(const StageContext& context) {
   gltf.extras["units"] = context.Units();
   gltf.extras["branch_radii"] = "allometric prior (pipe model), not a measurement";
   const std::string units = context.Units();
-  const TreeMetricsReport metrics = ComputeTreeMetrics(skeleton, &density, units);
+  // Positions follow the photos' density; the branching is the particle
+  // flow's (a prior); the radii are allometric (skeleton.radius_source).
+  const SkeletonSources sources = SkeletonSources::Reconstruction();
+  const TreeMetricsReport metrics =
+      ComputeTreeMetrics(skeleton, &density, units, TreeMetricsOptions(), sources);
   gltf.instance_leaves = geometry_options.instance_leaves;
   run.outputs = {context.Out("tree.glb"), context.Out("tree.obj"), context.Out("bark.obj"),
                  context.Out("qsm.csv"), context.Out("metrics.json")};
   WriteGlb(run.outputs[0], geometry.Wood(), geometry.leaves, gltf);
   WriteObj(run.outputs[1], mesh);
   WriteObj(run.outputs[2], geometry.bark);
-  WriteQsmCsv(run.outputs[3], QsmFromSkeleton(skeleton, units));
+  QsmModel qsm = QsmFromSkeleton(skeleton, units);
+  qsm.position_source = sources.positions;
+  qsm.branching_source = sources.branching;
+  WriteQsmCsv(run.outputs[3], qsm);
   WriteTreeMetricsJson(run.outputs[4], metrics);
   std::ostringstream brief;
   brief << " Metrics (out/metrics.json): height " << metrics.height << " " << units
-        << ", crown width " << metrics.crown_width << ", " << metrics.num_tips << " tips; "
-        << "cylinders in out/qsm.csv.";
+        << ", crown base " << metrics.crown_base_height << ", crown width "
+        << metrics.crown_width << " (measured), " << metrics.num_tips
+        << " tips (prior); cylinders in out/qsm.csv.";
   run.brief += brief.str();
   progress.Update(1.0);
   return run;

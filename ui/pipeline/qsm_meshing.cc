@@ -57,8 +57,10 @@ std::vector<std::filesystem::path> WriteQsmMeshing(const QsmMeshing& meshing,
   // The table as read (merged connectors move starts slightly; the exact
   // skeleton round trip is SkeletonsFromQsm with merge_fraction 0).
   WriteQsmCsv(paths[3], qsm);
-  WriteTreeMetricsJson(paths[4],
-                       ComputeTreeMetrics(meshing.parts[largest].skeleton, nullptr, qsm.units));
+  // Labelled with the table's own sources ("unknown" when it has none).
+  WriteTreeMetricsJson(paths[4], ComputeTreeMetrics(meshing.parts[largest].skeleton, nullptr,
+                                                    qsm.units, TreeMetricsOptions(),
+                                                    {qsm.position_source, qsm.branching_source}));
   for (const std::filesystem::path& preview :
        WritePreviewPngs(RenderReportPreviews(meshing.bark, nullptr, report), out_dir)) {
     paths.push_back(preview);

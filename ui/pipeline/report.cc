@@ -15,6 +15,27 @@
 #include "reconstruct/density/opacity_projection.h"
 
 namespace sylva {
+
+FidelityGroup SummariseViews(const std::vector<ViewFidelity>& views, bool held_out, bool mesh) {
+  FidelityGroup group;
+  double iou = 0.0, min_iou = 1.0, precision = 0.0, recall = 0.0;
+  for (const ViewFidelity& view : views) {
+    if (view.held_out != held_out || (mesh && !view.has_mesh)) continue;
+    const SilhouetteScores& scores = mesh ? view.mesh_scores : view.scores;
+    ++group.num_views;
+    iou += scores.iou;
+    min_iou = std::min(min_iou, scores.iou);
+    precision += scores.precision;
+    recall += scores.recall;
+  }
+  if (group.num_views == 0) return group;  // no scores: absent, not 0
+  group.mean_iou = iou / group.num_views;
+  group.min_iou = min_iou;
+  group.mean_precision = precision / group.num_views;
+  group.mean_recall = recall / group.num_views;
+  return group;
+}
+
 namespace {
 
 // Comparison pictures are enlarged (nearest neighbour) to at least this size.
@@ -22,31 +43,18 @@ constexpr int kMinPictureSize = 256;
 // Shaded renders of the mesh are made at most this many pixels across.
 constexpr int kRenderSize = 512;
 
-FidelityGroup Summarise(const std::vector<ViewFidelity>& views, bool held_out, bool mesh) {
-  FidelityGroup group;
-  group.min_iou = 1.0;
-  for (const ViewFidelity& view : views) {
-    if (view.held_out != held_out || (mesh && !view.has_mesh)) continue;
-    const SilhouetteScores& scores = mesh ? view.mesh_scores : view.scores;
-    ++group.num_views;
-    group.mean_iou += scores.iou;
-    group.min_iou = std::min(group.min_iou, scores.iou);
-    group.mean_precision += scores.precision;
-    group.mean_recall += scores.recall;
-  }
-  if (group.num_views == 0) return FidelityGroup();
-  group.mean_iou /= group.num_views;
-  group.mean_precision /= group.num_views;
-  group.mean_recall /= group.num_views;
-  return group;
+// A value with 3 decimals, or "none" if absent.
+std::string Fixed(const std::optional<double>& value) {
+  if (!value) return "none";
+  std::ostringstream out;
+  out << std::fixed << std::setprecision(3) << *value;
+  return out.str();
 }
 
 std::string GroupLine(const char* label, const FidelityGroup& group) {
-  std::ostringstream out;
-  out << std::fixed << std::setprecision(3) << "  " << label << " (" << group.num_views
-      << "): IoU mean " << group.mean_iou << ", min " << group.min_iou << "; precision "
-      << group.mean_precision << ", recall " << group.mean_recall << "\n";
-  return out.str();
+  return std::string("  ") + label + " (" + std::to_string(group.num_views) + "): IoU mean " +
+         Fixed(group.mean_iou) + ", min " + Fixed(group.min_iou) + "; precision " +
+         Fixed(group.mean_precision) + ", recall " + Fixed(group.mean_recall) + "\n";
 }
 
 // White: both; red: predicted only; blue: matte only; dark: neither.
@@ -73,10 +81,17 @@ Json ScoresJson(const SilhouetteScores& s) {
           {"false_negative", s.false_negative}};
 }
 
+Json OptionalJson(const std::optional<double>& value) {
+  return value ? Json(*value) : Json(nullptr);
+}
+
+// Absent scores (no views in the group) are null.
 Json GroupJson(const FidelityGroup& group) {
-  return {{"num_views", group.num_views},   {"mean_iou", group.mean_iou},
-          {"min_iou", group.min_iou},       {"mean_precision", group.mean_precision},
-          {"mean_recall", group.mean_recall}};
+  return {{"num_views", group.num_views},
+          {"mean_iou", OptionalJson(group.mean_iou)},
+          {"min_iou", OptionalJson(group.min_iou)},
+          {"mean_precision", OptionalJson(group.mean_precision)},
+          {"mean_recall", OptionalJson(group.mean_recall)}};
 }
 
 Json WarningsJson(const std::vector<Warning>& warnings) {
@@ -99,17 +114,6 @@ Json ViewJson(const ViewFidelity& view) {
   return json;
 }
 
-Json TreeJson(const TreeMetrics& tree) {
-  return {{"height", tree.height},
-          {"crown_width", tree.crown_width},
-          {"trunk_radius", tree.trunk_radius},
-          {"trunk_radius_is", "an allometric prior scaled to the mattes, not a measurement"},
-          {"total_branch_length", tree.total_branch_length},
-          {"branches_per_order", tree.branches_per_order},
-          {"skeleton_nodes", tree.num_skeleton_nodes},
-          {"triangles", tree.num_triangles}};
-}
-
 // out/report/preview_<k>.png
 fs::path PreviewPath(size_t k) {
   return fs::path("report") / ("preview_" + std::to_string(k) + ".png");
@@ -121,7 +125,7 @@ Json ReportJson(const FidelityReport& report, const std::map<std::string, std::s
   const Box3d& b = report.bounds;
   Json json = {
       {"format", "sylva-report"},
-      {"version", 2},
+      {"version", 3},
       {"what", "silhouettes of the projected density grid and of the rendered mesh against the "
                "mattes, per view; input and held-out views separately"},
       {"units", report.units},
@@ -138,8 +142,10 @@ Json ReportJson(const FidelityReport& report, const std::map<std::string, std::s
   if (report.has_tree) {
     json["mesh_input_views"] = GroupJson(report.mesh_input);
     json["mesh_held_out_views"] = GroupJson(report.mesh_held_out);
-    json["tree"] = TreeJson(report.tree);
+    json["mesh_triangles"] = report.num_mesh_triangles;
   }
+  // The tree's figures as out/metrics.json has them (with their sources).
+  if (report.has_metrics) json["tree"] = Json::parse(report.metrics.ToJson());
   Json previews = Json::array();
   for (size_t k = 0; k < report.previews.size(); ++k) {
     previews.push_back(PreviewPath(k).generic_string());
@@ -172,8 +178,10 @@ std::string ImageCell(const std::string& kind, const std::string& view_name) {
 }
 
 // One row of the Tree section's table; `value` already formatted.
-std::string MetricRow(const std::string& name, const std::string& value) {
-  return "<tr><td>" + HtmlEscape(name) + "</td><td>" + HtmlEscape(value) + "</td></tr>\n";
+std::string MetricRow(const std::string& name, const std::string& value,
+                      const std::string& source) {
+  return "<tr><td>" + HtmlEscape(name) + "</td><td>" + HtmlEscape(value) + "</td><td>" +
+         HtmlEscape(source) + "</td></tr>\n";
 }
 
 std::string Number(double value, const std::string& unit) {
@@ -182,7 +190,8 @@ std::string Number(double value, const std::string& unit) {
   return out.str();
 }
 
-// The previews beside the mesh stage's tree metrics.
+// The previews beside the tree's figures from out/metrics.json, each with
+// its source (measured from the photos, or a prior).
 std::string TreeSectionHtml(const FidelityReport& report) {
   if (report.previews.empty() && !report.has_metrics) return "";
   std::ostringstream html;
@@ -193,25 +202,32 @@ std::string TreeSectionHtml(const FidelityReport& report) {
   html << "</div>\n";
   if (!report.has_metrics) return html.str();
   const TreeMetricsReport& m = report.metrics;
-  html << "<table>\n" << MetricRow("height", Number(m.height, m.units))
-       << MetricRow("crown width", Number(m.crown_width, m.units))
-       << MetricRow("crown depth", Number(m.crown_depth, m.units))
-       << MetricRow("crown base height", Number(m.crown_base_height, m.units))
-       << MetricRow("crown volume (convex hull)", Number(m.crown_volume_hull, m.units + "^3"));
-  if (m.crown_volume_density) {
-    html << MetricRow("crown volume (density voxels)",
-                      Number(*m.crown_volume_density, m.units + "^3"));
-  }
-  html << MetricRow("DBH", m.dbh ? Number(*m.dbh, m.units) : "none: " + m.dbh_note)
-       << MetricRow("tips", std::to_string(m.num_tips))
-       << MetricRow("total branch length", Number(m.total_length, m.units));
+  const std::string volume = m.units + "^3";
+  const auto row = [&](const std::string& name, const std::string& value, const char* figure) {
+    return MetricRow(name, value, m.SourceOf(figure));
+  };
+  html << "<table>\n<tr><th>figure</th><th>value</th><th>source</th></tr>\n"
+       << row("height", Number(m.height, m.units), "height")
+       << row("crown base height", Number(m.crown_base_height, m.units), "crown_base_height")
+       << row("crown depth", Number(m.crown_depth, m.units), "crown_depth")
+       << row("crown width", Number(m.crown_width, m.units), "crown_width")
+       << row("crown volume (convex hull)", Number(m.crown_volume_hull, volume), "crown_volume_hull")
+       << row("crown volume (density)",
+              m.crown_volume_density ? Number(*m.crown_volume_density, volume) : "none",
+              "crown_volume_density")
+       << row("DBH", m.dbh ? Number(*m.dbh, m.units) : "none: " + m.dbh_note, "dbh")
+       << row("tips", std::to_string(m.num_tips), "num_tips")
+       << row("total branch length", Number(m.total_length, m.units), "total_length");
   for (const OrderMetrics& order : m.orders) {
     std::string value = std::to_string(order.num_branches) + " branches, " +
                         Number(order.total_length, m.units);
     if (order.num_angles > 0) value += ", mean angle " + Number(order.mean_angle_deg, "deg");
-    html << MetricRow("order " + std::to_string(order.order), value);
+    html << row("order " + std::to_string(order.order), value, "orders");
   }
-  html << "</table>\n<p>Metrics from out/metrics.json; branch radii are an allometric prior.</p>\n";
+  html << "</table>\n<p>Figures from out/metrics.json. Sources: <i>measured</i> from the photos "
+          "(the density and the skeleton that follows it); <i>prior</i>: set by the model "
+          "(the particle count and merging for the branching, the pipe model for the radii), "
+          "not measured.</p>\n";
   return html.str();
 }
 
@@ -269,17 +285,21 @@ Camera DownsampledCamera(const Camera& camera, int factor) {
 
 std::string FidelityReport::BriefReport() const {
   std::string text = "Fidelity (silhouettes vs mattes, at about the grid's resolution):\n";
-  text += GroupLine("density, input views", input);
+  if (input.num_views > 0) text += GroupLine("density, input views", input);
   if (held_out.num_views > 0) text += GroupLine("density, held-out views", held_out);
-  if (has_tree) {
-    text += GroupLine("mesh, input views", mesh_input);
-    if (mesh_held_out.num_views > 0) text += GroupLine("mesh, held-out views", mesh_held_out);
+  if (mesh_input.num_views > 0) text += GroupLine("mesh, input views", mesh_input);
+  if (mesh_held_out.num_views > 0) text += GroupLine("mesh, held-out views", mesh_held_out);
+  if (held_out.num_views == 0) text += "  no held-out views\n";
+  if (has_metrics) {
+    const TreeMetricsReport& m = metrics;
     std::ostringstream out;
-    out << "Tree: height " << tree.height << ", crown width " << tree.crown_width
-        << ", trunk radius " << tree.trunk_radius << " (allometric prior), branch length "
-        << tree.total_branch_length << " " << units << "; branches per order";
-    for (int count : tree.branches_per_order) out << " " << count;
-    out << ".\n";
+    out << "Tree (out/metrics.json): height " << Number(m.height, m.units) << ", crown base "
+        << Number(m.crown_base_height, m.units) << ", crown width "
+        << Number(m.crown_width, m.units) << " (" << m.SourceOf("height") << "); DBH "
+        << (m.dbh ? Number(*m.dbh, m.units) : "none") << " (" << m.SourceOf("dbh")
+        << "); branch length " << Number(m.total_length, m.units) << ", branches per order";
+    for (const OrderMetrics& order : m.orders) out << " " << order.num_branches;
+    out << " (" << m.SourceOf("orders") << ").\n";
     text += out.str();
   }
   return text;
@@ -311,8 +331,8 @@ FidelityReport ComputeFidelity(const DensityGrid& grid, const ImageSet& image_se
                                      static_cast<float>(options.matte_threshold));
     report.views.push_back(std::move(view));
   }
-  report.input = Summarise(report.views, false, false);
-  report.held_out = Summarise(report.views, true, false);
+  report.input = SummariseViews(report.views, false, false);
+  report.held_out = SummariseViews(report.views, true, false);
   return report;
 }
 
@@ -325,46 +345,11 @@ void AddWarnings(const std::vector<Warning>& warnings, FidelityReport* report) {
   }
 }
 
-TreeMetrics ComputeTreeMetrics(const SkeletonGraph& skeleton, const TriangleMesh& mesh) {
-  TreeMetrics tree;
-  const int root = skeleton.RootIdx();
-  if (root < 0) return tree;
-  tree.trunk_radius = skeleton.nodes[root].radius;
-  tree.total_branch_length = skeleton.TotalLength();
-  tree.num_skeleton_nodes = skeleton.NumNodes();
-  tree.num_triangles = mesh.NumTriangles();
-  std::vector<int> orders;
-  skeleton.BranchAxes(&orders);
-  for (int order : orders) {
-    if (order >= static_cast<int>(tree.branches_per_order.size())) {
-      tree.branches_per_order.resize(order + 1, 0);
-    }
-    ++tree.branches_per_order[order];
-  }
-  // Height from the root to the top of the mesh; crown width over the leaves
-  // (every triangle if the mesh has none).
-  Box3d all, leaves;
-  for (int t = 0; t < mesh.NumTriangles(); ++t) {
-    const bool is_leaf = mesh.materials[mesh.triangle_materials[t]].name == "leaves";
-    for (int k = 0; k < 3; ++k) {
-      const Eigen::Vector3d p = mesh.vertices[mesh.triangles[t][k]].cast<double>();
-      all.extend(p);
-      if (is_leaf) leaves.extend(p);
-    }
-  }
-  if (all.isEmpty()) return tree;
-  tree.height = all.max().z() - skeleton.nodes[root].position.z();
-  const Box3d& crown = leaves.isEmpty() ? all : leaves;
-  tree.crown_width = std::max(crown.sizes().x(), crown.sizes().y());
-  return tree;
-}
-
-void AddMeshFidelity(const TriangleMesh& mesh, const SkeletonGraph& skeleton,
-                     const ImageSet& image_set, const ReportOptions& options,
-                     FidelityReport* report) {
+void AddMeshFidelity(const TriangleMesh& mesh, const ImageSet& image_set,
+                     const ReportOptions& options, FidelityReport* report) {
   SYLVA_CHECK(static_cast<int>(report->views.size()) == image_set.NumViews());
   report->has_tree = true;
-  report->tree = ComputeTreeMetrics(skeleton, mesh);
+  report->num_mesh_triangles = mesh.NumTriangles();
   if (mesh.NumTriangles() == 0) return;
   const MeshRenderer renderer(mesh);
   MeshRenderOptions shading;
@@ -385,8 +370,8 @@ void AddMeshFidelity(const TriangleMesh& mesh, const SkeletonGraph& skeleton,
       view.mesh_render = renderer.RenderRgba(DownsampledCamera(camera, factor), pose, shading);
     }
   }
-  report->mesh_input = Summarise(report->views, false, true);
-  report->mesh_held_out = Summarise(report->views, true, true);
+  report->mesh_input = SummariseViews(report->views, false, true);
+  report->mesh_held_out = SummariseViews(report->views, true, true);
 }
 
 std::vector<FloatImage> RenderReportPreviews(const TriangleMesh& bark, const LeafInstances* leaves,

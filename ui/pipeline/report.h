@@ -5,15 +5,14 @@
 #define SYLVA_UI_PIPELINE_REPORT_H_
 
 #include <filesystem>
+#include <map>
+#include <optional>
 #include <string>
 #include <vector>
-
-#include <map>
 
 #include "core/types/density_grid.h"
 #include "core/types/float_image.h"
 #include "core/types/image_set.h"
-#include "core/types/skeleton_graph.h"
 #include "core/types/triangle_mesh.h"
 #include "core/util/warning.h"
 #include "datasets/eval/silhouette_metrics.h"
@@ -39,30 +38,20 @@ struct ViewFidelity {
   std::vector<Warning> warnings;
 };
 
-// Facts about the reconstructed tree (world units of the project).
-struct TreeMetrics {
-  double height = 0;                // top of the mesh above the skeleton's root
-  double crown_width = 0;           // largest horizontal extent of the leaves (or mesh)
-  double trunk_radius = 0;          // root radius (an allometric prior)
-  double total_branch_length = 0;   // sum of skeleton edge lengths
-  std::vector<int> branches_per_order;  // branch axes of order 0, 1, ...
-  int num_skeleton_nodes = 0;
-  int num_triangles = 0;
-};
-
+// The scores of a group of views; absent (not 0) when the group has none.
 struct FidelityGroup {
   int num_views = 0;
-  double mean_iou = 0, min_iou = 0, mean_precision = 0, mean_recall = 0;
+  std::optional<double> mean_iou, min_iou, mean_precision, mean_recall;
 };
 
 struct FidelityReport {
   std::vector<ViewFidelity> views;
   FidelityGroup input, held_out;            // density
   FidelityGroup mesh_input, mesh_held_out;  // mesh (if any)
-  bool has_tree = false;
-  TreeMetrics tree;
-  // The mesh stage's tree metrics (out/metrics.json), for report.html's
-  // "Tree" section.
+  bool has_tree = false;                    // the mesh was compared
+  int num_mesh_triangles = 0;
+  // The tree's figures: the mesh stage's out/metrics.json (mesh/tree_metrics.h,
+  // the one definition of each figure), as read back.
   bool has_metrics = false;
   TreeMetricsReport metrics;
   // Preview pictures of the tree (Report.previews), written as
@@ -81,6 +70,10 @@ struct FidelityReport {
   std::string BriefReport() const;
 };
 
+// The scores of `views` that are held out (or not), of the density (or of
+// the mesh: views with has_mesh only).
+FidelityGroup SummariseViews(const std::vector<ViewFidelity>& views, bool held_out, bool mesh);
+
 // Projects `grid` into every view of `image_set` (one ray per downsampled
 // pixel, at ReportOptions::pixels_per_voxel) and compares with `mattes`
 // (full resolution, one per view).
@@ -95,13 +88,9 @@ void AddWarnings(const std::vector<Warning>& warnings, FidelityReport* report);
 
 // Renders `mesh` (Embree) from every view of `image_set` at the resolution
 // each view was compared at, and compares its coverage with the matte; also
-// keeps a shaded picture of each view (if options.write_images). Adds the
-// tree's metrics.
-void AddMeshFidelity(const TriangleMesh& mesh, const SkeletonGraph& skeleton,
-                     const ImageSet& image_set, const ReportOptions& options,
-                     FidelityReport* report);
-
-TreeMetrics ComputeTreeMetrics(const SkeletonGraph& skeleton, const TriangleMesh& mesh);
+// keeps a shaded picture of each view (if options.write_images).
+void AddMeshFidelity(const TriangleMesh& mesh, const ImageSet& image_set,
+                     const ReportOptions& options, FidelityReport* report);
 
 // Preview pictures of a tree (mesh/tree_preview.h) at Report.preview_size
 // with Report.preview_samples_per_axis, 4 views (azimuths 0, 90, 180, 270

@@ -1,8 +1,8 @@
 // The report stage: the density's projection and, once the tree exists, the
 // mesh's rendered silhouette against every view's matte (input and held-out
-// separately), plus the tree's metrics and preview pictures (leaves drawn as
-// instances) -> out/report.json, report.html and pictures under out/report/.
-#include "core/io/skeleton_io.h"
+// separately), plus the tree's metrics as the mesh stage wrote them
+// (out/metrics.json) and preview pictures (leaves drawn as instances) ->
+// out/report.json, report.html and pictures under out/report/.
 #include "core/io/vdb_io.h"
 #include "mesh/gltf_export.h"
 #include "ui/pipeline/report.h"
@@ -25,9 +25,9 @@ StageRun RunReportStage(const StageContext& context) {
     const TriangleMesh bark = ReadGlbKeepingLeafInstances(context.Out("tree.glb"), &leaves);
     TriangleMesh mesh = bark;
     mesh.Append(leaves.Bake());
-    const SkeletonGraph skeleton = ReadSkeletonJson(context.RequireOutput("skeleton.json", "skeleton"));
-    AddMeshFidelity(mesh, skeleton, image_set, context.options.report, &report);
-    report.metrics = ComputeTreeMetrics(skeleton, &grid, report.units);
+    AddMeshFidelity(mesh, image_set, context.options.report, &report);
+    // The tree's figures are the mesh stage's: one definition of each.
+    report.metrics = ReadTreeMetricsJson(context.RequireOutput("metrics.json", "mesh"));
     report.has_metrics = true;
     ProgressTask progress(context.progress, "report: preview pictures");
     progress.Update(0.0);

@@ -26,12 +26,6 @@ constexpr uint64_t kParticleSeedStream = 1;
 constexpr uint64_t kLeafSeedStream = 2;
 constexpr uint64_t kTwigSeedStream = 4;  // 3: the attract stage's livewire
 
-double SkeletonHeight(const SkeletonGraph& skeleton, const Eigen::Vector3d& base) {
-  double top = base.z();
-  for (const SkeletonNode& node : skeleton.nodes) top = std::max(top, node.position.z());
-  return top - base.z();
-}
-
 // The trunk radius and how it was found.
 double TrunkRadius(const ImageSet& views, const std::vector<FloatImage>& mattes,
                    const SkeletonOptions& options, const Eigen::Vector3d& base, double height,
@@ -87,7 +81,7 @@ BuiltSkeleton BuildSkeleton(const DensityGrid& density, const ImageSet& input_vi
   MattePruningSummary pruning;
   built.skeleton =
       PruneBranchesOutsideMattes(flowed, input_views, mattes, options.skeleton.pruning, &pruning);
-  const double height = std::max(SkeletonHeight(built.skeleton, built.base), density.voxel_size());
+  const double height = std::max(built.skeleton.Height(), density.voxel_size());
   std::string how;
   AllometryOptions allometry = options.allometry;
   allometry.trunk_radius =
