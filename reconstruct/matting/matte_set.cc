@@ -83,46 +83,39 @@ StaticCounts CountStaticForeground(const std::vector<FloatImage>& photos,
   return counts;
 }
 
-// Static structure: pixels foreground and unchanged in at least `needed`
-// photos, grown into the pixels that are foreground in as many photos (the
-// structure's edges, where JPEG noise and blending change the colour).
-cv::Mat StaticPixels(const StaticCounts& counts, int needed) {
+// Pixels foreground in at least `needed` photos ("persistent"), and those of
+// them that belong to a piece anchored by pixels also unchanged in colour in
+// that many photos: the core grown into the persistent pixels around it
+// (the structure's edges, where JPEG noise and blending change the colour).
+struct StaticPixels {
+  cv::Mat persistent;
+  cv::Mat anchored;
+};
+
+StaticPixels FindStaticPixels(const StaticCounts& counts, int needed) {
+  StaticPixels pixels;
+  pixels.persistent = counts.foreground >= needed;
   cv::Mat core = counts.unchanged >= needed;
   cv::morphologyEx(core, core, cv::MORPH_OPEN, Disk(kStaticSpeckRadius));
-  const cv::Mat persistent = counts.foreground >= needed;
   // Morphological reconstruction of the core inside the persistent pixels.
-  cv::Mat grown = core & persistent, previous;
+  cv::Mat grown = core & pixels.persistent, previous;
   do {
     previous = grown.clone();
     cv::dilate(grown, grown, Disk(1));
-    grown &= persistent;
+    grown &= pixels.persistent;
   } while (cv::countNonZero(grown != previous) > 0);
-  return grown | core;
+  pixels.anchored = grown | core;
+  return pixels;
 }
 
-// Foreground pixels of the group's mattes in total, and those outside `structure`.
-void CountMoving(const std::vector<FloatImage>& mattes, const std::vector<int>& group,
-                 const cv::Mat& structure, int64_t* foreground, int64_t* moving) {
-  *foreground = *moving = 0;
-  for (int i : group) {
-    for (int y = 0; y < structure.rows; ++y) {
-      for (int x = 0; x < structure.cols; ++x) {
-        if (mattes[i].at(x, y) < kForegroundAlpha) continue;
-        ++*foreground;
-        *moving += structure.at<uchar>(y, x) == 0;
-      }
-    }
-  }
-}
-
-// The union over the group's photos of foreground outside `structure`.
+// The union over the group's photos of foreground outside `fixed`.
 cv::Mat MovingUnion(const std::vector<FloatImage>& mattes, const std::vector<int>& group,
-                    const cv::Mat& structure) {
-  cv::Mat moving(structure.size(), CV_8U, cv::Scalar(0));
+                    const cv::Mat& fixed) {
+  cv::Mat moving(fixed.size(), CV_8U, cv::Scalar(0));
   for (int i : group) {
-    for (int y = 0; y < structure.rows; ++y) {
-      for (int x = 0; x < structure.cols; ++x) {
-        if (mattes[i].at(x, y) >= kForegroundAlpha && structure.at<uchar>(y, x) == 0) {
+    for (int y = 0; y < fixed.rows; ++y) {
+      for (int x = 0; x < fixed.cols; ++x) {
+        if (mattes[i].at(x, y) >= kForegroundAlpha && fixed.at<uchar>(y, x) == 0) {
           moving.at<uchar>(y, x) = 255;
         }
       }
@@ -131,9 +124,10 @@ cv::Mat MovingUnion(const std::vector<FloatImage>& mattes, const std::vector<int
   return moving;
 }
 
-// The large pieces of what moves: connected pieces of at least
-// kSubjectPieceShare of the largest one (specks of flicker are not the subject).
-cv::Mat SubjectPieces(const cv::Mat& moving) {
+// The subject: the large pieces of what moves, pieces of at least
+// kSubjectPieceShare of the largest one (specks of flicker are not), grown
+// by a pixel so that what touches them is next to them.
+cv::Mat NearSubject(const cv::Mat& moving) {
   cv::Mat labels, stats, centroids;
   const int num_labels = cv::connectedComponentsWithStats(moving, labels, stats, centroids, 8, CV_32S);
   int largest = 0;
@@ -149,20 +143,18 @@ cv::Mat SubjectPieces(const cv::Mat& moving) {
       }
     }
   }
+  cv::dilate(subject, subject, Disk(1));
   return subject;
 }
 
-// Static structure that belongs to the subject stays: a connected piece that
-// touches a large piece of what moves (a trunk or stem on the rotation axis,
-// which looks the same from every side, carries the moving crown) and does
-// not reach the image border (a rig's frame, rails and walls do). Returns the
-// rest.
-cv::Mat RigOnly(const cv::Mat& structure, const cv::Mat& moving) {
+// The connected pieces of `pixels` that are the rig's: those that do not
+// touch the subject, and, if `border_is_rig`, those that reach the image
+// border (a rig's frame, rails and walls do; a trunk carrying the crown does
+// not).
+cv::Mat RigPieces(const cv::Mat& pixels, const cv::Mat& near_subject, bool border_is_rig) {
   cv::Mat labels;
-  const int num_labels = cv::connectedComponents(structure, labels, 8, CV_32S);
-  std::vector<char> touches_border(num_labels, 0), touches_moving(num_labels, 0);
-  cv::Mat near_moving;
-  cv::dilate(SubjectPieces(moving), near_moving, Disk(1));
+  const int num_labels = cv::connectedComponents(pixels, labels, 8, CV_32S);
+  std::vector<char> touches_border(num_labels, 0), touches_subject(num_labels, 0);
   for (int y = 0; y < labels.rows; ++y) {
     for (int x = 0; x < labels.cols; ++x) {
       const int label = labels.at<int>(y, x);
@@ -170,19 +162,48 @@ cv::Mat RigOnly(const cv::Mat& structure, const cv::Mat& moving) {
       if (x == 0 || y == 0 || x == labels.cols - 1 || y == labels.rows - 1) {
         touches_border[label] = 1;
       }
-      if (near_moving.at<uchar>(y, x)) touches_moving[label] = 1;
+      if (near_subject.at<uchar>(y, x)) touches_subject[label] = 1;
     }
   }
-  cv::Mat rig(structure.size(), CV_8U, cv::Scalar(0));
+  cv::Mat rig(pixels.size(), CV_8U, cv::Scalar(0));
   for (int y = 0; y < labels.rows; ++y) {
     for (int x = 0; x < labels.cols; ++x) {
       const int label = labels.at<int>(y, x);
-      if (label != 0 && (touches_border[label] || !touches_moving[label])) {
+      if (label != 0 && ((border_is_rig && touches_border[label]) || !touches_subject[label])) {
         rig.at<uchar>(y, x) = 255;
       }
     }
   }
   return rig;
+}
+
+// The rig: anchored static pieces that reach the border or do not touch the
+// subject (a trunk or stem on the rotation axis, which looks the same from
+// every side and carries the moving crown, stays), and persistent pieces
+// without a colour anchor that do not touch the subject (a rig's thin edges,
+// whose colour JPEG noise changes). Persistent pieces touching the subject
+// stay even at the border: the middle of a crown that overflows the frame in
+// every photo of a camera ring.
+cv::Mat RigStructure(const StaticPixels& pixels, const std::vector<FloatImage>& mattes,
+                     const std::vector<int>& group) {
+  const cv::Mat near_subject = NearSubject(MovingUnion(mattes, group, pixels.persistent));
+  const cv::Mat loose = pixels.persistent & ~pixels.anchored;
+  return RigPieces(pixels.anchored, near_subject, true) | RigPieces(loose, near_subject, false);
+}
+
+// Foreground pixels of the group's mattes in total, and those outside `structure`.
+void CountMoving(const std::vector<FloatImage>& mattes, const std::vector<int>& group,
+                 const cv::Mat& structure, int64_t* foreground, int64_t* moving) {
+  *foreground = *moving = 0;
+  for (int i : group) {
+    for (int y = 0; y < structure.rows; ++y) {
+      for (int x = 0; x < structure.cols; ++x) {
+        if (mattes[i].at(x, y) < kForegroundAlpha) continue;
+        ++*foreground;
+        *moving += structure.at<uchar>(y, x) == 0;
+      }
+    }
+  }
 }
 
 FloatImage StructureImage(const cv::Mat& structure) {
@@ -241,10 +262,10 @@ std::vector<FloatImage> FindStaticStructure(const std::vector<FloatImage>& small
   for (const auto& [size, group] : GroupBySize(small_photos)) {
     if (static_cast<int>(group.size()) < options.static_min_photos) continue;
     const int needed = static_cast<int>(std::ceil(options.static_photo_fraction * group.size()));
-    cv::Mat structure = StaticPixels(
+    const StaticPixels pixels = FindStaticPixels(
         CountStaticForeground(small_photos, small_mattes, group, options.static_color_tolerance),
         needed);
-    structure = RigOnly(structure, MovingUnion(small_mattes, group, structure));
+    cv::Mat structure = RigStructure(pixels, small_mattes, group);
     if (cv::countNonZero(structure) == 0) continue;
     if (options.static_margin_px > 0) cv::dilate(structure, structure, Disk(options.static_margin_px));
     int64_t foreground = 0, moving = 0;

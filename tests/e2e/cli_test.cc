@@ -29,6 +29,7 @@
 #include "mesh/mesh_checks.h"
 #include "core/types/float_image.h"
 #include "core/util/file_util.h"
+#include "datasets/eval/silhouette_metrics.h"
 #include "tests/e2e/subprocess.h"
 
 namespace sylva {
@@ -1129,6 +1130,42 @@ TEST_F(CliTest, RealPhotosAreMattedRegisteredAndReconstructed) {
   const FloatImage painted = ReadMatte(out / "mattes" / fs::path(names[0]).replace_extension(".png"));
   EXPECT_GT(painted.at(20, 20), 0.99f);
   EXPECT_TRUE(Facts(other_matte) == other_before) << "an unchanged photo was re-matted";
+}
+
+// A phenotyping cabin (a fixed camera, the plant on a turntable): keying alone
+// keeps the cabin's frame, walls and rails in every photo (median IoU 0.18
+// against upstream's silhouettes of the plant); the matte stage finds them at
+// the same pixels in every photo, removes them and says so, and names the
+// one photo it cannot check (the top view, its camera's only photo).
+TEST_F(CliTest, FixedCameraRigIsRemovedFromRealMattes) {
+  const fs::path data = fs::path(SYLVA_SOURCE_DIR) / "datasets" / "phenomenal-plant1-quarter";
+  const fs::path project = work_ / "cabin";
+  ASSERT_TRUE(Succeeded(Sylva({"init", project.string(), "--photos", (data / "raw").string(),
+                               "--colmap", (data / "colmap").string(), "--units", "mm"})));
+  const SubprocessResult run = Sylva({"matte", project.string()});
+  ASSERT_TRUE(Succeeded(run));
+  EXPECT_TRUE(Contains(run.out, "warning [static-structure] 12 photos")) << run.out;
+  EXPECT_TRUE(Contains(run.out, "warning [implausible-matte] top/0.jpg")) << run.out;
+  std::vector<double> ious;
+  for (const std::string& name : ListImageFiles(data / "bin")) {
+    const FloatImage matte =
+        ReadMatte(project / "out" / "mattes" / fs::path(name).replace_extension(".png"));
+    const double iou = CompareSilhouettes(matte, ReadMatte(data / "bin" / name)).iou;
+    std::printf("%-14s IoU %.3f\n", name.c_str(), iou);
+    ious.push_back(iou);
+    if (name.rfind("side/", 0) == 0) {
+      EXPECT_GT(iou, 0.85) << name;
+    }
+  }
+  ASSERT_EQ(ious.size(), 13u);
+  std::nth_element(ious.begin(), ious.begin() + 6, ious.end());
+  EXPECT_GE(ious[6], 0.9) << "median IoU";
+  // Recorded with the stage, for the report and later runs.
+  const Json records = ReadJsonFile(project / "cache" / "stages.json");
+  EXPECT_EQ(records.at("matte").at("warnings").size(), 2u) << records.dump(2);
+  const SubprocessResult again = Sylva({"run", project.string(), "--until", "matte"});
+  EXPECT_TRUE(Contains(again.out, "matte: up to date")) << again.out;
+  EXPECT_TRUE(Contains(again.out, "warning [static-structure]")) << again.out;
 }
 
 // COLMAP registers real photos from the photos alone; its failures are clear
