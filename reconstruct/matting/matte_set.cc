@@ -26,6 +26,9 @@ constexpr int kStaticSpeckRadius = 1;
 // Pieces of the moving foreground smaller than this share of the largest
 // piece are flicker, not the subject.
 constexpr double kSubjectPieceShare = 0.05;
+// Static structure covering less than this share of the image is left alone:
+// a few pixels of a trunk's base or of flicker, not a rig.
+constexpr double kMinStructureShare = 0.001;
 
 std::string Percent(double share) {
   std::ostringstream out;
@@ -266,7 +269,7 @@ std::vector<FloatImage> FindStaticStructure(const std::vector<FloatImage>& small
         CountStaticForeground(small_photos, small_mattes, group, options.static_color_tolerance),
         needed);
     cv::Mat structure = RigStructure(pixels, small_mattes, group);
-    if (cv::countNonZero(structure) == 0) continue;
+    if (cv::countNonZero(structure) < kMinStructureShare * structure.total()) continue;
     if (options.static_margin_px > 0) cv::dilate(structure, structure, Disk(options.static_margin_px));
     int64_t foreground = 0, moving = 0;
     CountMoving(small_mattes, group, structure, &foreground, &moving);

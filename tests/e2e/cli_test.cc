@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <set>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -1130,6 +1131,78 @@ TEST_F(CliTest, RealPhotosAreMattedRegisteredAndReconstructed) {
   const FloatImage painted = ReadMatte(out / "mattes" / fs::path(names[0]).replace_extension(".png"));
   EXPECT_GT(painted.at(20, 20), 0.99f);
   EXPECT_TRUE(Facts(other_matte) == other_before) << "an unchanged photo was re-matted";
+}
+
+// A tree photographed on dark cloth, ten views around it; in two neighbouring
+// views the camera also sees the bright room behind the cloth. The mattes stay
+// right there; then a matte made wrong (inverted, by a trimap painted the
+// wrong way round) is named by the matte stage, left out by the density
+// stage, and shown beside its view in the report.
+TEST_F(CliTest, AnInvertedMatteIsNamedAndLeftOut) {
+  const fs::path synthetic = work_ / "synthetic";
+  ASSERT_TRUE(Succeeded(RunSubprocess({kSylva, "synth", synthetic.string(), "--size", "192",
+                                       "--samples", "2", "--views", "10", "--held-out", "0"})));
+  const FloatImage room = ReadImage(fs::path(SYLVA_SOURCE_DIR) / "datasets" /
+                                    "opencv-alphamat-plant" / "plant.jpg");
+  const fs::path photos = work_ / "photos";
+  fs::create_directories(photos);
+  const std::vector<std::string> names = ListImageFiles(synthetic / "photos");
+  ASSERT_EQ(names.size(), 10u);
+  for (size_t v = 0; v < names.size(); ++v) {
+    const FloatImage tree = ReadImage(synthetic / "photos" / names[v]);  // RGBA
+    FloatImage photo(tree.width(), tree.height(), 3);
+    for (int y = 0; y < tree.height(); ++y) {
+      for (int x = 0; x < tree.width(); ++x) {
+        const bool in_room = (v == 3 || v == 4) && y < 0.75 * tree.height();
+        const float a = tree.at(x, y, 3);
+        for (int c = 0; c < 3; ++c) {
+          const float cloth = 0.07f + 0.02f * ((x * 7 + y * 13) % 5) / 4.0f;
+          const float wall = 0.7f - 0.05f * c + 0.1f * room.at(x % room.width(), y % room.height(), c);
+          const float back = in_room ? wall : cloth;
+          photo.at(x, y, c) = a * tree.at(x, y, c) + (1 - a) * back;
+        }
+      }
+    }
+    WriteImage(photos / names[v], photo);
+  }
+  const fs::path project = work_ / "room";
+  ASSERT_TRUE(Succeeded(Sylva({"init", project.string(), "--photos", photos.string(), "--cameras",
+                               (synthetic / "cameras.json").string(), "--units", "m"})));
+  const SubprocessResult run = Sylva({"run", project.string(), "--until", "density"});
+  ASSERT_TRUE(Succeeded(run));
+  EXPECT_FALSE(Contains(run.out, "warning")) << run.out;
+  const auto matte_iou = [&](size_t v) {
+    const FloatImage matte =
+        ReadMatte(project / "out" / "mattes" / fs::path(names[v]).replace_extension(".png"));
+    return CompareSilhouettes(matte, ReadMatte(synthetic / "mattes" / names[v])).iou;
+  };
+  for (size_t v = 0; v < names.size(); ++v) {
+    std::printf("%s matte IoU %.3f\n", names[v].c_str(), matte_iou(v));
+    EXPECT_GT(matte_iou(v), 0.8) << names[v];
+  }
+
+  // A trimap painted the wrong way round (the tree background, the rest
+  // foreground) makes one matte inverted: the matte stage names it, cannot
+  // repair it against the painting, and the density stage leaves it out.
+  FloatImage hint = ReadMatte(synthetic / "mattes" / names[6]);
+  for (float& h : hint.values()) h = h > 0.02f ? 0.0f : 1.0f;
+  fs::create_directories(project / "edits" / "trimaps");
+  WriteImage(project / "edits" / "trimaps" / fs::path(names[6]).replace_extension(".png"), hint);
+  const SubprocessResult painted = Sylva({"run", project.string()});
+  ASSERT_TRUE(Succeeded(painted));
+  EXPECT_TRUE(Contains(painted.out, "warning [implausible-matte] " + names[6])) << painted.out;
+  EXPECT_TRUE(Contains(painted.out, "warning [distrusted-view] " + names[6])) << painted.out;
+  const Json report = ReadJsonFile(project / "out" / "report.json");
+  std::set<std::string> codes;
+  for (const Json& warning : report.at("warnings")) {
+    EXPECT_EQ(warning.at("subject").get<std::string>(), names[6]) << warning.dump();
+    codes.insert(warning.at("code").get<std::string>());
+  }
+  EXPECT_EQ(codes, (std::set<std::string>{"implausible-matte", "distrusted-view"}));
+  for (const Json& view : report.at("views")) {
+    EXPECT_EQ(view.contains("warnings"), view.at("name").get<std::string>() == names[6]);
+  }
+  EXPECT_GT(report.at("input_views").at("mean_iou").get<double>(), 0.7) << report.dump(2);
 }
 
 // A phenotyping cabin (a fixed camera, the plant on a turntable): keying alone
