@@ -9,6 +9,7 @@
 #include "core/io/json_util.h"
 #include "core/util/check.h"
 #include "core/util/file_util.h"
+#include "core/util/statistics.h"
 #include "mesh/crown_volume.h"
 
 namespace sylva {
@@ -293,15 +294,6 @@ double BranchingAngle(const SkeletonGraph& skeleton, const std::vector<BranchAxi
   }
   if (branch.isZero() || along_parent.isZero()) return -1.0;
   return std::acos(std::clamp(branch.dot(along_parent), -1.0, 1.0)) * kRadiansToDegrees;
-}
-
-double Median(std::vector<double> values) {
-  if (values.empty()) return 0.0;
-  const size_t mid = values.size() / 2;
-  std::nth_element(values.begin(), values.begin() + mid, values.end());
-  const double upper = values[mid];
-  if (values.size() % 2 == 1) return upper;
-  return 0.5 * (upper + *std::max_element(values.begin(), values.begin() + mid));
 }
 
 // Per-order branch counts, lengths and angles.

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "core/util/check.h"
+#include "core/util/statistics.h"
 #include "reconstruct/density/view_sampling.h"
 
 namespace sylva {
@@ -22,14 +23,6 @@ double ForegroundShare(const FloatImage& mask) {
   double sum = 0.0;
   for (float value : mask.values()) sum += value;
   return mask.NumPixels() > 0 ? sum / static_cast<double>(mask.NumPixels()) : 0.0;
-}
-
-double Median(std::vector<double> values) {
-  if (values.empty()) return 0.0;
-  const size_t mid = values.size() / 2;
-  std::nth_element(values.begin(), values.begin() + mid, values.end());
-  if (values.size() % 2 == 1) return values[mid];
-  return 0.5 * (values[mid] + *std::max_element(values.begin(), values.begin() + mid));
 }
 
 std::string Percent(double share) {

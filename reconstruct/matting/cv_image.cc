@@ -56,4 +56,8 @@ cv::Size ReducedSize(cv::Size size, int factor) {
   return cv::Size((size.width + factor - 1) / factor, (size.height + factor - 1) / factor);
 }
 
+cv::Mat Disk(int radius) {
+  return cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * radius + 1, 2 * radius + 1));
+}
+
 }  // namespace sylva

@@ -19,6 +19,9 @@ FloatImage MatToImage(const cv::Mat& mat);
 // CV_32FC3 RGB in [0, 1] to CV_8UC3 BGR (rounded), OpenCV's usual 8-bit layout.
 cv::Mat RgbToBgr8(const cv::Mat& rgb);
 
+// A disk-shaped structuring element of the given radius (pixels).
+cv::Mat Disk(int radius);
+
 // Smallest integer factor that box-downsamples `size` to at most
 // `max_megapixels`, and the reduced size (rounded up).
 int ReductionFactor(cv::Size size, double max_megapixels);

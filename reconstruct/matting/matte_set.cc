@@ -36,10 +36,6 @@ std::string Percent(double share) {
   return out.str();
 }
 
-cv::Mat Disk(int radius) {
-  return cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * radius + 1, 2 * radius + 1));
-}
-
 // Photos of one size, by index.
 std::map<std::pair<int, int>, std::vector<int>> GroupBySize(const std::vector<FloatImage>& photos) {
   std::map<std::pair<int, int>, std::vector<int>> groups;

@@ -25,10 +25,6 @@ constexpr double kRejectWeakSaturationFactor = 0.6;
 constexpr int kRejectGrowRadius = 3;
 constexpr int kRejectCloseRadius = 3;
 
-cv::Mat Disk(int radius) {
-  return cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * radius + 1, 2 * radius + 1));
-}
-
 cv::Mat LabelsFromEvidence(const cv::Mat& e, double foreground_evidence) {
   cv::Mat labels(e.size(), CV_8U, cv::Scalar(kLabelUnknown));
   labels.setTo(kLabelBackground, e < 1.0f);

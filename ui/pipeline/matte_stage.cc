@@ -20,6 +20,7 @@
 #include "core/util/check.h"
 #include "core/util/file_util.h"
 #include "core/util/logging.h"
+#include "core/util/statistics.h"
 #include "core/util/threading.h"
 #include "reconstruct/matting/matte_set.h"
 #include "reconstruct/matting/matte_tools.h"
@@ -219,8 +220,7 @@ double MedianForegroundShare(const std::vector<MatteShape>& shapes) {
   if (shapes.size() < 3) return 0.0;  // too few photos to compare
   std::vector<double> shares;
   for (const MatteShape& shape : shapes) shares.push_back(shape.foreground_share);
-  std::nth_element(shares.begin(), shares.begin() + shares.size() / 2, shares.end());
-  return shares[shares.size() / 2];
+  return Median(shares);
 }
 
 // The backdrop colour most photos were keyed against (per-channel median of
