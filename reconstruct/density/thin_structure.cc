@@ -1,7 +1,6 @@
 #include "reconstruct/density/thin_structure.h"
 
 #include <opencv2/imgproc.hpp>
-#include <opencv2/ximgproc.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -38,12 +37,35 @@ cv::Mat ForegroundMask(const FloatImage& matte) {
   return mask;
 }
 
+// The ridge of the foreground's distance transform: pixels at least as far
+// from the background as both neighbours along x or both along y. A line one
+// to two pixels wide along the middle of every structure (a fast stand-in for
+// thinning, whose iterations cost seconds per megapixel).
+std::vector<cv::Point> CentreLine(const cv::Mat& mask) {
+  cv::Mat distance;
+  cv::distanceTransform(mask, distance, cv::DIST_L2, 3);
+  std::vector<cv::Point> ridge;
+  for (int y = 1; y + 1 < distance.rows; ++y) {
+    const float* above = distance.ptr<float>(y - 1);
+    const float* row = distance.ptr<float>(y);
+    const float* below = distance.ptr<float>(y + 1);
+    for (int x = 1; x + 1 < distance.cols; ++x) {
+      const float d = row[x];
+      if (d <= 0.0f) continue;
+      const bool ridge_x = d >= row[x - 1] && d >= row[x + 1];
+      const bool ridge_y = d >= above[x] && d >= below[x];
+      if (ridge_x || ridge_y) ridge.emplace_back(x, y);
+    }
+  }
+  return ridge;
+}
+
 }  // namespace
 
 struct ThinStructureProbe::View {
   int view_idx = 0;
   cv::Mat mask;                           // foreground, CV_8U 0/255
-  std::vector<cv::Point> centre_line;     // pixels of the thinned foreground
+  std::vector<cv::Point> centre_line;     // ridge pixels of the foreground (CentreLine)
 };
 
 ThinStructureProbe::ThinStructureProbe(const ImageSet& image_set,
@@ -57,9 +79,7 @@ ThinStructureProbe::ThinStructureProbe(const ImageSet& image_set,
     auto view = std::make_unique<View>();
     view->view_idx = static_cast<int>(static_cast<int64_t>(k) * num_views / used);
     view->mask = ForegroundMask(mattes[view->view_idx]);
-    cv::Mat thinned;
-    cv::ximgproc::thinning(view->mask, thinned, cv::ximgproc::THINNING_ZHANGSUEN);
-    cv::findNonZero(thinned, view->centre_line);
+    view->centre_line = CentreLine(view->mask);
     views_[k] = std::move(view);
   });
 }

@@ -2,7 +2,7 @@
 // plant's stems cannot hold the stems: they are carved away or smeared into
 // faint voxels, and the skeleton never sees them. Before the grid is made,
 // the mattes tell how much of the tree is thin: the share of the centre
-// lines of their foreground (Zhang-Suen thinning) that lies in structures
+// lines of their foreground (the ridge of its distance transform) that lies in structures
 // thinner than a voxel, i.e. farther than half a voxel from what survives a
 // morphological opening with a disk one voxel across (each voxel as wide as
 // it appears in that photo at the tree's distance). Centre lines measure
@@ -25,7 +25,7 @@ namespace sylva {
 class ThinStructureProbe {
  public:
   // Looks at the mattes (alpha >= 0.5 is foreground) of up to `max_views`
-  // views evenly spread over `image_set`; thins them once.
+  // views evenly spread over `image_set`; finds their centre lines once.
   ThinStructureProbe(const ImageSet& image_set, const std::vector<FloatImage>& mattes,
                      int max_views);
   ~ThinStructureProbe();
