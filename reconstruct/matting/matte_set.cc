@@ -312,6 +312,21 @@ MatteShape MeasureMatte(const FloatImage& matte) {
   return shape;
 }
 
+FloatImage RepairMatte(const FloatImage& photo, const FloatImage& hint, const FloatImage& own,
+                       const std::array<double, 3>& backdrop_rgb, const MattingOptions& options) {
+  SYLVA_CHECK(own.width() == photo.width() && own.height() == photo.height());
+  MattingOptions keyed = options;
+  keyed.trimap = "backdrop";
+  std::ostringstream color;
+  color << backdrop_rgb[0] * 255 << "," << backdrop_rgb[1] * 255 << "," << backdrop_rgb[2] * 255;
+  keyed.backdrop_color = color.str();
+  FloatImage matte = ComputeMatte(photo, hint, FloatImage(), keyed);
+  for (size_t p = 0; p < matte.NumPixels(); ++p) {
+    matte.data()[p] = std::min(matte.data()[p], own.data()[p]);
+  }
+  return matte;
+}
+
 std::string ImplausibleMatteReason(const MatteShape& shape, double median_foreground_share,
                                    const MatteSetOptions& options) {
   if (shape.border_share > options.max_border_share) {

@@ -29,11 +29,13 @@
 #ifndef SYLVA_RECONSTRUCT_MATTING_MATTE_SET_H_
 #define SYLVA_RECONSTRUCT_MATTING_MATTE_SET_H_
 
+#include <array>
 #include <string>
 #include <vector>
 
 #include "core/types/float_image.h"
 #include "core/util/warning.h"
+#include "reconstruct/matting/matting.h"
 
 namespace sylva {
 
@@ -104,6 +106,15 @@ MatteShape MeasureMatte(const FloatImage& matte);
 // ("" if plausible).
 std::string ImplausibleMatteReason(const MatteShape& shape, double median_foreground_share,
                                    const MatteSetOptions& options);
+
+// A new matte for a photo whose own matte (`own`, made with `options`) is
+// implausible: the subject is foreground against the backdrop the other
+// photos agree on (`backdrop_rgb`, in [0, 1]) and against whatever this
+// photo's own matting took for backdrop (a room its border saw), so the new
+// matte is, per pixel, the smaller of `own` and the photo keyed against
+// `backdrop_rgb` (with the same painted hint, which may be empty).
+FloatImage RepairMatte(const FloatImage& photo, const FloatImage& hint, const FloatImage& own,
+                       const std::array<double, 3>& backdrop_rgb, const MattingOptions& options);
 
 }  // namespace sylva
 

@@ -143,6 +143,43 @@ TEST(MatteSetTest, ImplausibleMattesAreNamed) {
   EXPECT_FLOAT_EQ(small.at(0, 1), 0.0f);
 }
 
+// A photo whose border saw a bright wall, and whose own matting took the wall
+// for backdrop and the dark cloth behind the tree for foreground, is repaired
+// against the cloth the other photos were keyed against: the tree alone is
+// foreground against both.
+TEST(MatteSetTest, RepairKeysAgainstTheSetsBackdrop) {
+  SyntheticDatasetOptions synth;
+  synth.seed = 2;
+  synth.num_views = 1;
+  synth.num_held_out = 0;
+  synth.image_size = kSize;
+  synth.samples_per_axis = 2;
+  synth.margin = 0.3;
+  const SyntheticDataset data = MakeSyntheticDataset(synth);
+  const std::array<float, 3> wall = {0.8f, 0.78f, 0.7f}, cloth = {0.08f, 0.08f, 0.09f};
+  FloatImage photo(kSize, kSize, 3), own(kSize, kSize, 1);
+  for (int y = 0; y < kSize; ++y) {
+    for (int x = 0; x < kSize; ++x) {
+      const bool band = x < kSize / 8 || x >= kSize - kSize / 8 || y < kSize / 8;
+      const float a = data.mattes[0].at(x, y);
+      for (int c = 0; c < 3; ++c) {
+        photo.at(x, y, c) = a * data.photos[0].at(x, y, c) + (1 - a) * (band ? wall : cloth)[c];
+      }
+      own.at(x, y) = band ? a : 1.0f;  // keyed against the wall
+    }
+  }
+  const FloatImage repaired = RepairMatte(photo, {}, own, {0.08, 0.08, 0.09}, MattingOptions());
+  const double own_iou = CompareSilhouettes(own, data.mattes[0]).iou;
+  const double repaired_iou = CompareSilhouettes(repaired, data.mattes[0]).iou;
+  std::printf("own matte IoU %.3f, repaired %.3f\n", own_iou, repaired_iou);
+  EXPECT_LT(own_iou, 0.3);
+  EXPECT_GT(repaired_iou, 0.8);
+  const MatteSetOptions set_options;
+  const double tree_share = MeasureMatte(data.mattes[0]).foreground_share;
+  EXPECT_FALSE(ImplausibleMatteReason(MeasureMatte(own), tree_share, set_options).empty());
+  EXPECT_TRUE(ImplausibleMatteReason(MeasureMatte(repaired), tree_share, set_options).empty());
+}
+
 TEST(MatteSetTest, OptionsAreChecked) {
   MatteSetOptions options;
   options.static_photo_fraction = 0.4;

@@ -1134,7 +1134,8 @@ TEST_F(CliTest, RealPhotosAreMattedRegisteredAndReconstructed) {
 }
 
 // A tree photographed on dark cloth, ten views around it; in two neighbouring
-// views the camera also sees the bright room behind the cloth. The mattes stay
+// views the camera also sees the bright room behind the cloth, in another a
+// bright wall all round its border. The mattes stay
 // right there; then a matte made wrong (inverted, by a trimap painted the
 // wrong way round) is named by the matte stage, left out by the density
 // stage, and shown beside its view in the report.
@@ -1153,7 +1154,12 @@ TEST_F(CliTest, AnInvertedMatteIsNamedAndLeftOut) {
     FloatImage photo(tree.width(), tree.height(), 3);
     for (int y = 0; y < tree.height(); ++y) {
       for (int x = 0; x < tree.width(); ++x) {
-        const bool in_room = (v == 3 || v == 4) && y < 0.75 * tree.height();
+        // Views 3 and 4 see the room over their top three quarters; view 8's
+        // border is a bright wall all round but for the bottom edge (its
+        // backdrop colour is the wall's, not the cloth's).
+        const int w = tree.width(), h = tree.height();
+        const bool band = x < w / 8 || x >= w - w / 8 || y < h / 8;
+        const bool in_room = ((v == 3 || v == 4) && y < 0.75 * h) || (v == 8 && band);
         const float a = tree.at(x, y, 3);
         for (int c = 0; c < 3; ++c) {
           const float cloth = 0.07f + 0.02f * ((x * 7 + y * 13) % 5) / 4.0f;

@@ -248,19 +248,18 @@ std::string RgbText(const std::array<double, 3>& rgb) {
   return out.str();
 }
 
-// A new matte of photo i keyed against `backdrop` (the other photos'), with
-// the static structure removed; empty if it is no more plausible than before.
-FloatImage RepairMatte(const StageContext& context, int i, const std::array<double, 3>& backdrop,
-                       const FloatImage& structure, const MatteSetOptions& options,
-                       double median_share, const FloatImage& background) {
-  MattingOptions matting = context.options.matting;
-  matting.trimap = "backdrop";
-  matting.backdrop_color = RgbText(backdrop);
-  const PhotoInputs inputs =
-      ReadPhotoInputs(context, context.project.photo_names()[i], background);
+// Photo i's matte repaired against `backdrop` (RepairMatte), the static
+// structure removed; empty if that is no more plausible.
+FloatImage RepairedMatte(const StageContext& context, int i, const std::array<double, 3>& backdrop,
+                         const FloatImage& structure, const MatteSetOptions& options,
+                         double median_share, const FloatImage& background) {
+  const std::string& name = context.project.photo_names()[i];
+  const PhotoInputs inputs = ReadPhotoInputs(context, name, background);
   const int factor = MatteSetFactor(inputs.photo.width(), inputs.photo.height(), options);
-  FloatImage matte = WithoutStructure(ComputeMatte(inputs.photo, inputs.hint, FloatImage(), matting),
-                                      structure, factor);
+  const FloatImage matte = WithoutStructure(
+      RepairMatte(inputs.photo, inputs.hint, ReadMatte(OwnMattePath(context.project, name)),
+                  backdrop, context.options.matting),
+      structure, factor);
   const MatteShape shape = MeasureMatte(SmallMatte(matte, factor));
   if (!ImplausibleMatteReason(shape, median_share, options).empty()) return FloatImage();
   return matte;
@@ -347,8 +346,8 @@ StageRun RunMatteStage(const StageContext& context) {
       FloatImage matte;
       repaired[i] = 0;
       if (!reasons[i].empty() && has_consensus) {
-        matte = RepairMatte(context, i, backdrop, structure[i], set_options, median_share,
-                            background);
+        matte = RepairedMatte(context, i, backdrop, structure[i], set_options, median_share,
+                              background);
         repaired[i] = !matte.empty();
       }
       if (matte.empty()) {
