@@ -139,6 +139,13 @@ std::string Pipeline::StageKey(Stage stage) const {
         text += FileKey(project_, file) + ";";
       }
     }
+    const std::string& background = options_.matte_stage.background_photo;
+    if (stage == Stage::kMatte && !background.empty()) {
+      // The background photo's content, not only its name.
+      const fs::path path = fs::path(background).is_absolute() ? fs::path(background)
+                                                               : project_.root() / background;
+      text += "background " + FileKey(project_, path) + ";";
+    }
     for (const std::string& name : project_.photo_names()) {
       text += name + "=" + FileKey(project_, project_.PhotoPath(name));
       if (stage == Stage::kMatte) {
