@@ -265,137 +265,194 @@ FloatImage RepairedMatte(const StageContext& context, int i, const std::array<do
   return matte;
 }
 
-}  // namespace
-
-StageRun RunMatteStage(const StageContext& context) {
+// Step 1: the photos whose own matte must be made again (its inputs
+// changed), with every photo's record (kept from cache/mattes.json where
+// still valid).
+std::vector<int> StaleOwnMattes(const StageContext& context, const std::string& background_key,
+                                std::vector<OwnMatte>* records) {
   const Project& project = context.project;
   const std::vector<std::string>& names = project.photo_names();
-  const MatteSetOptions& set_options = context.options.matte_set;
-  set_options.Check();
-  std::string background_key;
-  const FloatImage background = ReadBackgroundPhoto(context, &background_key);
   const std::string options_text = OptionsText(context.options, {"Matting."});
-
-  // 1. Each photo's own matte, matted again only when its inputs changed.
   const std::map<std::string, OwnMatte> previous = ReadMatteRecords(project);
-  std::vector<OwnMatte> records(names.size());
-  std::vector<int> to_compute;
+  records->assign(names.size(), OwnMatte());
+  std::vector<int> stale;
   for (size_t i = 0; i < names.size(); ++i) {
     const fs::path hint = project.TrimapHintPath(names[i]);
-    records[i].key = HexString(Fnv1a64(std::string(kMatteVersion) + ";" +
-                                       FileKey(project, project.PhotoPath(names[i])) + ";" +
-                                       (hint.empty() ? "no hint" : FileKey(project, hint)) + ";" +
-                                       background_key + ";" + options_text));
+    const std::string key = HexString(Fnv1a64(
+        std::string(kMatteVersion) + ";" + FileKey(project, project.PhotoPath(names[i])) + ";" +
+        (hint.empty() ? "no hint" : FileKey(project, hint)) + ";" + background_key + ";" +
+        options_text));
     const auto found = previous.find(names[i]);
     std::error_code exists_ec;
-    if (found != previous.end() && found->second.key == records[i].key &&
+    if (found != previous.end() && found->second.key == key &&
         fs::is_regular_file(OwnMattePath(project, names[i]), exists_ec)) {
-      records[i] = found->second;
+      (*records)[i] = found->second;
     } else {
-      to_compute.push_back(static_cast<int>(i));
+      (*records)[i].key = key;
+      stale.push_back(static_cast<int>(i));
     }
   }
-  ComputeOwnMattes(context, to_compute, background, &records);
-  Json json_records = Json::object();
-  for (size_t i = 0; i < names.size(); ++i) json_records[names[i]] = OwnMatteJson(records[i]);
-  WriteJsonFile(MatteRecordsPath(project), Json{{"photos", json_records}});
+  return stale;
+}
 
-  // 2. The set: static structure, implausible mattes.
-  StageRun run;
-  const SmallSet small = ReadSmallSet(context, set_options);
-  const std::vector<FloatImage> structure =
-      FindStaticStructure(small.photos, small.mattes, set_options, &run.warnings);
-  std::vector<MatteShape> shapes;
-  for (size_t i = 0; i < names.size(); ++i) {
-    shapes.push_back(MeasureMatte(WithoutStructure(small.mattes[i], structure[i], 1)));
+void WriteMatteRecords(const Project& project, const std::vector<OwnMatte>& records) {
+  Json json = Json::object();
+  for (size_t i = 0; i < records.size(); ++i) {
+    json[project.photo_names()[i]] = OwnMatteJson(records[i]);
   }
-  const double median_share = MedianForegroundShare(shapes);
-  std::vector<std::string> reasons;
-  for (const MatteShape& shape : shapes) {
-    reasons.push_back(ImplausibleMatteReason(shape, median_share, set_options));
-  }
+  WriteJsonFile(MatteRecordsPath(project), Json{{"photos", json}});
+}
+
+// Step 2: what the set checks found.
+struct SetVerdict {
+  SmallSet small;
+  std::vector<FloatImage> structure;  // per photo, analysis size (empty: none)
+  std::vector<MatteShape> shapes;     // without the structure
+  double median_share = 0.0;
+  std::vector<std::string> reasons;   // per photo: why implausible ("" if not)
+  bool has_backdrop = false;          // the set agrees on a backdrop colour
   std::array<double, 3> backdrop{};
-  const bool has_consensus = ConsensusBackdrop(records, reasons, &backdrop);
+};
 
-  // 3. The final mattes: each one's key covers its own matte, the static
-  // structure removed from it and its repair; those whose key changed are
-  // written together (staging folder, then renamed).
-  std::vector<std::string> previous_final(names.size());
-  std::vector<int> to_write;
-  for (size_t i = 0; i < names.size(); ++i) {
-    previous_final[i] = records[i].final_key;
-    const std::string repair =
-        reasons[i].empty() || !has_consensus ? "none" : "backdrop " + RgbText(backdrop);
-    records[i].final_key = HexString(Fnv1a64(
-        records[i].key + ";" + ImageKey(structure[i]) + ";" + repair + ";" +
-        OptionsText(context.options, {"MatteSet."})));
-    std::error_code exists_ec;
-    if (records[i].final_key != previous_final[i] ||
-        !fs::is_regular_file(project.ComputedMattePath(names[i]), exists_ec)) {
-      to_write.push_back(static_cast<int>(i));
-    }
+SetVerdict CheckSet(const StageContext& context, const std::vector<OwnMatte>& records,
+                    std::vector<Warning>* warnings) {
+  const MatteSetOptions& options = context.options.matte_set;
+  SetVerdict verdict;
+  verdict.small = ReadSmallSet(context, options);
+  verdict.structure =
+      FindStaticStructure(verdict.small.photos, verdict.small.mattes, options, warnings);
+  for (size_t i = 0; i < records.size(); ++i) {
+    verdict.shapes.push_back(
+        MeasureMatte(WithoutStructure(verdict.small.mattes[i], verdict.structure[i], 1)));
   }
+  verdict.median_share = MedianForegroundShare(verdict.shapes);
+  for (const MatteShape& shape : verdict.shapes) {
+    verdict.reasons.push_back(ImplausibleMatteReason(shape, verdict.median_share, options));
+  }
+  verdict.has_backdrop = ConsensusBackdrop(records, verdict.reasons, &verdict.backdrop);
+  return verdict;
+}
+
+// Step 3: the photos whose final matte must be written again: each final
+// key covers the photo's own matte, the structure removed from it, its repair
+// and the MatteSet options.
+std::vector<int> StaleFinalMattes(const StageContext& context, const SetVerdict& verdict,
+                                  std::vector<OwnMatte>* records) {
+  const Project& project = context.project;
+  const std::string options_text = OptionsText(context.options, {"MatteSet."});
+  std::vector<int> stale;
+  for (size_t i = 0; i < records->size(); ++i) {
+    OwnMatte& record = (*records)[i];
+    const std::string repair = verdict.reasons[i].empty() || !verdict.has_backdrop
+                                   ? "none"
+                                   : "backdrop " + RgbText(verdict.backdrop);
+    const std::string key = HexString(Fnv1a64(record.key + ";" +
+                                              ImageKey(verdict.structure[i]) + ";" + repair +
+                                              ";" + options_text));
+    std::error_code exists_ec;
+    if (key != record.final_key ||
+        !fs::is_regular_file(project.ComputedMattePath(project.photo_names()[i]), exists_ec)) {
+      stale.push_back(static_cast<int>(i));
+    }
+    record.final_key = key;
+  }
+  return stale;
+}
+
+// Writes the final mattes of the photos in `stale` to out/mattes/ together
+// (staging folder, then renamed): repaired where implausible and repairable,
+// else the own matte, static structure removed. Sets records' `repaired`.
+void WriteFinalMattes(const StageContext& context, const SetVerdict& verdict,
+                      const std::vector<int>& stale, const FloatImage& background,
+                      std::vector<OwnMatte>* records) {
+  const Project& project = context.project;
+  const std::vector<std::string>& names = project.photo_names();
   const fs::path staging = TempPathBeside(project.CacheDir() / "matte-final");
+  const auto staged = [&](int i) { return staging / fs::path(names[i]).replace_extension(".png"); };
   std::error_code ec;
   fs::remove_all(staging, ec);
   std::vector<char> repaired(names.size(), 0);
-  for (size_t i = 0; i < names.size(); ++i) repaired[i] = records[i].repaired;
   try {
-    ParallelForFirstError(static_cast<int>(to_write.size()), [&](int t) {
-      const int i = to_write[t];
+    ParallelForFirstError(static_cast<int>(stale.size()), [&](int t) {
+      const int i = stale[t];
       FloatImage matte;
-      repaired[i] = 0;
-      if (!reasons[i].empty() && has_consensus) {
-        matte = RepairedMatte(context, i, backdrop, structure[i], set_options, median_share,
-                              background);
+      if (!verdict.reasons[i].empty() && verdict.has_backdrop) {
+        matte = RepairedMatte(context, i, verdict.backdrop, verdict.structure[i],
+                              context.options.matte_set, verdict.median_share, background);
         repaired[i] = !matte.empty();
       }
       if (matte.empty()) {
-        matte = WithoutStructure(ReadMatte(OwnMattePath(project, names[i])), structure[i],
-                                 small.factors[i]);
+        matte = WithoutStructure(ReadMatte(OwnMattePath(project, names[i])), verdict.structure[i],
+                                 verdict.small.factors[i]);
       }
-      const fs::path target = staging / fs::path(names[i]).replace_extension(".png");
-      fs::create_directories(target.parent_path());
-      WriteImage(target, matte, PixelFormat::kUint8);
+      fs::create_directories(staged(i).parent_path());
+      WriteImage(staged(i), matte, PixelFormat::kUint8);
     });
   } catch (...) {
     fs::remove_all(staging, ec);
     throw;
   }
-  for (int i : to_write) {
+  for (int i : stale) {
     const fs::path target = project.ComputedMattePath(names[i]);
     fs::create_directories(target.parent_path());
-    fs::rename(staging / fs::path(names[i]).replace_extension(".png"), target);
+    fs::rename(staged(i), target);
+    (*records)[i].repaired = repaired[i];
   }
   fs::remove_all(staging, ec);
+}
+
+// The warnings about implausible mattes, repaired or kept.
+void AddMatteWarnings(const std::vector<std::string>& names, const SetVerdict& verdict,
+                      const std::vector<OwnMatte>& records, std::vector<Warning>* warnings) {
   for (size_t i = 0; i < names.size(); ++i) {
-    records[i].repaired = repaired[i];
-    json_records[names[i]] = OwnMatteJson(records[i]);
-  }
-  WriteJsonFile(MatteRecordsPath(project), Json{{"photos", json_records}});
-  for (size_t i = 0; i < names.size(); ++i) {
-    if (reasons[i].empty()) continue;
-    if (repaired[i]) {
-      run.warnings.push_back({"repaired-matte",
-                              names[i] + ": " + reasons[i] + "; matted again against the backdrop "
-                                  "the other photos agree on (RGB " + RgbText(backdrop) + ")",
-                              names[i]});
+    const std::string& reason = verdict.reasons[i];
+    if (reason.empty()) continue;
+    if (records[i].repaired) {
+      warnings->push_back({"repaired-matte",
+                           names[i] + ": " + reason + "; matted again against the backdrop the "
+                               "other photos agree on (RGB " + RgbText(verdict.backdrop) + ")",
+                           names[i]});
     } else {
-      run.warnings.push_back({"implausible-matte",
-                              names[i] + ": " + reasons[i] + "; kept (the density stage tests it "
-                                  "against the other views; paint a trimap in edits/trimaps/ "
-                                  "to fix it)",
-                              names[i]});
+      warnings->push_back({"implausible-matte",
+                           names[i] + ": " + reason + "; kept (the density stage tests it "
+                               "against the other views; paint a trimap in edits/trimaps/ to "
+                               "fix it)",
+                           names[i]});
     }
   }
+}
+
+}  // namespace
+
+StageRun RunMatteStage(const StageContext& context) {
+  const Project& project = context.project;
+  const std::vector<std::string>& names = project.photo_names();
+  context.options.matte_set.Check();
+  std::string background_key;
+  const FloatImage background = ReadBackgroundPhoto(context, &background_key);
+
+  // 1. Each photo's own matte, matted again only when its inputs changed.
+  std::vector<OwnMatte> records;
+  const std::vector<int> computed = StaleOwnMattes(context, background_key, &records);
+  ComputeOwnMattes(context, computed, background, &records);
+  WriteMatteRecords(project, records);
+
+  // 2. The set: static structure, implausible mattes. 3. The final mattes.
+  StageRun run;
+  const SetVerdict verdict = CheckSet(context, records, &run.warnings);
+  const std::vector<int> written = StaleFinalMattes(context, verdict, &records);
+  WriteFinalMattes(context, verdict, written, background, &records);
+  WriteMatteRecords(project, records);
+  AddMatteWarnings(names, verdict, records, &run.warnings);
 
   std::ostringstream brief;
-  brief << names.size() << " mattes in out/mattes/ (" << to_compute.size() << " computed, "
-        << names.size() - to_compute.size() << " unchanged)";
+  brief << names.size() << " mattes in out/mattes/ (" << computed.size() << " computed, "
+        << names.size() - computed.size() << " unchanged)";
   double mean_share = 0.0;
-  for (const MatteShape& shape : shapes) mean_share += shape.foreground_share;
-  if (!shapes.empty()) {
-    brief << "; mean foreground " << 100.0 * mean_share / shapes.size() << " % of the pixels";
+  for (const MatteShape& shape : verdict.shapes) mean_share += shape.foreground_share;
+  if (!verdict.shapes.empty()) {
+    brief << "; mean foreground " << 100.0 * mean_share / verdict.shapes.size()
+          << " % of the pixels";
   }
   run.brief = brief.str();
   for (const std::string& name : names) run.outputs.push_back(project.ComputedMattePath(name));
