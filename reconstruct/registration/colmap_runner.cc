@@ -44,6 +44,17 @@ constexpr char kLogName[] = "colmap.log";
 // only model of a small photo set, so every model of 2 or more photos is
 // kept here and the largest is chosen afterwards.
 constexpr int kMinModelSize = 2;
+// The mapper's thresholds on retries, half COLMAP's defaults (100 inliers and
+// 16 degrees for the initial pair, 30 inliers for each next photo): a plant
+// on a turntable gives few verified matches per pair, and a run whose
+// matches came out a little weaker (COLMAP's matching is not reproducible on
+// the CPU) otherwise finds no initial pair good enough and registers 2 of 8.
+const std::pair<const char*, const char*> kRelaxedMapper[] = {
+    {"--Mapper.init_min_num_inliers", "50"},
+    {"--Mapper.init_min_tri_angle", "8"},
+    {"--Mapper.abs_pose_min_num_inliers", "15"}};
+// The features-only database kept for a second matching pass.
+constexpr char kFeaturesDatabaseName[] = "database_features.db";
 // The fewest registered photos that make a usable model.
 constexpr int kMinRegisteredPhotos = 2;
 // Lines of COLMAP's output quoted in error messages.
@@ -365,11 +376,14 @@ Flags ExtractionFlags(const RunContext& context, const fs::path& image_list,
   return flags;
 }
 
+// `guided`: the second matching pass (see RematchAndMap) also matches
+// guided by each pair's verified geometry.
 Flags MatchingFlags(const RunContext& context, const std::string& matcher,
-                    const ColmapOptions& options) {
+                    const ColmapOptions& options, bool guided) {
   Flags flags = {{"--database_path", context.database.string()},
                  {"--SiftMatching.use_gpu", "0"},
-                 {"--SiftMatching.num_threads", std::to_string(options.num_threads)}};
+                 {"--SiftMatching.num_threads", std::to_string(options.num_threads)},
+                 {"--SiftMatching.guided_matching", guided ? "1" : "0"}};
   if (matcher == "sequential") {
     flags.emplace_back("--SequentialMatching.overlap", std::to_string(options.sequential_overlap));
     flags.emplace_back("--SequentialMatching.loop_detection", "0");
@@ -377,14 +391,17 @@ Flags MatchingFlags(const RunContext& context, const std::string& matcher,
   return flags;
 }
 
+// `relaxed`: a retry's thresholds (see kRelaxedMapper).
 Flags MappingFlags(const RunContext& context, const fs::path& image_list,
-                   const fs::path& sparse_dir, const ColmapOptions& options) {
-  return {{"--database_path", context.database.string()},
-          {"--image_path", context.photos_dir.string()},
-          {"--image_list_path", image_list.string()},
-          {"--output_path", sparse_dir.string()},
-          {"--Mapper.num_threads", std::to_string(options.num_threads)},
-          {"--Mapper.min_model_size", std::to_string(kMinModelSize)}};
+                   const fs::path& sparse_dir, const ColmapOptions& options, bool relaxed) {
+  Flags flags = {{"--database_path", context.database.string()},
+                 {"--image_path", context.photos_dir.string()},
+                 {"--image_list_path", image_list.string()},
+                 {"--output_path", sparse_dir.string()},
+                 {"--Mapper.num_threads", std::to_string(options.num_threads)},
+                 {"--Mapper.min_model_size", std::to_string(kMinModelSize)}};
+  if (relaxed) flags.insert(flags.end(), std::begin(kRelaxedMapper), std::end(kRelaxedMapper));
+  return flags;
 }
 
 // Runs COLMAP's `command` with `args`; throws RegistrationError if it fails.
@@ -524,31 +541,37 @@ void LogPartialSuccess(const ColmapResult& result) {
   }
 }
 
-// Runs the mapper, and again with other seeds (up to options.mapper_attempts
-// runs) while photos stay unregistered: incremental mapping depends on its
-// initial pair and RANSAC draws, and costs little beside matching. The
-// attempt that registers the most photos is kept in <workspace>/sparse and
-// in `result`. A retry that fails ends the retries; the first must succeed.
-// Returns the kept attempt's outcome.
+// Runs the mapper, and again with other seeds and relaxed thresholds (up to
+// options.mapper_attempts runs) while photos stay unregistered: incremental
+// mapping depends on its initial pair and RANSAC draws, and costs little
+// beside matching. The attempt that registers the most photos is kept in
+// <workspace>/sparse and in `result` (an earlier one if `result` already
+// holds a better model). A retry that fails ends the retries; the first must
+// succeed unless `result` already holds a model. `first_seed` offsets the
+// seeds. Returns the kept attempt's outcome (empty if none was kept).
 CommandOutcome MapWithRetries(RunContext* context, const fs::path& image_list,
                               const fs::path& workspace, const ColmapOptions& options,
-                              const ProgressTask& task, ColmapResult* result) {
+                              int first_seed, const ProgressTask& task, ColmapResult* result) {
   const fs::path sparse_dir = workspace / kSparseFolder;
   const fs::path retry_dir = workspace / kRetryFolder;
   const ProgressParser progress = MapperProgress(context->num_photos);  // kept across attempts
   CommandOutcome kept;
+  const bool had_model = result->cameras.NumViews() > 0;
   for (int attempt = 0; attempt < options.mapper_attempts; ++attempt) {
-    const fs::path output = attempt == 0 ? sparse_dir : retry_dir;
+    const bool first = attempt == 0 && !had_model;
+    const fs::path output = first ? sparse_dir : retry_dir;
     fs::remove_all(output);
     fs::create_directories(output);
     ColmapOptions seeded = options;
-    seeded.random_seed = options.random_seed + attempt;
+    seeded.random_seed = options.random_seed + first_seed + attempt;
+    const bool relaxed = first_seed + attempt > 0;
     CommandOutcome outcome;
     try {
-      outcome = RunStep(context, "mapper", MappingFlags(*context, image_list, output, seeded),
-                        seeded, progress, task);
+      outcome = RunStep(context, "mapper",
+                        MappingFlags(*context, image_list, output, seeded, relaxed), seeded,
+                        progress, task);
     } catch (const RegistrationError&) {
-      if (attempt == 0) throw;
+      if (first) throw;
       SYLVA_LOG(kWarning) << "COLMAP mapper retry " << attempt << " failed; keeping the "
                           << "earlier model (see " << context->log_path.string() << ")";
       break;
@@ -557,14 +580,15 @@ CommandOutcome MapWithRetries(RunContext* context, const fs::path& image_list,
     ++result->mapper_runs;
     std::vector<ImageSet> models = ReadModels(output);
     const int registered = models.empty() ? 0 : LargestModelSize(models);
-    if (attempt == 0 || registered > result->cameras.NumViews()) {
-      if (attempt > 0) {
+    if (first || registered > result->cameras.NumViews()) {
+      if (!first) {
         fs::remove_all(sparse_dir);
         fs::rename(output, sparse_dir);
       }
       result->cameras = ImageSet();
       result->unregistered.clear();
       if (!models.empty()) TakeLargestModel(std::move(models), context->photo_names, result);
+      result->relaxed_mapping = relaxed;
       kept = std::move(outcome);
     }
     fs::remove_all(retry_dir);
@@ -599,6 +623,8 @@ void ColmapOptions::Check() const {
   SYLVA_CHECK_INPUT(mapper_attempts >= 1 && mapper_attempts <= 20, "Colmap.mapper_attempts")
       << "must be between 1 and 20, got " << mapper_attempts;
   SYLVA_CHECK_INPUT(random_seed >= 0, "Colmap.random_seed") << "must be >= 0, got " << random_seed;
+  SYLVA_CHECK_INPUT(rematch_below >= 0.0 && rematch_below <= 1.0, "Colmap.rematch_below")
+      << "must be between 0 and 1, got " << rematch_below;
 }
 
 std::string ColmapResult::BriefReport() const {
@@ -707,14 +733,38 @@ ColmapResult RunColmap(const fs::path& photos_dir, const std::vector<std::string
               ExtractionFlags(context, image_list, masks_dir, result.single_camera, options),
               options, ExtractionProgress, extraction)
           .seconds;
+  const fs::path features_database = workspace / kFeaturesDatabaseName;
+  std::error_code ec;
+  const bool can_rematch =
+      fs::copy_file(context.database, features_database, fs::copy_options::overwrite_existing, ec);
   result.matching_seconds =
       RunStep(&context, result.matcher + "_matcher",
-              MatchingFlags(context, result.matcher, options), options, matching_progress, matching)
+              MatchingFlags(context, result.matcher, options, false), options, matching_progress,
+              matching)
           .seconds;
-  result.colmap_seconds = result.extraction_seconds + result.matching_seconds;
-  const CommandOutcome mapping =
-      MapWithRetries(&context, image_list, workspace, options, mapping_task, &result);
-  result.colmap_seconds += result.mapping_seconds;
+  CommandOutcome mapping =
+      MapWithRetries(&context, image_list, workspace, options, 0, mapping_task, &result);
+
+  // Too few photos registered: COLMAP's matching (its RANSAC in worker
+  // threads is not seeded) may have come out weak; match again from the
+  // features, guided, and map again.
+  if (can_rematch && result.cameras.NumViews() < options.rematch_below * context.num_photos) {
+    SYLVA_LOG(kWarning) << "COLMAP registered only " << result.cameras.NumViews() << " of "
+                        << context.num_photos << " photos; matching again (guided)";
+    fs::copy_file(features_database, context.database, fs::copy_options::overwrite_existing);
+    result.matching_seconds +=
+        RunStep(&context, result.matcher + "_matcher",
+                MatchingFlags(context, result.matcher, options, true), options, matching_progress,
+                matching)
+            .seconds;
+    ++result.matching_runs;
+    CommandOutcome again = MapWithRetries(&context, image_list, workspace, options,
+                                          options.mapper_attempts, mapping_task, &result);
+    if (again.exit_code == 0) mapping = std::move(again);  // a model was kept from it
+  }
+  fs::remove(features_database, ec);
+  result.colmap_seconds =
+      result.extraction_seconds + result.matching_seconds + result.mapping_seconds;
 
   if (result.cameras.NumViews() == 0) {
     ThrowRegistrationError(context,

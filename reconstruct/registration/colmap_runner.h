@@ -79,7 +79,13 @@ struct ColmapOptions {
   // RANSAC draws: on 8 of ROMI's photos 15 degrees apart, one run in ~15
   // registered only 2. Mapping costs little beside matching (on 72 photos,
   // 2-3 minutes against 3-20).
+  // Retries use relaxed thresholds (half COLMAP's inliers and initial
+  // triangulation angle).
   int mapper_attempts = 3;
+  // When fewer than this share of the photos are registered after the
+  // mapper's attempts, matching runs again from the same features (guided)
+  // and the mapper too; the better model is kept. 0 = never.
+  double rematch_below = 0.5;
 
   // Threads for each COLMAP command; -1 = all cores.
   int num_threads = -1;
@@ -104,6 +110,10 @@ struct ColmapResult {
   int num_models = 0;
   // Mapper runs (see ColmapOptions::mapper_attempts).
   int mapper_runs = 0;
+  // Whether the kept model came from a run with relaxed thresholds, and how
+  // many matching passes ran (2 when the first registered too few photos).
+  bool relaxed_mapping = false;
+  int matching_runs = 1;
   // The matcher used ("exhaustive" or "sequential") and whether the photos
   // shared one camera.
   std::string matcher;

@@ -386,6 +386,55 @@ TEST(ColmapRunnerTest, SeveralModelsKeepTheLargest) {
   EXPECT_NE(log.find("--random_seed " + std::to_string(options.mapper_attempts - 1)),
             std::string::npos);
   EXPECT_FALSE(fs::exists(scratch.path() / "ws" / "sparse_retry"));
+  // Retries relax the mapper's thresholds; 3 of 6 is not too few to match again.
+  EXPECT_NE(log.find("--Mapper.init_min_num_inliers 50"), std::string::npos);
+  EXPECT_FALSE(result.relaxed_mapping);  // the first run's model was kept
+  EXPECT_EQ(result.matching_runs, 1);
+}
+
+// Too few photos registered: matching runs again (guided) from the same
+// features, and the mapper on its matches; the better model is kept. The
+// stand-in's mapper builds the whole model only after guided matching.
+TEST(ColmapRunnerTest, TooFewRegisteredPhotosAreMatchedAgain) {
+  ScratchDir scratch("match_again");
+  const std::vector<std::string> names = DatasetPhotos(0, 6);
+  WriteModel(scratch.path() / "weak" / "0", {names[0], names[1]});
+  WriteModel(scratch.path() / "strong" / "0", names);
+  const fs::path guided = scratch.path() / "guided";
+  const fs::path script = scratch.path() / "stand_in_colmap.sh";
+  AtomicWriteString(
+      script, "#!/bin/sh\ncommand=$1\nout=\ndb=\nguide=0\n"
+              "while [ $# -gt 0 ]; do\n"
+              "  [ \"$1\" = --output_path ] && out=$2\n"
+              "  [ \"$1\" = --database_path ] && db=$2\n"
+              "  [ \"$1\" = --SiftMatching.guided_matching ] && guide=$2\n"
+              "  shift\ndone\n"
+              "[ \"$command\" = feature_extractor ] && echo features > \"$db\"\n"
+              "[ \"$guide\" = 1 ] && touch '" + guided.string() + "'\n"
+              "if [ \"$command\" = mapper ]; then\n"
+              "  if [ -e '" + guided.string() + "' ]; then cp -r '" +
+              (scratch.path() / "strong").string() + "'/. \"$out\"/\n"
+              "  else cp -r '" + (scratch.path() / "weak").string() + "'/. \"$out\"/; fi\n"
+              "fi\nexit 0\n");
+  fs::permissions(script, fs::perms::owner_all);
+  ColmapOptions options = FastOptions();
+  options.executable = script.string();
+  const ColmapResult result =
+      RunColmap(kDataset / "images", names, "", scratch.path() / "ws", options, nullptr);
+  EXPECT_EQ(result.cameras.NumViews(), 6);
+  EXPECT_TRUE(result.unregistered.empty());
+  EXPECT_EQ(result.matching_runs, 2);
+  EXPECT_EQ(result.mapper_runs, options.mapper_attempts + 1);  // all, then the first after
+  EXPECT_TRUE(result.relaxed_mapping);
+  EXPECT_FALSE(fs::exists(scratch.path() / "ws" / "database_features.db"));
+
+  // Never matching again keeps the weak model.
+  options.rematch_below = 0.0;
+  fs::remove(guided);
+  const ColmapResult kept =
+      RunColmap(kDataset / "images", names, "", scratch.path() / "ws2", options, nullptr);
+  EXPECT_EQ(kept.cameras.NumViews(), 2);
+  EXPECT_EQ(kept.matching_runs, 1);
 }
 
 bool ProcessGone(pid_t pid) {

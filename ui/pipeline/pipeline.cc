@@ -43,7 +43,7 @@ const std::vector<StageDefinition>& Definitions() {
       {{Stage::kRegister, "register",
         "cameras of the photos (given, COLMAP, or loose azimuths refined with Ceres) in "
         "sylva's world frame: up +Z, tree base at the origin (out/cameras/)"},
-       "register/1", {"Colmap.", "WorldFrame.", "LooseCameras."}, {Stage::kMatte}, true,
+       "register/2", {"Colmap.", "WorldFrame.", "LooseCameras."}, {Stage::kMatte}, true,
        RunRegisterStage, Always},
       {{Stage::kDensity, "density",
         "back-project the mattes into a voxel density grid (out/density.vdb)"},

@@ -477,7 +477,9 @@ void RegisterColmap(ColmapOptions* o, OptionRegistry* r) {
   r->AddInt("Colmap.num_threads", &o->num_threads, "threads", "COLMAP threads; -1 = all cores");
   r->AddInt("Colmap.random_seed", &o->random_seed, "", "COLMAP's random seed");
   r->AddInt("Colmap.mapper_attempts", &o->mapper_attempts, "runs",
-            "mapper runs (next seed each) while photos stay unregistered");
+            "mapper runs (next seed each, relaxed thresholds) while photos stay unregistered");
+  r->AddDouble("Colmap.rematch_below", &o->rematch_below, "share",
+               "match again (guided) when fewer than this share of the photos are registered");
 }
 
 void RegisterWorldFrame(WorldFrameOptions* o, OptionRegistry* r) {

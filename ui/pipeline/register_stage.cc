@@ -71,6 +71,9 @@ StageRun RunRegisterStage(const StageContext& context) {
     details["colmap"] = {{"matcher", result.matcher},
                          {"single_camera", result.single_camera},
                          {"num_models", result.num_models},
+                         {"mapper_runs", result.mapper_runs},
+                         {"matching_runs", result.matching_runs},
+                         {"relaxed_mapping", result.relaxed_mapping},
                          {"extraction_seconds", result.extraction_seconds},
                          {"matching_seconds", result.matching_seconds},
                          {"mapping_seconds", result.mapping_seconds},
@@ -169,6 +172,15 @@ StageRun RunRegisterStage(const StageContext& context) {
   WriteJsonFile(dir / "registration.json", details);
   WriteCameraFile(dir / "cameras.json", cameras, units);
 
+  if (!unregistered.empty()) {
+    run.warnings.push_back(
+        {"unregistered-photos",
+         std::to_string(unregistered.size()) + " of " +
+             std::to_string(project.photo_names().size()) +
+             " photos not registered (first: " + unregistered.front() +
+             "); they are left out of the reconstruction (list in out/cameras/unregistered.txt)",
+         ""});
+  }
   std::ostringstream brief;
   brief << cameras.NumViews() << " of " << project.photo_names().size() << " photos registered ("
         << details["method"].get<std::string>() << ")";
