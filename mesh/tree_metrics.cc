@@ -455,6 +455,10 @@ Json SourceMeanings() {
            "many branches there are, how long and at what angles"},
           {"allometric prior",
            "radii from the pipe model, scaled to the trunk width: an estimate, not a measurement"},
+          {"measured in the mattes",
+           "radii from the pipe model's taper, each branch axis scaled to the width the mattes "
+           "show (a low quantile over the views seeing it side-on); axes the mattes do not "
+           "resolve are scaled like their parent"},
           {"ground truth", "exact (a synthetic tree)"},
           {"unknown", "not recorded by the source (e.g. a QSM table without source columns)"}};
 }

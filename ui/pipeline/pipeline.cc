@@ -55,9 +55,10 @@ const std::vector<StageDefinition>& Definitions() {
        RunAttractStage, Always},
       {{Stage::kSkeleton, "skeleton",
         "particle flow from the density to the tree base, steered by the attractor graphs' "
-        "direction fields; skeleton with allometric radii (out/skeleton.json, skeleton.ply)"},
-       "skeleton/2",
-       {"TreeBase.", "DirectionField.", "ParticleFlow.", "Skeleton.", "Allometry.", "General.seed"},
+        "direction fields; skeleton with radii measured in the mattes (out/skeleton.json, skeleton.ply)"},
+       "skeleton/3",
+       {"TreeBase.", "DirectionField.", "ParticleFlow.", "Skeleton.", "Allometry.", "BranchWidth.",
+        "Leaves.num_leaves", "General.seed"},
        {Stage::kDensity, Stage::kAttract}, false, RunSkeletonStage, Always},
       {{Stage::kMesh, "mesh",
         "branch tubes and leaves from the skeleton (out/tree.glb, tree.obj)"},

@@ -79,6 +79,7 @@ void PipelineOptions::Check() const {
   allometry_check.trunk_radius = 1.0;
   allometry_check.min_radius = 0.0;
   allometry_check.Check();
+  branch_width.Check();
   branch_mesh.Check();
   leaves.Check();
   geometry.Check();
@@ -272,6 +273,23 @@ void RegisterSkeleton(SkeletonOptions* o, AllometryOptions* allometry, OptionReg
                "sample spacing along branches, as a fraction of the tree height");
   r->AddDouble("Allometry.diameter_exponent", &allometry->diameter_exponent, "",
                "pipe model d0^D = sum di^D: 2 = Leonardo, 2.49 = Murray");
+}
+
+void RegisterBranchWidth(BranchWidthOptions* o, OptionRegistry* r) {
+  r->AddString("BranchWidth.mode", &o->mode,
+               "scale the pipe-model radii to the branch widths the mattes show: auto (leafless "
+               "plants, Leaves.num_leaves=-1), on, off");
+  r->AddDouble("BranchWidth.matte_threshold", &o->matte_threshold, "alpha",
+               "a matte pixel is foreground at this alpha or more");
+  r->AddDouble("BranchWidth.view_quantile", &o->view_quantile, "",
+               "quantile of an edge's widths over the views (0 = the narrowest)");
+  r->AddInt("BranchWidth.min_views", &o->min_views, "views", "views needed to measure an edge");
+  r->AddDouble("BranchWidth.min_side_on", &o->min_side_on, "",
+               "an edge is measured in views seeing it at least this much side-on (0.5 = 30 deg)");
+  r->AddDouble("BranchWidth.search_pixels", &o->search_pixels, "pixels",
+               "how far across the projected edge its centre line is looked for");
+  r->AddDouble("BranchWidth.min_measured_share", &o->min_measured_share, "",
+               "share of an axis' edges measured for its own scale (else its parent's)");
 }
 
 void RegisterBranchMesh(BranchMeshOptions* o, OptionRegistry* r) {
@@ -529,6 +547,7 @@ void RegisterPipelineOptions(PipelineOptions* options, OptionRegistry* registry)
   RegisterDirectionField(&options->direction_field, registry);
   RegisterParticleFlow(&options->particle_flow, registry);
   RegisterSkeleton(&options->skeleton, &options->allometry, registry);
+  RegisterBranchWidth(&options->branch_width, registry);
   RegisterBranchMesh(&options->branch_mesh, registry);
   RegisterLeaves(&options->leaves, registry);
   RegisterGeometry(&options->geometry, &options->leaves, registry);

@@ -17,6 +17,7 @@
 #include "reconstruct/density/density_options.h"
 #include "reconstruct/matting/matte_set.h"
 #include "reconstruct/matting/matting.h"
+#include "reconstruct/measurement/branch_width.h"
 #include "reconstruct/registration/colmap_runner.h"
 #include "reconstruct/registration/loose_registration.h"
 #include "reconstruct/registration/world_frame.h"
@@ -145,6 +146,7 @@ struct PipelineOptions {
   ParticleFlowOptions particle_flow;
   SkeletonOptions skeleton;
   AllometryOptions allometry;
+  BranchWidthOptions branch_width;
   BranchMeshOptions branch_mesh;
   LeafOptions leaves;
   TreeGeometryOptions geometry;

@@ -13,6 +13,7 @@
 #include "mesh/subdivision.h"
 #include "mesh/twigs.h"
 #include "mesh/trunk_width.h"
+#include "reconstruct/measurement/branch_width.h"
 #include "simulate/attractor_field.h"
 #include "simulate/direction_field.h"
 #include "simulate/particle_flow.h"
@@ -88,11 +89,20 @@ BuiltSkeleton BuildSkeleton(const DensityGrid& density, const ImageSet& input_vi
       TrunkRadius(input_views, mattes, options.skeleton, built.base, height, &how);
   allometry.min_radius = options.skeleton.min_radius_fraction * allometry.trunk_radius;
   AssignPipeModelRadii(allometry, &built.skeleton);
-  built.trunk_radius = allometry.trunk_radius;
+  std::string widths = "radii are an allometric prior";
+  if (!mattes.empty()) {
+    const BranchWidthSummary summary =
+        MeasureBranchRadii(input_views, mattes, options.leaves.num_leaves < 0,
+                           options.skeleton.trunk_radius > 0,
+                           options.branch_width, &built.skeleton);
+    if (summary.measured_axes > 0) widths = summary.BriefReport();
+  }
+  built.trunk_radius = built.skeleton.nodes.empty() ? allometry.trunk_radius
+                                                    : built.skeleton.nodes[built.skeleton.RootIdx()].radius;
   std::ostringstream brief;
   brief << field_brief << " " << flow_summary.BriefReport() << " " << pruning.BriefReport() << " Base ("
         << built.base.transpose() << "); trunk radius " << allometry.trunk_radius << " (" << how
-        << "; radii are an allometric prior, Delta " << allometry.diameter_exponent << ").";
+        << "; pipe model, Delta " << allometry.diameter_exponent << "). " << widths;
   built.brief = brief.str();
   return built;
 }
