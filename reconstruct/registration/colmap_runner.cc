@@ -572,8 +572,10 @@ CommandOutcome MapWithRetries(RunContext* context, const fs::path& image_list,
                         progress, task);
     } catch (const RegistrationError&) {
       if (first) throw;
-      SYLVA_LOG(kWarning) << "COLMAP mapper retry " << attempt << " failed; keeping the "
-                          << "earlier model (see " << context->log_path.string() << ")";
+      result->notes.push_back("COLMAP mapper retry " + std::to_string(first_seed + attempt) +
+                              " failed; the earlier model is kept (see " +
+                              context->log_path.string() + ")");
+      SYLVA_LOG(kWarning) << result->notes.back();
       break;
     }
     result->mapping_seconds += outcome.seconds;
@@ -749,8 +751,10 @@ ColmapResult RunColmap(const fs::path& photos_dir, const std::vector<std::string
   // threads is not seeded) may have come out weak; match again from the
   // features, guided, and map again.
   if (can_rematch && result.cameras.NumViews() < options.rematch_below * context.num_photos) {
-    SYLVA_LOG(kWarning) << "COLMAP registered only " << result.cameras.NumViews() << " of "
-                        << context.num_photos << " photos; matching again (guided)";
+    result.notes.push_back("COLMAP registered only " + std::to_string(result.cameras.NumViews()) +
+                           " of " + std::to_string(context.num_photos) +
+                           " photos at first; matched again (guided) and mapped again");
+    SYLVA_LOG(kWarning) << result.notes.back();
     fs::copy_file(features_database, context.database, fs::copy_options::overwrite_existing);
     result.matching_seconds +=
         RunStep(&context, result.matcher + "_matcher",

@@ -114,6 +114,9 @@ struct ColmapResult {
   // many matching passes ran (2 when the first registered too few photos).
   bool relaxed_mapping = false;
   int matching_runs = 1;
+  // What went wrong on the way without stopping the registration (a mapper
+  // retry that failed, a second matching pass), for the stage's warnings.
+  std::vector<std::string> notes;
   // The matcher used ("exhaustive" or "sequential") and whether the photos
   // shared one camera.
   std::string matcher;

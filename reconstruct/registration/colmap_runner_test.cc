@@ -426,6 +426,9 @@ TEST(ColmapRunnerTest, TooFewRegisteredPhotosAreMatchedAgain) {
   EXPECT_EQ(result.matching_runs, 2);
   EXPECT_EQ(result.mapper_runs, options.mapper_attempts + 1);  // all, then the first after
   EXPECT_TRUE(result.relaxed_mapping);
+  ASSERT_EQ(result.notes.size(), 1u);  // for the stage's warnings
+  EXPECT_NE(result.notes[0].find("2 of 6 photos at first; matched again"), std::string::npos)
+      << result.notes[0];
   EXPECT_FALSE(fs::exists(scratch.path() / "ws" / "database_features.db"));
 
   // Never matching again keeps the weak model.

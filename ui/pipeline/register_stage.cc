@@ -54,6 +54,7 @@ StageRun RunRegisterStage(const StageContext& context) {
   std::string units = project.units();
   ImageSet cameras;
   std::vector<std::string> unregistered;
+  std::vector<Warning> notes;  // become the run's warnings
   bool needs_world_frame = true;
 
   if (project.RegistersWithColmap()) {
@@ -67,6 +68,7 @@ StageRun RunRegisterStage(const StageContext& context) {
                                           workspace, options.colmap, context.progress);
     cameras = result.cameras;
     unregistered = result.unregistered;
+    for (const std::string& note : result.notes) notes.push_back({"colmap-retry", note});
     details["method"] = "colmap";
     details["colmap"] = {{"matcher", result.matcher},
                          {"single_camera", result.single_camera},
@@ -101,8 +103,12 @@ StageRun RunRegisterStage(const StageContext& context) {
     const ImageSet initial =
         InitialLooseCameras(setup, sizes, mattes, options.loose_init, &init_summary);
     const LooseRefinement refinement = RefineLooseCameras(setup, initial, options.loose_refine);
-    for (const std::string& warning : init_summary.warnings) SYLVA_LOG(kWarning) << warning;
-    for (const std::string& warning : refinement.summary.warnings) SYLVA_LOG(kWarning) << warning;
+    for (const std::string& warning : init_summary.warnings) {
+      notes.push_back({"loose-cameras", warning});
+    }
+    for (const std::string& warning : refinement.summary.warnings) {
+      notes.push_back({"loose-refinement", warning});
+    }
     cameras = refinement.image_set;
     details["method"] = "manual";
     details["initial"] = init_summary.BriefReport();
@@ -138,8 +144,10 @@ StageRun RunRegisterStage(const StageContext& context) {
   }
   for (const std::string& name : unregistered) {
     if (project.IsHeldOut(name)) {
-      SYLVA_LOG(kWarning) << "held-out photo '" << name
-                          << "' was not registered; it is left out of the report";
+      notes.push_back({"held-out-unregistered",
+                       "held-out photo '" + name +
+                           "' was not registered; it is left out of the report",
+                       name});
     }
   }
   details["registered"] = cameras.NumViews();
@@ -172,6 +180,7 @@ StageRun RunRegisterStage(const StageContext& context) {
   WriteJsonFile(dir / "registration.json", details);
   WriteCameraFile(dir / "cameras.json", cameras, units);
 
+  run.warnings = notes;
   if (!unregistered.empty()) {
     run.warnings.push_back(
         {"unregistered-photos",
