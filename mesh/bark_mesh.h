@@ -91,7 +91,7 @@ struct BarkMeshOptions {
   // one self-intersection check and one meshing. 0 = no repairs; <= 16.
   int repair_rounds = 4;
 
-  // Throws InputError("BarkMesh.<field>", ...) naming the violated constraint.
+  // Throws InputError("BranchMesh.<field>", ...) naming the violated constraint.
   void Check() const;
 };
 

@@ -50,7 +50,7 @@ StageRun RunMeshStage(const StageContext& context) {
   // flow's (a prior); the radii are allometric (skeleton.radius_source).
   const SkeletonSources sources = SkeletonSources::Reconstruction();
   const TreeMetricsReport metrics =
-      ComputeTreeMetrics(skeleton, &density, units, TreeMetricsOptions(), sources);
+      ComputeTreeMetrics(skeleton, &density, units, context.options.tree_metrics, sources);
   gltf.instance_leaves = geometry_options.instance_leaves;
   run.outputs = {context.Out("tree.glb"), context.Out("tree.obj"), context.Out("bark.obj"),
                  context.Out("qsm.csv"), context.Out("metrics.json")};

@@ -83,6 +83,7 @@ void PipelineOptions::Check() const {
   branch_mesh.Check();
   leaves.Check();
   geometry.Check();
+  tree_metrics.Check();
   report.Check();
 }
 
@@ -196,6 +197,10 @@ void RegisterAttract(AttractStageOptions* o, OptionRegistry* r) {
              "draw each graph on its photo (out/attractors/<photo>.png)");
   r->AddDouble("Attractors.stroke_snap_distance", &o->strokes.snap_distance, "pixels",
                "a stroke's end this close to another stroke joins it");
+  r->AddDouble("Attractors.stroke_simplify_tolerance", &o->strokes.simplify_tolerance, "pixels",
+               "drawn points this close to the simplified stroke are dropped (0 keeps all)");
+  r->AddDouble("Attractors.stroke_resample_spacing", &o->strokes.resample_spacing, "pixels",
+               "a simplified stroke is resampled at most this far apart");
   RegisterLivewire(&o->livewire, r);
 }
 
@@ -319,6 +324,8 @@ void RegisterLeaves(LeafOptions* o, OptionRegistry* r) {
                "0 random orientation, 1 leaves turned outward from the crown (thesis 5.4)");
   r->AddDouble("Leaves.matte_threshold", &o->matte_threshold, "alpha",
                "leaves projecting onto mattes sparser than this are dropped");
+  r->AddDouble("Leaves.max_draws_factor", &o->max_draws_factor, "",
+               "leaf positions drawn at most this many times the leaves wanted");
 }
 
 void RegisterGeometry(TreeGeometryOptions* o, LeafOptions* leaves, OptionRegistry* r) {
@@ -329,6 +336,13 @@ void RegisterGeometry(TreeGeometryOptions* o, LeafOptions* leaves, OptionRegistr
                "junction spheres (eq. 5.25) enlarged by this fraction");
   r->AddInt("BranchMesh.repair_rounds", &o->bark.repair_rounds, "rounds",
             "junctions next to crossing triangles meshed again as convex joints; 0 = off");
+  r->AddDouble("BranchMesh.max_cut_fraction", &o->bark.max_cut_fraction, "",
+               "a joint's cut may use at most this fraction of its edge, in (0, 1)");
+  r->AddDouble("BranchMesh.min_radius_fraction", &o->bark.min_radius_fraction, "",
+               "ring radii are at least this fraction of the largest radius (tips of radius 0)");
+  r->AddDouble("BranchMesh.attach_ratio", &o->bark.attach_ratio, "",
+               "laterals at most this fraction of their parent's radius are attached to one quad "
+               "of its tube instead of a convex joint; 0 = never");
   r->AddInt("BranchMesh.subdivision", &o->bark_subdivision, "levels",
             "Loop subdivision of the bark for smooth junctions: 0 = off, at most 3 (each level "
             "x4 triangles; thin branches shrink a little)");
@@ -347,6 +361,23 @@ void RegisterGeometry(TreeGeometryOptions* o, LeafOptions* leaves, OptionRegistr
                "the bark; bark.obj without them) or auto (separate above Twigs.separate_above)");
   r->AddInt("Twigs.separate_above", &o->twig_mesh.separate_above, "twigs",
             "Twigs.mesh=auto meshes the twigs separately when a tree has more than this");
+  r->AddDouble("Twigs.max_density_factor", &o->twig.max_density_factor, "",
+               "twigs per length at most this many times the average, in dense parts");
+  r->AddDouble("Twigs.length", &o->twig.length, "world units",
+               "twig length; 0 = Twigs.length_fraction x tree height");
+  r->AddDouble("Twigs.length_variation", &o->twig.length_variation, "",
+               "twig lengths vary uniformly by this fraction");
+  r->AddDouble("Twigs.strand_fraction", &o->twig.strand_fraction, "",
+               "a twig's strands as a fraction of its branch's (its radius by the pipe model)");
+  r->AddDouble("Twigs.diameter_exponent", &o->twig.diameter_exponent, "",
+               "pipe model exponent of the twigs' radii");
+  r->AddDouble("Twigs.tip_taper", &o->twig.tip_taper, "",
+               "a twig's radius at its tip as a fraction of its base radius");
+  r->AddInt("Twigs.segments", &o->twig.segments, "segments", "skeleton edges per twig");
+  r->AddInt("Twigs.laterals", &o->twig.laterals, "twigs",
+            "monopodial: lateral shoots per twig, half as long");
+  r->AddDouble("Twigs.sympodial_angle_deg", &o->twig.sympodial_angle_deg, "degrees",
+               "sympodial: turn of each unit from the previous one");
   r->AddString("Leaves.shape", &leaves->shape, "quad, ovate, lanceolate or needle");
   r->AddString("Leaves.image", &o->leaf_image,
                "a leaf picture (RGBA; alpha = outline) used as a textured leaf");
@@ -362,6 +393,20 @@ void RegisterGeometry(TreeGeometryOptions* o, LeafOptions* leaves, OptionRegistr
                "phyllotaxis: angle between a leaf and its branch");
   r->AddBool("Export.instance_leaves", &o->instance_leaves,
              "tree.glb stores one leaf mesh + per-leaf transforms (EXT_mesh_gpu_instancing)");
+}
+
+void RegisterTreeMetrics(TreeMetricsOptions* o, OptionRegistry* r) {
+  r->AddDouble("TreeMetrics.dbh_height_m", &o->dbh_height_m, "m",
+               "height of the DBH above the base (metric units only)");
+  r->AddDouble("TreeMetrics.major_branch_fraction", &o->major_branch_fraction, "",
+               "a first-order branch starts the crown when it carries this fraction of the "
+               "largest one's length");
+  r->AddDouble("TreeMetrics.crown_scale_fraction", &o->crown_scale_fraction, "",
+               "the density crown volume closes gaps about 2x this fraction of the height");
+  r->AddDouble("TreeMetrics.density_support_fraction", &o->density_support_fraction, "",
+               "density fainter than this fraction of the crown's typical value is noise");
+  r->AddDouble("TreeMetrics.direction_fraction", &o->direction_fraction, "",
+               "a branch's direction for its angle runs this fraction of its length");
 }
 
 void RegisterReport(ReportOptions* o, OptionRegistry* r) {
@@ -420,6 +465,8 @@ void RegisterMatting(MattingOptions* o, MatteStageOptions* stage, OptionRegistry
                "minimum HSV value of a rejected hue");
   r->AddInt("Matting.reject_margin_px", &o->reject_margin_px, "pixels",
             "margin rejected around rejected objects");
+  r->AddInt("Matting.reject_min_width_px", &o->reject_min_width_px, "pixels",
+            "rejected-hue objects are at least this wide (thinner ones, e.g. tan stems, stay)");
   r->AddDouble("Matting.reject_below_value", &o->reject_below_value, "fraction",
                "pixels darker than this HSV value are never foreground; 0 = off");
   r->AddString("Matting.region", &o->region,
@@ -437,6 +484,9 @@ void RegisterMatting(MattingOptions* o, MatteStageOptions* stage, OptionRegistry
   r->AddDouble("Matting.max_megapixels", &o->max_megapixels, "MP",
                "refinement runs at most at this size, then alpha is upsampled guided by "
                "the photo");
+  r->AddDouble("Matting.closed_form_prior_weight", &o->closed_form_prior_weight, "",
+               "weak pull towards alpha 0.5 that keeps unknown regions without known "
+               "neighbours well-posed");
   r->AddDouble("Matting.closed_form_epsilon", &o->closed_form_epsilon, "",
                "closed-form matting regulariser (colours in 0..1)");
   r->AddInt("Matting.closed_form_max_iterations", &o->closed_form_max_iterations, "iterations",
@@ -509,6 +559,20 @@ void RegisterWorldFrame(WorldFrameOptions* o, OptionRegistry* r) {
   r->AddDouble("WorldFrame.known_height", &o->known_height, "WorldFrame.units",
                "the tree's height, to scale the world; 0 = unknown (units arbitrary)");
   r->AddString("WorldFrame.units", &o->units, "units of WorldFrame.known_height");
+  r->AddInt("WorldFrame.matte_working_size", &o->matte_working_size, "pixels",
+            "mattes are analysed downsampled to at most this size");
+  r->AddDouble("WorldFrame.min_part_fraction", &o->min_part_fraction, "",
+               "matte parts smaller than this fraction of the largest are ignored");
+  r->AddDouble("WorldFrame.band_fraction", &o->band_fraction, "",
+               "the lowest band of a matte, as a fraction of its extent along up");
+  r->AddDouble("WorldFrame.consensus", &o->consensus, "",
+               "share of the views whose mattes must cover a point of the tree (1 = visual hull)");
+  r->AddInt("WorldFrame.ring_min_views", &o->ring_min_views, "views",
+            "camera centres form a ring with at least this many views");
+  r->AddDouble("WorldFrame.ring_max_thickness", &o->ring_max_thickness, "",
+               "a ring's spread across its plane, at most this fraction of its width");
+  r->AddDouble("WorldFrame.ring_max_tilt_degrees", &o->ring_max_tilt_degrees, "degrees",
+               "a ring leaning more than this from the cameras' upright is not horizontal");
   r->AddDouble("WorldFrame.matte_threshold", &o->matte_threshold, "alpha",
                "matte value from which a pixel is the tree");
 }
@@ -551,6 +615,7 @@ void RegisterPipelineOptions(PipelineOptions* options, OptionRegistry* registry)
   RegisterBranchMesh(&options->branch_mesh, registry);
   RegisterLeaves(&options->leaves, registry);
   RegisterGeometry(&options->geometry, &options->leaves, registry);
+  RegisterTreeMetrics(&options->tree_metrics, registry);
   RegisterReport(&options->report, registry);
 }
 

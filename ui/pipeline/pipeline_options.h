@@ -12,6 +12,7 @@
 #include "mesh/bark_mesh.h"
 #include "mesh/branch_mesh.h"
 #include "mesh/leaves.h"
+#include "mesh/tree_metrics.h"
 #include "mesh/twigs.h"
 #include "reconstruct/attractors/livewire.h"
 #include "reconstruct/density/density_options.h"
@@ -150,6 +151,7 @@ struct PipelineOptions {
   BranchMeshOptions branch_mesh;
   LeafOptions leaves;
   TreeGeometryOptions geometry;
+  TreeMetricsOptions tree_metrics;
   ReportOptions report;
 
   // Throws InputError naming the first invalid option.
