@@ -158,7 +158,9 @@ bool MeshCheck::IsClosedManifold() const {
 
 std::string MeshCheck::BriefReport() const {
   std::ostringstream out;
-  out << "Mesh check: " << triangles << " triangles, " << components << " components, "
+  out << "Mesh check: " << triangles << " triangles, " << components << " components";
+  if (inside_out_components > 0) out << " (" << inside_out_components << " INSIDE OUT)";
+  out << ", "
       << boundary_edges << " boundary / " << nonmanifold_edges << " non-manifold / "
       << misoriented_edges << " misoriented edges, " << degenerate_triangles
       << " degenerate triangles, ";
@@ -215,8 +217,27 @@ MeshCheck CheckMesh(const TriangleMesh& mesh, const std::string& material,
   for (const auto& [edge, count] : directed) {
     if (count > 1) ++check.misoriented_edges;
   }
+  std::unordered_map<int, double> component_volume;
   for (int v = 0; v < mesh.NumVertices(); ++v) {
-    if (used[v] && Find(&parent, v) == v) ++check.components;
+    if (used[v] && Find(&parent, v) == v) {
+      ++check.components;
+      component_volume[v] = 0.0;
+    }
+  }
+  // Signed volumes relative to the bounds' centre (not the origin): each
+  // component's is the same either way when it is closed, and the sums lose
+  // fewer digits far from the origin.
+  const Eigen::Vector3d centre =
+      mesh.vertices.empty() ? Eigen::Vector3d(Eigen::Vector3d::Zero()) : Eigen::Vector3d(bounds.center());
+  for (int t : selected) {
+    const Eigen::Vector3i& f = mesh.triangles[t];
+    const Eigen::Vector3d a = mesh.vertices[f[0]].cast<double>() - centre;
+    const Eigen::Vector3d b = mesh.vertices[f[1]].cast<double>() - centre;
+    const Eigen::Vector3d c = mesh.vertices[f[2]].cast<double>() - centre;
+    component_volume[Find(&parent, f[0])] += a.dot(b.cross(c)) / 6.0;
+  }
+  for (const auto& [root, volume] : component_volume) {
+    if (volume < 0) ++check.inside_out_components;
   }
   if (self_intersections) check.self_intersections = SelfIntersections(mesh, selected, -1, nullptr);
   return check;

@@ -157,6 +157,18 @@ QsmModel QsmFromSkeletons(const std::vector<QsmSkeleton>& parts, const std::stri
 // ending at the parent). Throws Error if the skeleton fails Check().
 QsmModel QsmFromSkeleton(const SkeletonGraph& skeleton, const std::string& units);
 
+// Volumes of a table's solids, world units cubed. The cylinders of a
+// TreeQSM table overlap (successive ones by a few mm, a branch's first
+// cylinder starts inside its parent), so their sum pi r^2 L counts those
+// overlaps twice; a closed bark around them encloses about their union.
+double QsmCylinderVolumeSum(const QsmModel& qsm);
+// The volume of the union of the cylinders, by Monte Carlo:
+// `samples_per_cylinder` points uniform in each cylinder count when no
+// earlier cylinder of the table holds them. Relative standard error about
+// sqrt(overlapped fraction / (samples_per_cylinder x cylinders)); the same
+// seed gives the same value. Throws Error if `qsm` fails Check().
+double QsmUnionVolume(const QsmModel& qsm, int samples_per_cylinder, uint64_t seed);
+
 }  // namespace sylva
 
 #endif  // SYLVA_CORE_IO_QSM_IO_H_

@@ -18,6 +18,13 @@ namespace sylva {
 struct QsmMeshing {
   std::vector<QsmSkeleton> parts;  // one per root cylinder
   TriangleMesh bark;               // every part's bark (closed solids)
+  // The bark's figures (mesh/mesh_checks.h): connected components, those
+  // turned inside out, and its volume over the union of the cylinders
+  // (QsmUnionVolume, which is also given).
+  int components = 0;
+  int inside_out_components = 0;
+  double cylinder_union_volume = 0.0;
+  double volume_ratio = 0.0;
   std::string brief;
 };
 
