@@ -9,6 +9,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "core/geometry/polyline.h"
 #include "core/util/check.h"
 #include "core/util/file_util.h"
 #include "core/util/random.h"
@@ -370,26 +371,34 @@ std::vector<Attachment> AddCylinderNodes(const QsmModel& qsm, const std::vector<
 // Adds the cylinders below root cylinder `root`, depth-first (children in
 // table order), to `part`.
 void AddCylinderTree(const QsmModel& qsm, const std::vector<std::vector<int>>& children, int root,
-                     double merge_fraction, QsmSkeleton* part) {
+                     const QsmToSkeletonOptions& options, QsmSkeleton* part) {
   struct Item {
     int cylinder;
     Attachment attachment;  // node -1 for the root
+    int parent;             // cylinder index, -1 for the root
   };
-  std::vector<Item> stack = {{root, {}}};
+  std::vector<Item> stack = {{root, {}, -1}};
   while (!stack.empty()) {
     const Item item = stack.back();
     stack.pop_back();
     const QsmCylinder& c = qsm.cylinders[item.cylinder];
     int start = item.attachment.node;
-    const bool merges = start >= 0 && (c.start - part->skeleton.nodes[start].position).norm() <=
-                                          merge_fraction * c.radius;
+    bool merges = start >= 0 && (c.start - part->skeleton.nodes[start].position).norm() <=
+                                    options.merge_fraction * c.radius;
+    if (start >= 0 && options.merge_inside_parent) {
+      const QsmCylinder& p = qsm.cylinders[item.parent];
+      merges = merges ||
+               SegmentDistance2(c.start, p.start, p.End()) <= p.radius * p.radius;
+    }
     if (item.attachment.connector && !merges) {
       start = AddQsmNode(c.start, c.radius, item.attachment.node, c.branch_order, 0, 0, part);
     }
     const std::vector<int>& below = children[item.cylinder];
     const std::vector<Attachment> attachments =
         AddCylinderNodes(qsm, below, item.cylinder, start, part);
-    for (size_t k = below.size(); k-- > 0;) stack.push_back({below[k], attachments[k]});
+    for (size_t k = below.size(); k-- > 0;) {
+      stack.push_back({below[k], attachments[k], item.cylinder});
+    }
   }
 }
 
@@ -419,7 +428,7 @@ std::vector<QsmSkeleton> SkeletonsFromQsm(const QsmModel& qsm,
   std::vector<QsmSkeleton> parts(roots.size());
   for (size_t r = 0; r < roots.size(); ++r) {
     parts[r].skeleton.radius_source = qsm.radius_source;
-    AddCylinderTree(qsm, children, roots[r], options.merge_fraction, &parts[r]);
+    AddCylinderTree(qsm, children, roots[r], options, &parts[r]);
     parts[r].skeleton.Check();
   }
   return parts;

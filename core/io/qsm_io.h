@@ -129,6 +129,15 @@ struct QsmToSkeletonOptions {
   // trip exact); a mesher may prefer e.g. 0.1, at the price of moving those
   // children's starts (and axes and lengths) by up to that distance. >= 0.
   double merge_fraction = 0.0;
+  // A child cylinder whose start lies inside its parent cylinder (within the
+  // parent's radius of its axis segment) starts at the node it attaches to,
+  // without a connector. TreeQSM starts a branch inside its parent and each
+  // next cylinder of a branch a few mm back inside the previous one: those
+  // connectors lie inside the parent's solid and point anywhere (sideways
+  // off the parent's axis, or back along the branch), so a tube swept along
+  // them folds or turns inside out. A mesher wants them gone (mesh-qsm:
+  // on); the child's start then moves by at most the parent's radius.
+  bool merge_inside_parent = false;
 
   void Check() const;  // throws InputError naming the option
 };

@@ -31,6 +31,7 @@
 #include "core/io/qsm_io.h"
 #include "core/io/skeleton_io.h"
 #include "core/util/check.h"
+#include "datasets/synthetic/synthetic_qsm.h"
 #include "datasets/synthetic/synthetic_tree.h"
 #include "mesh/bark_mesh.h"
 #include "mesh/mesh_checks.h"
@@ -114,8 +115,69 @@ void Picture(const std::string& path) {
               path.c_str());
 }
 
+// The inside-out components of a bark: per component (by shared vertices)
+// its signed volume; the negative ones with what their triangles were made
+// for (the first triangle's origin: kind, node, next, radius).
+void InsideOut(const SkeletonGraph& g, const TriangleMesh& mesh,
+               const std::vector<BarkTriangleOrigin>& origins) {
+  std::vector<int> parent(mesh.NumVertices());
+  for (int v = 0; v < mesh.NumVertices(); ++v) parent[v] = v;
+  auto find = [&](int v) {
+    while (parent[v] != v) v = parent[v] = parent[parent[v]];
+    return v;
+  };
+  for (const Eigen::Vector3i& t : mesh.triangles) {
+    for (int k = 1; k < 3; ++k) {
+      const int a = find(t[0]), b = find(t[k]);
+      if (a != b) parent[a] = b;
+    }
+  }
+  std::map<int, double> volume;
+  std::map<int, int> first, count;
+  std::map<int, std::set<int>> kinds;
+  for (int t = 0; t < mesh.NumTriangles(); ++t) {
+    const Eigen::Vector3i& f = mesh.triangles[t];
+    const int c = find(f[0]);
+    const Eigen::Vector3d a = mesh.vertices[f[0]].cast<double>(), b = mesh.vertices[f[1]].cast<double>(),
+                          d = mesh.vertices[f[2]].cast<double>();
+    volume[c] += a.dot(b.cross(d)) / 6;
+    if (!first.count(c)) first[c] = t;
+    ++count[c];
+    kinds[c].insert(origins[t].kind);
+  }
+  int negative = 0;
+  for (const auto& [c, v] : volume) {
+    if (v >= 0) continue;
+    ++negative;
+    const BarkTriangleOrigin& o = origins[first[c]];
+    std::string kind_list;
+    for (int k : kinds[c]) kind_list += std::to_string(k);
+    std::printf("    inside out: volume %.3g, %d triangles, kinds %s, first origin kind %d node %d "
+                "next %d r %.4f children %zu\n",
+                v, count[c], kind_list.c_str(), o.kind, o.node, o.next,
+                o.node >= 0 ? g.nodes[o.node].radius : -1.0,
+                o.node >= 0 ? g.Children()[o.node].size() : 0);
+  }
+  std::printf("  %zu components, %d inside out\n", volume.size(), negative);
+}
+
 int Main(int argc, char** argv) {
   for (int a = 1; a < argc; ++a) {
+    if (std::strcmp(argv[a], "--synth-qsm") == 0 && a + 1 < argc) {
+      // A generated laser-scan-like table (datasets/synthetic/synthetic_qsm.h).
+      const QsmModel qsm = GenerateSyntheticQsm(SyntheticQsmOptions(), std::atoi(argv[++a]));
+      QsmToSkeletonOptions convert;
+      convert.merge_fraction = 0.1;
+      convert.merge_inside_parent = std::getenv("SYLVA_KEEP_CONNECTORS") == nullptr;
+      for (const QsmSkeleton& part : SkeletonsFromQsm(qsm, convert)) {
+        BarkMeshSummary summary;
+        std::vector<BarkTriangleOrigin> origins;
+        const TriangleMesh bark = MeshBarkWatertight(part.skeleton, BarkMeshOptions(), &summary, &origins);
+        std::printf("part of %d nodes: %s\n", part.skeleton.NumNodes(), summary.BriefReport().c_str());
+        InsideOut(part.skeleton, bark, origins);
+      }
+      continue;
+    }
     if (std::strcmp(argv[a], "--skeleton") == 0 && a + 1 < argc) {
       const SkeletonGraph g = ReadSkeletonJson(argv[++a]);
       Probe(g, argv[a], 0.0);
@@ -144,6 +206,7 @@ int Main(int argc, char** argv) {
     const QsmModel qsm = ReadQsmCsv(argv[a]);
     QsmToSkeletonOptions convert;
     convert.merge_fraction = 0.1;
+    convert.merge_inside_parent = true;
     const std::vector<QsmSkeleton> parts = SkeletonsFromQsm(qsm, convert);
     for (size_t k = 0; k < parts.size(); ++k) {
       // Volume of this part's cylinders (a cylinder spans several nodes).

@@ -23,6 +23,7 @@ constexpr int kUnionSamplesPerCylinder = 64;
 QsmMeshing MeshQsm(const QsmModel& qsm, const PipelineOptions& options, double merge_fraction) {
   QsmToSkeletonOptions convert;
   convert.merge_fraction = merge_fraction;
+  convert.merge_inside_parent = true;
   QsmMeshing meshing;
   meshing.parts = SkeletonsFromQsm(qsm, convert);
   BarkMeshOptions bark = options.geometry.bark;
