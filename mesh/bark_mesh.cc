@@ -315,6 +315,12 @@ class WatertightMesher {
   double RingRadius(double r) const {
     return std::max(r, options_.min_radius_fraction * max_radius_);
   }
+  // How far the vertices of a ring of radius r may reach from its centre:
+  // SampleTubeRings gives polygons the circle's area, and a tube through
+  // this ring has at least the sides of one of radius r (at most this scale).
+  double PolygonRadius(double r) const {
+    return r * PolygonAreaRadiusScale(TubeSides(r, max_radius_, options_.tube));
+  }
   // The radius of the edge between adjacent nodes a and b.
   double EdgeRadius(int a, int b) const {
     return skeleton_.nodes[skeleton_.nodes[a].parent_idx == b ? a : b].radius;
@@ -425,7 +431,7 @@ class WatertightMesher {
         if (i == j) continue;
         const double c = exits[i].direction.dot(exits[j].direction);
         const double reach = (exits[j].center - exits[i].center).dot(exits[i].direction) +
-                             exits[j].radius * std::sqrt(std::max(0.0, 1 - c * c));
+                             PolygonRadius(exits[j].radius) * std::sqrt(std::max(0.0, 1 - c * c));
         if (!(reach <= -kFaceClearance * largest)) {
           (*bad)[i] = (*bad)[j] = 1;
           ok = false;

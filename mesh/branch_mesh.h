@@ -119,7 +119,8 @@ struct TubeRing {
 
 // The tube's rings: spline samples at u = k + s / rings_per_segment[k]
 // (s = 0..rings-1, for every segment k) and u = last, framed by parallel
-// transport, radii interpolated linearly in u between the control points.
+// transport, radii interpolated linearly in u between the control points and
+// scaled by PolygonAreaRadiusScale(sides), so the polygon has the circle's area.
 std::vector<TubeRing> SampleTubeRings(const BranchTube& tube);
 
 // Appends the closed tube through `rings` (at least 2) with `sides` sides:
@@ -139,6 +140,12 @@ void CheckSkeletonInput(const SkeletonGraph& skeleton);
 // Sides of a tube whose largest radius is `axis_radius` in a skeleton whose
 // largest radius is `max_radius` (> 0): see the header comment.
 int TubeSides(double axis_radius, double max_radius, const BranchMeshOptions& options);
+// The circumradius of a regular polygon of `sides` (>= 3) sides with the
+// area of the unit circle: sqrt(2 pi / (sides sin(2 pi / sides))), 1.253 for
+// 4 sides, 1.0057 for 24. SampleTubeRings scales its rings by this, so a tube
+// holds the volume of the cylinder (frustum) it stands for: an inscribed
+// square would hold 64 % of it, a hexagon 83 %.
+double PolygonAreaRadiusScale(int sides);
 // Rings on a spline segment (skeleton edge) of length `edge_length`.
 int TubeRingsPerSegment(double edge_length, const BranchMeshOptions& options);
 
