@@ -316,9 +316,10 @@ class WatertightMesher {
     return std::max(r, options_.min_radius_fraction * max_radius_);
   }
   // How far the vertices of a ring of radius r may reach from its centre:
-  // SampleTubeRings gives polygons the circle's area, and a tube through
+  // with circle_area, SampleTubeRings gives polygons the circle's area, and a tube through
   // this ring has at least the sides of one of radius r (at most this scale).
   double PolygonRadius(double r) const {
+    if (!options_.tube.circle_area) return r;
     return r * PolygonAreaRadiusScale(TubeSides(r, max_radius_, options_.tube));
   }
   // The radius of the edge between adjacent nodes a and b.
@@ -623,6 +624,7 @@ class WatertightMesher {
       tube.rings_per_segment.push_back(TubeRingsPerSegment(
           (tube.control_points[k + 1] - tube.control_points[k]).norm(), options_.tube));
     }
+    tube.circle_area = options_.tube.circle_area;
     tube.sides = TubeSides(*std::max_element(tube.radii.begin(), tube.radii.end()), max_radius_,
                            options_.tube);
     return tube;

@@ -149,6 +149,7 @@ BranchTube PlanAxisTube(const SkeletonGraph& skeleton, const BranchAxis& axis, b
   }
   const double axis_radius = *std::max_element(tube.radii.begin(), tube.radii.end());
   tube.sides = TubeSides(axis_radius, max_radius, options);
+  tube.circle_area = options.circle_area;
   return tube;
 }
 
@@ -175,7 +176,8 @@ std::vector<TubeRing> SampleTubeRings(const BranchTube& tube) {
   tangents.reserve(parameters.size());
   for (double u : parameters) tangents.push_back(TangentAt(spline, u));
   const std::vector<CurveFrame> frames = ParallelTransportFrames(tangents);
-  const double area_scale = tube.sides >= 3 ? PolygonAreaRadiusScale(tube.sides) : 1.0;
+  const double area_scale =
+      tube.circle_area && tube.sides >= 3 ? PolygonAreaRadiusScale(tube.sides) : 1.0;
   std::vector<TubeRing> rings(parameters.size());
   for (size_t i = 0; i < rings.size(); ++i) {
     int k;

@@ -118,25 +118,42 @@ TEST(BranchMeshTest, StraightAxisIsAClosedPrismOfTheRightSize) {
   EXPECT_EQ(summary.triangles, mesh.NumTriangles());
   EXPECT_EQ(mesh.NumTriangles(), 2 * 16 * (summary.rings - 1) + 2 * 16);
   EXPECT_TRUE(IsClosedAndOriented(mesh));
-  // The polygonal prism exactly (float vertices), its polygon scaled to the
-  // circle's area: the cylinder's volume.
-  const double vertex_radius = radius * PolygonAreaRadiusScale(16);
-  const double prism_volume = PolygonArea(16, vertex_radius) * length;
+  // The polygonal prism exactly (float vertices), and the cylinder within
+  // the polygon's deficit (1 - sin(2 pi / n) n / (2 pi) = 2.6% for n = 16).
+  const double prism_volume = PolygonArea(16, radius) * length;
   const double prism_area =
-      16 * 2 * vertex_radius * std::sin(M_PI / 16) * length + 2 * PolygonArea(16, vertex_radius);
+      16 * 2 * radius * std::sin(M_PI / 16) * length + 2 * PolygonArea(16, radius);
   EXPECT_NEAR(SignedVolume(mesh), prism_volume, 1e-6 * prism_volume);
   EXPECT_NEAR(SurfaceArea(mesh), prism_area, 1e-6 * prism_area);
   const double cylinder_volume = M_PI * radius * radius * length;
-  EXPECT_NEAR(SignedVolume(mesh), cylinder_volume, 1e-6 * cylinder_volume);
+  const double deficit = 1 - std::sin(2 * M_PI / 16) * 16 / (2 * M_PI);
+  EXPECT_NEAR(SignedVolume(mesh), cylinder_volume, 1.01 * deficit * cylinder_volume);
   EXPECT_EQ(mesh.materials.size(), 1u);
   EXPECT_EQ(mesh.materials[0].name, "bark");
 }
 
-// ... the radius of the 24-gon with the circle's area.
+// circle_area: the polygons get the circle's area, so the prism holds the
+// cylinder's volume whatever its sides (4: the square's vertices 1.25 r out).
+TEST(BranchMeshTest, CircleAreaRingsHoldTheCylindersVolume) {
+  const double radius = 0.2, length = 3.0;
+  const SkeletonGraph skeleton = StraightAxis(3, 1.0, radius);
+  for (int sides : {4, 6, 16}) {
+    BranchMeshOptions options;
+    options.min_sides = options.max_sides = sides;
+    options.circle_area = true;
+    const TriangleMesh mesh = MeshBranches(skeleton, options, nullptr);
+    EXPECT_TRUE(IsClosedAndOriented(mesh));
+    const double cylinder_volume = M_PI * radius * radius * length;
+    EXPECT_NEAR(SignedVolume(mesh), cylinder_volume, 1e-6 * cylinder_volume) << sides;
+    EXPECT_NEAR(mesh.vertices[0].cast<double>().head<2>().norm(),
+                radius * PolygonAreaRadiusScale(sides), 1e-6) << sides;
+  }
+  EXPECT_NEAR(PolygonAreaRadiusScale(4), std::sqrt(M_PI / 2), 1e-12);
+}
+
 TEST(BranchMeshTest, EveryVertexOfAStraightTubeIsAtTheRadius) {
   const SkeletonGraph skeleton = StraightAxis(5, 0.7, 0.35);
   const TriangleMesh mesh = MeshBranches(skeleton, BranchMeshOptions(), nullptr);
-  const double vertex_radius = 0.35 * PolygonAreaRadiusScale(BranchMeshOptions().max_sides);
   int on_axis = 0;
   for (const Eigen::Vector3f& v : mesh.vertices) {
     const double distance = Eigen::Vector2d(v.x(), v.y()).norm();
@@ -144,7 +161,7 @@ TEST(BranchMeshTest, EveryVertexOfAStraightTubeIsAtTheRadius) {
       ++on_axis;  // the two cap centres
       continue;
     }
-    EXPECT_NEAR(distance, vertex_radius, 1e-6);
+    EXPECT_NEAR(distance, 0.35, 1e-6);
     EXPECT_GE(v.z(), -1e-6);
     EXPECT_LE(v.z(), 3.5 + 1e-6);
   }
@@ -170,7 +187,7 @@ TEST(BranchMeshTest, TrianglesFaceOutwards) {
 
 TEST(BranchMeshTest, TaperedAxisHasTheFrustumVolume) {
   // Radii 0.3 at the base, then 0.3, 0.2, 0.1 at the next nodes: linear
-  // taper per edge, so each edge is a polygonal frustum (of the circles' areas).
+  // taper per edge, so each edge is a polygonal frustum.
   SkeletonGraph skeleton = StraightAxis(3, 1.0, 0.3);
   skeleton.nodes[2].radius = 0.2;
   skeleton.nodes[3].radius = 0.1;
@@ -178,8 +195,7 @@ TEST(BranchMeshTest, TaperedAxisHasTheFrustumVolume) {
   options.max_sides = 12;
   const TriangleMesh mesh = MeshBranches(skeleton, options, nullptr);
   auto frustum = [](double r0, double r1) {
-    const double scale = PolygonAreaRadiusScale(12);
-    const double a0 = PolygonArea(12, scale * r0), a1 = PolygonArea(12, scale * r1);
+    const double a0 = PolygonArea(12, r0), a1 = PolygonArea(12, r1);
     return (a0 + a1 + std::sqrt(a0 * a1)) / 3.0;
   };
   const double expected = frustum(0.3, 0.3) + frustum(0.3, 0.2) + frustum(0.2, 0.1);
