@@ -17,6 +17,7 @@
 //
 // usage: sylva_bark_probe [--picture out.png] [--skeleton skeleton.json]
 //                         [--classify N] [qsm.csv ...]
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -146,6 +147,25 @@ void InsideOut(const SkeletonGraph& g, const TriangleMesh& mesh,
     kinds[c].insert(origins[t].kind);
   }
   int negative = 0;
+  int largest = -1;
+  for (const auto& [c, n] : count) {
+    if (largest < 0 || n > count[largest]) largest = c;
+  }
+  for (const auto& [c, v] : volume) {
+    if (c == largest) continue;
+    const BarkTriangleOrigin& o = origins[first[c]];
+    if (v < 0 || o.node < 0) continue;
+    const SkeletonNode& u = g.nodes[o.node];
+    const SkeletonNode& w = g.nodes[o.next];
+    const Eigen::Vector3d d = (w.position - u.position).normalized();
+    const Eigen::Vector3d up = u.parent_idx >= 0
+                                   ? Eigen::Vector3d((u.position - g.nodes[u.parent_idx].position).normalized())
+                                   : Eigen::Vector3d::UnitZ();
+    std::printf("    extra component: volume %.3g, %d triangles, node %d (r %.4f, %zu children) -> %d "
+                "(r %.4f, edge %.4f, %.0f deg off the parent)\n",
+                v, count[c], o.node, u.radius, g.Children()[o.node].size(), o.next, w.radius,
+                (w.position - u.position).norm(), std::acos(std::clamp(d.dot(up), -1.0, 1.0)) * 180 / M_PI);
+  }
   for (const auto& [c, v] : volume) {
     if (v >= 0) continue;
     ++negative;
@@ -165,17 +185,29 @@ int Main(int argc, char** argv) {
   for (int a = 1; a < argc; ++a) {
     if (std::strcmp(argv[a], "--synth-qsm") == 0 && a + 1 < argc) {
       // A generated laser-scan-like table (datasets/synthetic/synthetic_qsm.h).
-      const QsmModel qsm = GenerateSyntheticQsm(SyntheticQsmOptions(), std::atoi(argv[++a]));
+      // SYLVA_QSM_NOISE=P,R: position and radius noise (default 0.3,0.1).
+      SyntheticQsmOptions synth;
+      if (const char* noise = std::getenv("SYLVA_QSM_NOISE")) {
+        std::sscanf(noise, "%lf,%lf", &synth.position_noise, &synth.radius_noise);
+      }
+      const QsmModel qsm = GenerateSyntheticQsm(synth, std::atoi(argv[++a]));
+      std::printf("synthetic QSM: %zu cylinders, noise %.2f/%.2f\n", qsm.cylinders.size(),
+                  synth.position_noise, synth.radius_noise);
       QsmToSkeletonOptions convert;
       convert.merge_fraction = 0.1;
       convert.merge_inside_parent = std::getenv("SYLVA_KEEP_CONNECTORS") == nullptr;
+      double volume = 0.0;
+      BarkMeshOptions options;  // as mesh-qsm meshes
+      options.tube.circle_area = std::getenv("SYLVA_INSCRIBED") == nullptr;
       for (const QsmSkeleton& part : SkeletonsFromQsm(qsm, convert)) {
         BarkMeshSummary summary;
         std::vector<BarkTriangleOrigin> origins;
-        const TriangleMesh bark = MeshBarkWatertight(part.skeleton, BarkMeshOptions(), &summary, &origins);
+        const TriangleMesh bark = MeshBarkWatertight(part.skeleton, options, &summary, &origins);
         std::printf("part of %d nodes: %s\n", part.skeleton.NumNodes(), summary.BriefReport().c_str());
         InsideOut(part.skeleton, bark, origins);
+        volume += CheckMesh(bark, "", false).volume;
       }
+      std::printf("bark volume / cylinders' union %.4f\n", volume / QsmUnionVolume(qsm, 64, 1));
       continue;
     }
     if (std::strcmp(argv[a], "--skeleton") == 0 && a + 1 < argc) {
