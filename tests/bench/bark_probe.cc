@@ -45,10 +45,11 @@ namespace {
 void Classify(const SkeletonGraph& g, const TriangleMesh& mesh,
               const std::vector<BarkTriangleOrigin>& origins);
 
-void Probe(const SkeletonGraph& g, const std::string& name, double reference_volume) {
+void Probe(const SkeletonGraph& g, const std::string& name, double reference_volume,
+           const BarkMeshOptions& options = BarkMeshOptions()) {
   BarkMeshSummary summary;
   std::vector<BarkTriangleOrigin> origins;
-  const TriangleMesh bark = MeshBarkWatertight(g, BarkMeshOptions(), &summary, &origins);
+  const TriangleMesh bark = MeshBarkWatertight(g, options, &summary, &origins);
   BranchMeshSummary tube_summary;
   const TriangleMesh tubes = MeshBranches(g, BranchMeshOptions(), &tube_summary);
   const MeshCheck check = CheckMesh(bark);
@@ -247,7 +248,9 @@ int Main(int argc, char** argv) {
       for (const QsmCylinder& c : qsm.cylinders) {
         if (ids.count(c.id)) volume += M_PI * c.radius * c.radius * c.length;
       }
-      Probe(parts[k].skeleton, std::string(argv[a]) + " part " + std::to_string(k), volume);
+      BarkMeshOptions options;  // as mesh-qsm meshes
+      options.tube.circle_area = true;
+      Probe(parts[k].skeleton, std::string(argv[a]) + " part " + std::to_string(k), volume, options);
     }
   }
   return 0;
