@@ -243,4 +243,43 @@ MeshCheck CheckMesh(const TriangleMesh& mesh, const std::string& material,
   return check;
 }
 
+int TurnInsideOutComponents(TriangleMesh* mesh) {
+  mesh->Check();
+  const int64_t n = mesh->NumVertices();
+  std::vector<int> parent(mesh->NumVertices());
+  std::iota(parent.begin(), parent.end(), 0);
+  std::unordered_map<int64_t, int> undirected;
+  for (const Eigen::Vector3i& f : mesh->triangles) {
+    for (int k = 0; k < 3; ++k) {
+      const int u = f[k], v = f[(k + 1) % 3];
+      ++undirected[std::min(u, v) * n + std::max(u, v)];
+      const int ru = Find(&parent, u), rv = Find(&parent, v);
+      if (ru != rv) parent[ru] = rv;
+    }
+  }
+  std::unordered_map<int, char> open;
+  for (const auto& [edge, count] : undirected) {
+    if (count != 2) open[Find(&parent, static_cast<int>(edge / n))] = 1;
+  }
+  Eigen::AlignedBox3d bounds;
+  for (const Eigen::Vector3f& v : mesh->vertices) bounds.extend(v.cast<double>());
+  const Eigen::Vector3d centre = mesh->vertices.empty() ? Eigen::Vector3d(Eigen::Vector3d::Zero())
+                                                        : Eigen::Vector3d(bounds.center());
+  std::unordered_map<int, double> volume;
+  for (const Eigen::Vector3i& f : mesh->triangles) {
+    const Eigen::Vector3d a = mesh->vertices[f[0]].cast<double>() - centre;
+    const Eigen::Vector3d b = mesh->vertices[f[1]].cast<double>() - centre;
+    const Eigen::Vector3d c = mesh->vertices[f[2]].cast<double>() - centre;
+    volume[Find(&parent, f[0])] += a.dot(b.cross(c)) / 6.0;
+  }
+  int turned = 0;
+  for (const auto& [root, v] : volume) turned += v < 0 && !open.count(root) ? 1 : 0;
+  if (turned == 0) return 0;
+  for (Eigen::Vector3i& f : mesh->triangles) {
+    const int root = Find(&parent, f[0]);
+    if (volume[root] < 0 && !open.count(root)) std::swap(f[1], f[2]);
+  }
+  return turned;
+}
+
 }  // namespace sylva

@@ -55,6 +55,13 @@ std::vector<std::pair<int, int>> FindSelfIntersections(const TriangleMesh& mesh,
                                                        const std::string& material = "",
                                                        int64_t max_pairs = -1);
 
+// The one repair here: turns every closed component (connected by shared
+// vertices, each of its edges used by exactly two of its triangles) whose
+// signed volume is negative right side out, by reversing its triangles.
+// Such a component is inside out whatever made it; open ones are left alone
+// (their sign means nothing). Returns how many were turned.
+int TurnInsideOutComponents(TriangleMesh* mesh);
+
 }  // namespace sylva
 
 #endif  // SYLVA_MESH_MESH_CHECKS_H_

@@ -23,6 +23,10 @@ struct QsmMeshing {
   // (QsmUnionVolume, which is also given).
   int components = 0;
   int inside_out_components = 0;
+  // Closed components the mesher made inside out, turned right side out
+  // before the figures above (TurnInsideOutComponents; 0 on every table
+  // tested).
+  int turned_components = 0;
   double cylinder_union_volume = 0.0;
   double volume_ratio = 0.0;
   std::string brief;
