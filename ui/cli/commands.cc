@@ -128,7 +128,10 @@ CommandSpec MeshQsmSpec() {
           "project: one sylva skeleton per root cylinder, the watertight bark of the mesh\n"
           "stage (BranchMesh.* options). Writes OUT_DIR/bark.obj (closed solid), tree.obj,\n"
           "tree.glb, qsm.csv (the table as read), metrics.json and preview pictures of the\n"
-          "bark from 4 sides, preview_0.png .. preview_3.png (Report.preview_* options).",
+          "bark from 4 sides, preview_0.png .. preview_3.png (Report.preview_* options).\n"
+          "Prints the bark's figures: components, how many are inside out, and its volume\n"
+          "over the union of the cylinders (and over their sum, which counts overlaps twice).\n"
+          "Try it on a generated table: sylva synth T --qsm; sylva mesh-qsm T/qsm.csv OUT",
           {{"merge", "F",
             "children starting within F x their radius of the parent's axis hang from it "
             "directly (default 0.1; 0 keeps every connector edge)"},
