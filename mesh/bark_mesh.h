@@ -50,7 +50,9 @@
 //     A repair whose joint swallows more than 8 nodes is undone.
 //  5. Tight bends. Tube rings that fold against the previous ring (the axis
 //     bends more sharply than the radius allows, as at QSM kinks) are
-//     dropped.
+//     dropped: the longest run of unfolded rings is kept, from the first
+//     ring where a joint or attachment uses it (else a capped end's ring may
+//     go too, so a tube never comes out inside out).
 //
 // Known gap (ClassifyBarkCrossings): the synthetic trees still have 0-31
 // crossing pairs per ~100k triangles at junctions (next to twig clusters),

@@ -13,10 +13,16 @@
 //
 // --skeleton PATH: a sylva skeleton (out/skeleton.json of a project).
 // --classify N: synthetic trees of seeds 1..N (-S: seed S alone).
+// --synth-qsm S: the laser-scan-like QSM table of seed S
+// (datasets/synthetic/synthetic_qsm.h; SYLVA_QSM_NOISE=P,R sets its position
+// and radius noise), meshed as mesh-qsm meshes it (SYLVA_KEEP_CONNECTORS:
+// without merge_inside_parent; SYLVA_INSCRIBED: without circle_area): the
+// components beyond the largest, the inside-out ones, and the volume over
+// the cylinders' union.
 // Every mesh's crossing triangle pairs are classified (ClassifyBarkCrossings).
 //
 // usage: sylva_bark_probe [--picture out.png] [--skeleton skeleton.json]
-//                         [--classify N] [qsm.csv ...]
+//                         [--classify N] [--synth-qsm S] [qsm.csv ...]
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
