@@ -134,7 +134,7 @@ CommandSpec MeshQsmSpec() {
           "Try it on a generated table: sylva synth T --qsm; sylva mesh-qsm T/qsm.csv OUT",
           {{"merge", "F",
             "children starting within F x their radius of the parent's axis hang from it "
-            "directly (default 0.1; 0 keeps every connector edge)"},
+            "directly (default 0.1); children starting inside their parent cylinder always do"},
            {"subdivide", "N",
             "N levels of Loop subdivision of the bark, 0-3 (default 0; same as "
             "--BranchMesh.subdivision=N)"},
