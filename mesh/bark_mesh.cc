@@ -38,6 +38,9 @@ constexpr double kNearJunction = 4.0;
 // A ring must lie behind every other ring's plane by this fraction of the
 // joint's largest ring radius.
 constexpr double kFaceClearance = 1e-3;
+// Sides a parent tube gets per lateral attached at one of its nodes, where
+// two or more are (a quad and its two neighbours each).
+constexpr int kSidesPerPiledLateral = 3;
 // Rings of a tube a fold may span (WithoutCrossingRings).
 constexpr int kFoldWindow = 48;
 // Tie-breaking jitter of the hull's points, as a fraction of the joint's size.
@@ -629,6 +632,16 @@ class WatertightMesher {
     tube.circle_area = options_.tube.circle_area;
     tube.sides = TubeSides(*std::max_element(tube.radii.begin(), tube.radii.end()), max_radius_,
                            options_.tube);
+    // Each lateral attached at a node takes a quad and reserves the quads
+    // beside it: a parent of few sides has no room around one ring for a
+    // second or third lateral from the same node (common in QSM tables),
+    // which then end up capped and overlapping. Such parents get more sides.
+    size_t piled = 0;
+    for (int k = first_inner; k <= last_inner; ++k) piled = std::max(piled, laterals_[chain[k]].size());
+    if (piled >= 2) {
+      tube.sides = std::max(tube.sides, std::min(options_.tube.max_sides,
+                                                 kSidesPerPiledLateral * static_cast<int>(piled)));
+    }
     return tube;
   }
 

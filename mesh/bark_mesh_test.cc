@@ -132,9 +132,9 @@ TEST(BarkMeshTest, SyntheticTreesAreClosedManifolds) {
 // radius, radii by 30 %), meshed as mesh-qsm meshes them (connectors inside
 // the parent dropped, polygons of the circle's area): no component is inside
 // out, and the bark holds the cylinders' union within 3 %. Measured (seeds
-// 1, 2): 0.986, 1.011; 19-20 components per tree (5 parts, 14-15 laterals
-// capped and overlapping their parent); before WithoutCrossingRings could
-// drop a capped tube's first ring: 4 inside out, 41 laterals overlapping.
+// 1, 2): 0.986, 1.011; 14 and 17 components (5 parts, 9-12 laterals capped
+// and overlapping their parent); before WithoutCrossingRings could drop a
+// capped tube's first ring: 4 inside out, 41 laterals overlapping.
 TEST(BarkMeshTest, LargeNoisyQsmTablesAreOutwardAndHoldTheirCylinders) {
   SyntheticQsmOptions synth;
   synth.position_noise = 1.0;
@@ -158,7 +158,7 @@ TEST(BarkMeshTest, LargeNoisyQsmTablesAreOutwardAndHoldTheirCylinders) {
                 check.volume / union_volume);
     EXPECT_EQ(check.inside_out_components, 0) << seed;
     EXPECT_EQ(check.boundary_edges + check.nonmanifold_edges + check.misoriented_edges, 0) << seed;
-    EXPECT_LE(check.components, 5 + 20) << seed;
+    EXPECT_LE(check.components, 5 + 15) << seed;
     EXPECT_NEAR(check.volume / union_volume, 1.0, 0.03) << seed;
   }
 }
