@@ -16,8 +16,10 @@
 //     triangles. The quad's two triangles are removed and the convex hull of
 //     quad + ring, minus quad and ring, fills the gap. The quad and its
 //     neighbours are then reserved, so joints of different laterals do not
-//     share parent quads. This replaces the thesis' pairwise bridging for
-//     thin laterals; the cut distance comes from the quad test, not eq. 5.25.
+//     share parent quads; a parent tube with two or more laterals at one
+//     node gets at least 3 sides per lateral, so there are quads for all.
+//     This replaces the thesis' pairwise bridging for thin laterals; the
+//     cut distance comes from the quad test, not eq. 5.25.
 //  2. Convex joints (the root junction, junctions of 3+ children, laterals
 //     as thick as the parent, and laterals that found no free quad: then
 //     everything is meshed again with that junction as a convex joint). A
