@@ -38,6 +38,11 @@ constexpr double kNearJunction = 4.0;
 // A ring must lie behind every other ring's plane by this fraction of the
 // joint's largest ring radius.
 constexpr double kFaceClearance = 1e-3;
+// Sides a parent tube gets per lateral attached at one of its nodes, where
+// two or more are (a quad and its two neighbours each).
+constexpr int kSidesPerPiledLateral = 3;
+// Rings of a tube a fold may span (WithoutCrossingRings).
+constexpr int kFoldWindow = 48;
 // Tie-breaking jitter of the hull's points, as a fraction of the joint's size.
 constexpr double kJitter = 1e-7;
 
@@ -315,6 +320,13 @@ class WatertightMesher {
   double RingRadius(double r) const {
     return std::max(r, options_.min_radius_fraction * max_radius_);
   }
+  // How far the vertices of a ring of radius r may reach from its centre:
+  // with circle_area, SampleTubeRings gives polygons the circle's area, and a tube through
+  // this ring has at least the sides of one of radius r (at most this scale).
+  double PolygonRadius(double r) const {
+    if (!options_.tube.circle_area) return r;
+    return r * PolygonAreaRadiusScale(TubeSides(r, max_radius_, options_.tube));
+  }
   // The radius of the edge between adjacent nodes a and b.
   double EdgeRadius(int a, int b) const {
     return skeleton_.nodes[skeleton_.nodes[a].parent_idx == b ? a : b].radius;
@@ -425,7 +437,7 @@ class WatertightMesher {
         if (i == j) continue;
         const double c = exits[i].direction.dot(exits[j].direction);
         const double reach = (exits[j].center - exits[i].center).dot(exits[i].direction) +
-                             exits[j].radius * std::sqrt(std::max(0.0, 1 - c * c));
+                             PolygonRadius(exits[j].radius) * std::sqrt(std::max(0.0, 1 - c * c));
         if (!(reach <= -kFaceClearance * largest)) {
           (*bad)[i] = (*bad)[j] = 1;
           ok = false;
@@ -617,8 +629,19 @@ class WatertightMesher {
       tube.rings_per_segment.push_back(TubeRingsPerSegment(
           (tube.control_points[k + 1] - tube.control_points[k]).norm(), options_.tube));
     }
+    tube.circle_area = options_.tube.circle_area;
     tube.sides = TubeSides(*std::max_element(tube.radii.begin(), tube.radii.end()), max_radius_,
                            options_.tube);
+    // Each lateral attached at a node takes a quad and reserves the quads
+    // beside it: a parent of few sides has no room around one ring for a
+    // second or third lateral from the same node (common in QSM tables),
+    // which then end up capped and overlapping. Such parents get more sides.
+    size_t piled = 0;
+    for (int k = first_inner; k <= last_inner; ++k) piled = std::max(piled, laterals_[chain[k]].size());
+    if (piled >= 2) {
+      tube.sides = std::max(tube.sides, std::min(options_.tube.max_sides,
+                                                 kSidesPerPiledLateral * static_cast<int>(piled)));
+    }
     return tube;
   }
 
@@ -775,16 +798,36 @@ class WatertightMesher {
   }
 
   // The rings without those that fold against their neighbours where the
-  // axis bends more sharply than the radius allows (QSM kinks); the first
-  // and the last ring are kept (joints and caps use them).
-  static std::vector<TubeRing> WithoutCrossingRings(std::vector<TubeRing> rings) {
-    if (rings.size() <= 2) return rings;
-    std::vector<TubeRing> kept = {rings.front()};
-    for (size_t k = 1; k + 1 < rings.size(); ++k) {
-      if (RingsApart(kept.back(), rings[k])) kept.push_back(rings[k]);
+  // axis bends more sharply than the radius allows (QSM kinks): the longest
+  // run of rings each apart from the one before (RingsApart), from the first
+  // ring if `pin_first` (a joint or attachment uses it), else from any, to
+  // the last if `pin_last`, else to any. A greedy pass from a pinned first
+  // ring cannot drop that ring: where it faces away from the rest (a capped
+  // lateral leaving at a kink), it dropped every other ring and the tube of
+  // the first and last came out inside out. Folds span a few rings, so a
+  // ring's predecessor is looked for among the kFoldWindow before it.
+  static std::vector<TubeRing> WithoutCrossingRings(std::vector<TubeRing> rings, bool pin_first,
+                                                    bool pin_last) {
+    const int n = static_cast<int>(rings.size());
+    if (n <= 2) return rings;
+    std::vector<int> run(n, 0), previous(n, -1);  // 0: no run reaches the ring
+    for (int k = 0; k < n; ++k) {
+      if (k == 0 || !pin_first) run[k] = 1;
+      for (int i = std::max(0, k - kFoldWindow); i < k; ++i) {
+        if (run[i] > 0 && run[i] + 1 > run[k] && RingsApart(rings[i], rings[k])) {
+          run[k] = run[i] + 1;
+          previous[k] = i;
+        }
+      }
     }
-    while (kept.size() > 1 && !RingsApart(kept.back(), rings.back())) kept.pop_back();
-    kept.push_back(rings.back());
+    int best = -1;
+    for (int k = pin_last ? n - 1 : 0; k < n; ++k) {
+      if (run[k] >= 2 && (best < 0 || run[k] > run[best])) best = k;
+    }
+    if (best < 0) return {rings.front(), rings.back()};  // nothing unfolds
+    std::vector<TubeRing> kept;
+    for (int k = best; k >= 0; k = previous[k]) kept.push_back(rings[k]);
+    std::reverse(kept.begin(), kept.end());
     return kept;
   }
 
@@ -864,7 +907,8 @@ class WatertightMesher {
     info.first_vertex = mesh->NumVertices();
     info.first_triangle = mesh->NumTriangles();
     info.sides = tube.sides;
-    const std::vector<TubeRing> rings_kept = WithoutCrossingRings(SampleTubeRings(tube));
+    const std::vector<TubeRing> rings_kept =
+        WithoutCrossingRings(SampleTubeRings(tube), start != nullptr, end_cut);
     info.rings = static_cast<int>(rings_kept.size());
     AppendTube(rings_kept, tube.sides, material_, mesh, start == nullptr, !end_cut);
     BarkTriangleOrigin origin;

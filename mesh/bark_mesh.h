@@ -16,8 +16,10 @@
 //     triangles. The quad's two triangles are removed and the convex hull of
 //     quad + ring, minus quad and ring, fills the gap. The quad and its
 //     neighbours are then reserved, so joints of different laterals do not
-//     share parent quads. This replaces the thesis' pairwise bridging for
-//     thin laterals; the cut distance comes from the quad test, not eq. 5.25.
+//     share parent quads; a parent tube with two or more laterals at one
+//     node gets at least 3 sides per lateral, so there are quads for all.
+//     This replaces the thesis' pairwise bridging for thin laterals; the
+//     cut distance comes from the quad test, not eq. 5.25.
 //  2. Convex joints (the root junction, junctions of 3+ children, laterals
 //     as thick as the parent, and laterals that found no free quad: then
 //     everything is meshed again with that junction as a convex joint). A
@@ -50,7 +52,9 @@
 //     A repair whose joint swallows more than 8 nodes is undone.
 //  5. Tight bends. Tube rings that fold against the previous ring (the axis
 //     bends more sharply than the radius allows, as at QSM kinks) are
-//     dropped.
+//     dropped: the longest run of unfolded rings is kept, from the first
+//     ring where a joint or attachment uses it (else a capped end's ring may
+//     go too, so a tube never comes out inside out).
 //
 // Known gap (ClassifyBarkCrossings): the synthetic trees still have 0-31
 // crossing pairs per ~100k triangles at junctions (next to twig clusters),

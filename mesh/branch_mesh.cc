@@ -149,12 +149,18 @@ BranchTube PlanAxisTube(const SkeletonGraph& skeleton, const BranchAxis& axis, b
   }
   const double axis_radius = *std::max_element(tube.radii.begin(), tube.radii.end());
   tube.sides = TubeSides(axis_radius, max_radius, options);
+  tube.circle_area = options.circle_area;
   return tube;
 }
 
 std::vector<BranchTube> PlanBranchTubes(const SkeletonGraph& skeleton,
                                         const BranchMeshOptions& options) {
   return PlanTubes(skeleton, options, nullptr);
+}
+
+double PolygonAreaRadiusScale(int sides) {
+  SYLVA_CHECK(sides >= 3);
+  return std::sqrt(2 * M_PI / (sides * std::sin(2 * M_PI / sides)));
 }
 
 std::vector<TubeRing> SampleTubeRings(const BranchTube& tube) {
@@ -170,6 +176,8 @@ std::vector<TubeRing> SampleTubeRings(const BranchTube& tube) {
   tangents.reserve(parameters.size());
   for (double u : parameters) tangents.push_back(TangentAt(spline, u));
   const std::vector<CurveFrame> frames = ParallelTransportFrames(tangents);
+  const double area_scale =
+      tube.circle_area && tube.sides >= 3 ? PolygonAreaRadiusScale(tube.sides) : 1.0;
   std::vector<TubeRing> rings(parameters.size());
   for (size_t i = 0; i < rings.size(); ++i) {
     int k;
@@ -177,7 +185,7 @@ std::vector<TubeRing> SampleTubeRings(const BranchTube& tube) {
     spline.Locate(parameters[i], &k, &t);
     rings[i].center = spline.Evaluate(parameters[i]);
     rings[i].frame = frames[i];
-    rings[i].radius = (1 - t) * tube.radii[k] + t * tube.radii[k + 1];
+    rings[i].radius = area_scale * ((1 - t) * tube.radii[k] + t * tube.radii[k + 1]);
   }
   return rings;
 }

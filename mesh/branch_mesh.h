@@ -48,6 +48,13 @@ struct BranchMeshOptions {
   // 3 <= min_sides <= max_sides <= 256.
   int min_sides = 4;
   int max_sides = 24;
+  // Ring polygons with the circle's area (PolygonAreaRadiusScale), so a tube
+  // holds the volume of the cylinders it stands for (an inscribed square
+  // holds 64 % of it, a hexagon 83 %). Off by default: the bark mesher's
+  // attachments of thin laterals on sparse (4-6 sided) parents fail more
+  // often with the larger polygons (a twig-pruned synthetic tree: 41 of
+  // ~500 laterals left overlapping). mesh-qsm turns it on.
+  bool circle_area = false;
   // The material of every branch triangle (single-sided: tubes are closed).
   Material bark = {"bark", Eigen::Vector3f(0.36f, 0.26f, 0.18f), false};
 
@@ -91,6 +98,8 @@ struct BranchTube {
   // Rings sampled on each spline segment (control_points.size() - 1 of them).
   std::vector<int> rings_per_segment;
   int sides = 0;
+  // Ring polygons with the circle's area (BranchMeshOptions::circle_area).
+  bool circle_area = false;
 
   int NumRings() const;      // all segments' rings plus the tip ring
   int NumVertices() const;   // sides per ring plus the two cap centres
@@ -119,7 +128,8 @@ struct TubeRing {
 
 // The tube's rings: spline samples at u = k + s / rings_per_segment[k]
 // (s = 0..rings-1, for every segment k) and u = last, framed by parallel
-// transport, radii interpolated linearly in u between the control points.
+// transport, radii interpolated linearly in u between the control points (and
+// scaled by PolygonAreaRadiusScale(sides) if tube.circle_area).
 std::vector<TubeRing> SampleTubeRings(const BranchTube& tube);
 
 // Appends the closed tube through `rings` (at least 2) with `sides` sides:
@@ -139,6 +149,10 @@ void CheckSkeletonInput(const SkeletonGraph& skeleton);
 // Sides of a tube whose largest radius is `axis_radius` in a skeleton whose
 // largest radius is `max_radius` (> 0): see the header comment.
 int TubeSides(double axis_radius, double max_radius, const BranchMeshOptions& options);
+// The circumradius of a regular polygon of `sides` (>= 3) sides with the
+// area of the unit circle: sqrt(2 pi / (sides sin(2 pi / sides))), 1.253 for
+// 4 sides, 1.0057 for 24 (BranchMeshOptions::circle_area).
+double PolygonAreaRadiusScale(int sides);
 // Rings on a spline segment (skeleton edge) of length `edge_length`.
 int TubeRingsPerSegment(double edge_length, const BranchMeshOptions& options);
 

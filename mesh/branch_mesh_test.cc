@@ -132,6 +132,25 @@ TEST(BranchMeshTest, StraightAxisIsAClosedPrismOfTheRightSize) {
   EXPECT_EQ(mesh.materials[0].name, "bark");
 }
 
+// circle_area: the polygons get the circle's area, so the prism holds the
+// cylinder's volume whatever its sides (4: the square's vertices 1.25 r out).
+TEST(BranchMeshTest, CircleAreaRingsHoldTheCylindersVolume) {
+  const double radius = 0.2, length = 3.0;
+  const SkeletonGraph skeleton = StraightAxis(3, 1.0, radius);
+  for (int sides : {4, 6, 16}) {
+    BranchMeshOptions options;
+    options.min_sides = options.max_sides = sides;
+    options.circle_area = true;
+    const TriangleMesh mesh = MeshBranches(skeleton, options, nullptr);
+    EXPECT_TRUE(IsClosedAndOriented(mesh));
+    const double cylinder_volume = M_PI * radius * radius * length;
+    EXPECT_NEAR(SignedVolume(mesh), cylinder_volume, 1e-6 * cylinder_volume) << sides;
+    EXPECT_NEAR(mesh.vertices[0].cast<double>().head<2>().norm(),
+                radius * PolygonAreaRadiusScale(sides), 1e-6) << sides;
+  }
+  EXPECT_NEAR(PolygonAreaRadiusScale(4), std::sqrt(M_PI / 2), 1e-12);
+}
+
 TEST(BranchMeshTest, EveryVertexOfAStraightTubeIsAtTheRadius) {
   const SkeletonGraph skeleton = StraightAxis(5, 0.7, 0.35);
   const TriangleMesh mesh = MeshBranches(skeleton, BranchMeshOptions(), nullptr);

@@ -158,7 +158,9 @@ bool MeshCheck::IsClosedManifold() const {
 
 std::string MeshCheck::BriefReport() const {
   std::ostringstream out;
-  out << "Mesh check: " << triangles << " triangles, " << components << " components, "
+  out << "Mesh check: " << triangles << " triangles, " << components << " components";
+  if (inside_out_components > 0) out << " (" << inside_out_components << " INSIDE OUT)";
+  out << ", "
       << boundary_edges << " boundary / " << nonmanifold_edges << " non-manifold / "
       << misoriented_edges << " misoriented edges, " << degenerate_triangles
       << " degenerate triangles, ";
@@ -215,11 +217,69 @@ MeshCheck CheckMesh(const TriangleMesh& mesh, const std::string& material,
   for (const auto& [edge, count] : directed) {
     if (count > 1) ++check.misoriented_edges;
   }
+  std::unordered_map<int, double> component_volume;
   for (int v = 0; v < mesh.NumVertices(); ++v) {
-    if (used[v] && Find(&parent, v) == v) ++check.components;
+    if (used[v] && Find(&parent, v) == v) {
+      ++check.components;
+      component_volume[v] = 0.0;
+    }
+  }
+  // Signed volumes relative to the bounds' centre (not the origin): each
+  // component's is the same either way when it is closed, and the sums lose
+  // fewer digits far from the origin.
+  const Eigen::Vector3d centre =
+      mesh.vertices.empty() ? Eigen::Vector3d(Eigen::Vector3d::Zero()) : Eigen::Vector3d(bounds.center());
+  for (int t : selected) {
+    const Eigen::Vector3i& f = mesh.triangles[t];
+    const Eigen::Vector3d a = mesh.vertices[f[0]].cast<double>() - centre;
+    const Eigen::Vector3d b = mesh.vertices[f[1]].cast<double>() - centre;
+    const Eigen::Vector3d c = mesh.vertices[f[2]].cast<double>() - centre;
+    component_volume[Find(&parent, f[0])] += a.dot(b.cross(c)) / 6.0;
+  }
+  for (const auto& [root, volume] : component_volume) {
+    if (volume < 0) ++check.inside_out_components;
   }
   if (self_intersections) check.self_intersections = SelfIntersections(mesh, selected, -1, nullptr);
   return check;
+}
+
+int TurnInsideOutComponents(TriangleMesh* mesh) {
+  mesh->Check();
+  const int64_t n = mesh->NumVertices();
+  std::vector<int> parent(mesh->NumVertices());
+  std::iota(parent.begin(), parent.end(), 0);
+  std::unordered_map<int64_t, int> undirected;
+  for (const Eigen::Vector3i& f : mesh->triangles) {
+    for (int k = 0; k < 3; ++k) {
+      const int u = f[k], v = f[(k + 1) % 3];
+      ++undirected[std::min(u, v) * n + std::max(u, v)];
+      const int ru = Find(&parent, u), rv = Find(&parent, v);
+      if (ru != rv) parent[ru] = rv;
+    }
+  }
+  std::unordered_map<int, char> open;
+  for (const auto& [edge, count] : undirected) {
+    if (count != 2) open[Find(&parent, static_cast<int>(edge / n))] = 1;
+  }
+  Eigen::AlignedBox3d bounds;
+  for (const Eigen::Vector3f& v : mesh->vertices) bounds.extend(v.cast<double>());
+  const Eigen::Vector3d centre = mesh->vertices.empty() ? Eigen::Vector3d(Eigen::Vector3d::Zero())
+                                                        : Eigen::Vector3d(bounds.center());
+  std::unordered_map<int, double> volume;
+  for (const Eigen::Vector3i& f : mesh->triangles) {
+    const Eigen::Vector3d a = mesh->vertices[f[0]].cast<double>() - centre;
+    const Eigen::Vector3d b = mesh->vertices[f[1]].cast<double>() - centre;
+    const Eigen::Vector3d c = mesh->vertices[f[2]].cast<double>() - centre;
+    volume[Find(&parent, f[0])] += a.dot(b.cross(c)) / 6.0;
+  }
+  int turned = 0;
+  for (const auto& [root, v] : volume) turned += v < 0 && !open.count(root) ? 1 : 0;
+  if (turned == 0) return 0;
+  for (Eigen::Vector3i& f : mesh->triangles) {
+    const int root = Find(&parent, f[0]);
+    if (volume[root] < 0 && !open.count(root)) std::swap(f[1], f[2]);
+  }
+  return turned;
 }
 
 }  // namespace sylva

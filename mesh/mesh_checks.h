@@ -24,6 +24,9 @@ struct MeshCheck {
   int misoriented_edges = 0;     // directed edges used by 2 or more triangles
   int degenerate_triangles = 0;  // repeated vertex index or (near) zero area
   int components = 0;            // connected by shared vertices
+  // Components whose signed volume is negative: closed pieces turned inside
+  // out (their normals point inwards), which subtract from `volume`.
+  int inside_out_components = 0;
   // Pairs of triangles without a shared vertex whose interiors cross (one's
   // edge pierces the other). Coplanar overlaps are not counted. -1 = not run.
   int64_t self_intersections = -1;
@@ -51,6 +54,13 @@ MeshCheck CheckMesh(const TriangleMesh& mesh, const std::string& material = "",
 std::vector<std::pair<int, int>> FindSelfIntersections(const TriangleMesh& mesh,
                                                        const std::string& material = "",
                                                        int64_t max_pairs = -1);
+
+// The one repair here: turns every closed component (connected by shared
+// vertices, each of its edges used by exactly two of its triangles) whose
+// signed volume is negative right side out, by reversing its triangles.
+// Such a component is inside out whatever made it; open ones are left alone
+// (their sign means nothing). Returns how many were turned.
+int TurnInsideOutComponents(TriangleMesh* mesh);
 
 }  // namespace sylva
 

@@ -36,6 +36,32 @@ TEST(MeshChecksTest, ClosedTubeIsAClosedManifoldWithItsPrismVolume) {
   EXPECT_NEAR(check.area, 12 * side * 2 + 2 * cap, 1e-5);
 }
 
+// Three tubes: one right, one inside out (every triangle reversed), one
+// inside out with a hole. CheckMesh counts the inside-out ones; the repair
+// turns the closed one and leaves the open one.
+TEST(MeshChecksTest, InsideOutComponentsAreCountedAndTheClosedOnesTurned) {
+  TriangleMesh mesh;
+  AddTube(0, 0, 2, 0.5, 12, &mesh);
+  const int first_reversed = mesh.NumTriangles();
+  AddTube(3, 0, 2, 0.5, 12, &mesh);
+  AddTube(6, 0, 2, 0.5, 12, &mesh);
+  for (int t = first_reversed; t < mesh.NumTriangles(); ++t) {
+    std::swap(mesh.triangles[t][1], mesh.triangles[t][2]);
+  }
+  mesh.triangles.pop_back();  // the open tube loses a cap triangle
+  mesh.triangle_materials.pop_back();
+  const MeshCheck before = CheckMesh(mesh, "", false);
+  EXPECT_EQ(before.components, 3);
+  EXPECT_EQ(before.inside_out_components, 2);
+  EXPECT_EQ(TurnInsideOutComponents(&mesh), 1);
+  const MeshCheck after = CheckMesh(mesh, "", false);
+  EXPECT_EQ(after.inside_out_components, 1);
+  EXPECT_EQ(after.misoriented_edges, 0);
+  // The turned tube's volume went from -V to +V.
+  EXPECT_NEAR(after.volume - before.volume, 2 * PrismVolume(0.5, 12, 2), 1e-4);
+  EXPECT_EQ(TurnInsideOutComponents(&mesh), 0);
+}
+
 TEST(MeshChecksTest, CountsHolesFlipsAndDegenerateTriangles) {
   TriangleMesh mesh;
   AddTube(0, 0, 1, 0.5, 8, &mesh);

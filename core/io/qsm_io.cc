@@ -1,14 +1,18 @@
 #include "core/io/qsm_io.h"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <map>
 #include <sstream>
 #include <unordered_map>
+#include <vector>
 
+#include "core/geometry/polyline.h"
 #include "core/util/check.h"
 #include "core/util/file_util.h"
+#include "core/util/random.h"
 
 namespace sylva {
 namespace {
@@ -367,26 +371,34 @@ std::vector<Attachment> AddCylinderNodes(const QsmModel& qsm, const std::vector<
 // Adds the cylinders below root cylinder `root`, depth-first (children in
 // table order), to `part`.
 void AddCylinderTree(const QsmModel& qsm, const std::vector<std::vector<int>>& children, int root,
-                     double merge_fraction, QsmSkeleton* part) {
+                     const QsmToSkeletonOptions& options, QsmSkeleton* part) {
   struct Item {
     int cylinder;
     Attachment attachment;  // node -1 for the root
+    int parent;             // cylinder index, -1 for the root
   };
-  std::vector<Item> stack = {{root, {}}};
+  std::vector<Item> stack = {{root, {}, -1}};
   while (!stack.empty()) {
     const Item item = stack.back();
     stack.pop_back();
     const QsmCylinder& c = qsm.cylinders[item.cylinder];
     int start = item.attachment.node;
-    const bool merges = start >= 0 && (c.start - part->skeleton.nodes[start].position).norm() <=
-                                          merge_fraction * c.radius;
+    bool merges = start >= 0 && (c.start - part->skeleton.nodes[start].position).norm() <=
+                                    options.merge_fraction * c.radius;
+    if (start >= 0 && options.merge_inside_parent) {
+      const QsmCylinder& p = qsm.cylinders[item.parent];
+      merges = merges ||
+               SegmentDistance2(c.start, p.start, p.End()) <= p.radius * p.radius;
+    }
     if (item.attachment.connector && !merges) {
       start = AddQsmNode(c.start, c.radius, item.attachment.node, c.branch_order, 0, 0, part);
     }
     const std::vector<int>& below = children[item.cylinder];
     const std::vector<Attachment> attachments =
         AddCylinderNodes(qsm, below, item.cylinder, start, part);
-    for (size_t k = below.size(); k-- > 0;) stack.push_back({below[k], attachments[k]});
+    for (size_t k = below.size(); k-- > 0;) {
+      stack.push_back({below[k], attachments[k], item.cylinder});
+    }
   }
 }
 
@@ -416,7 +428,7 @@ std::vector<QsmSkeleton> SkeletonsFromQsm(const QsmModel& qsm,
   std::vector<QsmSkeleton> parts(roots.size());
   for (size_t r = 0; r < roots.size(); ++r) {
     parts[r].skeleton.radius_source = qsm.radius_source;
-    AddCylinderTree(qsm, children, roots[r], options.merge_fraction, &parts[r]);
+    AddCylinderTree(qsm, children, roots[r], options, &parts[r]);
     parts[r].skeleton.Check();
   }
   return parts;
@@ -510,6 +522,87 @@ QsmModel QsmFromSkeleton(const SkeletonGraph& skeleton, const std::string& units
     }
   }
   return qsm;
+}
+
+
+// ---------------------------------------------------------------------------
+// Volumes
+
+double QsmCylinderVolumeSum(const QsmModel& qsm) {
+  double sum = 0.0;
+  for (const QsmCylinder& c : qsm.cylinders) sum += M_PI * c.radius * c.radius * c.length;
+  return sum;
+}
+
+double QsmUnionVolume(const QsmModel& qsm, int samples_per_cylinder, uint64_t seed) {
+  qsm.Check();
+  SYLVA_CHECK(samples_per_cylinder > 0) << "samples_per_cylinder must be > 0";
+  const std::vector<QsmCylinder>& cylinders = qsm.cylinders;
+  if (cylinders.empty()) return 0.0;
+  // A hash grid of cells about the median cylinder's size: each cylinder is
+  // listed in every cell its bounding box touches.
+  std::vector<double> sizes;
+  for (const QsmCylinder& c : cylinders) sizes.push_back(std::max(c.length, 2 * c.radius));
+  std::nth_element(sizes.begin(), sizes.begin() + sizes.size() / 2, sizes.end());
+  const double cell = sizes[sizes.size() / 2];
+  auto cell_of = [cell](const Eigen::Vector3d& p) {
+    return Eigen::Vector3i(static_cast<int>(std::floor(p.x() / cell)),
+                           static_cast<int>(std::floor(p.y() / cell)),
+                           static_cast<int>(std::floor(p.z() / cell)));
+  };
+  auto key = [](const Eigen::Vector3i& c) {
+    return (static_cast<uint64_t>(static_cast<uint32_t>(c.x()) & 0x1fffff) << 42) |
+           (static_cast<uint64_t>(static_cast<uint32_t>(c.y()) & 0x1fffff) << 21) |
+           (static_cast<uint64_t>(static_cast<uint32_t>(c.z()) & 0x1fffff));
+  };
+  std::unordered_map<uint64_t, std::vector<int>> grid;
+  for (int i = 0; i < static_cast<int>(cylinders.size()); ++i) {
+    const QsmCylinder& c = cylinders[i];
+    const Eigen::Vector3d a = c.start, b = c.End();
+    // The disc of radius r across the axis reaches r sqrt(1 - axis_k^2) along k.
+    const Eigen::Vector3d reach =
+        c.radius * (Eigen::Vector3d::Ones() - c.axis.cwiseAbs2()).cwiseMax(0.0).cwiseSqrt();
+    const Eigen::Vector3i lo = cell_of(a.cwiseMin(b) - reach), hi = cell_of(a.cwiseMax(b) + reach);
+    for (int x = lo.x(); x <= hi.x(); ++x) {
+      for (int y = lo.y(); y <= hi.y(); ++y) {
+        for (int z = lo.z(); z <= hi.z(); ++z) grid[key({x, y, z})].push_back(i);
+      }
+    }
+  }
+  auto inside = [](const QsmCylinder& c, const Eigen::Vector3d& p) {
+    const Eigen::Vector3d d = p - c.start;
+    const double t = d.dot(c.axis);
+    return t >= 0 && t <= c.length && (d - t * c.axis).squaredNorm() <= c.radius * c.radius;
+  };
+  RandomEngine rng(seed);
+  double volume = 0.0;
+  for (int i = 0; i < static_cast<int>(cylinders.size()); ++i) {
+    const QsmCylinder& c = cylinders[i];
+    const Eigen::Vector3d helper =
+        std::abs(c.axis.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
+    const Eigen::Vector3d e1 = c.axis.cross(helper).normalized(), e2 = c.axis.cross(e1);
+    int own = 0;
+    for (int k = 0; k < samples_per_cylinder; ++k) {
+      const double t = rng.Uniform() * c.length, r = std::sqrt(rng.Uniform()) * c.radius;
+      const double phi = rng.Uniform() * 2 * M_PI;
+      const Eigen::Vector3d p =
+          c.start + t * c.axis + r * (std::cos(phi) * e1 + std::sin(phi) * e2);
+      const auto it = grid.find(key(cell_of(p)));
+      bool earlier = false;
+      if (it != grid.end()) {
+        for (int j : it->second) {
+          if (j >= i) break;  // listed in increasing order
+          if (inside(cylinders[j], p)) {
+            earlier = true;
+            break;
+          }
+        }
+      }
+      own += earlier ? 0 : 1;
+    }
+    volume += M_PI * c.radius * c.radius * c.length * own / samples_per_cylinder;
+  }
+  return volume;
 }
 
 }  // namespace sylva

@@ -129,6 +129,15 @@ struct QsmToSkeletonOptions {
   // trip exact); a mesher may prefer e.g. 0.1, at the price of moving those
   // children's starts (and axes and lengths) by up to that distance. >= 0.
   double merge_fraction = 0.0;
+  // A child cylinder whose start lies inside its parent cylinder (within the
+  // parent's radius of its axis segment) starts at the node it attaches to,
+  // without a connector. TreeQSM starts a branch inside its parent and each
+  // next cylinder of a branch a few mm back inside the previous one: those
+  // connectors lie inside the parent's solid and point anywhere (sideways
+  // off the parent's axis, or back along the branch), so a tube swept along
+  // them folds or turns inside out. A mesher wants them gone (mesh-qsm:
+  // on); the child's start then moves by at most the parent's radius.
+  bool merge_inside_parent = false;
 
   void Check() const;  // throws InputError naming the option
 };
@@ -156,6 +165,18 @@ QsmModel QsmFromSkeletons(const std::vector<QsmSkeleton>& parts, const std::stri
 // zero length are skipped (their child's cylinders attach to the cylinder
 // ending at the parent). Throws Error if the skeleton fails Check().
 QsmModel QsmFromSkeleton(const SkeletonGraph& skeleton, const std::string& units);
+
+// Volumes of a table's solids, world units cubed. The cylinders of a
+// TreeQSM table overlap (successive ones by a few mm, a branch's first
+// cylinder starts inside its parent), so their sum pi r^2 L counts those
+// overlaps twice; a closed bark around them encloses about their union.
+double QsmCylinderVolumeSum(const QsmModel& qsm);
+// The volume of the union of the cylinders, by Monte Carlo:
+// `samples_per_cylinder` points uniform in each cylinder count when no
+// earlier cylinder of the table holds them. Relative standard error about
+// sqrt(overlapped fraction / (samples_per_cylinder x cylinders)); the same
+// seed gives the same value. Throws Error if `qsm` fails Check().
+double QsmUnionVolume(const QsmModel& qsm, int samples_per_cylinder, uint64_t seed);
 
 }  // namespace sylva
 

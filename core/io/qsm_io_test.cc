@@ -151,6 +151,66 @@ TEST(QsmIoTest, AllFourItsmeTablesRoundTripWithValidSkeletons) {
   }
 }
 
+// A TreeQSM-like pair: a trunk cylinder and a branch starting inside it
+// (0.05 from its axis), and the trunk's next cylinder starting 0.02 back
+// inside it. By default both get connector nodes; merge_inside_parent drops
+// them: the branch hangs from a split node on the axis, the next cylinder
+// from the end node. A branch starting outside keeps its connector.
+TEST(QsmIoTest, MergeInsideParentDropsConnectorsWithinTheParent) {
+  QsmModel qsm;
+  auto add = [&](int64_t id, int64_t parent, const Eigen::Vector3d& start,
+                 const Eigen::Vector3d& axis, double length, double radius, int64_t branch) {
+    QsmCylinder c;
+    c.id = id;
+    c.parent_id = parent;
+    c.start = start;
+    c.axis = axis.normalized();
+    c.length = length;
+    c.radius = radius;
+    c.branch = branch;
+    c.branch_order = branch == 1 ? 0 : 1;
+    qsm.cylinders.push_back(c);
+  };
+  add(1, 0, {0, 0, 0}, {0, 0, 1}, 1.0, 0.1, 1);
+  add(2, 1, {0, 0, 0.98}, {0, 0, 1}, 1.0, 0.09, 1);
+  add(3, 1, {0.05, 0, 0.5}, {1, 0, 1}, 0.5, 0.03, 2);
+  add(4, 1, {0.3, 0, 0.3}, {1, 0, 0}, 0.5, 0.03, 3);
+  const std::vector<QsmSkeleton> exact = SkeletonsFromQsm(qsm);
+  QsmToSkeletonOptions options;
+  options.merge_inside_parent = true;
+  const std::vector<QsmSkeleton> merged = SkeletonsFromQsm(qsm, options);
+  ASSERT_EQ(exact.size(), 1u);
+  ASSERT_EQ(merged.size(), 1u);
+  auto connectors = [](const QsmSkeleton& part) {
+    int n = 0;
+    for (size_t i = 1; i < part.cylinder_ids.size(); ++i) n += part.cylinder_ids[i] == 0 ? 1 : 0;
+    return n;
+  };
+  EXPECT_EQ(connectors(exact[0]), 3);
+  EXPECT_EQ(connectors(merged[0]), 1);  // the branch starting outside, 0.3 off the axis
+  EXPECT_EQ(merged[0].skeleton.NumNodes(), exact[0].skeleton.NumNodes() - 2);
+  EXPECT_NO_THROW(merged[0].skeleton.Check());
+}
+
+// The union of two coaxial cylinders overlapping by a quarter of one, and a
+// third one apart: exact 0.07 pi + 0.5 pi 0.01 (Monte Carlo, 0.5 %).
+TEST(QsmIoTest, UnionVolumeCountsOverlapsOnce) {
+  QsmModel qsm;
+  for (int k = 0; k < 3; ++k) {
+    QsmCylinder c;
+    c.id = k + 1;
+    c.start = k < 2 ? Eigen::Vector3d(0, 0, 0.75 * k) : Eigen::Vector3d(5, 0, 0);
+    c.length = k < 2 ? 1.0 : 0.5;
+    c.radius = k < 2 ? 0.1 : 0.1;
+    qsm.cylinders.push_back(c);
+  }
+  const double sum = QsmCylinderVolumeSum(qsm);
+  EXPECT_NEAR(sum, M_PI * 0.01 * 2.5, 1e-12);
+  const double exact = M_PI * 0.01 * (1.75 + 0.5);
+  EXPECT_NEAR(QsmUnionVolume(qsm, 20000, 1) / exact, 1.0, 0.005);
+  EXPECT_EQ(QsmUnionVolume(qsm, 1000, 7), QsmUnionVolume(qsm, 1000, 7));
+}
+
 TEST(QsmIoTest, SkeletonToQsmAndBackSharesJunctionNodes) {
   // A Y: trunk 0 -> 1 -> 2 straight up, a branch 1 -> 3 at 45 degrees.
   SkeletonGraph y;

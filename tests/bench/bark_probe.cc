@@ -13,10 +13,17 @@
 //
 // --skeleton PATH: a sylva skeleton (out/skeleton.json of a project).
 // --classify N: synthetic trees of seeds 1..N (-S: seed S alone).
+// --synth-qsm S: the laser-scan-like QSM table of seed S
+// (datasets/synthetic/synthetic_qsm.h; SYLVA_QSM_NOISE=P,R sets its position
+// and radius noise), meshed as mesh-qsm meshes it (SYLVA_KEEP_CONNECTORS:
+// without merge_inside_parent; SYLVA_INSCRIBED: without circle_area): the
+// components beyond the largest, the inside-out ones, and the volume over
+// the cylinders' union.
 // Every mesh's crossing triangle pairs are classified (ClassifyBarkCrossings).
 //
 // usage: sylva_bark_probe [--picture out.png] [--skeleton skeleton.json]
-//                         [--classify N] [qsm.csv ...]
+//                         [--classify N] [--synth-qsm S] [qsm.csv ...]
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -31,6 +38,7 @@
 #include "core/io/qsm_io.h"
 #include "core/io/skeleton_io.h"
 #include "core/util/check.h"
+#include "datasets/synthetic/synthetic_qsm.h"
 #include "datasets/synthetic/synthetic_tree.h"
 #include "mesh/bark_mesh.h"
 #include "mesh/mesh_checks.h"
@@ -43,10 +51,11 @@ namespace {
 void Classify(const SkeletonGraph& g, const TriangleMesh& mesh,
               const std::vector<BarkTriangleOrigin>& origins);
 
-void Probe(const SkeletonGraph& g, const std::string& name, double reference_volume) {
+void Probe(const SkeletonGraph& g, const std::string& name, double reference_volume,
+           const BarkMeshOptions& options = BarkMeshOptions()) {
   BarkMeshSummary summary;
   std::vector<BarkTriangleOrigin> origins;
-  const TriangleMesh bark = MeshBarkWatertight(g, BarkMeshOptions(), &summary, &origins);
+  const TriangleMesh bark = MeshBarkWatertight(g, options, &summary, &origins);
   BranchMeshSummary tube_summary;
   const TriangleMesh tubes = MeshBranches(g, BranchMeshOptions(), &tube_summary);
   const MeshCheck check = CheckMesh(bark);
@@ -114,8 +123,100 @@ void Picture(const std::string& path) {
               path.c_str());
 }
 
+// The inside-out components of a bark: per component (by shared vertices)
+// its signed volume; the negative ones with what their triangles were made
+// for (the first triangle's origin: kind, node, next, radius).
+void InsideOut(const SkeletonGraph& g, const TriangleMesh& mesh,
+               const std::vector<BarkTriangleOrigin>& origins) {
+  std::vector<int> parent(mesh.NumVertices());
+  for (int v = 0; v < mesh.NumVertices(); ++v) parent[v] = v;
+  auto find = [&](int v) {
+    while (parent[v] != v) v = parent[v] = parent[parent[v]];
+    return v;
+  };
+  for (const Eigen::Vector3i& t : mesh.triangles) {
+    for (int k = 1; k < 3; ++k) {
+      const int a = find(t[0]), b = find(t[k]);
+      if (a != b) parent[a] = b;
+    }
+  }
+  std::map<int, double> volume;
+  std::map<int, int> first, count;
+  std::map<int, std::set<int>> kinds;
+  for (int t = 0; t < mesh.NumTriangles(); ++t) {
+    const Eigen::Vector3i& f = mesh.triangles[t];
+    const int c = find(f[0]);
+    const Eigen::Vector3d a = mesh.vertices[f[0]].cast<double>(), b = mesh.vertices[f[1]].cast<double>(),
+                          d = mesh.vertices[f[2]].cast<double>();
+    volume[c] += a.dot(b.cross(d)) / 6;
+    if (!first.count(c)) first[c] = t;
+    ++count[c];
+    kinds[c].insert(origins[t].kind);
+  }
+  int negative = 0;
+  int largest = -1;
+  for (const auto& [c, n] : count) {
+    if (largest < 0 || n > count[largest]) largest = c;
+  }
+  for (const auto& [c, v] : volume) {
+    if (c == largest) continue;
+    const BarkTriangleOrigin& o = origins[first[c]];
+    if (v < 0 || o.node < 0) continue;
+    const SkeletonNode& u = g.nodes[o.node];
+    const SkeletonNode& w = g.nodes[o.next];
+    const Eigen::Vector3d d = (w.position - u.position).normalized();
+    const Eigen::Vector3d up = u.parent_idx >= 0
+                                   ? Eigen::Vector3d((u.position - g.nodes[u.parent_idx].position).normalized())
+                                   : Eigen::Vector3d::UnitZ();
+    std::printf("    extra component: volume %.3g, %d triangles, node %d (r %.4f, %zu children) -> %d "
+                "(r %.4f, edge %.4f, %.0f deg off the parent)\n",
+                v, count[c], o.node, u.radius, g.Children()[o.node].size(), o.next, w.radius,
+                (w.position - u.position).norm(), std::acos(std::clamp(d.dot(up), -1.0, 1.0)) * 180 / M_PI);
+  }
+  for (const auto& [c, v] : volume) {
+    if (v >= 0) continue;
+    ++negative;
+    const BarkTriangleOrigin& o = origins[first[c]];
+    std::string kind_list;
+    for (int k : kinds[c]) kind_list += std::to_string(k);
+    std::printf("    inside out: volume %.3g, %d triangles, kinds %s, first origin kind %d node %d "
+                "next %d r %.4f children %zu\n",
+                v, count[c], kind_list.c_str(), o.kind, o.node, o.next,
+                o.node >= 0 ? g.nodes[o.node].radius : -1.0,
+                o.node >= 0 ? g.Children()[o.node].size() : 0);
+  }
+  std::printf("  %zu components, %d inside out\n", volume.size(), negative);
+}
+
 int Main(int argc, char** argv) {
   for (int a = 1; a < argc; ++a) {
+    if (std::strcmp(argv[a], "--synth-qsm") == 0 && a + 1 < argc) {
+      // A generated laser-scan-like table (datasets/synthetic/synthetic_qsm.h).
+      // SYLVA_QSM_NOISE=P,R: position and radius noise (default 0.3,0.1).
+      SyntheticQsmOptions synth;
+      if (const char* noise = std::getenv("SYLVA_QSM_NOISE")) {
+        std::sscanf(noise, "%lf,%lf", &synth.position_noise, &synth.radius_noise);
+      }
+      const QsmModel qsm = GenerateSyntheticQsm(synth, std::atoi(argv[++a]));
+      std::printf("synthetic QSM: %zu cylinders, noise %.2f/%.2f\n", qsm.cylinders.size(),
+                  synth.position_noise, synth.radius_noise);
+      QsmToSkeletonOptions convert;
+      convert.merge_fraction = 0.1;
+      convert.merge_inside_parent = std::getenv("SYLVA_KEEP_CONNECTORS") == nullptr;
+      double volume = 0.0;
+      BarkMeshOptions options;  // as mesh-qsm meshes
+      options.tube.circle_area = std::getenv("SYLVA_INSCRIBED") == nullptr;
+      for (const QsmSkeleton& part : SkeletonsFromQsm(qsm, convert)) {
+        BarkMeshSummary summary;
+        std::vector<BarkTriangleOrigin> origins;
+        const TriangleMesh bark = MeshBarkWatertight(part.skeleton, options, &summary, &origins);
+        std::printf("part of %d nodes: %s\n", part.skeleton.NumNodes(), summary.BriefReport().c_str());
+        InsideOut(part.skeleton, bark, origins);
+        volume += CheckMesh(bark, "", false).volume;
+      }
+      std::printf("bark volume / cylinders' union %.4f\n", volume / QsmUnionVolume(qsm, 64, 1));
+      continue;
+    }
     if (std::strcmp(argv[a], "--skeleton") == 0 && a + 1 < argc) {
       const SkeletonGraph g = ReadSkeletonJson(argv[++a]);
       Probe(g, argv[a], 0.0);
@@ -144,6 +245,7 @@ int Main(int argc, char** argv) {
     const QsmModel qsm = ReadQsmCsv(argv[a]);
     QsmToSkeletonOptions convert;
     convert.merge_fraction = 0.1;
+    convert.merge_inside_parent = true;
     const std::vector<QsmSkeleton> parts = SkeletonsFromQsm(qsm, convert);
     for (size_t k = 0; k < parts.size(); ++k) {
       // Volume of this part's cylinders (a cylinder spans several nodes).
@@ -152,7 +254,9 @@ int Main(int argc, char** argv) {
       for (const QsmCylinder& c : qsm.cylinders) {
         if (ids.count(c.id)) volume += M_PI * c.radius * c.radius * c.length;
       }
-      Probe(parts[k].skeleton, std::string(argv[a]) + " part " + std::to_string(k), volume);
+      BarkMeshOptions options;  // as mesh-qsm meshes
+      options.tube.circle_area = true;
+      Probe(parts[k].skeleton, std::string(argv[a]) + " part " + std::to_string(k), volume, options);
     }
   }
   return 0;

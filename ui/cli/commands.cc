@@ -11,6 +11,7 @@
 #include "core/util/file_util.h"
 #include "core/util/logging.h"
 #include "datasets/synthetic/synthetic_dataset.h"
+#include "datasets/synthetic/synthetic_qsm.h"
 #include "mesh/subdivision.h"
 #include "ui/cli/arguments.h"
 #include "ui/cli/terminal_progress.h"
@@ -92,15 +93,19 @@ CommandSpec StageSpec(const StageInfo& stage) {
 CommandSpec SynthSpec() {
   return {"synth",
           "sylva synth OUT [--seed N] [--views K] [--held-out H] [--camera pinhole|ortho] "
-          "[--size PX]",
+          "[--size PX] [--qsm]",
           "Generates a synthetic ground-truth dataset: a procedural tree (skeleton with radii,\n"
           "branch cylinders, leaf clusters) rendered with Embree into RGBA photos and exact\n"
           "mattes from K cameras plus H held-out cameras, with a COLMAP text model (pinhole\n"
           "only), a sylva camera file, held_out.txt and the ground truth (skeleton, mesh).\n"
           "Deterministic by seed. Use it with:\n"
           "  sylva init P --photos OUT/photos --mattes OUT/mattes --cameras OUT/cameras.json "
-          "--held-out @OUT/held_out.txt",
+          "--held-out @OUT/held_out.txt\n"
+          "With --qsm it writes OUT/qsm.csv instead: the tree (thinning to 1 mm radius) as a\n"
+          "laser-scan-like TreeQSM cylinder table of thousands of short, noisy cylinders with a\n"
+          "few detached fragments as extra roots, for 'sylva mesh-qsm'.",
           {{"seed", "N", "seed of the tree (default 1)"},
+           {"qsm", "", "write OUT/qsm.csv, a TreeQSM-like cylinder table, and no photos"},
            {"views", "K", "input views (default 8; orthographic: 2 at right angles)"},
            {"held-out", "H", "extra held-out views (default 2)"},
            {"camera", "KIND", "pinhole (default) or ortho"},
@@ -123,10 +128,13 @@ CommandSpec MeshQsmSpec() {
           "project: one sylva skeleton per root cylinder, the watertight bark of the mesh\n"
           "stage (BranchMesh.* options). Writes OUT_DIR/bark.obj (closed solid), tree.obj,\n"
           "tree.glb, qsm.csv (the table as read), metrics.json and preview pictures of the\n"
-          "bark from 4 sides, preview_0.png .. preview_3.png (Report.preview_* options).",
+          "bark from 4 sides, preview_0.png .. preview_3.png (Report.preview_* options).\n"
+          "Prints the bark's figures: components, how many are inside out, and its volume\n"
+          "over the union of the cylinders (and over their sum, which counts overlaps twice).\n"
+          "Try it on a generated table: sylva synth T --qsm; sylva mesh-qsm T/qsm.csv OUT",
           {{"merge", "F",
             "children starting within F x their radius of the parent's axis hang from it "
-            "directly (default 0.1; 0 keeps every connector edge)"},
+            "directly (default 0.1); children starting inside their parent cylinder always do"},
            {"subdivide", "N",
             "N levels of Loop subdivision of the bark, 0-3 (default 0; same as "
             "--BranchMesh.subdivision=N)"},
@@ -279,11 +287,28 @@ int RunPipeline(const ParsedArguments& args, const Stage* single_stage) {
   return kExitOk;
 }
 
+// `sylva synth OUT --qsm`: the tree of `seed` as a TreeQSM-like table.
+int WriteSynthQsm(const fs::path& out, uint64_t seed) {
+  std::error_code ec;
+  SYLVA_CHECK_INPUT(!fs::exists(out, ec) || fs::is_empty(out, ec), out.string())
+      << "already exists and is not empty";
+  const QsmModel qsm = GenerateSyntheticQsm(SyntheticQsmOptions(), seed);
+  fs::create_directories(out);
+  WriteQsmCsv(out / "qsm.csv", qsm);
+  int roots = 0;
+  for (const QsmCylinder& c : qsm.cylinders) roots += c.parent_id == 0 ? 1 : 0;
+  std::cout << "Wrote a synthetic QSM (seed " << seed << ", " << qsm.cylinders.size()
+            << " cylinders, " << roots << " roots) to " << (out / "qsm.csv").string()
+            << "\nUse it: sylva mesh-qsm " << (out / "qsm.csv").string() << " OUT_DIR\n";
+  return kExitOk;
+}
+
 int CmdSynth(const ParsedArguments& args) {
   SyntheticDatasetOptions options;
   if (args.Has("seed")) {
     options.seed = static_cast<uint64_t>(args.GetInt("seed", 1, 0, 2147483647));
   }
+  if (args.Has("qsm")) return WriteSynthQsm(args.positional[0], options.seed);
   const std::string camera = args.Get("camera", "pinhole");
   SYLVA_CHECK_INPUT(camera == "pinhole" || camera == "ortho", "--camera")
       << "expected pinhole or ortho, got '" << camera << "'";

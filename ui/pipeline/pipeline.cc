@@ -62,7 +62,8 @@ const std::vector<StageDefinition>& Definitions() {
        {Stage::kDensity, Stage::kAttract}, false, RunSkeletonStage, Always},
       {{Stage::kMesh, "mesh",
         "branch tubes and leaves from the skeleton (out/tree.glb, tree.obj)"},
-       "mesh/4", {"BranchMesh.", "Twigs.", "Leaves.", "Export.", "TreeMetrics.", "General.seed"}, {Stage::kDensity, Stage::kSkeleton},
+       "mesh/5", {"BranchMesh.", "Twigs.", "Leaves.", "Export.", "TreeMetrics.", "General.seed"},
+       {Stage::kDensity, Stage::kSkeleton},
        false, RunMeshStage, Always},
       {{Stage::kReport, "report",
         "per-view fidelity of the density and the mesh against the mattes, tree metrics "

@@ -6,19 +6,31 @@
 #include "core/util/check.h"
 #include "mesh/bark_mesh.h"
 #include "mesh/gltf_export.h"
+#include "mesh/mesh_checks.h"
 #include "mesh/tree_metrics.h"
 #include "ui/pipeline/report.h"
 #include "ui/pipeline/tree_building.h"
 
 namespace sylva {
+namespace {
+
+// Monte Carlo samples per cylinder for the union volume: about 0.1 %
+// standard error on tables of thousands of cylinders.
+constexpr int kUnionSamplesPerCylinder = 64;
+
+}  // namespace
 
 QsmMeshing MeshQsm(const QsmModel& qsm, const PipelineOptions& options, double merge_fraction) {
   QsmToSkeletonOptions convert;
   convert.merge_fraction = merge_fraction;
+  convert.merge_inside_parent = true;
   QsmMeshing meshing;
   meshing.parts = SkeletonsFromQsm(qsm, convert);
   BarkMeshOptions bark = options.geometry.bark;
   bark.tube = options.branch_mesh;
+  // Thousands of thin cylinders get 4-6 sided tubes: inscribed polygons
+  // would hold 64-83 % of their volume.
+  bark.tube.circle_area = true;
   std::ostringstream brief;
   brief << qsm.cylinders.size() << " cylinders in " << meshing.parts.size() << " part(s).";
   for (const QsmSkeleton& part : meshing.parts) {
@@ -28,7 +40,22 @@ QsmMeshing MeshQsm(const QsmModel& qsm, const PipelineOptions& options, double m
                             : MeshBranches(part.skeleton, options.branch_mesh, nullptr));
     if (options.geometry.watertight_bark) brief << " " << summary.BriefReport();
   }
+  // A safety net for what the mesher still gets wrong on tables unlike the
+  // tested ones: a closed piece inside out is turned, and counted.
+  meshing.turned_components = TurnInsideOutComponents(&meshing.bark);
   SubdivideBark(options.geometry, &meshing.bark, &brief);
+  // What a closed bark should be: one outward solid per part, enclosing
+  // about the cylinders' union (their sum counts TreeQSM's overlaps twice).
+  const MeshCheck check = CheckMesh(meshing.bark, "", false);
+  meshing.components = check.components;
+  meshing.inside_out_components = check.inside_out_components;
+  meshing.cylinder_union_volume = QsmUnionVolume(qsm, kUnionSamplesPerCylinder, 1);
+  meshing.volume_ratio = check.volume / meshing.cylinder_union_volume;
+  brief << " Bark: " << check.components << " components (" << check.inside_out_components
+        << " inside out, " << meshing.turned_components
+        << " turned right side out before), volume " << check.volume << " = " << meshing.volume_ratio
+        << " x the cylinders' union (" << check.volume / QsmCylinderVolumeSum(qsm)
+        << " x their sum).";
   meshing.brief = brief.str();
   return meshing;
 }

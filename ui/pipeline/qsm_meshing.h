@@ -18,12 +18,27 @@ namespace sylva {
 struct QsmMeshing {
   std::vector<QsmSkeleton> parts;  // one per root cylinder
   TriangleMesh bark;               // every part's bark (closed solids)
+  // The bark's figures (mesh/mesh_checks.h): connected components, those
+  // turned inside out, and its volume over the union of the cylinders
+  // (QsmUnionVolume, which is also given).
+  int components = 0;
+  int inside_out_components = 0;
+  // Closed components the mesher made inside out, turned right side out
+  // before the figures above (TurnInsideOutComponents; 0 on every table
+  // tested).
+  int turned_components = 0;
+  double cylinder_union_volume = 0.0;
+  double volume_ratio = 0.0;
   std::string brief;
 };
 
 // `merge_fraction`: QsmToSkeletonOptions::merge_fraction (children whose
 // start lies within this fraction of their radius of the parent's axis hang
 // from it directly; avoids sub-millimetre connector edges of float32 tables).
+// Children starting inside their parent cylinder always hang from it
+// (merge_inside_parent), and the tubes' polygons have the circle's area
+// (BranchMeshOptions::circle_area). The brief and the figures below tell
+// whether the bark is what it should be.
 QsmMeshing MeshQsm(const QsmModel& qsm, const PipelineOptions& options, double merge_fraction);
 
 // Writes OUT_DIR/bark.obj, tree.obj (+ .mtl), tree.glb, qsm.csv (the table
