@@ -160,7 +160,7 @@ int CmdMeshQsm(const ParsedArguments& args) {
   const QsmMeshing meshing = MeshQsm(qsm, options, merge);
   std::cout << meshing.brief << "\n";
   if (args.Has("no-previews")) options.report.previews = false;
-  for (const fs::path& path : WriteQsmMeshing(meshing, qsm, args.positional[1], options.report)) {
+  for (const fs::path& path : WriteQsmMeshing(meshing, qsm, args.positional[1], options)) {
     std::cout << "  " << path.string() << "\n";
   }
   return kExitOk;

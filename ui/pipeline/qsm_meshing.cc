@@ -63,7 +63,7 @@ QsmMeshing MeshQsm(const QsmModel& qsm, const PipelineOptions& options, double m
 std::vector<std::filesystem::path> WriteQsmMeshing(const QsmMeshing& meshing,
                                                    const QsmModel& qsm,
                                                    const std::filesystem::path& out_dir,
-                                                   const ReportOptions& report) {
+                                                   const PipelineOptions& options) {
   SYLVA_CHECK(!meshing.parts.empty()) << "nothing to write";
   std::filesystem::create_directories(out_dir);
   size_t largest = 0;
@@ -86,10 +86,10 @@ std::vector<std::filesystem::path> WriteQsmMeshing(const QsmMeshing& meshing,
   WriteQsmCsv(paths[3], qsm);
   // Labelled with the table's own sources ("unknown" when it has none).
   WriteTreeMetricsJson(paths[4], ComputeTreeMetrics(meshing.parts[largest].skeleton, nullptr,
-                                                    qsm.units, TreeMetricsOptions(),
+                                                    qsm.units, options.tree_metrics,
                                                     {qsm.position_source, qsm.branching_source}));
   for (const std::filesystem::path& preview :
-       WritePreviewPngs(RenderReportPreviews(meshing.bark, nullptr, report), out_dir)) {
+       WritePreviewPngs(RenderReportPreviews(meshing.bark, nullptr, options.report), out_dir)) {
     paths.push_back(preview);
   }
   return paths;

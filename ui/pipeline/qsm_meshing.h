@@ -42,14 +42,15 @@ struct QsmMeshing {
 QsmMeshing MeshQsm(const QsmModel& qsm, const PipelineOptions& options, double merge_fraction);
 
 // Writes OUT_DIR/bark.obj, tree.obj (+ .mtl), tree.glb, qsm.csv (the table
-// as sylva read it, with its ids), metrics.json (of the largest part) and,
-// if report.previews, preview pictures of the bark OUT_DIR/preview_<k>.png
+// as sylva read it, with its ids), metrics.json (of the largest part,
+// TreeMetrics.*) and, if Report.previews, preview pictures of the bark
+// OUT_DIR/preview_<k>.png
 // (RenderReportPreviews), each atomically; creates OUT_DIR. Returns the
 // paths written.
 std::vector<std::filesystem::path> WriteQsmMeshing(const QsmMeshing& meshing,
                                                    const QsmModel& qsm,
                                                    const std::filesystem::path& out_dir,
-                                                   const ReportOptions& report);
+                                                   const PipelineOptions& options);
 
 }  // namespace sylva
 
