@@ -36,12 +36,6 @@ double RunLength(const FloatImage& matte, const Eigen::Vector2d& center,
   return extent[0] + extent[1] + kStepPixels;
 }
 
-// World units per pixel at a camera-frame point (mean of both focal lengths).
-double WorldPerPixel(const Camera& camera, const Eigen::Vector3d& point_in_cam) {
-  const double focal = 0.5 * (camera.FocalLengthX() + camera.FocalLengthY());
-  return camera.IsOrthographic() ? 1.0 / focal : point_in_cam.z() / focal;
-}
-
 }  // namespace
 
 TrunkWidth MeasureTrunkWidth(const ImageSet& views, const std::vector<FloatImage>& mattes,
@@ -63,7 +57,7 @@ TrunkWidth MeasureTrunkWidth(const ImageSet& views, const std::vector<FloatImage
       const Eigen::Vector2d axis = camera.ImgFromCam(above_in_cam) - center;
       if (axis.norm() < 1e-9) continue;  // looking along the trunk
       const Eigen::Vector2d across(-axis.y() / axis.norm(), axis.x() / axis.norm());
-      const double world_per_pixel = WorldPerPixel(camera, point_in_cam);
+      const double world_per_pixel = camera.WorldPerPixel(point_in_cam);
       const double pixels = RunLength(mattes[v], center, across, options.matte_threshold,
                                        options.max_width_fraction * tree_height / world_per_pixel);
       if (pixels > 0) widths.push_back(pixels * world_per_pixel);

@@ -111,6 +111,11 @@ double Camera::FocalLengthX() const { return params_[0]; }
 double Camera::FocalLengthY() const {
   return HasSingleFocalLength(model_) ? params_[0] : params_[1];
 }
+double Camera::WorldPerPixel(const Eigen::Vector3d& point_in_cam) const {
+  const double focal = 0.5 * (FocalLengthX() + FocalLengthY());
+  return IsOrthographic() ? 1.0 / focal : point_in_cam.z() / focal;
+}
+
 Eigen::Vector2d Camera::PrincipalPoint() const {
   const int offset = HasSingleFocalLength(model_) ? 1 : 2;
   return Eigen::Vector2d(params_[offset], params_[offset + 1]);

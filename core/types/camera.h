@@ -64,6 +64,9 @@ class Camera {
   double FocalLengthX() const;
   double FocalLengthY() const;
   Eigen::Vector2d PrincipalPoint() const;
+  // World units one pixel spans at a camera-frame point (mean of both focal
+  // lengths; distortion ignored): depth / focal, or 1 / focal if orthographic.
+  double WorldPerPixel(const Eigen::Vector3d& point_in_cam) const;
 
   // The same camera for an image resized by `scale` (e.g. 1/4 for a 4x
   // box-downsampled image) to new_width x new_height: focal lengths and

@@ -38,12 +38,6 @@ float DistanceAt(const cv::Mat& distance, const Eigen::Vector2d& pixel) {
   return distance.at<float>(y, x);
 }
 
-// World units per pixel at a camera-frame point (mean of both focal lengths).
-double WorldPerPixel(const Camera& camera, const Eigen::Vector3d& point_in_cam) {
-  const double focal = 0.5 * (camera.FocalLengthX() + camera.FocalLengthY());
-  return camera.IsOrthographic() ? 1.0 / focal : point_in_cam.z() / focal;
-}
-
 // The radius (world units) of the edge from `a` to `b` in one view, or NaN
 // when the view does not see it side-on or finds no foreground near it.
 float EdgeRadiusInView(const View& view, const Camera& camera, const cv::Mat& distance,
@@ -56,7 +50,7 @@ float EdgeRadiusInView(const View& view, const Camera& camera, const cv::Mat& di
   const Eigen::Vector2d a_px = camera.ImgFromCam(a_cam);
   const Eigen::Vector2d b_px = camera.ImgFromCam(b_cam);
   const Eigen::Vector2d center = camera.ImgFromCam(mid_cam);
-  const double world_per_pixel = WorldPerPixel(camera, mid_cam);
+  const double world_per_pixel = camera.WorldPerPixel(mid_cam);
   const double length = (b - a).norm();
   const Eigen::Vector2d along = b_px - a_px;
   if (length <= 0 || along.norm() * world_per_pixel < options.min_side_on * length) {
