@@ -84,10 +84,9 @@ SkeletonComparison CompareSkeletons(const SkeletonGraph& reconstructed, const Sk
   result.true_length = truth.TotalLength();
   result.length_ratio = result.length / result.true_length;
   const double tolerance = options.tolerance_fraction * height;
-  double ours_to_truth = 0.0, truth_to_ours = 0.0;
-  Directed(ours, PointGrid(theirs.points), tolerance, &result.precision, &ours_to_truth);
-  Directed(theirs, PointGrid(ours.points), tolerance, &result.recall, &truth_to_ours);
-  result.chamfer = 0.5 * (ours_to_truth + truth_to_ours);
+  Directed(ours, PointGrid(theirs.points), tolerance, &result.precision, &result.ours_to_truth);
+  Directed(theirs, PointGrid(ours.points), tolerance, &result.recall, &result.truth_to_ours);
+  result.chamfer = 0.5 * (result.ours_to_truth + result.truth_to_ours);
   result.chamfer_fraction = result.chamfer / height;
   result.orders = FiguresPerOrder(reconstructed);
   result.true_orders = FiguresPerOrder(truth);
@@ -99,8 +98,9 @@ std::string SkeletonComparison::BriefReport() const {
   char buffer[256];
   std::snprintf(buffer, sizeof(buffer),
                 "length %.2f x truth (%.1f of %.1f), precision %.3f, recall %.3f, Chamfer %.2f %% "
-                "of height; axes per order (ours/truth):",
-                length_ratio, length, true_length, precision, recall, 100 * chamfer_fraction);
+                "of height (ours->truth %.2f, truth->ours %.2f); axes per order (ours/truth):",
+                length_ratio, length, true_length, precision, recall, 100 * chamfer_fraction,
+                100 * ours_to_truth / height, 100 * truth_to_ours / height);
   out << buffer;
   const size_t n = std::max(orders.size(), true_orders.size());
   for (size_t k = 0; k < n; ++k) {

@@ -35,7 +35,9 @@ struct SkeletonComparison {
   double length_ratio = 0.0;    // length / true_length
   double precision = 0.0;       // share of the reconstruction's length on the truth
   double recall = 0.0;          // share of the truth's length on the reconstruction
-  double chamfer = 0.0;         // mean of both directed mean distances, world units
+  double ours_to_truth = 0.0;   // mean distance of the reconstruction to the truth, world units
+  double truth_to_ours = 0.0;   // mean distance of the truth to the reconstruction
+  double chamfer = 0.0;         // mean of both, world units
   double chamfer_fraction = 0.0;  // chamfer / height
   std::vector<OrderFigures> orders, true_orders;  // index = branch order
 

@@ -8,13 +8,20 @@
 //   sylva_skeleton_probe [--seeds=1,2,3,4,5] [--trees=leafless,leafy]
 //       [--graphs=livewire|none] [--out=DIR] [--name=value ...]
 // with names of pipeline options (e.g. --ParticleFlow.num_particles=2000).
-// --out=DIR writes DIR/<kind>_<seed>_{ours,truth}.json.
+// --out=DIR writes DIR/<kind>_<seed>_{ours,truth}.json and
+// DIR/<kind>_<seed>_samples.csv: points every voxel along our skeleton with
+// their strands, the density's opacity there, the occupied share of the
+// 5 x 5 x 5 voxels around and the distance to the true skeleton (what tells
+// wrong wood from right).
+#include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <filesystem>
 #include <sstream>
 #include <string>
 #include <vector>
 
+#include "core/geometry/point_grid.h"
 #include "core/io/skeleton_io.h"
 #include "core/util/check.h"
 #include "core/util/random.h"
@@ -54,6 +61,31 @@ std::vector<AttractorGraph2D> LivewireGraphs(const SyntheticDataset& data, const
     graphs.push_back(TraceAttractorGraph(data.photos[v], mattes[v], target, {}, livewire));
   }
   return graphs;
+}
+
+void WriteSamples(const std::string& path, const SkeletonGraph& ours, const SkeletonGraph& truth,
+                  const DensityGrid& density) {
+  const double spacing = density.voxel_size();
+  const PointGrid true_points(truth.SamplePoints(0.25 * spacing));
+  std::ofstream out(path);
+  out << "x,y,z,strands,opacity,occupancy,distance\n";
+  for (const SkeletonNode& node : ours.nodes) {
+    if (node.parent_idx < 0) continue;
+    const Eigen::Vector3d& parent = ours.nodes[node.parent_idx].position;
+    const int steps = std::max(1, static_cast<int>(std::ceil((node.position - parent).norm() / spacing)));
+    for (int s = 0; s < steps; ++s) {
+      const Eigen::Vector3d p = parent + (node.position - parent) * ((s + 0.5) / steps);
+      const Eigen::Vector3i ijk = density.IndexFromWorld(p).array().round().cast<int>();
+      int occupied = 0;
+      for (int dz = -2; dz <= 2; ++dz)
+        for (int dy = -2; dy <= 2; ++dy)
+          for (int dx = -2; dx <= 2; ++dx) occupied += density.Value(ijk + Eigen::Vector3i(dx, dy, dz)) > 0.05f;
+      double distance = 0;
+      true_points.Nearest(p, 1e300, &distance);
+      out << p.x() << "," << p.y() << "," << p.z() << "," << node.strands << "," << density.Value(ijk) << ","
+          << occupied / 125.0 << "," << distance << "\n";
+    }
+  }
 }
 
 int Main(int argc, char** argv) {
@@ -112,6 +144,7 @@ int Main(int argc, char** argv) {
         const std::string stem = out + "/" + kind + "_" + std::to_string(seed);
         WriteSkeletonJson(stem + "_ours.json", built.skeleton, "m");
         WriteSkeletonJson(stem + "_truth.json", truth, "m");
+        WriteSamples(stem + "_samples.csv", built.skeleton, truth, density);
       }
       ratio += c.length_ratio / seeds.size();
       precision += c.precision / seeds.size();

@@ -56,7 +56,7 @@ const std::vector<StageDefinition>& Definitions() {
       {{Stage::kSkeleton, "skeleton",
         "particle flow from the density to the tree base, steered by the attractor graphs' "
         "direction fields; skeleton with allometric radii (out/skeleton.json, skeleton.ply)"},
-       "skeleton/2",
+       "skeleton/3",
        {"TreeBase.", "DirectionField.", "ParticleFlow.", "Skeleton.", "Allometry.", "General.seed"},
        {Stage::kDensity, Stage::kAttract}, false, RunSkeletonStage, Always},
       {{Stage::kMesh, "mesh",

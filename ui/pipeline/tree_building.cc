@@ -16,6 +16,7 @@
 #include "simulate/attractor_field.h"
 #include "simulate/direction_field.h"
 #include "simulate/particle_flow.h"
+#include "simulate/skeleton_consolidation.h"
 #include "simulate/skeleton_pruning.h"
 
 namespace sylva {
@@ -79,8 +80,11 @@ BuiltSkeleton BuildSkeleton(const DensityGrid& density, const ImageSet& input_vi
   const SkeletonGraph flowed =
       SimulateParticleFlow(density, built.base, *field, flow, progress, &flow_summary, &built.raw);
   MattePruningSummary pruning;
-  built.skeleton =
+  const SkeletonGraph pruned =
       PruneBranchesOutsideMattes(flowed, input_views, mattes, options.skeleton.pruning, &pruning);
+  ConsolidationSummary consolidation;
+  built.skeleton =
+      ConsolidateSkeleton(pruned, density, options.skeleton.consolidation, &consolidation);
   const double height = std::max(built.skeleton.Height(), density.voxel_size());
   std::string how;
   AllometryOptions allometry = options.allometry;
@@ -90,7 +94,8 @@ BuiltSkeleton BuildSkeleton(const DensityGrid& density, const ImageSet& input_vi
   AssignPipeModelRadii(allometry, &built.skeleton);
   built.trunk_radius = allometry.trunk_radius;
   std::ostringstream brief;
-  brief << field_brief << " " << flow_summary.BriefReport() << " " << pruning.BriefReport() << " Base ("
+  brief << field_brief << " " << flow_summary.BriefReport() << " " << pruning.BriefReport() << " "
+        << consolidation.BriefReport() << " Base ("
         << built.base.transpose() << "); trunk radius " << allometry.trunk_radius << " (" << how
         << "; radii are an allometric prior, Delta " << allometry.diameter_exponent << ").";
   built.brief = brief.str();
