@@ -24,13 +24,11 @@
 #include "core/geometry/point_grid.h"
 #include "core/io/skeleton_io.h"
 #include "core/util/check.h"
-#include "core/util/random.h"
 #include "datasets/eval/skeleton_metrics.h"
 #include "datasets/synthetic/synthetic_dataset.h"
-#include "reconstruct/attractors/livewire.h"
 #include "reconstruct/density/density_reconstruction.h"
-#include "simulate/particle_flow.h"
 #include "tests/bench/probe_main.h"
+#include "tests/fidelity/synthetic_livewire.h"
 #include "ui/pipeline/option_registry.h"
 #include "ui/pipeline/tree_building.h"
 
@@ -43,24 +41,6 @@ std::vector<std::string> SplitList(const std::string& value) {
   std::string item;
   while (std::getline(list, item, ',')) items.push_back(item);
   return items;
-}
-
-// Livewire graphs per input view, as the attract stage traces them
-// (Attractors.mode=auto, General.seed's livewire stream).
-std::vector<AttractorGraph2D> LivewireGraphs(const SyntheticDataset& data, const ImageSet& inputs,
-                                             const std::vector<FloatImage>& mattes,
-                                             const DensityGrid& density,
-                                             const PipelineOptions& options) {
-  const Eigen::Vector3d base = EstimateTreeBase(density, options.tree_base);
-  LivewireOptions livewire = options.attract.livewire;
-  livewire.seed = DeriveSeed(options.general.seed, 3);
-  std::vector<AttractorGraph2D> graphs;
-  for (int v = 0; v < inputs.NumViews(); ++v) {
-    Eigen::Vector2d target;
-    SYLVA_CHECK(inputs.Project(v, base, &target));
-    graphs.push_back(TraceAttractorGraph(data.photos[v], mattes[v], target, {}, livewire));
-  }
-  return graphs;
 }
 
 void WriteSamples(const std::string& path, const SkeletonGraph& ours, const SkeletonGraph& truth,
@@ -132,7 +112,7 @@ int Main(int argc, char** argv) {
       const DensityGrid density =
           ReconstructDensity(inputs, mattes, options.density, nullptr, nullptr);
       const std::vector<AttractorGraph2D> graphs =
-          livewire ? LivewireGraphs(data, inputs, mattes, density, options)
+          livewire ? SyntheticLivewireGraphs(data, inputs, mattes, density, options)
                    : std::vector<AttractorGraph2D>();
       const BuiltSkeleton built = BuildSkeleton(density, inputs, mattes, graphs, options, nullptr);
       const SkeletonGraph& truth = data.tree.skeleton;
