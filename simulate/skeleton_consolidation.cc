@@ -205,6 +205,15 @@ void RemoveUnsupportedAxes(const DensityGrid& density, const ConsolidationOption
 
 }  // namespace
 
+ConsolidationOptions ConsolidationOptions::Off() {
+  ConsolidationOptions off;
+  off.redundancy_fraction = 0;
+  off.min_support = 0;
+  off.max_empty_fraction = 1;
+  off.base_fraction = 0;
+  return off;
+}
+
 void ConsolidationOptions::Check() const {
   SYLVA_CHECK_INPUT(redundancy_fraction >= 0 && redundancy_fraction < 1,
                     "Skeleton.redundancy_fraction")

@@ -68,12 +68,8 @@ TEST(SkeletonConsolidationTest, KeepsTheWoodTheDensityShowsOnce) {
 
 TEST(SkeletonConsolidationTest, DisabledStepsKeepEverything) {
   const Scene scene = MakeScene();
-  ConsolidationOptions options;
-  options.redundancy_fraction = 0;
-  options.min_support = 0;
-  options.max_empty_fraction = 1;
-  options.base_fraction = 0;
-  const SkeletonGraph result = ConsolidateSkeleton(scene.skeleton, scene.density, options, nullptr);
+  const SkeletonGraph result =
+      ConsolidateSkeleton(scene.skeleton, scene.density, ConsolidationOptions::Off(), nullptr);
   EXPECT_EQ(result.NumNodes(), scene.skeleton.NumNodes());
   EXPECT_NEAR(result.TotalLength(), scene.skeleton.TotalLength(), 1e-9);
 }

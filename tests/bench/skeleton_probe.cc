@@ -8,6 +8,9 @@
 //   sylva_skeleton_probe [--seeds=1,2,3,4,5] [--trees=leafless,leafy]
 //       [--graphs=livewire|none] [--out=DIR] [--name=value ...]
 // with names of pipeline options (e.g. --ParticleFlow.num_particles=2000).
+// Or compares two skeleton files (e.g. a project's out/skeleton.json with a
+// synthetic set's ground_truth/skeleton.json):
+//   sylva_skeleton_probe --compare=OURS.json,TRUTH.json
 // --out=DIR writes DIR/<kind>_<seed>_{ours,truth}.json and
 // DIR/<kind>_<seed>_samples.csv: points every voxel along our skeleton with
 // their strands, the density's opacity there, the occupied share of the
@@ -89,6 +92,12 @@ int Main(int argc, char** argv) {
       trees = SplitList(value);
     } else if (name == "graphs") {
       livewire = value == "livewire";
+    } else if (name == "compare") {
+      const std::vector<std::string> files = SplitList(value);
+      SYLVA_CHECK_INPUT(files.size() == 2, "--compare") << "expected OURS.json,TRUTH.json";
+      const SkeletonGraph ours = ReadSkeletonJson(files[0]), truth = ReadSkeletonJson(files[1]);
+      std::printf("%s\n", CompareSkeletons(ours, truth, truth.Height()).BriefReport().c_str());
+      return 0;
     } else if (name == "out") {
       out = value;
     } else {
