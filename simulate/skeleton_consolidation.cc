@@ -95,12 +95,17 @@ double Support(const DensityGrid& density, const Eigen::Vector3d& point,
 
 // Step 1: trims every axis but the trunk from its tip while its edges lie
 // within `radius` of other wood or the density does not support them;
-// returns the removed nodes.
+// returns the removed nodes. The trimmed particles did flow into the wood
+// that stays: where a trimmed stretch left a node that keeps other children,
+// its strands move onto that node's heaviest remaining child and on down
+// the heaviest children to a tip (a new tip keeps its own), so every
+// junction still carries the sum of its children and the root all of them.
+// `strands` (in: the skeleton's) receives the moved counts.
 std::vector<char> TrimTwigs(const SkeletonGraph& skeleton, const DensityGrid& density,
-                            const ConsolidationOptions& options, double radius, double spacing) {
+                            const ConsolidationOptions& options, double radius, double spacing,
+                            std::vector<int>* strands) {
   std::vector<char> removed(skeleton.NumNodes(), 0);
-  std::vector<int> orders;
-  const std::vector<BranchAxis> axes = skeleton.BranchAxes(&orders);
+  const std::vector<BranchAxis> axes = skeleton.BranchAxes();
   std::vector<int> axis_of(skeleton.NumNodes(), 0), parent_axis(axes.size(), -1);
   for (size_t a = 1; a < axes.size(); ++a) {
     for (size_t k = 1; k < axes[a].size(); ++k) axis_of[axes[a][k]] = static_cast<int>(a);
@@ -115,7 +120,7 @@ std::vector<char> TrimTwigs(const SkeletonGraph& skeleton, const DensityGrid& de
   };
   const WoodSamples wood(skeleton, std::max(radius, spacing), spacing);
   const std::vector<std::vector<int>> children = skeleton.Children();
-  // Child axes are listed after their parents: thinnest, outermost first.
+  // Axes are listed by order: backwards, the outermost go first.
   for (int a = static_cast<int>(axes.size()) - 1; a >= 1; --a) {
     const BranchAxis& axis = axes[a];
     // Nodes up to the last one still carrying a side branch stay (0: none).
@@ -128,6 +133,7 @@ std::vector<char> TrimTwigs(const SkeletonGraph& skeleton, const DensityGrid& de
     const auto other_wood = [&](int owner) {
       return !removed[owner] && !within_axis(axis_of[owner], a);
     };
+    size_t first_removed = axis.size();
     for (size_t k = axis.size() - 1; k > keep; --k) {
       const std::vector<Eigen::Vector3d> samples =
           EdgeSamples(skeleton.nodes[axis[k - 1]].position, skeleton.nodes[axis[k]].position,
@@ -143,6 +149,23 @@ std::vector<char> TrimTwigs(const SkeletonGraph& skeleton, const DensityGrid& de
       }
       if (!redundant && support >= options.min_support) break;
       removed[axis[k]] = 1;
+      first_removed = k;
+    }
+    // The node left where the trim stopped: a junction (the whole axis went)
+    // or the last side branch's node still has children.
+    if (first_removed < axis.size() && (first_removed == 1 || first_removed - 1 == keep)) {
+      const int moved = (*strands)[axis[first_removed]];
+      for (int node = axis[first_removed - 1];;) {
+        int heaviest = -1;
+        for (int child : children[node]) {
+          if (!removed[child] && (heaviest < 0 || (*strands)[child] > (*strands)[heaviest])) {
+            heaviest = child;
+          }
+        }
+        if (heaviest < 0) break;
+        (*strands)[heaviest] += moved;
+        node = heaviest;
+      }
     }
   }
   return removed;
@@ -261,10 +284,13 @@ SkeletonGraph ConsolidateSkeleton(const SkeletonGraph& skeleton, const DensityGr
   const double spacing = options.sample_spacing_fraction * height;
   SkeletonGraph result = skeleton;
   if (options.redundancy_fraction > 0 || options.min_support > 0) {
-    const std::vector<char> trimmed =
-        TrimTwigs(skeleton, density, options, options.redundancy_fraction * height, spacing);
+    std::vector<int> strands(skeleton.NumNodes());
+    for (int i = 0; i < skeleton.NumNodes(); ++i) strands[i] = skeleton.nodes[i].strands;
+    const std::vector<char> trimmed = TrimTwigs(
+        skeleton, density, options, options.redundancy_fraction * height, spacing, &strands);
     summary->trimmed_nodes = static_cast<int>(std::count(trimmed.begin(), trimmed.end(), 1));
-    result = WithoutNodes(skeleton, trimmed);
+    for (int i = 0; i < skeleton.NumNodes(); ++i) result.nodes[i].strands = strands[i];
+    result = WithoutNodes(result, trimmed);
   }
   RemoveUnsupportedAxes(density, options, height, spacing, &result, summary);
   summary->length_after = result.TotalLength();

@@ -25,9 +25,10 @@
 // 1.08-1.25 x the true length (was 1.69-1.90 x) at precision 0.82-0.87
 // (was 0.82-0.88); leafy crowns keep about 3.5 x: in foliage the density
 // cannot tell a twig from leaves.
-// Strands of trimmed twigs stay on the wood they duplicate (the particles
-// did flow there); strands of removed sticks and base branches are taken
-// off their ancestors, like the matte pruning does.
+// Every junction still carries the sum of its children (pipe model): the
+// strands of trimmed twigs move onto the wood that stays there (their
+// particles did flow into it), those of removed sticks and base branches
+// are taken off their ancestors, like the matte pruning does.
 #ifndef SYLVA_SIMULATE_SKELETON_CONSOLIDATION_H_
 #define SYLVA_SIMULATE_SKELETON_CONSOLIDATION_H_
 

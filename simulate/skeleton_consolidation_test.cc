@@ -61,9 +61,19 @@ TEST(SkeletonConsolidationTest, KeepsTheWoodTheDensityShowsOnce) {
   EXPECT_EQ(summary.trimmed_nodes, 2);  // the second trace and the stick
   EXPECT_EQ(summary.base_axes, 1);
   EXPECT_NEAR(result.nodes[4].position.x(), 3.0, 1e-12);
-  // The twin trace's strands stay on the wood it doubled; the base twig's go.
+  // The twin trace's 10 strands move onto the heaviest wood left at the
+  // fork (the trunk, out to its top), the stick's 2 onto the trunk top; the
+  // base twig's 2 are taken off: every junction carries its children's sum.
   EXPECT_EQ(result.nodes[0].strands, 98);
   EXPECT_EQ(result.nodes[1].strands, 98);
+  EXPECT_EQ(result.nodes[2].strands, 78);
+  const std::vector<std::vector<int>> children = result.Children();
+  for (int i = 0; i < result.NumNodes(); ++i) {
+    if (children[i].empty()) continue;
+    int sum = 0;
+    for (int child : children[i]) sum += result.nodes[child].strands;
+    EXPECT_EQ(sum, result.nodes[i].strands) << "node " << i;
+  }
 }
 
 TEST(SkeletonConsolidationTest, DisabledStepsKeepEverything) {
