@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "core/util/check.h"
+#include "simulate/skeleton_editing.h"
 
 namespace sylva {
 namespace {
@@ -65,44 +66,6 @@ double Height(const SkeletonGraph& skeleton) {
   return high - low;
 }
 
-// Marks every descendant of a marked node.
-void MarkDescendants(const SkeletonGraph& skeleton, std::vector<char>* removed) {
-  const std::vector<std::vector<int>> children = skeleton.Children();
-  std::vector<int> stack;
-  for (int i = 0; i < skeleton.NumNodes(); ++i) {
-    if ((*removed)[i]) stack.push_back(i);
-  }
-  while (!stack.empty()) {
-    const int node = stack.back();
-    stack.pop_back();
-    for (int child : children[node]) {
-      if (!(*removed)[child]) {
-        (*removed)[child] = 1;
-        stack.push_back(child);
-      }
-    }
-  }
-}
-
-// The skeleton without the marked nodes, in the same relative order.
-SkeletonGraph WithoutNodes(const SkeletonGraph& skeleton, const std::vector<char>& removed) {
-  std::vector<int> new_index(skeleton.NumNodes(), -1);
-  int count = 0;
-  for (int i = 0; i < skeleton.NumNodes(); ++i) {
-    if (!removed[i]) new_index[i] = count++;
-  }
-  SkeletonGraph kept;
-  kept.radius_source = skeleton.radius_source;
-  for (int i = 0; i < skeleton.NumNodes(); ++i) {
-    if (removed[i]) continue;
-    SkeletonNode node = skeleton.nodes[i];
-    node.parent_idx = node.parent_idx >= 0 ? new_index[node.parent_idx] : -1;
-    kept.nodes.push_back(node);
-  }
-  kept.AssignOrders();
-  return kept;
-}
-
 }  // namespace
 
 void MattePruningOptions::Check() const {
@@ -159,13 +122,7 @@ SkeletonGraph PruneBranchesOutsideMattes(const SkeletonGraph& skeleton, const Im
   MarkDescendants(skeleton, &removed);
   summary->removed_nodes = static_cast<int>(std::count(removed.begin(), removed.end(), 1));
   SkeletonGraph pruned = skeleton;
-  // Take the removed strands off every ancestor of each junction.
-  for (int junction = 0; junction < skeleton.NumNodes(); ++junction) {
-    if (strands_taken[junction] == 0 || removed[junction]) continue;
-    for (int node = junction; node >= 0; node = pruned.nodes[node].parent_idx) {
-      pruned.nodes[node].strands -= strands_taken[junction];
-    }
-  }
+  TakeStrands(strands_taken, removed, &pruned);
   return WithoutNodes(pruned, removed);
 }
 

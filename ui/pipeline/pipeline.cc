@@ -55,8 +55,9 @@ const std::vector<StageDefinition>& Definitions() {
        RunAttractStage, Always},
       {{Stage::kSkeleton, "skeleton",
         "particle flow from the density to the tree base, steered by the attractor graphs' "
-        "direction fields; skeleton with radii measured in the mattes (out/skeleton.json, skeleton.ply)"},
-       "skeleton/3",
+        "direction fields; skeleton with pipe-model radii, scaled to the mattes on leafless plants "
+        "(out/skeleton.json, skeleton.ply)"},
+       "skeleton/4",
        {"TreeBase.", "DirectionField.", "ParticleFlow.", "Skeleton.", "Allometry.", "BranchWidth.",
         "Leaves.num_leaves", "General.seed"},
        {Stage::kDensity, Stage::kAttract}, false, RunSkeletonStage, Always},

@@ -41,6 +41,7 @@ void SkeletonOptions::Check() const {
                     "Skeleton.min_radius_fraction")
       << "must be in [0, 1], got " << min_radius_fraction;
   pruning.Check();
+  consolidation.Check();
 }
 
 void TreeGeometryOptions::Check() const {
@@ -276,6 +277,27 @@ void RegisterSkeleton(SkeletonOptions* o, AllometryOptions* allometry, OptionReg
                "matte value below which a branch sample is on background");
   r->AddDouble("Skeleton.prune_sample_spacing_fraction", &o->pruning.sample_spacing_fraction, "",
                "sample spacing along branches, as a fraction of the tree height");
+  r->AddDouble("Skeleton.redundancy_fraction", &o->consolidation.redundancy_fraction, "",
+               "twig stretches within this fraction of the height of other wood are trimmed "
+               "(a branch traced twice keeps one trace; 0 = keep all)");
+  r->AddDouble("Skeleton.min_support", &o->consolidation.min_support, "",
+               "twig stretches where less than this share of the voxels around reach "
+               "Skeleton.support_opacity are trimmed (0 = keep)");
+  r->AddInt("Skeleton.support_radius_voxels", &o->consolidation.support_radius_voxels, "voxels",
+            "half-width of the cube of voxels the support is measured in");
+  r->AddDouble("Skeleton.support_opacity", &o->consolidation.support_opacity, "alpha",
+               "opacity from which a voxel counts as supporting wood");
+  r->AddDouble("Skeleton.thin_strand_fraction", &o->consolidation.max_strand_fraction, "",
+               "branches carrying at most this fraction of all strands must show density along "
+               "them and may not leave the trunk's foot");
+  r->AddDouble("Skeleton.max_empty_fraction", &o->consolidation.max_empty_fraction, "",
+               "a thin branch with more than this fraction of its length in empty density is "
+               "removed (1 = keep)");
+  r->AddDouble("Skeleton.base_fraction", &o->consolidation.base_fraction, "",
+               "thin branches leaving the trunk below this fraction of the height are removed");
+  r->AddDouble("Skeleton.consolidate_sample_spacing_fraction",
+               &o->consolidation.sample_spacing_fraction, "",
+               "sample spacing of the consolidation, as a fraction of the tree height");
   r->AddDouble("Allometry.diameter_exponent", &allometry->diameter_exponent, "",
                "pipe model d0^D = sum di^D: 2 = Leonardo, 2.49 = Murray");
 }

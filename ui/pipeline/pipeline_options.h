@@ -24,6 +24,7 @@
 #include "reconstruct/registration/world_frame.h"
 #include "simulate/attractor_field.h"
 #include "simulate/particle_flow.h"
+#include "simulate/skeleton_consolidation.h"
 #include "simulate/skeleton_pruning.h"
 #include "sketch/stroke_graph.h"
 #include "ui/pipeline/option_registry.h"
@@ -52,6 +53,9 @@ struct SkeletonOptions {
   double min_radius_fraction = 0.02;
   // Removal of thin branches whose path leaves the mattes.
   MattePruningOptions pruning;
+  // Then redundant twigs, bare sticks and thin branches at the trunk's foot
+  // go (simulate/skeleton_consolidation.h).
+  ConsolidationOptions consolidation;
   void Check() const;
 };
 

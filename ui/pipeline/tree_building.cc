@@ -17,6 +17,7 @@
 #include "simulate/attractor_field.h"
 #include "simulate/direction_field.h"
 #include "simulate/particle_flow.h"
+#include "simulate/skeleton_consolidation.h"
 #include "simulate/skeleton_pruning.h"
 
 namespace sylva {
@@ -80,8 +81,11 @@ BuiltSkeleton BuildSkeleton(const DensityGrid& density, const ImageSet& input_vi
   const SkeletonGraph flowed =
       SimulateParticleFlow(density, built.base, *field, flow, progress, &flow_summary, &built.raw);
   MattePruningSummary pruning;
-  built.skeleton =
+  const SkeletonGraph pruned =
       PruneBranchesOutsideMattes(flowed, input_views, mattes, options.skeleton.pruning, &pruning);
+  ConsolidationSummary consolidation;
+  built.skeleton =
+      ConsolidateSkeleton(pruned, density, options.skeleton.consolidation, &consolidation);
   const double height = std::max(built.skeleton.Height(), density.voxel_size());
   std::string how;
   AllometryOptions allometry = options.allometry;
@@ -100,7 +104,8 @@ BuiltSkeleton BuildSkeleton(const DensityGrid& density, const ImageSet& input_vi
   built.trunk_radius = built.skeleton.nodes.empty() ? allometry.trunk_radius
                                                     : built.skeleton.nodes[built.skeleton.RootIdx()].radius;
   std::ostringstream brief;
-  brief << field_brief << " " << flow_summary.BriefReport() << " " << pruning.BriefReport() << " Base ("
+  brief << field_brief << " " << flow_summary.BriefReport() << " " << pruning.BriefReport() << " "
+        << consolidation.BriefReport() << " Base ("
         << built.base.transpose() << "); trunk radius " << allometry.trunk_radius << " (" << how
         << "; pipe model, Delta " << allometry.diameter_exponent << "). " << widths;
   built.brief = brief.str();

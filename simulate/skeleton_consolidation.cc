@@ -1,0 +1,300 @@
+#include "simulate/skeleton_consolidation.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <sstream>
+#include <unordered_map>
+#include <vector>
+
+#include "core/util/check.h"
+#include "simulate/skeleton_editing.h"
+
+namespace sylva {
+namespace {
+
+// Points every `spacing` (at most) along the edge from `parent` to `child`,
+// the parent end excluded.
+std::vector<Eigen::Vector3d> EdgeSamples(const Eigen::Vector3d& parent, const Eigen::Vector3d& child,
+                                         double spacing) {
+  const int steps = std::max(1, static_cast<int>(std::ceil((child - parent).norm() / spacing)));
+  std::vector<Eigen::Vector3d> samples;
+  for (int s = 1; s <= steps; ++s) samples.push_back(parent + (child - parent) * (double(s) / steps));
+  return samples;
+}
+
+// Samples along every edge, each owned by the edge's child node, bucketed in
+// a hash grid whose cells are `radius` wide: "is there wood within radius,
+// other than these nodes'?" looks at 27 cells.
+class WoodSamples {
+ public:
+  WoodSamples(const SkeletonGraph& skeleton, double radius, double spacing) : radius_(radius) {
+    for (int i = 0; i < skeleton.NumNodes(); ++i) {
+      const int parent = skeleton.nodes[i].parent_idx;
+      if (parent < 0) continue;
+      for (const Eigen::Vector3d& point :
+           EdgeSamples(skeleton.nodes[parent].position, skeleton.nodes[i].position, spacing)) {
+        cells_[Key(Cell(point))].push_back(static_cast<int>(points_.size()));
+        points_.push_back(point);
+        owners_.push_back(i);
+      }
+    }
+  }
+
+  // Whether a sample whose owner passes `counts(owner)` lies within radius.
+  template <typename Counts>
+  bool AnyWithin(const Eigen::Vector3d& query, const Counts& counts) const {
+    const Eigen::Vector3i centre = Cell(query);
+    for (int dz = -1; dz <= 1; ++dz) {
+      for (int dy = -1; dy <= 1; ++dy) {
+        for (int dx = -1; dx <= 1; ++dx) {
+          const auto found = cells_.find(Key(centre + Eigen::Vector3i(dx, dy, dz)));
+          if (found == cells_.end()) continue;
+          for (int s : found->second) {
+            if ((points_[s] - query).norm() <= radius_ && counts(owners_[s])) return true;
+          }
+        }
+      }
+    }
+    return false;
+  }
+
+ private:
+  Eigen::Vector3i Cell(const Eigen::Vector3d& p) const {
+    return (p / radius_).array().floor().cast<int>();
+  }
+  static int64_t Key(const Eigen::Vector3i& c) {
+    return (static_cast<int64_t>(c.x() & 0x1FFFFF) << 42) |
+           (static_cast<int64_t>(c.y() & 0x1FFFFF) << 21) | static_cast<int64_t>(c.z() & 0x1FFFFF);
+  }
+
+  double radius_;
+  std::vector<Eigen::Vector3d> points_;
+  std::vector<int> owners_;
+  std::unordered_map<int64_t, std::vector<int>> cells_;
+};
+
+// The share of the (2r+1)^3 voxels around `point` (world), r =
+// support_radius_voxels, whose opacity reaches support_opacity: how much the
+// density holds there. Wood seen in the photos shows as occupied voxels
+// along it; a trace across a gap, or off to the side of a branch, does not.
+double Support(const DensityGrid& density, const Eigen::Vector3d& point,
+               const ConsolidationOptions& options) {
+  const Eigen::Vector3i centre = density.IndexFromWorld(point).array().round().cast<int>();
+  const int r = options.support_radius_voxels;
+  int occupied = 0;
+  for (int dz = -r; dz <= r; ++dz) {
+    for (int dy = -r; dy <= r; ++dy) {
+      for (int dx = -r; dx <= r; ++dx) {
+        occupied += density.Value(centre + Eigen::Vector3i(dx, dy, dz)) >= options.support_opacity;
+      }
+    }
+  }
+  return occupied / std::pow(2.0 * r + 1, 3);
+}
+
+// Step 1: trims every axis but the trunk from its tip while its edges lie
+// within `radius` of other wood or the density does not support them;
+// returns the removed nodes. The trimmed particles did flow into the wood
+// that stays: where a trimmed stretch left a node that keeps other children,
+// its strands move onto that node's heaviest remaining child and on down
+// the heaviest children to a tip (a new tip keeps its own), so every
+// junction still carries the sum of its children and the root all of them.
+// `strands` (in: the skeleton's) receives the moved counts.
+std::vector<char> TrimTwigs(const SkeletonGraph& skeleton, const DensityGrid& density,
+                            const ConsolidationOptions& options, double radius, double spacing,
+                            std::vector<int>* strands) {
+  std::vector<char> removed(skeleton.NumNodes(), 0);
+  const std::vector<BranchAxis> axes = skeleton.BranchAxes();
+  std::vector<int> axis_of(skeleton.NumNodes(), 0), parent_axis(axes.size(), -1);
+  for (size_t a = 1; a < axes.size(); ++a) {
+    for (size_t k = 1; k < axes[a].size(); ++k) axis_of[axes[a][k]] = static_cast<int>(a);
+    parent_axis[a] = axis_of[axes[a][0]];
+  }
+  // Whether axis b is axis a or hangs (indirectly) off it.
+  const auto within_axis = [&](int b, int a) {
+    for (; b > 0; b = parent_axis[b]) {
+      if (b == a) return true;
+    }
+    return false;
+  };
+  const WoodSamples wood(skeleton, std::max(radius, spacing), spacing);
+  const std::vector<std::vector<int>> children = skeleton.Children();
+  // Axes are listed by order: backwards, the outermost go first.
+  for (int a = static_cast<int>(axes.size()) - 1; a >= 1; --a) {
+    const BranchAxis& axis = axes[a];
+    // Nodes up to the last one still carrying a side branch stay (0: none).
+    size_t keep = 0;
+    for (size_t k = 1; k < axis.size(); ++k) {
+      for (int child : children[axis[k]]) {
+        if (!removed[child] && (k + 1 == axis.size() || child != axis[k + 1])) keep = k;
+      }
+    }
+    const auto other_wood = [&](int owner) {
+      return !removed[owner] && !within_axis(axis_of[owner], a);
+    };
+    size_t first_removed = axis.size();
+    for (size_t k = axis.size() - 1; k > keep; --k) {
+      const std::vector<Eigen::Vector3d> samples =
+          EdgeSamples(skeleton.nodes[axis[k - 1]].position, skeleton.nodes[axis[k]].position,
+                      spacing);
+      const bool redundant =
+          radius > 0 && std::all_of(samples.begin(), samples.end(), [&](const Eigen::Vector3d& p) {
+            return wood.AnyWithin(p, other_wood);
+          });
+      double support = 0;
+      if (!redundant && options.min_support > 0) {
+        for (const Eigen::Vector3d& p : samples) support += Support(density, p, options);
+        support /= samples.size();
+      }
+      if (!redundant && support >= options.min_support) break;
+      removed[axis[k]] = 1;
+      first_removed = k;
+    }
+    // The node left where the trim stopped: a junction (the whole axis went)
+    // or the last side branch's node still has children.
+    if (first_removed < axis.size() && (first_removed == 1 || first_removed - 1 == keep)) {
+      const int moved = (*strands)[axis[first_removed]];
+      for (int node = axis[first_removed - 1];;) {
+        int heaviest = -1;
+        for (int child : children[node]) {
+          if (!removed[child] && (heaviest < 0 || (*strands)[child] > (*strands)[heaviest])) {
+            heaviest = child;
+          }
+        }
+        if (heaviest < 0) break;
+        (*strands)[heaviest] += moved;
+        node = heaviest;
+      }
+    }
+  }
+  return removed;
+}
+
+// The largest opacity in the 3 x 3 x 3 voxels around `point` (world).
+float OpacityAround(const DensityGrid& density, const Eigen::Vector3d& point) {
+  const Eigen::Vector3i centre = density.IndexFromWorld(point).array().round().cast<int>();
+  float best = 0.0f;
+  for (int dz = -1; dz <= 1; ++dz) {
+    for (int dy = -1; dy <= 1; ++dy) {
+      for (int dx = -1; dx <= 1; ++dx) {
+        best = std::max(best, density.Value(centre + Eigen::Vector3i(dx, dy, dz)));
+      }
+    }
+  }
+  return best;
+}
+
+// Steps 2 and 3 on the trimmed skeleton (changed in place).
+void RemoveUnsupportedAxes(const DensityGrid& density, const ConsolidationOptions& options,
+                           double height, double spacing, SkeletonGraph* skeleton,
+                           ConsolidationSummary* summary) {
+  const int root = skeleton->RootIdx();
+  const double max_strands = options.max_strand_fraction * skeleton->nodes[root].strands;
+  const double base_top = skeleton->nodes[root].position.z() + options.base_fraction * height;
+  std::vector<int> orders;
+  const std::vector<BranchAxis> axes = skeleton->BranchAxes(&orders);
+  std::vector<char> removed(skeleton->NumNodes(), 0);
+  std::vector<int> strands_taken(skeleton->NumNodes(), 0);
+  for (size_t a = 1; a < axes.size(); ++a) {
+    const BranchAxis& axis = axes[a];
+    if (axis.size() < 2 || removed[axis[0]]) continue;
+    if (skeleton->nodes[axis[1]].strands > max_strands) continue;
+    const Eigen::Vector3d& junction = skeleton->nodes[axis[0]].position;
+    const bool at_base = orders[a] == 1 && junction.z() < base_top;
+    double length = 0, empty = 0;
+    for (size_t k = 1; k < axis.size() && !at_base; ++k) {
+      const Eigen::Vector3d& from = skeleton->nodes[axis[k - 1]].position;
+      const std::vector<Eigen::Vector3d> samples =
+          EdgeSamples(from, skeleton->nodes[axis[k]].position, spacing);
+      const double piece = (skeleton->nodes[axis[k]].position - from).norm() / samples.size();
+      for (const Eigen::Vector3d& point : samples) {
+        length += piece;
+        if (OpacityAround(density, point) <= 0.0f) empty += piece;
+      }
+    }
+    const bool bare = !at_base && empty > options.max_empty_fraction * length;
+    if (!at_base && !bare) continue;
+    int nodes = 0;
+    for (size_t k = 1; k < axis.size(); ++k) removed[axis[k]] = 1, ++nodes;
+    strands_taken[axis[0]] += skeleton->nodes[axis[1]].strands;
+    (at_base ? summary->base_axes : summary->bare_axes) += 1;
+    (at_base ? summary->base_nodes : summary->bare_nodes) += nodes;
+  }
+  MarkDescendants(*skeleton, &removed);
+  TakeStrands(strands_taken, removed, skeleton);
+  *skeleton = WithoutNodes(*skeleton, removed);
+}
+
+}  // namespace
+
+ConsolidationOptions ConsolidationOptions::Off() {
+  ConsolidationOptions off;
+  off.redundancy_fraction = 0;
+  off.min_support = 0;
+  off.max_empty_fraction = 1;
+  off.base_fraction = 0;
+  return off;
+}
+
+void ConsolidationOptions::Check() const {
+  SYLVA_CHECK_INPUT(redundancy_fraction >= 0 && redundancy_fraction < 1,
+                    "Skeleton.redundancy_fraction")
+      << "must be in [0, 1), got " << redundancy_fraction;
+  SYLVA_CHECK_INPUT(min_support >= 0 && min_support <= 1, "Skeleton.min_support")
+      << "must be in [0, 1], got " << min_support;
+  SYLVA_CHECK_INPUT(support_radius_voxels >= 1 && support_radius_voxels <= 8,
+                    "Skeleton.support_radius_voxels")
+      << "must be in [1, 8], got " << support_radius_voxels;
+  SYLVA_CHECK_INPUT(support_opacity > 0 && support_opacity <= 1, "Skeleton.support_opacity")
+      << "must be in (0, 1], got " << support_opacity;
+  SYLVA_CHECK_INPUT(max_strand_fraction >= 0 && max_strand_fraction <= 1,
+                    "Skeleton.thin_strand_fraction")
+      << "must be in [0, 1], got " << max_strand_fraction;
+  SYLVA_CHECK_INPUT(max_empty_fraction >= 0 && max_empty_fraction <= 1,
+                    "Skeleton.max_empty_fraction")
+      << "must be in [0, 1], got " << max_empty_fraction;
+  SYLVA_CHECK_INPUT(base_fraction >= 0 && base_fraction < 1, "Skeleton.base_fraction")
+      << "must be in [0, 1), got " << base_fraction;
+  SYLVA_CHECK_INPUT(sample_spacing_fraction > 0 && sample_spacing_fraction < 1,
+                    "Skeleton.consolidate_sample_spacing_fraction")
+      << "must be in (0, 1), got " << sample_spacing_fraction;
+}
+
+std::string ConsolidationSummary::BriefReport() const {
+  std::ostringstream out;
+  out << "Consolidation: length " << length_before << " -> " << length_after << " ("
+      << trimmed_nodes << " twig nodes trimmed (redundant or unsupported), " << bare_axes
+      << " bare sticks through empty density removed (" << bare_nodes << " nodes), " << base_axes
+      << " thin branches at the trunk's foot removed (" << base_nodes << " nodes)).";
+  return out.str();
+}
+
+SkeletonGraph ConsolidateSkeleton(const SkeletonGraph& skeleton, const DensityGrid& density,
+                                  const ConsolidationOptions& options,
+                                  ConsolidationSummary* summary) {
+  options.Check();
+  skeleton.Check();
+  ConsolidationSummary local;
+  if (summary == nullptr) summary = &local;
+  *summary = ConsolidationSummary();
+  summary->length_before = summary->length_after = skeleton.TotalLength();
+  const double height = skeleton.Height();
+  if (skeleton.RootIdx() < 0 || height <= 0) return skeleton;
+  const double spacing = options.sample_spacing_fraction * height;
+  SkeletonGraph result = skeleton;
+  if (options.redundancy_fraction > 0 || options.min_support > 0) {
+    std::vector<int> strands(skeleton.NumNodes());
+    for (int i = 0; i < skeleton.NumNodes(); ++i) strands[i] = skeleton.nodes[i].strands;
+    const std::vector<char> trimmed = TrimTwigs(
+        skeleton, density, options, options.redundancy_fraction * height, spacing, &strands);
+    summary->trimmed_nodes = static_cast<int>(std::count(trimmed.begin(), trimmed.end(), 1));
+    for (int i = 0; i < skeleton.NumNodes(); ++i) result.nodes[i].strands = strands[i];
+    result = WithoutNodes(result, trimmed);
+  }
+  RemoveUnsupportedAxes(density, options, height, spacing, &result, summary);
+  summary->length_after = result.TotalLength();
+  return result;
+}
+
+}  // namespace sylva

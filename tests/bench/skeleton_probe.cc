@@ -1,0 +1,154 @@
+// By hand: how much wood the skeleton carries against the truth on synthetic
+// trees (issue 12, item 5). For each tree seed, leafless (no leaf clusters)
+// and leafy: the density from 8 views, livewire attractor graphs as the
+// attract stage traces them, the skeleton as the skeleton stage builds it,
+// then CompareSkeletons against the generator's skeleton: total length
+// ratio, precision and recall (within 2 % of the height), Chamfer, axes per
+// order.
+//   sylva_skeleton_probe [--seeds=1,2,3,4,5] [--trees=leafless,leafy]
+//       [--graphs=livewire|none] [--out=DIR] [--name=value ...]
+// with names of pipeline options (e.g. --ParticleFlow.num_particles=2000).
+// Or compares two skeleton files (e.g. a project's out/skeleton.json with a
+// synthetic set's ground_truth/skeleton.json):
+//   sylva_skeleton_probe --compare=OURS.json,TRUTH.json
+// --out=DIR writes DIR/<kind>_<seed>_{ours,truth}.json and
+// DIR/<kind>_<seed>_samples.csv: points every voxel along our skeleton with
+// their strands, the density's opacity there, the occupied share of the
+// 5 x 5 x 5 voxels around and the distance to the true skeleton (what tells
+// wrong wood from right).
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <filesystem>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "core/geometry/point_grid.h"
+#include "core/io/skeleton_io.h"
+#include "core/util/check.h"
+#include "datasets/eval/skeleton_metrics.h"
+#include "datasets/synthetic/synthetic_dataset.h"
+#include "reconstruct/density/density_reconstruction.h"
+#include "tests/bench/probe_main.h"
+#include "tests/fidelity/synthetic_livewire.h"
+#include "ui/pipeline/option_registry.h"
+#include "ui/pipeline/tree_building.h"
+
+namespace sylva {
+namespace {
+
+std::vector<std::string> SplitList(const std::string& value) {
+  std::vector<std::string> items;
+  std::stringstream list(value);
+  std::string item;
+  while (std::getline(list, item, ',')) items.push_back(item);
+  return items;
+}
+
+void WriteSamples(const std::string& path, const SkeletonGraph& ours, const SkeletonGraph& truth,
+                  const DensityGrid& density) {
+  const double spacing = density.voxel_size();
+  const PointGrid true_points(truth.SamplePoints(0.25 * spacing));
+  std::ofstream out(path);
+  out << "x,y,z,strands,opacity,occupancy,distance\n";
+  for (const SkeletonNode& node : ours.nodes) {
+    if (node.parent_idx < 0) continue;
+    const Eigen::Vector3d& parent = ours.nodes[node.parent_idx].position;
+    const int steps = std::max(1, static_cast<int>(std::ceil((node.position - parent).norm() / spacing)));
+    for (int s = 0; s < steps; ++s) {
+      const Eigen::Vector3d p = parent + (node.position - parent) * ((s + 0.5) / steps);
+      const Eigen::Vector3i ijk = density.IndexFromWorld(p).array().round().cast<int>();
+      int occupied = 0;
+      for (int dz = -2; dz <= 2; ++dz)
+        for (int dy = -2; dy <= 2; ++dy)
+          for (int dx = -2; dx <= 2; ++dx) occupied += density.Value(ijk + Eigen::Vector3i(dx, dy, dz)) > 0.05f;
+      double distance = 0;
+      true_points.Nearest(p, 1e300, &distance);
+      out << p.x() << "," << p.y() << "," << p.z() << "," << node.strands << "," << density.Value(ijk) << ","
+          << occupied / 125.0 << "," << distance << "\n";
+    }
+  }
+}
+
+int Main(int argc, char** argv) {
+  std::vector<uint64_t> seeds = {1, 2, 3, 4, 5};
+  std::vector<std::string> trees = {"leafless", "leafy"};
+  bool livewire = true;
+  std::string out;
+  PipelineOptions options;
+  OptionRegistry registry;
+  RegisterPipelineOptions(&options, &registry);
+  for (int i = 1; i < argc; ++i) {
+    const std::string flag = argv[i];
+    const size_t eq = flag.find('=');
+    SYLVA_CHECK_INPUT(flag.rfind("--", 0) == 0 && eq != std::string::npos, flag)
+        << "expected --name=value";
+    const std::string name = flag.substr(2, eq - 2), value = flag.substr(eq + 1);
+    if (name == "seeds") {
+      seeds.clear();
+      for (const std::string& item : SplitList(value)) seeds.push_back(std::stoull(item));
+    } else if (name == "trees") {
+      trees = SplitList(value);
+    } else if (name == "graphs") {
+      livewire = value == "livewire";
+    } else if (name == "compare") {
+      const std::vector<std::string> files = SplitList(value);
+      SYLVA_CHECK_INPUT(files.size() == 2, "--compare") << "expected OURS.json,TRUTH.json";
+      const SkeletonGraph ours = ReadSkeletonJson(files[0]), truth = ReadSkeletonJson(files[1]);
+      std::printf("%s\n", CompareSkeletons(ours, truth, truth.Height()).BriefReport().c_str());
+      return 0;
+    } else if (name == "out") {
+      out = value;
+    } else {
+      registry.Set(name, value, "command line");
+    }
+  }
+  options.Check();
+  if (!out.empty()) std::filesystem::create_directories(out);
+  for (const std::string& kind : trees) {
+    SYLVA_CHECK_INPUT(kind == "leafless" || kind == "leafy", "--trees") << "unknown tree " << kind;
+    double ratio = 0, precision = 0, recall = 0, chamfer = 0;
+    for (uint64_t seed : seeds) {
+      SyntheticDatasetOptions synth;
+      synth.seed = seed;
+      synth.num_views = 8;
+      synth.num_held_out = 0;
+      if (kind == "leafless") synth.tree.leaves_per_cluster = 0;
+      const SyntheticDataset data = MakeSyntheticDataset(synth);
+      const ImageSet inputs = data.InputImageSet();
+      const std::vector<FloatImage> mattes = data.InputMattes();
+      const DensityGrid density =
+          ReconstructDensity(inputs, mattes, options.density, nullptr, nullptr);
+      const std::vector<AttractorGraph2D> graphs =
+          livewire ? SyntheticLivewireGraphs(data, inputs, mattes, density, options)
+                   : std::vector<AttractorGraph2D>();
+      const BuiltSkeleton built = BuildSkeleton(density, inputs, mattes, graphs, options, nullptr);
+      const SkeletonGraph& truth = data.tree.skeleton;
+      const SkeletonComparison c = CompareSkeletons(built.skeleton, truth, truth.Height());
+      std::printf("%-8s seed %d: %s\n", kind.c_str(), static_cast<int>(seed),
+                  c.BriefReport().c_str());
+      std::fflush(stdout);
+      if (!out.empty()) {
+        const std::string stem = out + "/" + kind + "_" + std::to_string(seed);
+        WriteSkeletonJson(stem + "_ours.json", built.skeleton, "m");
+        WriteSkeletonJson(stem + "_truth.json", truth, "m");
+        WriteSamples(stem + "_samples.csv", built.skeleton, truth, density);
+      }
+      ratio += c.length_ratio / seeds.size();
+      precision += c.precision / seeds.size();
+      recall += c.recall / seeds.size();
+      chamfer += c.chamfer_fraction / seeds.size();
+    }
+    std::printf("%-8s mean: length %.2f x truth, precision %.3f, recall %.3f, Chamfer %.2f %%\n",
+                kind.c_str(), ratio, precision, recall, 100 * chamfer);
+  }
+  return 0;
+}
+
+}  // namespace
+}  // namespace sylva
+
+int main(int argc, char** argv) {
+  return sylva::GuardedMain([&] { return sylva::Main(argc, argv); });
+}
