@@ -187,7 +187,7 @@ TEST(StrokeGraphTest, DeterministicAndOptionsChecked) {
     GraphFromStrokes(DrawnY(), bad);
     FAIL() << "expected InputError";
   } catch (const InputError& error) {
-    EXPECT_EQ(error.source(), "StrokeGraph.snap_distance");
+    EXPECT_EQ(error.source(), "Attractors.stroke_snap_distance");
   }
   bad = StrokeGraphOptions();
   bad.resample_spacing = 0;
