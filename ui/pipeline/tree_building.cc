@@ -93,7 +93,7 @@ BuiltSkeleton BuildSkeleton(const DensityGrid& density, const ImageSet& input_vi
       TrunkRadius(input_views, mattes, options.skeleton, built.base, height, &how);
   allometry.min_radius = options.skeleton.min_radius_fraction * allometry.trunk_radius;
   AssignPipeModelRadii(allometry, &built.skeleton);
-  std::string widths = "radii are an allometric prior";
+  std::string widths = "Radii are an allometric prior.";
   if (!mattes.empty()) {
     const BranchWidthSummary summary =
         MeasureBranchRadii(input_views, mattes, options.leaves.num_leaves < 0,
