@@ -130,59 +130,68 @@ Pipeline::Pipeline(const Project& project, const PipelineOptions& options,
   options_.Check();
 }
 
-std::string Pipeline::StageKey(Stage stage) const {
+StageInputs Pipeline::Inputs(Stage stage) const {
   const StageDefinition& definition = Definition(stage);
-  if (!definition.applies(project_)) return "not needed";
-  std::string text = std::string(definition.version) + ";";
+  StageInputs inputs;
+  inputs.version = definition.version;
+  inputs.options = definition.options;
+  inputs.upstream = definition.upstream;
+  auto& files = inputs.files;
+  const auto in_project = [&](const std::string& path) {
+    return fs::path(path).is_absolute() ? fs::path(path) : project_.root() / path;
+  };
   if (stage == Stage::kMatte || stage == Stage::kRegister) {
     // These stages read the photos (and the register stage the mattes and
     // the camera source) by name, before any cameras exist.
     if (stage == Stage::kRegister) {
-      for (const fs::path& file : project_.CameraSourceFiles()) {
-        text += FileKey(project_, file) + ";";
-      }
+      for (const fs::path& file : project_.CameraSourceFiles()) files.emplace_back("cameras", file);
     }
     const std::string& background = options_.matte_stage.background_photo;
     if (stage == Stage::kMatte && !background.empty()) {
-      // The background photo's content, not only its name.
-      const fs::path path = fs::path(background).is_absolute() ? fs::path(background)
-                                                               : project_.root() / background;
-      text += "background " + FileKey(project_, path) + ";";
+      files.emplace_back("background photo", in_project(background));
     }
     for (const std::string& name : project_.photo_names()) {
-      text += name + "=" + FileKey(project_, project_.PhotoPath(name));
+      files.emplace_back("photo", project_.PhotoPath(name));
       if (stage == Stage::kMatte) {
         const fs::path hint = project_.TrimapHintPath(name);
-        if (!hint.empty()) text += ",hint " + FileKey(project_, hint);
+        if (!hint.empty()) files.emplace_back("trimap", hint);
       } else {
-        text += ",matte " + FileKey(project_, project_.MattePath(name));
+        files.emplace_back("matte", project_.MattePath(name));
       }
-      text += ";";
     }
   } else {
-    for (const fs::path& file : project_.CameraFiles()) text += FileKey(project_, file) + ";";
+    for (const fs::path& file : project_.CameraFiles()) files.emplace_back("cameras", file);
     const ImageSet image_set = project_.LoadCameras();
     for (const View& view : image_set.views) {
       const bool held_out = project_.IsHeldOut(view.name);
       if (held_out && !definition.reads_held_out_mattes) continue;
-      text += view.name + (held_out ? "(held out)" : "") + "=" +
-              FileKey(project_, project_.MattePath(view.name)) + ";";
+      files.emplace_back(held_out ? "held-out matte" : "matte", project_.MattePath(view.name));
       if (stage == Stage::kAttract && !held_out) {
         // The attract stage also reads the photos and what a person drew.
-        text += "photo " + FileKey(project_, project_.PhotoPath(view.name)) + ",edit " +
-                FileKey(project_, project_.AttractorEditPath(view.name)) + ",strokes " +
-                FileKey(project_, project_.StrokesPath(view.name)) + ";";
+        files.emplace_back("photo", project_.PhotoPath(view.name));
+        files.emplace_back("attractor edit", project_.AttractorEditPath(view.name));
+        files.emplace_back("strokes", project_.StrokesPath(view.name));
       }
     }
   }
   if (stage == Stage::kMesh && !options_.geometry.leaf_image.empty()) {
-    // The leaf picture's content, not only its name.
-    fs::path image(options_.geometry.leaf_image);
-    if (image.is_relative()) image = project_.root() / image;
-    text += "leaf image " + FileKey(project_, image) + ";";
+    files.emplace_back("leaf image", in_project(options_.geometry.leaf_image));
   }
-  text += OptionsText(options_, definition.options);
-  for (Stage upstream : definition.upstream) {
+  // Optional inputs not there (no strokes drawn) have no path: drawing one
+  // adds it to the list.
+  files.erase(std::remove_if(files.begin(), files.end(),
+                             [](const auto& file) { return file.second.empty(); }),
+              files.end());
+  return inputs;
+}
+
+std::string Pipeline::StageKey(Stage stage) const {
+  if (!Definition(stage).applies(project_)) return "not needed";
+  const StageInputs inputs = Inputs(stage);
+  std::string text = inputs.version + ";";
+  for (const auto& [what, file] : inputs.files) text += what + " " + FileKey(project_, file) + ";";
+  text += OptionsText(options_, inputs.options);
+  for (Stage upstream : inputs.upstream) {
     text += std::string(GetStageInfo(upstream).name) + "=" + StageKey(upstream) + ";";
   }
   return HexString(Fnv1a64(text));

@@ -38,6 +38,19 @@ struct RunSummary {
   std::string BriefReport() const;
 };
 
+// What a stage reads, declared in one place (Pipeline::Inputs): its key is
+// the hash of exactly this list, so a change to any of it makes the stage
+// out of date, and nothing else does.
+struct StageInputs {
+  std::string version;  // the stage's algorithm version
+  // Files, each with what it is ("photo", "matte", "held-out matte", ...);
+  // keyed by path, size and modification time (a missing file counts too).
+  std::vector<std::pair<std::string, std::filesystem::path>> files;
+  // Option sections ("Density.") and single keys ("Skeleton.base").
+  std::vector<std::string> options;
+  std::vector<Stage> upstream;  // whose keys it includes
+};
+
 class Pipeline {
  public:
   // `options` must already hold the project's saved options and any
@@ -50,7 +63,11 @@ class Pipeline {
   // Runs one stage now; its inputs from earlier stages must exist.
   StageRun RunStage(Stage stage);
 
-  // The key that identifies the inputs of `stage` (for tests and tools).
+  // Everything `stage` reads (for tests and tools: the app and batch show it).
+  StageInputs Inputs(Stage stage) const;
+  // The key that identifies the inputs of `stage`: the hash of Inputs()
+  // with the files' stamps, the options' values and the upstream keys;
+  // "not needed" for a stage the project does not need.
   std::string StageKey(Stage stage) const;
   bool IsUpToDate(Stage stage) const;
 
