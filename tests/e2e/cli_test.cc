@@ -20,6 +20,8 @@
 #include <vector>
 
 #include "core/io/attractor_io.h"
+#include "core/io/camera_file.h"
+#include "core/io/colmap_model.h"
 #include "core/io/image_io.h"
 #include "core/io/json_util.h"
 #include "core/io/mesh_io.h"
@@ -31,6 +33,7 @@
 #include "core/types/float_image.h"
 #include "core/util/file_util.h"
 #include "datasets/eval/silhouette_metrics.h"
+#include "reconstruct/registration/registration_test_util.h"
 #include "tests/e2e/subprocess.h"
 
 namespace sylva {
@@ -1311,7 +1314,18 @@ TEST_F(CliTest, ColmapRegistersRealPhotos) {
             8);
   EXPECT_TRUE(fs::is_regular_file(cameras / "unregistered.txt"));
   EXPECT_TRUE(fs::is_regular_file(cameras / "colmap" / "images.txt"));
-  EXPECT_TRUE(fs::is_regular_file(cameras / "cameras.json"));
+  // The poses the later stages read (COLMAP -> world frame -> cameras.json)
+  // against ROMI's own (a ring of 350 mm radius), after the best similarity.
+  const PoseErrors errors =
+      ComparePoses(ReadCameraFile(cameras / "cameras.json"), ReadColmapModelText(data / "colmap"));
+  std::printf("ROMI, %zu photos through cameras.json: rotation error median %.3f max %.3f deg; "
+              "position error median %.2f max %.2f mm\n",
+              errors.rotation_degrees.size(), Median(errors.rotation_degrees),
+              Max(errors.rotation_degrees), Median(errors.position), Max(errors.position));
+  EXPECT_LT(Median(errors.rotation_degrees), 0.5);
+  EXPECT_LT(Max(errors.rotation_degrees), 1.0);
+  EXPECT_LT(Median(errors.position), 0.01 * 350.0);
+  EXPECT_LT(Max(errors.position), 0.02 * 350.0);
 }
 
 // Two orthographic photos at right angles and only their azimuths: the
