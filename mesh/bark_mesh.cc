@@ -2,9 +2,9 @@
 
 #include <algorithm>
 #include <array>
-#include <limits>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <numeric>
 #include <set>
@@ -81,7 +81,8 @@ class WatertightMesher {
       : skeleton_(skeleton), options_(options), summary_(summary) {
     children_ = skeleton.Children();
     root_ = skeleton.RootIdx();
-    for (const SkeletonNode& node : skeleton.nodes) max_radius_ = std::max(max_radius_, node.radius);
+    for (const SkeletonNode& node : skeleton.nodes)
+      max_radius_ = std::max(max_radius_, node.radius);
     group_.assign(skeleton.NumNodes(), -1);
   }
 
@@ -89,10 +90,10 @@ class WatertightMesher {
   // becomes a convex joint and everything is meshed again, and so do
   // junctions next to crossings (repairs, options_.repair_rounds rounds).
   TriangleMesh Run() {
-    std::set<int> forced;      // junctions made convex joints for closedness
-    std::set<int> repairs;     // ... and to take their triangles off others
-    std::set<int> given_up;    // repairs whose joint grew too large
-    std::vector<int> batch;    // repairs added for this attempt
+    std::set<int> forced;           // junctions made convex joints for closedness
+    std::set<int> repairs;          // ... and to take their triangles off others
+    std::set<int> given_up;         // repairs whose joint grew too large
+    std::vector<int> batch;         // repairs added for this attempt
     std::vector<int> forced_batch;  // junctions forced for the last attempt
     int overflows_this_round = 0;
     int rounds = 0;
@@ -153,7 +154,8 @@ class WatertightMesher {
         std::set<std::pair<int, int>> merges;
         overflows_this_round = 0;
         for (int u : CrossingJunctions(mesh, &merges)) {
-          if (!given_up.count(u) && !forced.count(u) && !repairs.count(u) && !overlapping_.count(u)) {
+          if (!given_up.count(u) && !forced.count(u) && !repairs.count(u) &&
+              !overlapping_.count(u)) {
             batch.push_back(u);
           }
         }
@@ -271,8 +273,8 @@ class WatertightMesher {
                     (children_[i].size() == 2 || spread_.count(i));
         for (int c : children_[i]) {
           if (c == axis_child[i]) continue;
-          thin = thin && skeleton_.nodes[c].radius <=
-                             options_.attach_ratio * skeleton_.nodes[i].radius;
+          thin = thin &&
+                 skeleton_.nodes[c].radius <= options_.attach_ratio * skeleton_.nodes[i].radius;
         }
         if (thin) {
           continuation_[i] = axis_child[i];
@@ -637,7 +639,8 @@ class WatertightMesher {
     // second or third lateral from the same node (common in QSM tables),
     // which then end up capped and overlapping. Such parents get more sides.
     size_t piled = 0;
-    for (int k = first_inner; k <= last_inner; ++k) piled = std::max(piled, laterals_[chain[k]].size());
+    for (int k = first_inner; k <= last_inner; ++k)
+      piled = std::max(piled, laterals_[chain[k]].size());
     if (piled >= 2) {
       tube.sides = std::max(tube.sides, std::min(options_.tube.max_sides,
                                                  kSidesPerPiledLateral * static_cast<int>(piled)));
@@ -651,7 +654,7 @@ class WatertightMesher {
   };
   struct Quad {
     std::array<int, 4> v = {0, 0, 0, 0};  // in the tube's orientation
-    int triangle = -1;                     // its first of two side triangles
+    int triangle = -1;                    // its first of two side triangles
   };
   Quad QuadAt(const PieceInfo& p, int i, int j) const {
     Quad q;
@@ -727,7 +730,8 @@ class WatertightMesher {
     for (const Quad& q : patch->quads) {
       std::array<Eigen::Vector3d, 4> c;
       for (int k = 0; k < 4; ++k) c[k] = mesh.vertices[q.v[k]].cast<double>();
-      for (const auto& t : std::array<std::array<int, 3>, 4>{{{0, 1, 2}, {0, 2, 3}, {0, 1, 3}, {1, 2, 3}}}) {
+      for (const auto& t :
+           std::array<std::array<int, 3>, 4>{{{0, 1, 2}, {0, 2, 3}, {0, 1, 3}, {1, 2, 3}}}) {
         planes.push_back({c[t[0]], (c[t[1]] - c[t[0]]).cross(c[t[2]] - c[t[0]]).normalized()});
       }
     }
@@ -746,7 +750,8 @@ class WatertightMesher {
       const double reach = limit + 2 * widest + 4 * RingRadius(skeleton_.nodes[chain[1]].radius);
       for (size_t i = 0; i + 1 < axis.size(); ++i) {
         if (SegmentDistance2(origin, axis[i].first, axis[i + 1].first) > reach * reach) continue;
-        parent_axis.push_back({axis[i].first, axis[i + 1].first, axis[i].second, axis[i + 1].second});
+        parent_axis.push_back(
+            {axis[i].first, axis[i + 1].first, axis[i].second, axis[i + 1].second});
       }
       // The parent's skeleton axis too, up and down from the junction: where
       // the parent's tube ends at a joint nearby, the joint's hull fills
@@ -838,7 +843,7 @@ class WatertightMesher {
 
   // A tube's ring centres and (circumscribed) radii, from its mesh vertices.
   std::vector<std::pair<Eigen::Vector3d, double>> RingAxis(const PieceInfo& p,
-                                                          const TriangleMesh& mesh) const {
+                                                           const TriangleMesh& mesh) const {
     std::vector<std::pair<Eigen::Vector3d, double>> axis(p.rings);
     for (int i = 0; i < p.rings; ++i) {
       Eigen::Vector3d c = Eigen::Vector3d::Zero();
@@ -847,7 +852,8 @@ class WatertightMesher {
       }
       double r = 0.0;
       for (int j = 0; j < p.sides; ++j) {
-        r = std::max(r, (mesh.vertices[p.first_vertex + i * p.sides + j].cast<double>() - c).norm());
+        r = std::max(r,
+                     (mesh.vertices[p.first_vertex + i * p.sides + j].cast<double>() - c).norm());
       }
       axis[i] = {c, r};
     }
@@ -899,8 +905,7 @@ class WatertightMesher {
       ++summary_->unattached;
       if (!overlapping_.count(u)) failed_attach_.push_back(u);
     }
-    const Exit* start =
-        start_cut ? &exits_.at({u, chain[1]}) : (attached ? &attach_cut : nullptr);
+    const Exit* start = start_cut ? &exits_.at({u, chain[1]}) : (attached ? &attach_cut : nullptr);
     const BranchTube tube = MakeTube(chain, start, end);
     if (tube.sides == 0) return;
     PieceInfo info;
@@ -916,9 +921,11 @@ class WatertightMesher {
     origin.next = chain[1];
     origins_.resize(mesh->NumTriangles(), origin);
     pieces_.push_back(info);
-    if (u == root_ && continuation_[u] == chain[1]) attach_piece_[u] = static_cast<int>(pieces_.size()) - 1;
+    if (u == root_ && continuation_[u] == chain[1])
+      attach_piece_[u] = static_cast<int>(pieces_.size()) - 1;
     for (int k = 1; k < last_index; ++k) {
-      if (!laterals_[chain[k]].empty()) attach_piece_[chain[k]] = static_cast<int>(pieces_.size()) - 1;
+      if (!laterals_[chain[k]].empty())
+        attach_piece_[chain[k]] = static_cast<int>(pieces_.size()) - 1;
     }
     ++summary_->pieces;
     const int first = info.first_vertex, rings = info.rings;
@@ -1052,8 +1059,8 @@ class WatertightMesher {
   std::vector<std::vector<int>> children_;
   double max_radius_ = 0.0;
   int root_ = -1;
-  std::vector<int> continuation_;          // axis child of attach junctions, else -1
-  std::vector<int> axis_child_;            // the child continuing each node's axis
+  std::vector<int> continuation_;           // axis child of attach junctions, else -1
+  std::vector<int> axis_child_;             // the child continuing each node's axis
   std::vector<std::vector<int>> laterals_;  // attached laterals of attach junctions
   std::vector<PieceInfo> pieces_;
   // Ring centres and radii of pieces (by index) laterals attach to.
@@ -1061,15 +1068,15 @@ class WatertightMesher {
   std::map<int, int> attach_piece_;  // attach junction -> the piece through it
   std::set<int> taken_;              // first triangles of used quads
   std::vector<char> removed_;        // triangles replaced by attachment joints
-  std::set<int> spread_;  // junctions of 3+ children attaching their laterals
-  std::set<int> repairs_;     // junctions made convex joints by repairs
-  std::vector<int> overflow_;  // repairs in a joint that grew too large
-  std::set<int> forced_;       // junctions made joints because a lateral found no quad
-  std::set<int> overlapping_;  // ... whose joint grew too large: laterals left overlapping
+  std::set<int> spread_;             // junctions of 3+ children attaching their laterals
+  std::set<int> repairs_;            // junctions made convex joints by repairs
+  std::vector<int> overflow_;        // repairs in a joint that grew too large
+  std::set<int> forced_;             // junctions made joints because a lateral found no quad
+  std::set<int> overlapping_;        // ... whose joint grew too large: laterals left overlapping
   std::set<std::pair<int, int>> merges_;  // repairs: chains taken into their joint
   bool respread_ = false;
-  std::vector<int> failed_attach_;   // attach junctions with a lateral left unattached
-  std::vector<int> group_;  // union-find parent of joint nodes, -1 elsewhere
+  std::vector<int> failed_attach_;  // attach junctions with a lateral left unattached
+  std::vector<int> group_;          // union-find parent of joint nodes, -1 elsewhere
   std::map<std::pair<int, int>, Exit> exits_;
   std::map<int, int> push_count_;
   std::map<int, int> exit_count_;
@@ -1098,8 +1105,8 @@ void BarkMeshOptions::Check() const {
 std::string BarkMeshSummary::BriefReport() const {
   std::ostringstream out;
   out << "Watertight bark: " << junctions << " junctions in " << joints << " joints (" << bridged
-      << " single-junction, " << fallbacks << " fallback merges, " << pushed_out
-      << " pushed out, " << swallowed_tips << " tips swallowed), " << attached
+      << " single-junction, " << fallbacks << " fallback merges, " << pushed_out << " pushed out, "
+      << swallowed_tips << " tips swallowed), " << attached
       << " laterals attached to their parent's tube";
   if (unattached > 0) out << " (" << unattached << " NOT attached: overlapping)";
   if (failed_joints > 0) out << ", " << failed_joints << " joints FAILED";
@@ -1171,8 +1178,8 @@ double SegmentSegmentDistance2(const Eigen::Vector3d& p0, const Eigen::Vector3d&
 
 std::string BarkCrossings::BriefReport() const {
   std::ostringstream out;
-  out << pairs << " crossing triangle pairs: " << at_junctions << " at junctions, "
-      << within_branch << " within a branch, " << colliding_branches
+  out << pairs << " crossing triangle pairs: " << at_junctions << " at junctions, " << within_branch
+      << " within a branch, " << colliding_branches
       << " where skeleton branches pass through each other, " << other << " other";
   return out.str();
 }
@@ -1204,8 +1211,8 @@ BarkCrossings ClassifyBarkCrossings(const SkeletonGraph& skeleton, const Triangl
       double s = 0.0;
       const Eigen::Vector3d& a = nodes[nodes[e].parent_idx].position;
       const double d = std::sqrt(SegmentDistance2(c, a, nodes[e].position, &s));
-      const double gap = std::abs(d - ((1 - s) * nodes[nodes[e].parent_idx].radius +
-                                       s * nodes[e].radius));
+      const double gap =
+          std::abs(d - ((1 - s) * nodes[nodes[e].parent_idx].radius + s * nodes[e].radius));
       if (gap < best_gap) {
         best_gap = gap;
         best = e;
@@ -1294,8 +1301,9 @@ BarkCrossings ClassifyBarkCrossings(const SkeletonGraph& skeleton, const Triangl
       bool collide = false;
       for (int a : around(e1)) {
         for (int b : around(e2)) {
-          const double reach = 1.05 * (std::max(nodes[a].radius, nodes[nodes[a].parent_idx].radius) +
-                                       std::max(nodes[b].radius, nodes[nodes[b].parent_idx].radius));
+          const double reach =
+              1.05 * (std::max(nodes[a].radius, nodes[nodes[a].parent_idx].radius) +
+                      std::max(nodes[b].radius, nodes[nodes[b].parent_idx].radius));
           collide = collide ||
                     SegmentSegmentDistance2(nodes[nodes[a].parent_idx].position, nodes[a].position,
                                             nodes[nodes[b].parent_idx].position,

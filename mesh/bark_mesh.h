@@ -144,9 +144,9 @@ TriangleMesh MeshBarkWatertight(const SkeletonGraph& skeleton, const BarkMeshOpt
 // the edge whose surface (distance to the edge minus its radius) is nearest
 // the triangle's centroid, among its tube's axis (tubes) or all (joints).
 struct BarkCrossings {
-  int64_t pairs = 0;           // all crossing pairs
-  int64_t within_branch = 0;   // both near the same edge (a kink in one tube)
-  int64_t at_junctions = 0;    // edges 1-3 apart: a junction's pieces cross
+  int64_t pairs = 0;          // all crossing pairs
+  int64_t within_branch = 0;  // both near the same edge (a kink in one tube)
+  int64_t at_junctions = 0;   // edges 1-3 apart: a junction's pieces cross
   // Edges further apart whose skeleton capsules (segments with radii, or
   // those of their neighbouring edges) overlap: branches of the skeleton
   // itself pass through each other; no junction mesher can help there.

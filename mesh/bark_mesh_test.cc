@@ -5,8 +5,8 @@
 #include <cmath>
 #include <cstdio>
 
-#include "core/util/check.h"
 #include "core/io/qsm_io.h"
+#include "core/util/check.h"
 #include "datasets/synthetic/synthetic_qsm.h"
 #include "datasets/synthetic/synthetic_tree.h"
 #include "mesh/mesh_checks.h"
@@ -101,8 +101,8 @@ void ExpectWatertight(const SkeletonGraph& g, const BarkMeshOptions& options, do
 TEST(BarkMeshTest, HandMadeJunctionsAreClosedManifolds) {
   const BarkMeshOptions options = FixedSides(16);
   ExpectWatertight(Junction({{{30, 0, 0.07}}, {{30, 180, 0.07}}}), options, 0.05, "Y");
-  ExpectWatertight(Junction({{{40, 0, 0.06}}, {{40, 120, 0.06}}, {{40, 240, 0.06}}}), options,
-                   0.05, "three children");
+  ExpectWatertight(Junction({{{40, 0, 0.06}}, {{40, 120, 0.06}}, {{40, 240, 0.06}}}), options, 0.05,
+                   "three children");
   ExpectWatertight(Junction({{{0, 0, 0.09}}, {{90, 0, 0.05}}}), options, 0.05, "90 degrees");
   ExpectWatertight(Junction({{{0, 0, 0.2}}, {{60, 45, 0.005}}}, 0.2), options, 0.05,
                    "thin child on a thick parent");

@@ -31,8 +31,6 @@ bool Coincident(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
   return (a - b).norm() <= kCoincidentFraction * (1.0 + b.norm());
 }
 
-
-
 // Unit tangent of the tube's spline at u, or the segment's chord direction
 // where the derivative vanishes (control points doubling back).
 Eigen::Vector3d TangentAt(const CubicBSpline& spline, double u) {

@@ -146,7 +146,8 @@ TEST(BranchMeshTest, CircleAreaRingsHoldTheCylindersVolume) {
     const double cylinder_volume = M_PI * radius * radius * length;
     EXPECT_NEAR(SignedVolume(mesh), cylinder_volume, 1e-6 * cylinder_volume) << sides;
     EXPECT_NEAR(mesh.vertices[0].cast<double>().head<2>().norm(),
-                radius * PolygonAreaRadiusScale(sides), 1e-6) << sides;
+                radius * PolygonAreaRadiusScale(sides), 1e-6)
+        << sides;
   }
   EXPECT_NEAR(PolygonAreaRadiusScale(4), std::sqrt(M_PI / 2), 1e-12);
 }

@@ -93,9 +93,9 @@ TEST(CrownVolumeTest, UniformEllipsoidAtAnyResolutionAndDensityIsFourThirdsPiAbc
   for (double voxel_size : {0.1, 0.05}) {
     for (double sigma : {0.5, 4.0}) {  // per metre: see-through, and nearly opaque per 10 cm
       SCOPED_TRACE(testing::Message() << "voxel " << voxel_size << " sigma " << sigma);
-      DensityGrid grid = RasterizeExtinction(voxel_size, e.Bounds(), 4, [&](const Eigen::Vector3d& p) {
-        return e.Contains(p) ? sigma : 0.0;
-      });
+      DensityGrid grid = RasterizeExtinction(
+          voxel_size, e.Bounds(), 4,
+          [&](const Eigen::Vector3d& p) { return e.Contains(p) ? sigma : 0.0; });
       // Twice as many faint voxels as the ellipsoid has, below the support
       // fraction (5 %) of its extinction, around it.
       const Box3d around(e.centre - 2 * e.semi, e.centre + 2 * e.semi);
@@ -103,8 +103,8 @@ TEST(CrownVolumeTest, UniformEllipsoidAtAnyResolutionAndDensityIsFourThirdsPiAbc
       const double volume = DensityCrownVolume(grid, -100.0, WithScale(kScale));
       // A crown base through the centre (a voxel face) keeps the upper half.
       const double upper = DensityCrownVolume(grid, e.centre.z(), WithScale(kScale));
-      std::printf("voxel %.2f sigma %.1f: %.4f of 4/3 pi abc, upper half %.4f\n", voxel_size,
-                  sigma, volume / e.Volume(), upper / (0.5 * e.Volume()));
+      std::printf("voxel %.2f sigma %.1f: %.4f of 4/3 pi abc, upper half %.4f\n", voxel_size, sigma,
+                  volume / e.Volume(), upper / (0.5 * e.Volume()));
       EXPECT_NEAR(volume, e.Volume(), 0.01 * e.Volume());
       EXPECT_NEAR(upper, 0.5 * e.Volume(), 0.01 * e.Volume());
       // Without closing, the same (no gaps to close).
@@ -122,7 +122,8 @@ TEST(CrownVolumeTest, GapsNarrowerThanTheScaleAndAHollowInsideAreCrown) {
     SCOPED_TRACE(voxel_size);
     RandomEngine random(5);
     const DensityGrid porous = RasterizeExtinction(
-        voxel_size, e.Bounds(), 2, [&](const Eigen::Vector3d& p) { return e.Contains(p) ? 1.0 : 0.0; },
+        voxel_size, e.Bounds(), 2,
+        [&](const Eigen::Vector3d& p) { return e.Contains(p) ? 1.0 : 0.0; },
         [&](const Eigen::Vector3i&) { return random.Uniform() >= 0.3; });
     const double closed = DensityCrownVolume(porous, -100.0, WithScale(kScale));
     const double open = DensityCrownVolume(porous, -100.0, WithScale(0.0));
@@ -209,8 +210,9 @@ TEST(CrownVolumeTest, CountsOnlyAboveTheCrownBaseAndChecksItsOptions) {
   const DensityGrid grid = RasterizeExtinction(
       0.1, e.Bounds(), 2, [&](const Eigen::Vector3d& p) { return e.Contains(p) ? 1.0 : 0.0; });
   EXPECT_EQ(DensityCrownVolume(grid, e.centre.z() + 1.0, CrownVolumeOptions()), 0.0);
-  EXPECT_EQ(DensityCrownVolume(DensityGrid(0.1, Eigen::Vector3d::Zero()), 0.0, CrownVolumeOptions()),
-            0.0);
+  EXPECT_EQ(
+      DensityCrownVolume(DensityGrid(0.1, Eigen::Vector3d::Zero()), 0.0, CrownVolumeOptions()),
+      0.0);
   CrownVolumeOptions options;
   options.scale = -1;
   EXPECT_THROW(DensityCrownVolume(grid, 0.0, options), InputError);

@@ -532,7 +532,8 @@ LeafInstances LeafInstancesFromGlb(const tinygltf::Model& model, const tinygltf:
                                    const TriangleMesh& prototype, const std::string& source) {
   LeafInstances leaves;
   leaves.shape.name = mesh.name;
-  for (const Eigen::Vector3f& v : prototype.vertices) leaves.shape.points.emplace_back(v.x(), v.y());
+  for (const Eigen::Vector3f& v : prototype.vertices)
+    leaves.shape.points.emplace_back(v.x(), v.y());
   leaves.shape.triangles = prototype.triangles;
   if (!prototype.triangle_materials.empty()) {
     leaves.material = prototype.materials[prototype.triangle_materials[0]];
@@ -543,7 +544,8 @@ LeafInstances LeafInstancesFromGlb(const tinygltf::Model& model, const tinygltf:
       primitive.material >= static_cast<int>(model.materials.size())) {
     return leaves;
   }
-  const int texture = model.materials[primitive.material].pbrMetallicRoughness.baseColorTexture.index;
+  const int texture =
+      model.materials[primitive.material].pbrMetallicRoughness.baseColorTexture.index;
   if (texture < 0 || texture >= static_cast<int>(model.textures.size())) return leaves;
   const int image_idx = model.textures[texture].source;
   if (image_idx < 0 || image_idx >= static_cast<int>(model.images.size())) return leaves;
@@ -630,8 +632,7 @@ TriangleMesh ReadGlb(const std::filesystem::path& path,
   return ReadGlbImpl(path, asset_extras, num_instances, nullptr);
 }
 
-TriangleMesh ReadGlbKeepingLeafInstances(const std::filesystem::path& path,
-                                         LeafInstances* leaves) {
+TriangleMesh ReadGlbKeepingLeafInstances(const std::filesystem::path& path, LeafInstances* leaves) {
   SYLVA_CHECK(leaves != nullptr);
   return ReadGlbImpl(path, nullptr, nullptr, leaves);
 }

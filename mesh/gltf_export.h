@@ -89,8 +89,7 @@ TriangleMesh ReadGlb(const std::filesystem::path& path,
 // RGBA base colour texture), its first primitive's material `leaves`'
 // material, and its transforms `leaves`' instances (so a renderer can draw
 // them as instances, mesh/tree_preview.h). The rest comes back as ReadGlb's.
-TriangleMesh ReadGlbKeepingLeafInstances(const std::filesystem::path& path,
-                                         LeafInstances* leaves);
+TriangleMesh ReadGlbKeepingLeafInstances(const std::filesystem::path& path, LeafInstances* leaves);
 
 }  // namespace sylva
 

@@ -406,9 +406,8 @@ LeafInstances GenerateLeafInstances(const SkeletonGraph& skeleton, const Density
   out.shape.Check();
   if (skeleton.NumNodes() < 2 || density.IsEmpty() || options.num_leaves < 0) return out;
 
-  const double length = options.leaf_length > 0
-                            ? options.leaf_length
-                            : options.leaf_length_fraction * skeleton.Height();
+  const double length = options.leaf_length > 0 ? options.leaf_length
+                                                : options.leaf_length_fraction * skeleton.Height();
   summary->leaf_length = length;
   const double trunk_radius = skeleton.nodes[skeleton.RootIdx()].radius;
   double thin_radius = options.thin_branch_radius_fraction * trunk_radius;

@@ -152,16 +152,15 @@ std::vector<std::pair<int, int>> FindSelfIntersections(const TriangleMesh& mesh,
 }
 
 bool MeshCheck::IsClosedManifold() const {
-  return triangles > 0 && boundary_edges == 0 && nonmanifold_edges == 0 &&
-         misoriented_edges == 0 && degenerate_triangles == 0 && self_intersections <= 0;
+  return triangles > 0 && boundary_edges == 0 && nonmanifold_edges == 0 && misoriented_edges == 0 &&
+         degenerate_triangles == 0 && self_intersections <= 0;
 }
 
 std::string MeshCheck::BriefReport() const {
   std::ostringstream out;
   out << "Mesh check: " << triangles << " triangles, " << components << " components";
   if (inside_out_components > 0) out << " (" << inside_out_components << " INSIDE OUT)";
-  out << ", "
-      << boundary_edges << " boundary / " << nonmanifold_edges << " non-manifold / "
+  out << ", " << boundary_edges << " boundary / " << nonmanifold_edges << " non-manifold / "
       << misoriented_edges << " misoriented edges, " << degenerate_triangles
       << " degenerate triangles, ";
   if (self_intersections < 0) {
@@ -227,8 +226,8 @@ MeshCheck CheckMesh(const TriangleMesh& mesh, const std::string& material,
   // Signed volumes relative to the bounds' centre (not the origin): each
   // component's is the same either way when it is closed, and the sums lose
   // fewer digits far from the origin.
-  const Eigen::Vector3d centre =
-      mesh.vertices.empty() ? Eigen::Vector3d(Eigen::Vector3d::Zero()) : Eigen::Vector3d(bounds.center());
+  const Eigen::Vector3d centre = mesh.vertices.empty() ? Eigen::Vector3d(Eigen::Vector3d::Zero())
+                                                       : Eigen::Vector3d(bounds.center());
   for (int t : selected) {
     const Eigen::Vector3i& f = mesh.triangles[t];
     const Eigen::Vector3d a = mesh.vertices[f[0]].cast<double>() - centre;

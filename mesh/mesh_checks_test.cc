@@ -15,7 +15,8 @@ void AddTube(double x0, double z0, double z1, double r, int sides, TriangleMesh*
   rings[0].center = Eigen::Vector3d(x0, 0, z0);
   rings[1].center = Eigen::Vector3d(x0, 0, z1);
   rings[0].radius = rings[1].radius = r;
-  if (mesh->materials.empty()) mesh->AddMaterial({"bark", Eigen::Vector3f(0.5f, 0.5f, 0.5f), false});
+  if (mesh->materials.empty())
+    mesh->AddMaterial({"bark", Eigen::Vector3f(0.5f, 0.5f, 0.5f), false});
   AppendTube(rings, sides, 0, mesh);
 }
 

@@ -202,7 +202,8 @@ std::optional<double> CrownBaseZ(const SkeletonGraph& skeleton, const std::vecto
     if (orders[a] != 1) continue;
     const SkeletonNode& junction = skeleton.nodes[axes[a][0]];
     const SkeletonNode& first = skeleton.nodes[axes[a][1]];
-    const double carried = (first.position - junction.position).norm() + subtrees.length[axes[a][1]];
+    const double carried =
+        (first.position - junction.position).norm() + subtrees.length[axes[a][1]];
     branches.emplace_back(carried, std::min(junction.position.z(), subtrees.lowest_z[axes[a][1]]));
     largest = std::max(largest, carried);
   }
@@ -344,8 +345,8 @@ void MeasureDbh(const SkeletonGraph& skeleton, const BranchAxis& trunk, const st
     const double z1 = skeleton.nodes[trunk[k]].position.z();
     if ((z0 <= z && z < z1) || (z1 <= z && z < z0)) {
       report->dbh = 2.0 * skeleton.nodes[trunk[k]].radius;
-      report->dbh_note = "2 x the radius of the trunk edge at breast height; radii: " +
-                         skeleton.radius_source;
+      report->dbh_note =
+          "2 x the radius of the trunk edge at breast height; radii: " + skeleton.radius_source;
       return;
     }
   }
@@ -361,8 +362,8 @@ CrownVolumeOptions CrownVolumeOf(const TreeMetricsOptions& options, double heigh
 }
 
 // The labels of the figures (see the header).
-std::vector<std::pair<std::string, std::string>> FigureSources(
-    const std::string& radius_source, const SkeletonSources& skeleton) {
+std::vector<std::pair<std::string, std::string>> FigureSources(const std::string& radius_source,
+                                                               const SkeletonSources& skeleton) {
   std::vector<std::pair<std::string, std::string>> sources;
   for (const char* figure :
        {"height", "crown_base_height", "crown_depth", "crown_width", "crown_volume_hull"}) {
@@ -420,8 +421,7 @@ TreeMetricsReport ComputeTreeMetrics(const SkeletonGraph& skeleton, const Densit
     if (crown.top_z) report.height = std::max(report.height, *crown.top_z - base_z);
   }
   // A crown drooping below the base starts at the base.
-  report.crown_base_height =
-      crown_base_z ? std::max(0.0, *crown_base_z - base_z) : report.height;
+  report.crown_base_height = crown_base_z ? std::max(0.0, *crown_base_z - base_z) : report.height;
   report.crown_depth = report.height - report.crown_base_height;
   if (crown_base_z) {
     std::vector<Eigen::Vector3d> crown;

@@ -11,18 +11,16 @@
 // Crown base height: the height above the base of the lowest point of the
 // crown's major branches and their sub-branches, so a drooping branch
 // lowers it (TreeQSM's CrownBaseHeight: the lowest start or end of the
-// cylinders of the first major branch and its sub-branches). A first-order branch (an axis leaving the
-// trunk axis, BranchAxes()[0]) is major when the branch length it carries
-// (its own and its sub-branches', from the junction) is at least
-// major_branch_fraction of what the largest first-order branch carries. So
-// twigs leaving the trunk near the base (particle-flow skeletons make them)
-// do not start the crown, however many there are, while the lowest of
-// similar branches does. (TreeQSM 2.4 also asks a major branch to reach
-// farther horizontally than the median first-order branch, which misses a
-// near-vertical fork such as ITSMe tree 2's at 13.7 m: 28 % of the tree's
-// length, 58 % of its DBH thick; sylva does not.) The crown is everything
-// at or above the crown base; a skeleton without first-order branches has
-// no crown (crown base = height, crown depth, width and volumes 0).
+// cylinders of the first major branch and its sub-branches). A first-order branch (an axis leaving
+// the trunk axis, BranchAxes()[0]) is major when the branch length it carries (its own and its
+// sub-branches', from the junction) is at least major_branch_fraction of what the largest
+// first-order branch carries. So twigs leaving the trunk near the base (particle-flow skeletons
+// make them) do not start the crown, however many there are, while the lowest of similar branches
+// does. (TreeQSM 2.4 also asks a major branch to reach farther horizontally than the median
+// first-order branch, which misses a near-vertical fork such as ITSMe tree 2's at 13.7 m: 28 % of
+// the tree's length, 58 % of its DBH thick; sylva does not.) The crown is everything at or above
+// the crown base; a skeleton without first-order branches has no crown (crown base = height, crown
+// depth, width and volumes 0).
 //
 // Crown volume from the density: the volume of the crown region the
 // density occupies above the crown base (mesh/crown_volume.h: the envelope

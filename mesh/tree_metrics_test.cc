@@ -241,8 +241,8 @@ TEST(TreeMetricsTest, JsonReadsBackAndVersionOneFilesStillRead) {
   const DensityGrid grid = UniformBox();
   SkeletonGraph y = HandBuiltY();
   y.radius_source = "allometric prior";
-  const TreeMetricsReport written = ComputeTreeMetrics(y, &grid, "m", TreeMetricsOptions(),
-                                                       SkeletonSources::Reconstruction());
+  const TreeMetricsReport written =
+      ComputeTreeMetrics(y, &grid, "m", TreeMetricsOptions(), SkeletonSources::Reconstruction());
   WriteTreeMetricsJson(dir / "v2.json", written);
   const TreeMetricsReport read = ReadTreeMetricsJson(dir / "v2.json");
   EXPECT_EQ(read.ToJson(), written.ToJson());
@@ -250,8 +250,8 @@ TEST(TreeMetricsTest, JsonReadsBackAndVersionOneFilesStillRead) {
   // Version 1 (no sources): read, sources unknown.
   nlohmann::json v1 = nlohmann::json::parse(written.ToJson());
   v1["version"] = 1;
-  for (const char* key : {"radius_source", "position_source", "branching_source", "sources",
-                          "source_meanings"}) {
+  for (const char* key :
+       {"radius_source", "position_source", "branching_source", "sources", "source_meanings"}) {
     v1.erase(key);
   }
   AtomicWriteString(dir / "v1.json", v1.dump());
@@ -476,4 +476,3 @@ TEST(TreeMetricsTest, ItsmeQsmMetricsAgreeWithTreeQsmsOwn) {
 
 }  // namespace
 }  // namespace sylva
-

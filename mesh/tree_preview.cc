@@ -71,8 +71,8 @@ Camera FramingCamera(const ForEachPoint& for_each_point, const Rigid3d& cam_from
   });
   const double border = 2.0 * options.margin * std::min(options.width, options.height);
   const Eigen::Vector2d extent = (hi - lo).cwiseMax(1e-12 * (hi - lo).maxCoeff());
-  const double pixels_per_unit = std::min((options.width - border) / extent.x(),
-                                          (options.height - border) / extent.y());
+  const double pixels_per_unit =
+      std::min((options.width - border) / extent.x(), (options.height - border) / extent.y());
   const Eigen::Vector2d mid = 0.5 * (lo + hi) + cam_from_world.translation.head<2>();
   return Camera(CameraModel::kOrthographic, options.width, options.height,
                 {pixels_per_unit, pixels_per_unit, 0.5 * options.width - pixels_per_unit * mid.x(),
@@ -120,8 +120,7 @@ void TreePreviewOptions::Check() const {
       << "must be in [8, 16384] pixels, got " << width;
   SYLVA_CHECK_INPUT(height >= 8 && height <= 16384, "TreePreview.height")
       << "must be in [8, 16384] pixels, got " << height;
-  SYLVA_CHECK_INPUT(samples_per_axis >= 1 && samples_per_axis <= 16,
-                    "TreePreview.samples_per_axis")
+  SYLVA_CHECK_INPUT(samples_per_axis >= 1 && samples_per_axis <= 16, "TreePreview.samples_per_axis")
       << "must be in [1, 16], got " << samples_per_axis;
   SYLVA_CHECK_INPUT(!azimuths_deg.empty() || top_view, "TreePreview.azimuths_deg")
       << "no views: give at least one azimuth or the top view";
@@ -152,7 +151,8 @@ std::vector<PreviewView> FramedPreviewViews(const Box3d& bounds,
       visit(bounds.corner(static_cast<Box3d::CornerType>(corner)));
     }
   };
-  for (PreviewView& view : views) view.camera = FramingCamera(corners, view.cam_from_world, options);
+  for (PreviewView& view : views)
+    view.camera = FramingCamera(corners, view.cam_from_world, options);
   return views;
 }
 
@@ -317,8 +317,8 @@ void TreePreviewRenderer::Impl::AddLeafInstance(const LeafInstance& instance, si
   world_from_leaf.leftCols<3>() = instance.scale * rotation;
   world_from_leaf.col(3) = instance.translation;
   for (size_t p = 0; p + 1 < leaf_.points.size(); ++p) {  // the last point is padding
-    bounds.extend((world_from_leaf.leftCols<3>() * leaf_.points[p] + instance.translation)
-                      .cast<double>());
+    bounds.extend(
+        (world_from_leaf.leftCols<3>() * leaf_.points[p] + instance.translation).cast<double>());
   }
   RTCGeometry geometry = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_INSTANCE);
   rtcSetGeometryInstancedScene(geometry, leaf_scene_);
@@ -330,12 +330,12 @@ void TreePreviewRenderer::Impl::AddLeafInstance(const LeafInstance& instance, si
 
 const float* TreePreviewRenderer::Impl::LeafTexel(unsigned triangle_idx, float u, float v) const {
   const Eigen::Vector3i& triangle = leaf_.triangles[triangle_idx];
-  const Eigen::Vector2f uv =
-      (1.0f - u - v) * leaf_.uvs[triangle[0]] + u * leaf_.uvs[triangle[1]] + v * leaf_.uvs[triangle[2]];
-  const int x = std::clamp(static_cast<int>(uv.x() * leaf_.texture.width()), 0,
-                           leaf_.texture.width() - 1);
-  const int y = std::clamp(static_cast<int>(uv.y() * leaf_.texture.height()), 0,
-                           leaf_.texture.height() - 1);
+  const Eigen::Vector2f uv = (1.0f - u - v) * leaf_.uvs[triangle[0]] + u * leaf_.uvs[triangle[1]] +
+                             v * leaf_.uvs[triangle[2]];
+  const int x =
+      std::clamp(static_cast<int>(uv.x() * leaf_.texture.width()), 0, leaf_.texture.width() - 1);
+  const int y =
+      std::clamp(static_cast<int>(uv.y() * leaf_.texture.height()), 0, leaf_.texture.height() - 1);
   const FloatImage& texture = leaf_.texture;
   return texture.data() + (static_cast<size_t>(y) * texture.width() + x) * texture.channels();
 }
@@ -344,9 +344,9 @@ void TreePreviewRenderer::Impl::LeafAlphaFilter(const RTCFilterFunctionNArgument
   const Impl& impl = *static_cast<const Impl*>(args->geometryUserPtr);
   for (unsigned i = 0; i < args->N; ++i) {
     if (args->valid[i] != -1) continue;
-    const float* texel = impl.LeafTexel(RTCHitN_primID(args->hit, args->N, i),
-                                        RTCHitN_u(args->hit, args->N, i),
-                                        RTCHitN_v(args->hit, args->N, i));
+    const float* texel =
+        impl.LeafTexel(RTCHitN_primID(args->hit, args->N, i), RTCHitN_u(args->hit, args->N, i),
+                       RTCHitN_v(args->hit, args->N, i));
     if (texel[3] < kAlphaCutoff) args->valid[i] = 0;
   }
 }
@@ -356,9 +356,8 @@ bool TreePreviewRenderer::Impl::Resolve(const RTCRayHit& ray_hit, bool smooth_no
   const RTCHit& hit = ray_hit.hit;
   if (hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
   const Eigen::Vector3f direction(ray_hit.ray.dir_x, ray_hit.ray.dir_y, ray_hit.ray.dir_z);
-  point->position =
-      Eigen::Vector3f(ray_hit.ray.org_x, ray_hit.ray.org_y, ray_hit.ray.org_z) +
-      ray_hit.ray.tfar * direction;
+  point->position = Eigen::Vector3f(ray_hit.ray.org_x, ray_hit.ray.org_y, ray_hit.ray.org_z) +
+                    ray_hit.ray.tfar * direction;
   // Embree reports an instanced hit's normal in the instance's own frame.
   Eigen::Vector3f normal(hit.Ng_x, hit.Ng_y, hit.Ng_z);
   if (hit.instID[0] != RTC_INVALID_GEOMETRY_ID) {
@@ -469,22 +468,23 @@ FloatImage TreePreviewRenderer::Impl::Render(const PreviewView& view,
   view.camera.Check("tree preview view '" + view.name + "'");
   FloatImage image(view.camera.width(), view.camera.height(), 4);
   const Rigid3d world_from_cam = view.cam_from_world.Inverse();
-  tbb::parallel_for(tbb::blocked_range<int>(0, image.height()),
-                    [&](const tbb::blocked_range<int>& rows) {
-    for (int row = rows.begin(); row < rows.end(); ++row) {
-      for (int col = 0; col < image.width(); ++col) {
-        Eigen::Vector4f pixel = RenderPixel(view, world_from_cam, col, row, options);
-        if (options.white_background) {
-          pixel.head<3>() = pixel.w() * pixel.head<3>() + Eigen::Vector3f::Constant(1.0f - pixel.w());
-          pixel.w() = 1.0f;
+  tbb::parallel_for(
+      tbb::blocked_range<int>(0, image.height()), [&](const tbb::blocked_range<int>& rows) {
+        for (int row = rows.begin(); row < rows.end(); ++row) {
+          for (int col = 0; col < image.width(); ++col) {
+            Eigen::Vector4f pixel = RenderPixel(view, world_from_cam, col, row, options);
+            if (options.white_background) {
+              pixel.head<3>() =
+                  pixel.w() * pixel.head<3>() + Eigen::Vector3f::Constant(1.0f - pixel.w());
+              pixel.w() = 1.0f;
+            }
+            for (int c = 0; c < 3; ++c) {
+              image.at(col, row, c) = options.srgb ? SrgbFromLinear(pixel[c]) : pixel[c];
+            }
+            image.at(col, row, 3) = pixel.w();
+          }
         }
-        for (int c = 0; c < 3; ++c) {
-          image.at(col, row, c) = options.srgb ? SrgbFromLinear(pixel[c]) : pixel[c];
-        }
-        image.at(col, row, 3) = pixel.w();
-      }
-    }
-  });
+      });
   return image;
 }
 
@@ -500,7 +500,8 @@ std::vector<PreviewView> TreePreviewRenderer::Impl::FramedViews(
     for (size_t k = 0; k < leaf_instances_.size(); ++k) {
       const LeafInstance& leaf = leaf_instances_[k];
       for (size_t p = 0; p + 1 < leaf_.points.size(); ++p) {
-        visit((leaf.translation + leaf.scale * (leaf_rotations_[k] * leaf_.points[p])).cast<double>());
+        visit((leaf.translation + leaf.scale * (leaf_rotations_[k] * leaf_.points[p]))
+                  .cast<double>());
       }
     }
   };

@@ -42,12 +42,13 @@ TriangleMesh Sphere(const Eigen::Vector3f& center, float radius, int rings, int 
 }
 
 // A closed axis-aligned box.
-TriangleMesh Box(const Eigen::Vector3f& lo, const Eigen::Vector3f& hi, const Eigen::Vector3f& color) {
+TriangleMesh Box(const Eigen::Vector3f& lo, const Eigen::Vector3f& hi,
+                 const Eigen::Vector3f& color) {
   TriangleMesh mesh;
   const int material = mesh.AddMaterial({"box", color, false});
   for (int k = 0; k < 8; ++k) {
-    mesh.AddVertex(Eigen::Vector3f(k & 1 ? hi.x() : lo.x(), k & 2 ? hi.y() : lo.y(),
-                                   k & 4 ? hi.z() : lo.z()));
+    mesh.AddVertex(
+        Eigen::Vector3f(k & 1 ? hi.x() : lo.x(), k & 2 ? hi.y() : lo.y(), k & 4 ? hi.z() : lo.z()));
   }
   const int faces[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4},
                            {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
@@ -88,9 +89,8 @@ LeafInstances RandomLeaves(int count) {
       offset = Eigen::Vector3f(Rand(random), Rand(random), Rand(random));
     } while (offset.norm() > 1.0f);
     leaf.translation = Eigen::Vector3f(0, 0, 2) + offset;
-    leaf.rotation = Eigen::Quaternionf(Rand(random), Rand(random),
-                                       Rand(random), Rand(random))
-                        .normalized();
+    leaf.rotation =
+        Eigen::Quaternionf(Rand(random), Rand(random), Rand(random), Rand(random)).normalized();
     leaf.scale = 0.15f;
     leaves.instances.push_back(leaf);
   }
@@ -152,10 +152,10 @@ TEST(TreePreviewTest, FramingFitsTheBoxTightlyInsideTheMargin) {
     EXPECT_NEAR(0.5 * (y0 + y1 + 1), 80.0, 1.0);
   }
   // Azimuth 0 looks along +Y with +X to the right and +Z up.
-  const Eigen::Vector2d right = views[0].camera.ImgFromCam(views[0].cam_from_world *
-                                                           Eigen::Vector3d(1, 0, 1.5));
-  const Eigen::Vector2d top = views[0].camera.ImgFromCam(views[0].cam_from_world *
-                                                         Eigen::Vector3d(0, 0, 3));
+  const Eigen::Vector2d right =
+      views[0].camera.ImgFromCam(views[0].cam_from_world * Eigen::Vector3d(1, 0, 1.5));
+  const Eigen::Vector2d top =
+      views[0].camera.ImgFromCam(views[0].cam_from_world * Eigen::Vector3d(0, 0, 3));
   EXPECT_GT(right.x(), 80.0 + 10.0);
   EXPECT_LT(top.y(), 80.0 - 10.0);
 }
@@ -175,7 +175,8 @@ TEST(TreePreviewTest, ShadowFallsWhereTheSunPredicts) {
   const PreviewView view = FramedPreviewViews(renderer.Bounds(), options)[0];
   const FloatImage picture = renderer.Render(view, options);
   auto value_at = [&](double x, double y) {
-    const Eigen::Vector2d p = view.camera.ImgFromCam(view.cam_from_world * Eigen::Vector3d(x, y, 0));
+    const Eigen::Vector2d p =
+        view.camera.ImgFromCam(view.cam_from_world * Eigen::Vector3d(x, y, 0));
     return picture.at(static_cast<int>(p.x()), static_cast<int>(p.y()), 1);
   };
   const double sky = options.sky_intensity * 0.5;  // n = +Z: full sky
@@ -207,7 +208,8 @@ TEST(TreePreviewTest, InstancedLeavesLookLikeBakedLeavesAndRendersRepeat) {
   const TreePreviewRenderer baked_renderer(baked, nullptr);
   EXPECT_EQ(instanced_renderer.Stats().leaf_instances, 400);
   EXPECT_EQ(instanced_renderer.Stats().mesh_triangles, 12);
-  EXPECT_EQ(baked_renderer.Stats().mesh_triangles, 12 + 400 * instanced_renderer.Stats().leaf_triangles);
+  EXPECT_EQ(baked_renderer.Stats().mesh_triangles,
+            12 + 400 * instanced_renderer.Stats().leaf_triangles);
   EXPECT_LT((instanced_renderer.Bounds().min() - baked_renderer.Bounds().min()).norm(), 1e-5);
   EXPECT_LT((instanced_renderer.Bounds().max() - baked_renderer.Bounds().max()).norm(), 1e-5);
   for (const PreviewView& view : FramedPreviewViews(instanced_renderer.Bounds(), options)) {
@@ -277,8 +279,8 @@ TEST(TreePreviewTest, SyntheticTreeStaysInsideEveryView) {
   for (const FloatImage& picture : pictures) {
     double border = 0;
     for (int k = 0; k < 96; ++k) {
-      border += picture.at(k, 0, 3) + picture.at(k, 95, 3) + picture.at(0, k, 3) +
-                picture.at(95, k, 3);
+      border +=
+          picture.at(k, 0, 3) + picture.at(k, 95, 3) + picture.at(0, k, 3) + picture.at(95, k, 3);
     }
     EXPECT_EQ(border, 0.0);
     EXPECT_GT(SumChannel(picture, 3), 0.03 * 96 * 96);

@@ -59,7 +59,7 @@ TrunkWidth MeasureTrunkWidth(const ImageSet& views, const std::vector<FloatImage
       const Eigen::Vector2d across(-axis.y() / axis.norm(), axis.x() / axis.norm());
       const double world_per_pixel = camera.WorldPerPixel(point_in_cam);
       const double pixels = RunLength(mattes[v], center, across, options.matte_threshold,
-                                       options.max_width_fraction * tree_height / world_per_pixel);
+                                      options.max_width_fraction * tree_height / world_per_pixel);
       if (pixels > 0) widths.push_back(pixels * world_per_pixel);
     }
   }

@@ -21,7 +21,8 @@ double TrueTrunkRadius(const SkeletonGraph& skeleton, double height) {
 }
 
 TEST(TrunkWidthTest, MatchesTheSyntheticTrunk) {
-  for (const SyntheticCameraKind kind : {SyntheticCameraKind::kPinhole, SyntheticCameraKind::kOrthographic}) {
+  for (const SyntheticCameraKind kind :
+       {SyntheticCameraKind::kPinhole, SyntheticCameraKind::kOrthographic}) {
     SyntheticDatasetOptions options;
     options.camera = kind;
     options.num_views = kind == SyntheticCameraKind::kPinhole ? 4 : 2;

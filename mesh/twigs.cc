@@ -140,8 +140,8 @@ class TwigGrower {
       if (i > 0) {
         // The spent apex stays as a stub; a lateral bud takes over, turned
         // alternately to either side.
-        Add(node, dir * (kSpentApexLength * unit), skeleton_->nodes[node].radius * options_.tip_taper,
-            order_ + 1);
+        Add(node, dir * (kSpentApexLength * unit),
+            skeleton_->nodes[node].radius * options_.tip_taper, order_ + 1);
         const double turn = (i % 2 ? 1.0 : -1.0) * options_.sympodial_angle_deg * kDegree;
         dir = Eigen::AngleAxisd(turn, plane_normal) * dir;
       }

@@ -214,8 +214,8 @@ double TwigFrustumVolume(const SkeletonGraph& grown, const TwigSummary& summary,
 double DistanceToSegment(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
                          const Eigen::Vector3d& b) {
   const Eigen::Vector3d ab = b - a;
-  const double t = ab.squaredNorm() > 0 ? std::clamp((p - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0)
-                                        : 0.0;
+  const double t =
+      ab.squaredNorm() > 0 ? std::clamp((p - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0) : 0.0;
   return (a + t * ab - p).norm();
 }
 
@@ -233,9 +233,9 @@ std::pair<int, int> TipsReached(const SkeletonGraph& grown, const TwigSummary& s
     double surface = 1e300;
     for (const SkeletonNode& node : branches.nodes) {
       if (node.parent_idx < 0) continue;
-      surface = std::min(surface, DistanceToSegment(tip, branches.nodes[node.parent_idx].position,
-                                                    node.position) -
-                                      node.radius);
+      surface = std::min(
+          surface, DistanceToSegment(tip, branches.nodes[node.parent_idx].position, node.position) -
+                       node.radius);
     }
     if (surface < 2 * reach) continue;
     ++far;
@@ -312,7 +312,8 @@ TEST(TwigsTest, SeparateMeshingGivesClosedBarkAndOneTubePerTwigAxis) {
   const TriangleMesh twigs = MeshTwigTubes(grown, summary, tube, TwigMeshOptions(), &tubes_summary);
   int twig_tips = 0;  // every twig axis ends at one twig tip
   const auto children = grown.Children();
-  for (int i = 0; i < grown.NumNodes(); ++i) twig_tips += IsTwig(grown, summary, i) && children[i].empty();
+  for (int i = 0; i < grown.NumNodes(); ++i)
+    twig_tips += IsTwig(grown, summary, i) && children[i].empty();
   EXPECT_EQ(tubes_summary.tubes, twig_tips);
   EXPECT_EQ(tubes_summary.tubes, summary.twigs * (1 + options.laterals));  // monopodial
   EXPECT_EQ(tubes_summary.triangles, twigs.NumTriangles());
@@ -352,7 +353,8 @@ TEST(TwigsTest, SympodialTwigTubesAndRemoveTwigsWithoutTwigs) {
   const SkeletonGraph grown = GrowTwigs(TrunkAndBranch(), DensityGrid(), options, &summary);
   ASSERT_GT(summary.twigs, 3);
   TwigTubesSummary tubes;
-  const TriangleMesh mesh = MeshTwigTubes(grown, summary, BranchMeshOptions(), TwigMeshOptions(), &tubes);
+  const TriangleMesh mesh =
+      MeshTwigTubes(grown, summary, BranchMeshOptions(), TwigMeshOptions(), &tubes);
   // Each twig: its zig-zag axis plus one spent-apex stub per later unit.
   EXPECT_EQ(tubes.tubes, summary.twigs * options.segments);
   EXPECT_EQ(CheckMesh(mesh, "", false).components, tubes.tubes);
@@ -369,9 +371,9 @@ TEST(TwigsTest, SympodialTwigTubesAndRemoveTwigsWithoutTwigs) {
   options.twigs_per_length = 0;
   const SkeletonGraph bare = GrowTwigs(TrunkAndBranch(), DensityGrid(), options, &summary);
   EXPECT_EQ(RemoveTwigs(bare, summary).NumNodes(), TrunkAndBranch().NumNodes());
-  EXPECT_EQ(MeshTwigTubes(bare, summary, BranchMeshOptions(), TwigMeshOptions(), &tubes)
-                .NumTriangles(),
-            0);
+  EXPECT_EQ(
+      MeshTwigTubes(bare, summary, BranchMeshOptions(), TwigMeshOptions(), &tubes).NumTriangles(),
+      0);
   EXPECT_EQ(tubes.tubes, 0);
 }
 

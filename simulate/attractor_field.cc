@@ -56,7 +56,8 @@ DirectionField2D::DirectionField2D(const AttractorGraph2D& graph,
   for (const auto& [a, b] : graph.Segments()) {
     const Eigen::Vector2d ab = b - a;
     const double length = ab.norm();
-    segments_.push_back({a, b, length > 0 ? Eigen::Vector2d(ab / length) : Eigen::Vector2d::Zero()});
+    segments_.push_back(
+        {a, b, length > 0 ? Eigen::Vector2d(ab / length) : Eigen::Vector2d::Zero()});
   }
   // A graph of lone nodes (no edge) attracts without a tangent.
   if (segments_.empty()) {
@@ -69,8 +70,8 @@ DirectionField2D::DirectionField2D(const AttractorGraph2D& graph,
   if (empty_) return;
 
   // Bucket the segments (each into every bucket its bounding box touches).
-  const int buckets_along = std::clamp(static_cast<int>(std::sqrt(segments_.size())) * 2, 1,
-                                       kMaxBuckets);
+  const int buckets_along =
+      std::clamp(static_cast<int>(std::sqrt(segments_.size())) * 2, 1, kMaxBuckets);
   bucket_size_ = static_cast<double>(longer) / buckets_along;
   bucket_cols_ = std::max(1, static_cast<int>(std::ceil(width_ / bucket_size_)));
   bucket_rows_ = std::max(1, static_cast<int>(std::ceil(height_ / bucket_size_)));
@@ -97,7 +98,8 @@ DirectionField2D::DirectionField2D(const AttractorGraph2D& graph,
     int c0, c1, r0, r1;
     bucket_range(segments_[i], &c0, &c1, &r0, &r1);
     for (int r = r0; r <= r1; ++r) {
-      for (int c = c0; c <= c1; ++c) bucket_items_[counts[static_cast<size_t>(r) * bucket_cols_ + c]++] = i;
+      for (int c = c0; c <= c1; ++c)
+        bucket_items_[counts[static_cast<size_t>(r) * bucket_cols_ + c]++] = i;
     }
   }
 
@@ -113,8 +115,10 @@ DirectionField2D::DirectionField2D(const AttractorGraph2D& graph,
 
 void DirectionField2D::Closest(const Eigen::Vector2d& p, Eigen::Vector2d* closest,
                                Eigen::Vector2d* tangent, double* distance) const {
-  const int pc = std::clamp(static_cast<int>(std::floor(p.x() / bucket_size_)), 0, bucket_cols_ - 1);
-  const int pr = std::clamp(static_cast<int>(std::floor(p.y() / bucket_size_)), 0, bucket_rows_ - 1);
+  const int pc =
+      std::clamp(static_cast<int>(std::floor(p.x() / bucket_size_)), 0, bucket_cols_ - 1);
+  const int pr =
+      std::clamp(static_cast<int>(std::floor(p.y() / bucket_size_)), 0, bucket_rows_ - 1);
   double best2 = std::numeric_limits<double>::infinity();
   int best = -1;
   double best_t = 0;
@@ -169,7 +173,8 @@ Eigen::Vector2d DirectionField2D::At(const Eigen::Vector2d& point_in_image) cons
   // Cell centres at (k + 0.5) * cell_size.
   const double x = std::clamp(point_in_image.x() / cell_size_ - 0.5, 0.0, cols_ - 1.0);
   const double y = std::clamp(point_in_image.y() / cell_size_ - 0.5, 0.0, rows_ - 1.0);
-  const int c0 = std::min(static_cast<int>(x), cols_ - 1), r0 = std::min(static_cast<int>(y), rows_ - 1);
+  const int c0 = std::min(static_cast<int>(x), cols_ - 1),
+            r0 = std::min(static_cast<int>(y), rows_ - 1);
   const int c1 = std::min(c0 + 1, cols_ - 1), r1 = std::min(r0 + 1, rows_ - 1);
   const double fx = x - c0, fy = y - r0;
   return (1 - fy) * ((1 - fx) * Cell(c0, r0) + fx * Cell(c1, r0)) +
@@ -252,12 +257,12 @@ Eigen::Vector3d AttractorDirectionField::Lifted(const Eigen::Vector3d& point_in_
   for (const ViewField& view : views_) {
     Eigen::Vector2d pixel;
     if (!image_set_.Project(view.view_idx, point_in_world, &pixel)) continue;
-    if (!(pixel.x() >= 0 && pixel.y() >= 0 && pixel.x() <= view.width && pixel.y() <= view.height)) {
+    if (!(pixel.x() >= 0 && pixel.y() >= 0 && pixel.x() <= view.width &&
+          pixel.y() <= view.height)) {
       continue;
     }
-    const Eigen::Vector3d viewing = view.orthographic
-                                        ? Eigen::Vector3d(view.world_from_cam.col(2))
-                                        : (point_in_world - view.center).normalized();
+    const Eigen::Vector3d viewing = view.orthographic ? Eigen::Vector3d(view.world_from_cam.col(2))
+                                                      : (point_in_world - view.center).normalized();
     // The lifted vectors lie in the image plane, normal to the optical axis.
     const Eigen::Vector3d axis = view.world_from_cam.col(2);
     planes += Eigen::Matrix3d::Identity() - axis * axis.transpose();
@@ -316,7 +321,8 @@ Eigen::Vector3d AttractorDirectionField::Direction(const Eigen::Vector3d& point_
   const Eigen::Vector3d x10 = (1 - t.x()) * at(0, 1, 0) + t.x() * at(1, 1, 0);
   const Eigen::Vector3d x01 = (1 - t.x()) * at(0, 0, 1) + t.x() * at(1, 0, 1);
   const Eigen::Vector3d x11 = (1 - t.x()) * at(0, 1, 1) + t.x() * at(1, 1, 1);
-  return (1 - t.z()) * ((1 - t.y()) * x00 + t.y() * x10) + t.z() * ((1 - t.y()) * x01 + t.y() * x11);
+  return (1 - t.z()) * ((1 - t.y()) * x00 + t.y() * x10) +
+         t.z() * ((1 - t.y()) * x01 + t.y() * x11);
 }
 
 }  // namespace sylva

@@ -109,7 +109,7 @@ class DirectionField2D {
 
  private:
   struct Segment {
-    Eigen::Vector2d a, b;  // child, parent
+    Eigen::Vector2d a, b;     // child, parent
     Eigen::Vector2d tangent;  // unit(b - a), or zero
   };
   // The closest point of the graph to p, the tangent there, and the

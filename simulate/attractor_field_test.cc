@@ -35,7 +35,7 @@ AttractorGraph2D VerticalLine() {
 
 TEST(DirectionField2D, LinearBlendPointsAtTheGraphFarAndAlongItNear) {
   AttractorFieldOptions options;  // linear
-  options.falloff = 0.1;            // 10 px
+  options.falloff = 0.1;          // 10 px
   const DirectionField2D field(VerticalLine(), options);
   EXPECT_EQ(field.cols(), 100);
   EXPECT_EQ(field.rows(), 100);
@@ -91,7 +91,8 @@ TEST(DirectionField2D, ClosestSegmentOfABranchingGraph) {
       for (const auto& [a, b] : graph.Segments()) {
         const double t = std::clamp((p - a).dot(b - a) / (b - a).squaredNorm(), 0.0, 1.0);
         const Eigen::Vector2d q = a + t * (b - a);
-        if ((q - p).norm() < best) best = (q - p).norm(), closest = q, tangent = (b - a).normalized();
+        if ((q - p).norm() < best)
+          best = (q - p).norm(), closest = q, tangent = (b - a).normalized();
       }
       const double h = std::min(best / 24.0, 1.0);
       const Eigen::Vector2d expected = h * (closest - p) / best + (1 - h) * tangent;
@@ -106,7 +107,7 @@ ImageSet TwoOrthographicViews() {
   ImageSet set;
   set.cameras[1] = Camera::Orthographic(200, 200, 50);
   Eigen::Matrix3d from_x, from_y;
-  from_x << 0, 1, 0, 0, 0, -1, -1, 0, 0;   // rows: x right, y down, z forward
+  from_x << 0, 1, 0, 0, 0, -1, -1, 0, 0;  // rows: x right, y down, z forward
   from_y << -1, 0, 0, 0, 0, -1, 0, -1, 0;
   set.views.push_back({1, "x.png", 1, Rigid3d(Eigen::Quaterniond(from_x), {0, 0, 5})});
   set.views.push_back({2, "y.png", 1, Rigid3d(Eigen::Quaterniond(from_y), {0, 0, 5})});
@@ -145,7 +146,8 @@ TEST(AttractorDirectionField, LiftingTwoOrthographicViewsRecoversA3dDirection) {
     for (const Eigen::Vector3d& u : {symmetric, general}) {
       if (combine == "average" && u == general) continue;
       std::vector<AttractorGraph2D> graphs;
-      for (int v = 0; v < 2; ++v) graphs.push_back(ProjectedSegment(set, v, x - 0.6 * u, x + 0.6 * u));
+      for (int v = 0; v < 2; ++v)
+        graphs.push_back(ProjectedSegment(set, v, x - 0.6 * u, x + 0.6 * u));
       const AttractorDirectionField field(set, graphs, bounds, options);
       EXPECT_EQ(field.NumViewsWithGraphs(), 2);
       EXPECT_LT(AngleDeg(field.Lifted(x), u), 0.5) << combine << " " << u.transpose();
@@ -161,26 +163,31 @@ TEST(AttractorDirectionField, LiftingTwoOrthographicViewsRecoversA3dDirection) {
   // lengths, which "intersect" avoids.
   options.combine = "average";
   std::vector<AttractorGraph2D> graphs;
-  for (int v = 0; v < 2; ++v) graphs.push_back(ProjectedSegment(set, v, x - 0.6 * general, x + 0.6 * general));
-  EXPECT_GT(AngleDeg(AttractorDirectionField(set, graphs, bounds, options).Lifted(x), general), 2.0);
+  for (int v = 0; v < 2; ++v)
+    graphs.push_back(ProjectedSegment(set, v, x - 0.6 * general, x + 0.6 * general));
+  EXPECT_GT(AngleDeg(AttractorDirectionField(set, graphs, bounds, options).Lifted(x), general),
+            2.0);
 }
 
 TEST(AttractorDirectionField, PinholeLiftingFollowsTheImagePlane) {
   ImageSet set;
   set.cameras[1] = Camera::Pinhole(640, 480, 500);
-  const Eigen::Quaterniond rotation(Eigen::AngleAxisd(0.3, Eigen::Vector3d(0.2, 1, 0.1).normalized()));
+  const Eigen::Quaterniond rotation(
+      Eigen::AngleAxisd(0.3, Eigen::Vector3d(0.2, 1, 0.1).normalized()));
   set.views.push_back({1, "p.png", 1, Rigid3d(rotation, {0.1, -0.2, 4})});
   const Eigen::Vector3d x(0.3, 0.1, 0.2);
   // A displacement parallel to the image plane: its image is the graph.
   const Eigen::Matrix3d world_from_cam = rotation.inverse().toRotationMatrix();
   const Eigen::Vector3d along = world_from_cam * Eigen::Vector3d(0.6, 0.8, 0);
-  const std::vector<AttractorGraph2D> graphs = {ProjectedSegment(set, 0, x - 0.3 * along, x + 0.3 * along)};
+  const std::vector<AttractorGraph2D> graphs = {
+      ProjectedSegment(set, 0, x - 0.3 * along, x + 0.3 * along)};
   AttractorFieldOptions options;
   options.resolution = 320;
   options.resolution_3d = 48;
   options.falloff = 0.1;
   const AttractorDirectionField field(
-      set, graphs, Eigen::AlignedBox3d(Eigen::Vector3d(-1, -1, -1), Eigen::Vector3d(1, 1, 1)), options);
+      set, graphs, Eigen::AlignedBox3d(Eigen::Vector3d(-1, -1, -1), Eigen::Vector3d(1, 1, 1)),
+      options);
   EXPECT_LT(AngleDeg(field.Lifted(x), along), 0.5);
   EXPECT_NEAR(field.Lifted(x).norm(), 1.0, 0.02);
   // Behind the camera or outside the image: no direction.
@@ -254,12 +261,14 @@ TEST(AttractorDirectionField, SteeredFlowIsDeterministicAndFollowsTheGraphs) {
     for (size_t k = 1; k < trunk.size(); ++k) {
       const Eigen::Vector3d a = skeleton.nodes[trunk[k - 1]].position;
       const Eigen::Vector3d b = skeleton.nodes[trunk[k]].position;
-      if ((a.z() - z) * (b.z() - z) <= 0 && a.z() != b.z()) return a.x() + (b.x() - a.x()) * (z - a.z()) / (b.z() - a.z());
+      if ((a.z() - z) * (b.z() - z) <= 0 && a.z() != b.z())
+        return a.x() + (b.x() - a.x()) * (z - a.z()) / (b.z() - a.z());
     }
     return std::nan("");
   };
   const double steered_x = trunk_x_at(skeletons[0], 0.7), plain_x = trunk_x_at(unsteered, 0.7);
-  std::printf("trunk x at z = 0.7: steered %.3f, unsteered %.3f (graph 0.153)\n", steered_x, plain_x);
+  std::printf("trunk x at z = 0.7: steered %.3f, unsteered %.3f (graph 0.153)\n", steered_x,
+              plain_x);
   EXPECT_NEAR(steered_x, 0.153, 0.05);
   EXPECT_LT(std::abs(plain_x), 0.05);
 }

@@ -15,11 +15,12 @@ namespace {
 
 // Points every `spacing` (at most) along the edge from `parent` to `child`,
 // the parent end excluded.
-std::vector<Eigen::Vector3d> EdgeSamples(const Eigen::Vector3d& parent, const Eigen::Vector3d& child,
-                                         double spacing) {
+std::vector<Eigen::Vector3d> EdgeSamples(const Eigen::Vector3d& parent,
+                                         const Eigen::Vector3d& child, double spacing) {
   const int steps = std::max(1, static_cast<int>(std::ceil((child - parent).norm() / spacing)));
   std::vector<Eigen::Vector3d> samples;
-  for (int s = 1; s <= steps; ++s) samples.push_back(parent + (child - parent) * (double(s) / steps));
+  for (int s = 1; s <= steps; ++s)
+    samples.push_back(parent + (child - parent) * (double(s) / steps));
   return samples;
 }
 
@@ -135,9 +136,8 @@ std::vector<char> TrimTwigs(const SkeletonGraph& skeleton, const DensityGrid& de
     };
     size_t first_removed = axis.size();
     for (size_t k = axis.size() - 1; k > keep; --k) {
-      const std::vector<Eigen::Vector3d> samples =
-          EdgeSamples(skeleton.nodes[axis[k - 1]].position, skeleton.nodes[axis[k]].position,
-                      spacing);
+      const std::vector<Eigen::Vector3d> samples = EdgeSamples(
+          skeleton.nodes[axis[k - 1]].position, skeleton.nodes[axis[k]].position, spacing);
       const bool redundant =
           radius > 0 && std::all_of(samples.begin(), samples.end(), [&](const Eigen::Vector3d& p) {
             return wood.AnyWithin(p, other_wood);

@@ -35,11 +35,11 @@ Scene MakeScene() {
   const int root = s.AddNode({0, 0, 0}, 0, -1, 0);
   const int fork = s.AddNode({0, 0, 6}, 0, root, 0);
   const int upper = s.AddNode({0, 0, 8}, 0, fork, 0);
-  s.AddNode({0, 0, 10}, 0, upper, 0);                  // 3: trunk top
-  s.AddNode({3, 0, 6}, 0, fork, 1);                    // 4: the branch
-  s.AddNode({3, 0, 6.05}, 0, fork, 1);                 // 5: its second trace
-  s.AddNode({0, 3, 8}, 0, upper, 1);                   // 6: the stick
-  s.AddNode({1, 0, 0.5}, 0, root, 1);                  // 7: the base twig
+  s.AddNode({0, 0, 10}, 0, upper, 0);   // 3: trunk top
+  s.AddNode({3, 0, 6}, 0, fork, 1);     // 4: the branch
+  s.AddNode({3, 0, 6.05}, 0, fork, 1);  // 5: its second trace
+  s.AddNode({0, 3, 8}, 0, upper, 1);    // 6: the stick
+  s.AddNode({1, 0, 0.5}, 0, root, 1);   // 7: the base twig
   const int strands[] = {100, 98, 68, 66, 20, 10, 2, 2};
   for (int i = 0; i < s.NumNodes(); ++i) s.nodes[i].strands = strands[i];
   s.AssignOrders();

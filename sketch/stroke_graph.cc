@@ -299,7 +299,8 @@ void OrientTowardsRoots(const UndirectedGraph& graph, const std::vector<int>& ro
 }  // namespace
 
 void StrokeGraphOptions::Check() const {
-  SYLVA_CHECK_INPUT(std::isfinite(snap_distance) && snap_distance >= 0, "Attractors.stroke_snap_distance")
+  SYLVA_CHECK_INPUT(std::isfinite(snap_distance) && snap_distance >= 0,
+                    "Attractors.stroke_snap_distance")
       << "must be a finite distance >= 0 in pixels, got " << snap_distance;
   SYLVA_CHECK_INPUT(std::isfinite(simplify_tolerance) && simplify_tolerance >= 0,
                     "Attractors.stroke_simplify_tolerance")

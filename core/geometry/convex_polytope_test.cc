@@ -27,7 +27,8 @@ TEST(ConvexPolytopeTest, ManyRandomTangentPlanesApproachTheBall) {
   ConvexPolytope polytope(Box3d(Eigen::Vector3d::Constant(-5), Eigen::Vector3d::Constant(5)));
   RandomEngine rng(5);
   for (int i = 0; i < 400; ++i) {
-    const Eigen::Vector3d n = Eigen::Vector3d(rng.Normal(), rng.Normal(), rng.Normal()).normalized();
+    const Eigen::Vector3d n =
+        Eigen::Vector3d(rng.Normal(), rng.Normal(), rng.Normal()).normalized();
     polytope.Clip(-n, 1.0);  // keep n . p <= 1
   }
   const Box3d box = polytope.Bounds();

@@ -70,15 +70,17 @@ int PointGrid::Nearest(const Eigen::Vector3d& query, double max_distance, double
   if (points_.empty()) return -1;
   const Eigen::Vector3i center = Cell(query);
   // Beyond this ring every point has been seen.
-  const double reach = std::min(max_distance, box_.exteriorDistance(query) + box_.diagonal().norm());
+  const double reach =
+      std::min(max_distance, box_.exteriorDistance(query) + box_.diagonal().norm());
   const int max_ring = static_cast<int>(std::ceil(reach / cell_size_)) + 1;
   int best = -1;
   double best_distance = std::numeric_limits<double>::infinity();
   // No point is nearer than the box. Ring r holds cells r apart in the max
   // norm, i.e. points at least (r - 1) cells away but possibly as close as
   // r / sqrt(3) cells in Euclidean distance: rings below this are empty.
-  const int first_ring = std::max(
-      0, static_cast<int>(std::floor(box_.exteriorDistance(query) / (cell_size_ * std::sqrt(3.0)))) - 1);
+  const int first_ring = std::max(0, static_cast<int>(std::floor(box_.exteriorDistance(query) /
+                                                                 (cell_size_ * std::sqrt(3.0)))) -
+                                         1);
   for (int ring = first_ring; ring <= max_ring; ++ring) {
     // Points in ring r are at least (r - 1) cells away.
     if (ring > 0 && (ring - 1) * cell_size_ > best_distance) break;

@@ -30,8 +30,8 @@ class PointGrid {
   }
   static int64_t Key(const Eigen::Vector3i& c);
   static double AutomaticCellSize(const Box3d& box, size_t num_points);
-  void VisitShell(const Eigen::Vector3i& center, int ring, const Eigen::Vector3d& query,
-                  int* best, double* best_distance) const;
+  void VisitShell(const Eigen::Vector3i& center, int ring, const Eigen::Vector3d& query, int* best,
+                  double* best_distance) const;
 
   std::vector<Eigen::Vector3d> points_;
   double cell_size_ = 1.0;

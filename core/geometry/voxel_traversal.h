@@ -79,8 +79,8 @@ int TraverseVoxels(const VoxelBlock& block, const Ray3d& ray, Visitor&& visit) {
   double t = t_enter;
   int visited = 0;
   for (;;) {
-    const int a = (t_max[0] < t_max[1]) ? (t_max[0] < t_max[2] ? 0 : 2)
-                                        : (t_max[1] < t_max[2] ? 1 : 2);
+    const int a =
+        (t_max[0] < t_max[1]) ? (t_max[0] < t_max[2] ? 0 : 2) : (t_max[1] < t_max[2] ? 1 : 2);
     const double t_next = std::min(t_max[a], t_exit);
     if (t_next > t) {
       ++visited;

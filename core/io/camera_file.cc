@@ -15,8 +15,7 @@ Camera ParseCamera(const JsonCursor& json) {
   // Errors from the camera's own checks are re-raised at this JSON location.
   try {
     const CameraModel model = ParseCameraModel(json["model"].AsString(), "");
-    Camera camera(model, json["width"].AsInt(), json["height"].AsInt(),
-                  json["params"].AsDoubles());
+    Camera camera(model, json["width"].AsInt(), json["height"].AsInt(), json["params"].AsDoubles());
     camera.Check("");
     return camera;
   } catch (const InputError& error) {

@@ -387,8 +387,7 @@ void AddCylinderTree(const QsmModel& qsm, const std::vector<std::vector<int>>& c
                                     options.merge_fraction * c.radius;
     if (start >= 0 && options.merge_inside_parent) {
       const QsmCylinder& p = qsm.cylinders[item.parent];
-      merges = merges ||
-               SegmentDistance2(c.start, p.start, p.End()) <= p.radius * p.radius;
+      merges = merges || SegmentDistance2(c.start, p.start, p.End()) <= p.radius * p.radius;
     }
     if (item.attachment.connector && !merges) {
       start = AddQsmNode(c.start, c.radius, item.attachment.node, c.branch_order, 0, 0, part);
@@ -523,7 +522,6 @@ QsmModel QsmFromSkeleton(const SkeletonGraph& skeleton, const std::string& units
   }
   return qsm;
 }
-
 
 // ---------------------------------------------------------------------------
 // Volumes

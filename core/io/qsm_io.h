@@ -64,10 +64,10 @@ struct QsmCylinder {
 // 1e-9; branch_order >= 0.
 struct QsmModel {
   std::vector<QsmCylinder> cylinders;
-  std::string radius_source = "unknown";  // see SkeletonGraph::radius_source
+  std::string radius_source = "unknown";     // see SkeletonGraph::radius_source
   std::string position_source = "unknown";   // see the file comment
   std::string branching_source = "unknown";  // see the file comment
-  std::string units = "m";                // unit of start, length and radius
+  std::string units = "m";                   // unit of start, length and radius
 
   // Throws Error naming the first broken invariant.
   void Check() const;

@@ -4,8 +4,8 @@
 #include <sstream>
 
 #include "core/io/json_util.h"
-#include "core/util/file_util.h"
 #include "core/util/check.h"
+#include "core/util/file_util.h"
 
 namespace sylva {
 namespace {
@@ -151,7 +151,8 @@ void WriteSkeletonPly(const std::filesystem::path& path, const SkeletonGraph& sk
     out << line;
   }
   for (int i = 0; i < skeleton.NumNodes(); ++i) {
-    if (skeleton.nodes[i].parent_idx >= 0) out << "2 " << i << " " << skeleton.nodes[i].parent_idx << "\n";
+    if (skeleton.nodes[i].parent_idx >= 0)
+      out << "2 " << i << " " << skeleton.nodes[i].parent_idx << "\n";
   }
   AtomicWriteString(path, out.str());
 }

@@ -19,7 +19,8 @@ AttractorGraph2D KeepNodes(const AttractorGraph2D& graph, const std::vector<char
   out.source = graph.source;
   std::vector<int> index_of(n, -1);
   for (int i = 0; i < n; ++i) {
-    if (kept[i]) index_of[i] = static_cast<int>(out.nodes.size()), out.nodes.push_back(graph.nodes[i]);
+    if (kept[i])
+      index_of[i] = static_cast<int>(out.nodes.size()), out.nodes.push_back(graph.nodes[i]);
   }
   for (int i = 0; i < n; ++i) {
     if (!kept[i]) continue;
@@ -82,7 +83,8 @@ std::vector<Eigen::Vector2d> AttractorGraph2D::SamplePoints(double spacing) cons
   for (const AttractorNode& node : nodes) points.push_back(node.position);
   for (const auto& [a, b] : Segments()) {
     const int steps = static_cast<int>(std::ceil((b - a).norm() / spacing));
-    for (int k = 1; k < steps; ++k) points.push_back(a + (b - a) * (static_cast<double>(k) / steps));
+    for (int k = 1; k < steps; ++k)
+      points.push_back(a + (b - a) * (static_cast<double>(k) / steps));
   }
   return points;
 }
@@ -94,7 +96,8 @@ AttractorGraph2D AttractorGraph2D::Simplified(double tolerance) const {
     if (node.parent_idx >= 0) ++num_children[node.parent_idx];
   }
   std::vector<char> kept(n);
-  for (int i = 0; i < n; ++i) kept[i] = nodes[i].parent_idx < 0 || num_children[i] != 1 || i == root;
+  for (int i = 0; i < n; ++i)
+    kept[i] = nodes[i].parent_idx < 0 || num_children[i] != 1 || i == root;
   if (tolerance > 0) {
     std::vector<int> chain;
     std::vector<char> keep;

@@ -66,8 +66,8 @@ TEST(AttractorGraph, WithoutTwigsDropsShortSideChainsOnly) {
   pruned.Check("pruned");
   // The spur goes; the lengthened arm (no junction on it) stays whole.
   EXPECT_EQ(pruned.NumNodes(), MakeY().NumNodes() + 2);
-  EXPECT_NEAR(pruned.TotalLength(), MakeY().TotalLength() + std::hypot(1.0, 2.0) + std::hypot(2.0, 2.0),
-              1e-9);
+  EXPECT_NEAR(pruned.TotalLength(),
+              MakeY().TotalLength() + std::hypot(1.0, 2.0) + std::hypot(2.0, 2.0), 1e-9);
   // Above the arms' lengths, the first arm goes; the fork is then no
   // junction, and the second arm continues the trunk down to the root.
   const AttractorGraph2D trunk_only = MakeY().WithoutTwigs(100.0);

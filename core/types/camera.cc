@@ -106,7 +106,6 @@ bool Camera::HasDistortion() const {
   }
 }
 
-
 double Camera::FocalLengthX() const { return params_[0]; }
 double Camera::FocalLengthY() const {
   return HasSingleFocalLength(model_) ? params_[0] : params_[1];

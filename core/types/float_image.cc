@@ -37,7 +37,8 @@ FloatImage DownsampleBox(const FloatImage& image, int factor) {
 }
 
 SummedAreaTable::SummedAreaTable(const FloatImage& image)
-    : width_(image.width()), height_(image.height()),
+    : width_(image.width()),
+      height_(image.height()),
       table_(static_cast<size_t>(width_ + 1) * (height_ + 1), 0.0) {
   SYLVA_CHECK(image.channels() == 1);
   for (int y = 0; y < height_; ++y) {

@@ -12,7 +12,9 @@ class FloatImage {
  public:
   FloatImage() = default;
   FloatImage(int width, int height, int channels, float fill = 0.0f)
-      : width_(width), height_(height), channels_(channels),
+      : width_(width),
+        height_(height),
+        channels_(channels),
         data_(static_cast<size_t>(width) * height * channels, fill) {}
 
   int width() const { return width_; }

@@ -8,8 +8,8 @@ namespace sylva {
 
 const Camera& ImageSet::CameraOf(const View& view) const {
   const auto it = cameras.find(view.camera_id);
-  SYLVA_CHECK(it != cameras.end()) << "view " << view.name << " has unknown camera "
-                                   << view.camera_id;
+  SYLVA_CHECK(it != cameras.end())
+      << "view " << view.name << " has unknown camera " << view.camera_id;
   return it->second;
 }
 

@@ -17,9 +17,9 @@ namespace sylva {
 
 // One registered photo.
 struct View {
-  int image_id = 0;       // stable id (COLMAP IMAGE_ID)
-  std::string name;       // photo path relative to the photo folder
-  int camera_id = 0;      // key into ImageSet::cameras
+  int image_id = 0;   // stable id (COLMAP IMAGE_ID)
+  std::string name;   // photo path relative to the photo folder
+  int camera_id = 0;  // key into ImageSet::cameras
   Rigid3d cam_from_world;
 
   Eigen::Vector3d ProjectionCenter() const { return cam_from_world.Inverse().translation; }

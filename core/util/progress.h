@@ -33,8 +33,7 @@ class ProgressReporter {
 // One step of a long operation, occupying [begin, end] of its reporter's range.
 class ProgressTask {
  public:
-  ProgressTask(ProgressReporter* reporter, std::string name, double begin = 0.0,
-               double end = 1.0);
+  ProgressTask(ProgressReporter* reporter, std::string name, double begin = 0.0, double end = 1.0);
   // Reports `fraction` (in [0, 1]) of this task. Throws Cancelled if requested.
   // Cheap enough to call every few milliseconds.
   void Update(double fraction);

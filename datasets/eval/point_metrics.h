@@ -10,8 +10,8 @@ namespace sylva {
 struct PointSetDistances {
   double mean_a_to_b = 0.0;  // mean over a of the distance to the nearest b
   double mean_b_to_a = 0.0;
-  double chamfer = 0.0;      // (mean_a_to_b + mean_b_to_a) / 2
-  double hausdorff = 0.0;    // max of both directed maxima
+  double chamfer = 0.0;    // (mean_a_to_b + mean_b_to_a) / 2
+  double hausdorff = 0.0;  // max of both directed maxima
 };
 
 // Exact nearest neighbours on a uniform hash grid; both sets non-empty.

@@ -29,15 +29,15 @@ struct OrderFigures {
 };
 
 struct SkeletonComparison {
-  double height = 0.0;          // the reference height used (world units)
-  double length = 0.0;          // total edge length of the reconstruction
-  double true_length = 0.0;     // total edge length of the truth
-  double length_ratio = 0.0;    // length / true_length
-  double precision = 0.0;       // share of the reconstruction's length on the truth
-  double recall = 0.0;          // share of the truth's length on the reconstruction
-  double ours_to_truth = 0.0;   // mean distance of the reconstruction to the truth, world units
-  double truth_to_ours = 0.0;   // mean distance of the truth to the reconstruction
-  double chamfer = 0.0;         // mean of both, world units
+  double height = 0.0;            // the reference height used (world units)
+  double length = 0.0;            // total edge length of the reconstruction
+  double true_length = 0.0;       // total edge length of the truth
+  double length_ratio = 0.0;      // length / true_length
+  double precision = 0.0;         // share of the reconstruction's length on the truth
+  double recall = 0.0;            // share of the truth's length on the reconstruction
+  double ours_to_truth = 0.0;     // mean distance of the reconstruction to the truth, world units
+  double truth_to_ours = 0.0;     // mean distance of the truth to the reconstruction
+  double chamfer = 0.0;           // mean of both, world units
   double chamfer_fraction = 0.0;  // chamfer / height
   std::vector<OrderFigures> orders, true_orders;  // index = branch order
 
@@ -51,8 +51,7 @@ std::vector<OrderFigures> FiguresPerOrder(const SkeletonGraph& skeleton);
 // Compares `reconstructed` with `truth`; `height` (> 0) scales the tolerance
 // and the sampling (the true tree's height). Both skeletons need an edge.
 SkeletonComparison CompareSkeletons(const SkeletonGraph& reconstructed, const SkeletonGraph& truth,
-                                    double height,
-                                    const SkeletonComparisonOptions& options = {});
+                                    double height, const SkeletonComparisonOptions& options = {});
 
 }  // namespace sylva
 

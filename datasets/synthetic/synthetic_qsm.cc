@@ -98,7 +98,8 @@ QsmModel GenerateSyntheticQsm(const SyntheticQsmOptions& options, uint64_t seed)
     for (size_t k = 0; k < axis.size(); ++k) {
       const SkeletonNode& node = skeleton.nodes[axis[k]];
       line.points.push_back(node.position);
-      line.arc.push_back(k == 0 ? 0.0 : line.arc.back() + (node.position - line.points[k - 1]).norm());
+      line.arc.push_back(k == 0 ? 0.0
+                                : line.arc.back() + (node.position - line.points[k - 1]).norm());
       // A lateral's first point takes its first edge's radius, not the parent's.
       line.radius.push_back(k == 0 && a > 0 ? skeleton.nodes[axis[1]].radius : node.radius);
     }

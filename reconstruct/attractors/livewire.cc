@@ -24,8 +24,8 @@ void CheckInImage(const Eigen::Vector2d& point, int width, int height, const std
   SYLVA_CHECK_INPUT(point.allFinite() && point.x() >= 0 && point.y() >= 0 && point.x() < width &&
                         point.y() < height,
                     what)
-      << "(" << point.x() << ", " << point.y() << ") lies outside the " << width << " x "
-      << height << " image";
+      << "(" << point.x() << ", " << point.y() << ") lies outside the " << width << " x " << height
+      << " image";
 }
 
 cv::segmentation::IntelligentScissorsMB MakeScissors(const LivewireFeatures& features,
@@ -46,7 +46,8 @@ cv::segmentation::IntelligentScissorsMB MakeScissors(const LivewireFeatures& fea
 class PathMerger {
  public:
   PathMerger(const LivewireFeatures& features, AttractorGraph2D* graph)
-      : features_(features), graph_(graph),
+      : features_(features),
+        graph_(graph),
         owner_(static_cast<size_t>(features.mask.cols) * features.mask.rows, -1) {}
 
   void Own(const cv::Point& pixel, int node) { owner_[Index(pixel)] = node; }
@@ -65,7 +66,9 @@ class PathMerger {
   }
 
  private:
-  size_t Index(const cv::Point& p) const { return static_cast<size_t>(p.y) * features_.mask.cols + p.x; }
+  size_t Index(const cv::Point& p) const {
+    return static_cast<size_t>(p.y) * features_.mask.cols + p.x;
+  }
 
   const LivewireFeatures& features_;
   AttractorGraph2D* graph_;
@@ -74,7 +77,8 @@ class PathMerger {
 
 // The traced pixel of lowest centre-line cost within `radius` traced pixels
 // of `pixel` (nearest, then first in row order, on ties).
-cv::Point CheapestPixelNear(const LivewireFeatures& features, const cv::Point& pixel, double radius) {
+cv::Point CheapestPixelNear(const LivewireFeatures& features, const cv::Point& pixel,
+                            double radius) {
   const int r = static_cast<int>(std::floor(radius));
   cv::Point best = pixel;
   float best_cost = features.centerline.at<float>(pixel);
@@ -83,9 +87,11 @@ cv::Point CheapestPixelNear(const LivewireFeatures& features, const cv::Point& p
     for (int dx = -r; dx <= r; ++dx) {
       const cv::Point q(pixel.x + dx, pixel.y + dy);
       const int d2 = dx * dx + dy * dy;
-      if (d2 > radius * radius || !q.inside(cv::Rect(0, 0, features.mask.cols, features.mask.rows))) continue;
+      if (d2 > radius * radius || !q.inside(cv::Rect(0, 0, features.mask.cols, features.mask.rows)))
+        continue;
       const float cost = features.centerline.at<float>(q);
-      if (cost < best_cost || (cost == best_cost && d2 < best_d2)) best = q, best_cost = cost, best_d2 = d2;
+      if (cost < best_cost || (cost == best_cost && d2 < best_d2))
+        best = q, best_cost = cost, best_d2 = d2;
     }
   }
   return best;
@@ -96,9 +102,11 @@ cv::Point CheapestPixelNear(const LivewireFeatures& features, const cv::Point& p
 std::vector<cv::Point> PathInWindow(const LivewireFeatures& features, const cv::Point& from,
                                     const cv::Point& to, const LivewireOptions& options) {
   const double length = std::hypot(from.x - to.x, from.y - to.y);
-  const int margin = std::max(kMinEdgeWindowMargin, static_cast<int>(std::ceil(kEdgeWindowShare * length)));
-  cv::Rect window(cv::Point(std::min(from.x, to.x) - margin, std::min(from.y, to.y) - margin),
-                  cv::Point(std::max(from.x, to.x) + margin + 1, std::max(from.y, to.y) + margin + 1));
+  const int margin =
+      std::max(kMinEdgeWindowMargin, static_cast<int>(std::ceil(kEdgeWindowShare * length)));
+  cv::Rect window(
+      cv::Point(std::min(from.x, to.x) - margin, std::min(from.y, to.y) - margin),
+      cv::Point(std::max(from.x, to.x) + margin + 1, std::max(from.y, to.y) + margin + 1));
   window &= cv::Rect(0, 0, features.mask.cols, features.mask.rows);
   cv::segmentation::IntelligentScissorsMB scissors = MakeScissors(features, window, options);
   scissors.buildMap(to - window.tl());
@@ -186,7 +194,8 @@ AttractorGraph2D TraceAttractorGraph(const FloatImage& photo, const FloatImage& 
     summary->paths = paths;
     summary->nodes = graph.NumNodes();
     summary->megapixels = photo.NumPixels() / 1e6;
-    summary->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    summary->seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   }
   return graph;
 }
@@ -206,14 +215,16 @@ AttractorGraph2D SnapGraphToImage(const AttractorGraph2D& drawn, const FloatImag
   snapped.source = "strokes+livewire";
   for (AttractorNode& node : snapped.nodes) {
     pixels.push_back(CheapestPixelNear(features, features.ToTraced(node.position), radius));
-    if (pixels.back() != features.ToTraced(node.position)) node.position = features.ToFull(pixels.back());
+    if (pixels.back() != features.ToTraced(node.position))
+      node.position = features.ToFull(pixels.back());
   }
   for (int i = 0; i < drawn.NumNodes(); ++i) {
     const int parent = drawn.nodes[i].parent_idx;
     if (parent < 0) continue;
     const std::vector<cv::Point> path = PathInWindow(features, pixels[i], pixels[parent], options);
     int below = parent;  // path runs from node i to its parent; add its interior from the parent up
-    for (size_t k = path.size() - 1; k-- > 1;) below = snapped.AddNode(features.ToFull(path[k]), below);
+    for (size_t k = path.size() - 1; k-- > 1;)
+      below = snapped.AddNode(features.ToFull(path[k]), below);
     snapped.nodes[i].parent_idx = below;
   }
   return snapped.Simplified(options.simplify_tolerance);
@@ -235,8 +246,8 @@ Eigen::Vector2d MatteFootPoint(const FloatImage& matte, double threshold) {
     }
     if (best_length > 0) return Eigen::Vector2d(best_start + 0.5 * best_length, y + 0.5);
   }
-  SYLVA_CHECK_INPUT(false, "matte") << "no pixel reaches the threshold " << threshold
-                                    << ": no foot point";
+  SYLVA_CHECK_INPUT(false, "matte")
+      << "no pixel reaches the threshold " << threshold << ": no foot point";
   return Eigen::Vector2d::Zero();
 }
 

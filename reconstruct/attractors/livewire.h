@@ -88,9 +88,9 @@ struct LivewireOptions {
 };
 
 struct LivewireSummary {
-  int seeds = 0;     // seed points used
-  int paths = 0;     // paths that added at least one node
-  int nodes = 0;     // nodes of the final (simplified) graph
+  int seeds = 0;  // seed points used
+  int paths = 0;  // paths that added at least one node
+  int nodes = 0;  // nodes of the final (simplified) graph
   double seconds = 0;
   double megapixels = 0;  // size of the full-resolution photo
   std::string BriefReport() const;

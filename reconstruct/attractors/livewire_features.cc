@@ -71,8 +71,8 @@ cv::Mat CenterlineCost(const cv::Mat& rgb, const cv::Mat& mask, const cv::Mat& d
     for (int x = 0; x < mask.cols; ++x) {
       if (!mask.at<uchar>(y, x)) continue;
       const double lum = std::clamp(luminance.at<float>(y, x), 0.0f, 1.0f);
-      cost.at<float>(y, x) = static_cast<float>((1 - photo_weight) / (1 + distance.at<float>(y, x)) +
-                                                photo_weight * lum);
+      cost.at<float>(y, x) = static_cast<float>(
+          (1 - photo_weight) / (1 + distance.at<float>(y, x)) + photo_weight * lum);
     }
   }
   return cost;
@@ -96,8 +96,8 @@ LivewireFeatures ComputeLivewireFeatures(const FloatImage& photo, const FloatIma
   LivewireFeatures features;
   features.full_width = photo.width();
   features.full_height = photo.height();
-  const double scale =
-      std::min(1.0, static_cast<double>(options.max_image_size) / std::max(photo.width(), photo.height()));
+  const double scale = std::min(
+      1.0, static_cast<double>(options.max_image_size) / std::max(photo.width(), photo.height()));
   const cv::Size size(std::max(1, static_cast<int>(std::lround(photo.width() * scale))),
                       std::max(1, static_cast<int>(std::lround(photo.height() * scale))));
   features.scale_x = static_cast<double>(size.width) / photo.width();

@@ -80,8 +80,8 @@ std::vector<cv::Point> SilhouetteSeeds(const cv::Mat& mask, int count, uint64_t 
     for (int x = 0; x < mask.cols; ++x) {
       if (!mask.at<uchar>(y, x)) continue;
       bool edge = false;
-      for (const cv::Point q : {cv::Point(x - 1, y), cv::Point(x + 1, y), cv::Point(x, y - 1),
-                                cv::Point(x, y + 1)}) {
+      for (const cv::Point q :
+           {cv::Point(x - 1, y), cv::Point(x + 1, y), cv::Point(x, y - 1), cv::Point(x, y + 1)}) {
         edge = edge || !q.inside(image) || !mask.at<uchar>(q);
       }
       if (edge) outline.emplace_back(x, y);
@@ -90,7 +90,8 @@ std::vector<cv::Point> SilhouetteSeeds(const cv::Mat& mask, int count, uint64_t 
   RandomEngine random(seed);
   const int n = std::min<int>(count, outline.size());
   for (int k = 0; k < n; ++k) {  // partial Fisher-Yates
-    const int pick = k + static_cast<int>(random.UniformInt(static_cast<uint32_t>(outline.size() - k)));
+    const int pick =
+        k + static_cast<int>(random.UniformInt(static_cast<uint32_t>(outline.size() - k)));
     std::swap(outline[k], outline[pick]);
   }
   outline.resize(n);

@@ -63,8 +63,8 @@ class LivewireYTest : public ::testing::Test {
 
 TEST_F(LivewireYTest, SeedsAtTheTipsTraceTheY) {
   LivewireSummary summary;
-  const AttractorGraph2D graph =
-      TraceAttractorGraph(photo_, matte_, kFoot, {kLeftTip, kRightTip}, LivewireOptions(), &summary);
+  const AttractorGraph2D graph = TraceAttractorGraph(photo_, matte_, kFoot, {kLeftTip, kRightTip},
+                                                     LivewireOptions(), &summary);
   graph.Check("traced Y");
   EXPECT_EQ(graph.source, "livewire");
   ASSERT_GE(graph.root, 0);
@@ -152,37 +152,44 @@ std::string InputErrorOf(const Call& call) {
 TEST_F(LivewireYTest, BadInputIsAnInputError) {
   const LivewireOptions options;
   const FloatImage small_matte(kSize / 2, kSize, 1, 1.0f);
-  EXPECT_NE(InputErrorOf([&] { TraceAttractorGraph(photo_, small_matte, kFoot, {}, options); })
-                .find("differs from the photo"),
+  EXPECT_NE(InputErrorOf([&] {
+              TraceAttractorGraph(photo_, small_matte, kFoot, {}, options);
+            }).find("differs from the photo"),
             std::string::npos);
-  EXPECT_NE(InputErrorOf([&] { TraceAttractorGraph(photo_, matte_, {-3, 10}, {}, options); })
-                .find("livewire target"),
+  EXPECT_NE(InputErrorOf([&] {
+              TraceAttractorGraph(photo_, matte_, {-3, 10}, {}, options);
+            }).find("livewire target"),
             std::string::npos);
-  EXPECT_NE(InputErrorOf([&] { TraceAttractorGraph(photo_, matte_, kFoot, {{10, 250}}, options); })
-                .find("livewire seed"),
+  EXPECT_NE(InputErrorOf([&] {
+              TraceAttractorGraph(photo_, matte_, kFoot, {{10, 250}}, options);
+            }).find("livewire seed"),
             std::string::npos);
   const FloatImage empty(kSize, kSize, 1, 0.0f);
-  EXPECT_NE(InputErrorOf([&] { TraceAttractorGraph(photo_, empty, kFoot, {}, options); })
-                .find("nothing to trace"),
+  EXPECT_NE(InputErrorOf([&] {
+              TraceAttractorGraph(photo_, empty, kFoot, {}, options);
+            }).find("nothing to trace"),
             std::string::npos);
   LivewireOptions bad = options;
   bad.seeds = "random";
   EXPECT_NE(InputErrorOf([&] { bad.Check(); }).find("Attractors.seeds"), std::string::npos);
   bad = options;
   bad.num_seeds = 0;
-  EXPECT_NE(InputErrorOf([&] { TraceAttractorGraph(photo_, matte_, kFoot, {}, bad); })
-                .find("Attractors.num_seeds"),
+  EXPECT_NE(InputErrorOf([&] {
+              TraceAttractorGraph(photo_, matte_, kFoot, {}, bad);
+            }).find("Attractors.num_seeds"),
             std::string::npos);
   bad = options;
   bad.weight_outside = bad.weight_direction = bad.weight_centerline = 0;
   EXPECT_NE(InputErrorOf([&] { bad.Check(); }).find("Attractors.weight"), std::string::npos);
   bad = options;
   bad.matte_threshold = 1.0;
-  EXPECT_NE(InputErrorOf([&] { bad.Check(); }).find("Attractors.matte_threshold"), std::string::npos);
+  EXPECT_NE(InputErrorOf([&] { bad.Check(); }).find("Attractors.matte_threshold"),
+            std::string::npos);
   AttractorGraph2D drawn = TrueY();
   drawn.width = 50;
-  EXPECT_NE(InputErrorOf([&] { SnapGraphToImage(drawn, photo_, matte_, options); })
-                .find("drawn attractor graph"),
+  EXPECT_NE(InputErrorOf([&] {
+              SnapGraphToImage(drawn, photo_, matte_, options);
+            }).find("drawn attractor graph"),
             std::string::npos);
 }
 

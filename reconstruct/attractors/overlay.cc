@@ -28,7 +28,8 @@ class OverlayCanvas {
       : colour_(height, width, CV_8UC3, cv::Scalar::all(0)),
         coverage_(height, width, CV_8UC1, cv::Scalar(0)) {}
 
-  void Line(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const cv::Scalar& colour, int width) {
+  void Line(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const cv::Scalar& colour,
+            int width) {
     cv::line(colour_, Fixed(a), Fixed(b), colour, width, cv::LINE_AA, kShift);
     cv::line(coverage_, Fixed(a), Fixed(b), cv::Scalar(255), width, cv::LINE_AA, kShift);
   }
@@ -60,7 +61,7 @@ class OverlayCanvas {
                      static_cast<int>(std::lround((p.y() - 0.5) * (1 << kShift))));
   }
 
-  cv::Mat colour_;    // premultiplied RGB
+  cv::Mat colour_;  // premultiplied RGB
   cv::Mat coverage_;
 };
 
@@ -81,11 +82,13 @@ FloatImage RgbOverWhite(const FloatImage& photo) {
 FloatImage DrawAttractorOverlay(const FloatImage& photo, const AttractorGraph2D& graph) {
   SYLVA_CHECK_INPUT(photo.channels() == 3 || photo.channels() == 4, "photo")
       << "expected an RGB or RGBA image, got " << photo.channels() << " channels";
-  SYLVA_CHECK_INPUT(graph.width == photo.width() && graph.height == photo.height(), "attractor graph")
+  SYLVA_CHECK_INPUT(graph.width == photo.width() && graph.height == photo.height(),
+                    "attractor graph")
       << "refers to a " << graph.width << " x " << graph.height << " image, the photo is "
       << photo.width() << " x " << photo.height();
-  const int width = std::max(1, static_cast<int>(std::lround(
-                                    std::min(photo.width(), photo.height()) / kPixelsPerLineWidth)));
+  const int width = std::max(
+      1,
+      static_cast<int>(std::lround(std::min(photo.width(), photo.height()) / kPixelsPerLineWidth)));
   OverlayCanvas canvas(photo.width(), photo.height());
   for (const auto& [a, b] : graph.Segments()) canvas.Line(a, b, kEdgeColour, width);
   const std::vector<std::vector<int>> children = graph.Children();

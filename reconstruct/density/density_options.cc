@@ -51,8 +51,7 @@ void DensityOptions::Check() const {
   SYLVA_CHECK_INPUT(nonnegative_passes >= 0 && nonnegative_passes <= 100,
                     "Density.nonnegative_passes")
       << "must be between 0 and 100, got " << nonnegative_passes;
-  SYLVA_CHECK_INPUT(min_output_opacity >= 0 && min_output_opacity < 1,
-                    "Density.min_output_opacity")
+  SYLVA_CHECK_INPUT(min_output_opacity >= 0 && min_output_opacity < 1, "Density.min_output_opacity")
       << "must be in [0, 1), got " << min_output_opacity;
 }
 

@@ -44,8 +44,8 @@ VoxelBlock GridBlock(const Box3d& bounds, int resolution) {
   block.voxel_size = bounds.sizes().maxCoeff() / resolution;
   block.lower_corner = bounds.min();
   for (int a = 0; a < 3; ++a) {
-    block.dims[a] = std::max(
-        1, static_cast<int>(std::ceil(bounds.sizes()[a] / block.voxel_size - 1e-9)));
+    block.dims[a] =
+        std::max(1, static_cast<int>(std::ceil(bounds.sizes()[a] / block.voxel_size - 1e-9)));
   }
   return block;
 }
@@ -87,10 +87,10 @@ void ChooseTrustedViews(const ImageSet& image_set, const std::vector<FloatImage>
   SYLVA_CHECK_INPUT(!plausible.empty(), "mattes") << "every matte is empty (no foreground)";
   // The frusta of the plausible views bound the consensus test (a wrong but
   // non-empty matte only loosens them).
-  const Box3d frustum_bounds = options.bounds.isEmpty()
-                                   ? FrustumIntersectionBounds(SubsetOf(image_set, plausible),
-                                                               Pick(masks, plausible))
-                                   : options.bounds;
+  const Box3d frustum_bounds =
+      options.bounds.isEmpty()
+          ? FrustumIntersectionBounds(SubsetOf(image_set, plausible), Pick(masks, plausible))
+          : options.bounds;
   const ViewConsensus consensus =
       AssessViewConsensus(image_set, masks, frustum_bounds, options, screened, progress);
   summary->allowed_dissent = consensus.allowed_dissent;
@@ -150,9 +150,8 @@ void ChooseResolution(const ImageSet& image_set, const std::vector<FloatImage>& 
   message << std::setprecision(3) << 100.0 * thin << " % of the mattes' centre lines are in "
           << "structure thinner than a voxel (" << longest / resolution << " world units, grid "
           << resolution << "); thin branches may be lost or faint ("
-          << (image_set.NumViews() < kMinViewsToRefine
-                  ? "too few views to refine the grid"
-                  : "raise Density.max_resolution")
+          << (image_set.NumViews() < kMinViewsToRefine ? "too few views to refine the grid"
+                                                       : "raise Density.max_resolution")
           << ")";
   summary->warnings.push_back({"thin-structure", message.str()});
 }
@@ -178,10 +177,11 @@ double OpticalDepth(double alpha, double max_opacity) {
 
 // The initial optical depths, scaled by the s minimising |s A x0 - b|.
 std::vector<double> InitialSolution(const RaySystem& system, const std::vector<float>& initial,
-                                    const std::vector<int64_t>& voxel_of_column,
-                                    double max_opacity, double* scale) {
+                                    const std::vector<int64_t>& voxel_of_column, double max_opacity,
+                                    double* scale) {
   std::vector<double> x(voxel_of_column.size());
-  for (size_t j = 0; j < x.size(); ++j) x[j] = OpticalDepth(initial[voxel_of_column[j]], max_opacity);
+  for (size_t j = 0; j < x.size(); ++j)
+    x[j] = OpticalDepth(initial[voxel_of_column[j]], max_opacity);
   std::vector<double> ax;
   system.matrix.Multiply(x, &ax);
   double ab = 0.0, aa = 0.0;
@@ -212,9 +212,8 @@ void SolveNonNegative(const RaySystem& system, const DensityOptions& options,
   for (int pass = 0; pass < passes; ++pass) {
     ProgressTask task = progress.SubTask("density: least squares", double(pass) / passes,
                                          double(pass + 1) / passes);
-    summary->solves.push_back(
-        SolveCgls(system.matrix, transposed, system.rhs, cgls, pass > 0 ? &free : nullptr, x,
-                  &task));
+    summary->solves.push_back(SolveCgls(system.matrix, transposed, system.rhs, cgls,
+                                        pass > 0 ? &free : nullptr, x, &task));
     int64_t clamped = 0;
     for (size_t j = 0; j < x->size(); ++j) {
       if ((*x)[j] < 0.0) {
@@ -230,7 +229,8 @@ void SolveNonNegative(const RaySystem& system, const DensityOptions& options,
 
 DensityGrid MakeGrid(const VoxelBlock& block, const std::vector<int64_t>& voxel_of_column,
                      const std::vector<double>& x, double min_output_opacity) {
-  const Eigen::Vector3d origin = block.lower_corner + Eigen::Vector3d::Constant(0.5 * block.voxel_size);
+  const Eigen::Vector3d origin =
+      block.lower_corner + Eigen::Vector3d::Constant(0.5 * block.voxel_size);
   DensityGrid grid(block.voxel_size, origin);
   for (size_t j = 0; j < x.size(); ++j) {
     const double alpha = 1.0 - std::exp(-x[j]);
@@ -249,12 +249,11 @@ std::string DensitySummary::BriefReport() const {
   if (!distrusted_views.empty()) {
     out << " (" << distrusted_views.size() << " left out: their mattes disagree with the others)";
   }
-  out << ", grid " << grid_dims.x() << "x" << grid_dims.y()
-      << "x" << grid_dims.z() << " (voxel " << voxel_size << "; "
-      << std::lround(100.0 * thin_share) << " % of the mattes' centre lines thinner), "
-      << (automatic_bounds ? "visual-hull" : "given") << " bounds; " << num_carved_voxels
-      << " voxels after carving, " << num_rows << " pixel rays, " << num_nonzeros
-      << " non-zeros";
+  out << ", grid " << grid_dims.x() << "x" << grid_dims.y() << "x" << grid_dims.z() << " (voxel "
+      << voxel_size << "; " << std::lround(100.0 * thin_share)
+      << " % of the mattes' centre lines thinner), " << (automatic_bounds ? "visual-hull" : "given")
+      << " bounds; " << num_carved_voxels << " voxels after carving, " << num_rows
+      << " pixel rays, " << num_nonzeros << " non-zeros";
   if (num_unexplained_pixels > 0) out << ", " << num_unexplained_pixels << " unexplained fg pixels";
   out << ". Least squares: ";
   for (size_t i = 0; i < solves.size(); ++i) {
@@ -297,11 +296,12 @@ DensityGrid ReconstructDensity(const ImageSet& all_views, const std::vector<Floa
   if (!all_trusted) masks = Pick(masks, trusted_views);
   summary->num_views = image_set.NumViews();
   summary->automatic_bounds = options.bounds.isEmpty();
-  summary->bounds = summary->automatic_bounds
-                        ? WithMargin(VisualHullBounds(image_set, masks, options.hull_resolution,
-                                                      progress.SubTask("density: bounds", 0.03, 0.05)),
-                                     options)
-                        : options.bounds;
+  summary->bounds =
+      summary->automatic_bounds
+          ? WithMargin(VisualHullBounds(image_set, masks, options.hull_resolution,
+                                        progress.SubTask("density: bounds", 0.03, 0.05)),
+                       options)
+          : options.bounds;
   masks.clear();
   ChooseResolution(image_set, mattes, options, summary);
   const VoxelBlock block = GridBlock(summary->bounds, summary->resolution);
@@ -326,7 +326,8 @@ DensityGrid ReconstructDensity(const ImageSet& all_views, const std::vector<Floa
 
   // 3. The pixel-ray equations.
   step = Clock::now();
-  const Eigen::Vector3d center = block.lower_corner + 0.5 * block.voxel_size * block.dims.cast<double>();
+  const Eigen::Vector3d center =
+      block.lower_corner + 0.5 * block.voxel_size * block.dims.cast<double>();
   std::vector<ViewSampling> sampling;
   std::vector<FloatImage> downsampled(image_set.NumViews());
   for (int v = 0; v < image_set.NumViews(); ++v) {
@@ -334,14 +335,13 @@ DensityGrid ReconstructDensity(const ImageSet& all_views, const std::vector<Floa
                                         options.pixels_per_voxel, options.rays_per_axis));
     summary->downsample_factors.push_back(sampling.back().factor);
   }
-  tbb::parallel_for(0, image_set.NumViews(), [&](int v) {
-    downsampled[v] = DownsampleBox(mattes[v], sampling[v].factor);
-  });
-  const RaySystem system = BuildRaySystem(
-      image_set, sampling, downsampled, block, column_of_voxel,
-      static_cast<int64_t>(voxel_of_column.size()), options.max_pixel_opacity,
-      options.hull_alpha_threshold, options.min_row_weight,
-      progress.SubTask("density: rays", 0.2, 0.4));
+  tbb::parallel_for(0, image_set.NumViews(),
+                    [&](int v) { downsampled[v] = DownsampleBox(mattes[v], sampling[v].factor); });
+  const RaySystem system =
+      BuildRaySystem(image_set, sampling, downsampled, block, column_of_voxel,
+                     static_cast<int64_t>(voxel_of_column.size()), options.max_pixel_opacity,
+                     options.hull_alpha_threshold, options.min_row_weight,
+                     progress.SubTask("density: rays", 0.2, 0.4));
   summary->num_rows = system.matrix.NumRows();
   summary->num_nonzeros = system.matrix.NumNonZeros();
   summary->num_unexplained_pixels = system.num_unexplained_pixels;

@@ -34,7 +34,7 @@
 namespace sylva {
 
 struct DensitySummary {
-  int num_views = 0;                                // views used (trusted)
+  int num_views = 0;  // views used (trusted)
   // Views whose mattes disagree with the others and were left out
   // (view_consensus.h), with a "distrusted-view" warning each.
   std::vector<std::string> distrusted_views;
@@ -42,14 +42,14 @@ struct DensitySummary {
   double median_carved_share = 0.0;  // share of the consensus the median view carves
   std::vector<Warning> warnings;
   bool automatic_bounds = true;
-  Box3d bounds;                                     // world units
+  Box3d bounds;  // world units
   Eigen::Vector3i grid_dims = Eigen::Vector3i::Zero();
-  int resolution = 0;        // voxels along the longest side (Density.resolution or refined)
-  double thin_share = 0.0;   // of the mattes' centre lines thinner than a voxel at it
-  double voxel_size = 0.0;                          // world units
-  std::vector<int> downsample_factors;              // per view
-  int64_t num_carved_voxels = 0;     // voxels kept by implicit carving (unknowns)
-  int64_t num_rows = 0;              // pixel-ray equations
+  int resolution = 0;       // voxels along the longest side (Density.resolution or refined)
+  double thin_share = 0.0;  // of the mattes' centre lines thinner than a voxel at it
+  double voxel_size = 0.0;  // world units
+  std::vector<int> downsample_factors;  // per view
+  int64_t num_carved_voxels = 0;        // voxels kept by implicit carving (unknowns)
+  int64_t num_rows = 0;                 // pixel-ray equations
   int64_t num_nonzeros = 0;
   int64_t num_unexplained_pixels = 0;  // foreground rays that hit no kept voxel
   double initial_scale = 1.0;          // factor applied to the initialisation

@@ -20,8 +20,8 @@ DensityGrid TrueDensity() {
     for (int j = 0; j < 24; ++j)
       for (int i = 0; i < 24; ++i) {
         const Eigen::Vector3d p = grid.WorldFromIndex(Eigen::Vector3d(i, j, k));
-        const double crown = std::pow(p.x() / 0.9, 2) + std::pow(p.y() / 0.7, 2) +
-                             std::pow((p.z() - 1.5) / 0.6, 2);
+        const double crown =
+            std::pow(p.x() / 0.9, 2) + std::pow(p.y() / 0.7, 2) + std::pow((p.z() - 1.5) / 0.6, 2);
         float alpha = 0.0f;
         if (crown < 1.0) alpha = static_cast<float>(0.05 + 0.15 * (1 - crown));
         if (p.head<2>().norm() < 0.12 && p.z() < 1.2) alpha = 0.5f;
@@ -62,8 +62,8 @@ ImageSet TwoOrthographicViews(int size) {
     view.image_id = v + 1;
     view.name = v == 0 ? "front.png" : "side.png";
     view.camera_id = 1;
-    const Eigen::Vector3d center = target + (v == 0 ? Eigen::Vector3d(0, -5, 0)
-                                                    : Eigen::Vector3d(5, 0, 0));
+    const Eigen::Vector3d center =
+        target + (v == 0 ? Eigen::Vector3d(0, -5, 0) : Eigen::Vector3d(5, 0, 0));
     view.cam_from_world = LookAt(center, target, Eigen::Vector3d::UnitZ());
     set.views.push_back(view);
   }
@@ -146,8 +146,8 @@ TEST(DensityReconstructionTest, AutomaticBoundsContainTheObjectSnugly) {
   DensitySummary summary;
   ReconstructDensity(set, RenderMattes(truth, set), options, nullptr, &summary);
   const Box3d object = truth.ActiveWorldBounds();
-  EXPECT_TRUE(summary.bounds.contains(object)) << summary.bounds.min().transpose() << " / "
-                                               << summary.bounds.max().transpose();
+  EXPECT_TRUE(summary.bounds.contains(object))
+      << summary.bounds.min().transpose() << " / " << summary.bounds.max().transpose();
   EXPECT_LT(summary.bounds.volume(), 1.6 * object.volume());
 }
 
@@ -254,8 +254,8 @@ TEST(DensityReconstructionTest, WrongMattesAreLeftOutAndNamed) {
   const double clean_iou = MeanProjectionIoU(clean_grid, set, clean);
 
   std::vector<FloatImage> wrong = clean;
-  for (float& a : wrong[3].values()) a = 1.0f - a;     // inverted
-  for (int y = 0; y < 96; ++y)                         // the crown's top half missing
+  for (float& a : wrong[3].values()) a = 1.0f - a;  // inverted
+  for (int y = 0; y < 96; ++y)                      // the crown's top half missing
     for (int x = 0; x < 96; ++x) wrong[11].at(x, y) = y < 40 ? 0.0f : wrong[11].at(x, y);
   DensitySummary summary;
   const DensityGrid grid = ReconstructDensity(set, wrong, options, nullptr, &summary);
@@ -277,7 +277,8 @@ TEST(DensityReconstructionTest, WrongMattesAreLeftOutAndNamed) {
 // Thin rods (a trunk with three thin branches, 0.04 wide) on a 0.02 lattice.
 DensityGrid ThinRods() {
   DensityGrid grid(0.02, Eigen::Vector3d(-1.19, -1.19, 0.01));
-  const auto rod = [](const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  const auto rod = [](const Eigen::Vector3d& p, const Eigen::Vector3d& a,
+                      const Eigen::Vector3d& b) {
     const Eigen::Vector3d ab = b - a;
     const double t = std::clamp((p - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
     return (p - (a + t * ab)).norm();
@@ -288,9 +289,9 @@ DensityGrid ThinRods() {
       for (int i = 0; i < 120; ++i) {
         const Eigen::Vector3d p = grid.WorldFromIndex(Eigen::Vector3d(i, j, k));
         double d = rod(p, base, fork);
-        for (const Eigen::Vector3d& tip : {Eigen::Vector3d(0.8, 0.1, 2.1),
-                                           Eigen::Vector3d(-0.6, 0.5, 2.0),
-                                           Eigen::Vector3d(0.0, -0.7, 2.2)}) {
+        for (const Eigen::Vector3d& tip :
+             {Eigen::Vector3d(0.8, 0.1, 2.1), Eigen::Vector3d(-0.6, 0.5, 2.0),
+              Eigen::Vector3d(0.0, -0.7, 2.2)}) {
           d = std::min(d, rod(p, fork, tip));
         }
         if (d < 0.02) grid.SetValue({i, j, k}, 0.9f);

@@ -18,8 +18,7 @@ OpacityProjector::OpacityProjector(const DensityGrid& grid) {
   Eigen::Vector3i lo, hi;
   if (!grid.ActiveIndexBounds(&lo, &hi)) return;
   block_.dims = hi - lo + Eigen::Vector3i::Ones();
-  block_.lower_corner =
-      grid.WorldFromIndex(lo.cast<double>() - Eigen::Vector3d::Constant(0.5));
+  block_.lower_corner = grid.WorldFromIndex(lo.cast<double>() - Eigen::Vector3d::Constant(0.5));
   optical_depth_.assign(block_.NumVoxels(), 0.0f);
   grid.ForEachActive([&](const Eigen::Vector3i& ijk, float alpha) {
     const double clamped = std::min<double>(alpha, kMaxStoredOpacity);

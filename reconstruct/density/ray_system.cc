@@ -76,10 +76,10 @@ void BuildChunk(const ImageSet& image_set, int view_idx, const ViewSampling& sam
 }  // namespace
 
 RaySystem BuildRaySystem(const ImageSet& image_set, const std::vector<ViewSampling>& sampling,
-                         const std::vector<FloatImage>& downsampled_mattes,
-                         const VoxelBlock& block, const std::vector<int32_t>& column_of_voxel,
-                         int64_t num_columns, double max_pixel_opacity, double foreground_alpha,
-                         double min_row_weight, const ProgressTask& progress) {
+                         const std::vector<FloatImage>& downsampled_mattes, const VoxelBlock& block,
+                         const std::vector<int32_t>& column_of_voxel, int64_t num_columns,
+                         double max_pixel_opacity, double foreground_alpha, double min_row_weight,
+                         const ProgressTask& progress) {
   // One chunk per (view, downsampled image row), filled in parallel and
   // concatenated in order, so the system does not depend on scheduling.
   std::vector<std::pair<int, int>> chunk_keys;

@@ -16,7 +16,7 @@
 namespace sylva {
 
 struct RaySystem {
-  SparseRows matrix;       // rows: pixels; columns: unknown voxels; values: l_i
+  SparseRows matrix;        // rows: pixels; columns: unknown voxels; values: l_i
   std::vector<double> rhs;  // -log(1 - alpha_pixel)
   int64_t num_unexplained_pixels = 0;
 };
@@ -34,10 +34,10 @@ void PixelRow(const ImageSet& image_set, int view_idx, const ViewSampling& sampl
 // `foreground_alpha` but whose rays cross no unknown are counted as
 // unexplained.
 RaySystem BuildRaySystem(const ImageSet& image_set, const std::vector<ViewSampling>& sampling,
-                         const std::vector<FloatImage>& downsampled_mattes,
-                         const VoxelBlock& block, const std::vector<int32_t>& column_of_voxel,
-                         int64_t num_columns, double max_pixel_opacity, double foreground_alpha,
-                         double min_row_weight, const ProgressTask& progress);
+                         const std::vector<FloatImage>& downsampled_mattes, const VoxelBlock& block,
+                         const std::vector<int32_t>& column_of_voxel, int64_t num_columns,
+                         double max_pixel_opacity, double foreground_alpha, double min_row_weight,
+                         const ProgressTask& progress);
 
 }  // namespace sylva
 

@@ -101,7 +101,8 @@ CglsSummary SolveCgls(const SparseRows& a, const SparseRows& transposed,
     gamma = gamma_next;
     ++summary.iterations;
     summary.converged = gamma <= stop_gamma;
-    if (progress) progress->Update(static_cast<double>(summary.iterations) / options.max_iterations);
+    if (progress)
+      progress->Update(static_cast<double>(summary.iterations) / options.max_iterations);
   }
   summary.final_residual_norm = std::sqrt(Dot(r, r));
   summary.relative_gradient = gradient_scale > 0 ? std::sqrt(gamma) / gradient_scale : 0.0;
@@ -204,11 +205,13 @@ CglsSummary SolveProjectedGradient(const SparseRows& a, const SparseRows& transp
     // Barzilai-Borwein in the metric: alpha = s.M^-1 s / s.y, s = lambda d,
     // y = g_next - g.
     const double ss = DeterministicSum(d.size(), [&](size_t j) { return d[j] * d[j] / metric[j]; });
-    const double sy = DeterministicSum(d.size(), [&](size_t j) { return d[j] * (g_next[j] - g[j]); });
+    const double sy =
+        DeterministicSum(d.size(), [&](size_t j) { return d[j] * (g_next[j] - g[j]); });
     alpha = sy > 0 ? std::clamp(lambda * ss / sy, kMinStep, kMaxStep) : kMaxStep;
     g.swap(g_next);
     ++summary.iterations;
-    if (progress) progress->Update(static_cast<double>(summary.iterations) / options.max_iterations);
+    if (progress)
+      progress->Update(static_cast<double>(summary.iterations) / options.max_iterations);
   }
   summary.final_residual_norm = std::sqrt(Dot(r, r));
   summary.relative_gradient = initial_projected > 0 ? projected / initial_projected : 0.0;

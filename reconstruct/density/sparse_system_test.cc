@@ -9,7 +9,8 @@
 namespace sylva {
 namespace {
 
-SparseRows RandomSparse(int rows, int cols, double fill, RandomEngine* rng, Eigen::MatrixXd* dense) {
+SparseRows RandomSparse(int rows, int cols, double fill, RandomEngine* rng,
+                        Eigen::MatrixXd* dense) {
   SparseRows a;
   a.num_cols = cols;
   dense->setZero(rows, cols);

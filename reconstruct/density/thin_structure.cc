@@ -64,8 +64,8 @@ std::vector<cv::Point> CentreLine(const cv::Mat& mask) {
 
 struct ThinStructureProbe::View {
   int view_idx = 0;
-  cv::Mat mask;                           // foreground, CV_8U 0/255
-  std::vector<cv::Point> centre_line;     // ridge pixels of the foreground (CentreLine)
+  cv::Mat mask;                        // foreground, CV_8U 0/255
+  std::vector<cv::Point> centre_line;  // ridge pixels of the foreground (CentreLine)
 };
 
 ThinStructureProbe::ThinStructureProbe(const ImageSet& image_set,
@@ -115,8 +115,8 @@ bool ThinStructureProbe::Resolvable(const Eigen::Vector3d& center_in_world,
                                     double voxel_size) const {
   int wide_enough = 0;
   for (const auto& view : views_) {
-    wide_enough += VoxelPixels(image_set_, view->view_idx, center_in_world, voxel_size) >=
-                   kMinVoxelPixels;
+    wide_enough +=
+        VoxelPixels(image_set_, view->view_idx, center_in_world, voxel_size) >= kMinVoxelPixels;
   }
   return 2 * wide_enough > static_cast<int>(views_.size());
 }

@@ -59,8 +59,8 @@ std::vector<char> ConsensusHull(const FootprintVotes& votes, int allowed, int64_
 double CarvedShare(const ImageSet& image_set, const std::vector<SummedAreaTable>& tables, int v,
                    const VoxelBlock& block, const std::vector<char>& hull,
                    const ProgressTask& progress) {
-  const FootprintVotes votes = CountFootprintVetoes(image_set, tables, {v}, block, 0.0, &hull,
-                                                    progress);
+  const FootprintVotes votes =
+      CountFootprintVetoes(image_set, tables, {v}, block, 0.0, &hull, progress);
   int64_t seen = 0, vetoed = 0;
   for (size_t i = 0; i < hull.size(); ++i) {
     seen += votes.seen[i];
@@ -145,8 +145,8 @@ std::vector<std::string> ScreenForegroundMasks(const std::vector<FloatImage>& ma
     if (shares[v] == 0.0) {
       reasons[v] = "its matte is empty (no foreground)";
     } else if (shares[v] * kSparseForegroundRatio < median) {
-      reasons[v] = "its matte has " + Percent(shares[v]) + " foreground, the median view " +
-                   Percent(median);
+      reasons[v] =
+          "its matte has " + Percent(shares[v]) + " foreground, the median view " + Percent(median);
     }
   }
   return reasons;

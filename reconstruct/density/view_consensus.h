@@ -33,8 +33,8 @@
 namespace sylva {
 
 struct ViewConsensus {
-  int allowed_dissent = 0;         // views that may carve a consensus voxel away
-  int64_t consensus_voxels = 0;    // of the coarse grid
+  int allowed_dissent = 0;           // views that may carve a consensus voxel away
+  int64_t consensus_voxels = 0;      // of the coarse grid
   std::vector<double> carved_share;  // per view: share of the consensus it carves away
   double median_carved_share = 0.0;
   // Per view: share of its foreground onto which no consensus voxel projects.

@@ -162,7 +162,7 @@ struct MinimumVisitor {
 
 // Keeps the `rank` + 1 smallest footprint means per voxel, sorted.
 struct LowestVisitor {
-  int kept;                   // rank + 1
+  int kept;                    // rank + 1
   std::vector<float>* lowest;  // kept values per voxel, +inf where unfilled
   bool Wants(int64_t i) const { return (*lowest)[i * kept + kept - 1] != 0.0f; }
   void operator()(int, int64_t i, double mean) const {

@@ -61,8 +61,8 @@ cv::Mat EvidenceMap(const cv::Mat& rgb, const cv::Mat& plate, const EvidencePara
 }
 
 std::vector<cv::Vec3f> BorderPixels(const cv::Mat& rgb, double border_fraction) {
-  const int strip = std::max(2, static_cast<int>(std::lround(border_fraction *
-                                                             std::min(rgb.cols, rgb.rows))));
+  const int strip =
+      std::max(2, static_cast<int>(std::lround(border_fraction * std::min(rgb.cols, rgb.rows))));
   std::vector<cv::Vec3f> pixels;
   for (int y = 0; y < rgb.rows; ++y) {
     const bool full_row = y < strip || y >= rgb.rows - strip;
@@ -96,10 +96,10 @@ cv::Mat InitialSelection(const cv::Mat& rgb, const cv::Vec3f& seed,
   std::vector<double> lum(border.size());
   for (size_t i = 0; i < border.size(); ++i) lum[i] = Luminance(border[i]);
   const double seed_lum = Luminance(seed);
-  const double lo = std::min(Quantile(lum, kBorderLowPercentile), seed_lum) -
-                    options.luminance_tolerance;
-  const double hi = std::max(Quantile(lum, kBorderHighPercentile), seed_lum) +
-                    options.luminance_tolerance;
+  const double lo =
+      std::min(Quantile(lum, kBorderLowPercentile), seed_lum) - options.luminance_tolerance;
+  const double hi =
+      std::max(Quantile(lum, kBorderHighPercentile), seed_lum) + options.luminance_tolerance;
   const double dark_norm = options.dark_level * std::sqrt(3.0);
   cv::Mat selection(rgb.size(), CV_32F);
   for (int y = 0; y < rgb.rows; ++y) {
@@ -159,8 +159,8 @@ cv::Mat EstimatePlate(const cv::Mat& rgb, const cv::Vec3f& seed,
 BackdropKey EstimateBackdropKey(const cv::Mat& rgb, const MattingOptions& options) {
   const std::vector<cv::Vec3f> border = BorderPixels(rgb, options.border_fraction);
   const std::optional<std::array<double, 3>> given = ParseBackdropColor(options.backdrop_color);
-  const cv::Vec3f seed = given ? cv::Vec3f((*given)[0], (*given)[1], (*given)[2])
-                               : MedianColor(border);
+  const cv::Vec3f seed =
+      given ? cv::Vec3f((*given)[0], (*given)[1], (*given)[2]) : MedianColor(border);
   const EvidenceParams params = MakeParams(options);
   size_t agreeing = 0;
   for (const cv::Vec3f& p : border) agreeing += Evidence(p, seed, params) < 1.0;
@@ -170,8 +170,8 @@ BackdropKey EstimateBackdropKey(const cv::Mat& rgb, const MattingOptions& option
   return key;
 }
 
-cv::Mat BackdropEvidence(const cv::Mat& rgb, const MattingOptions& options,
-                         const BackdropKey& key, const cv::Mat& background_rgb) {
+cv::Mat BackdropEvidence(const cv::Mat& rgb, const MattingOptions& options, const BackdropKey& key,
+                         const cv::Mat& background_rgb) {
   cv::Mat plate;
   if (!background_rgb.empty()) {
     plate = background_rgb;

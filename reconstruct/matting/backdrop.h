@@ -39,8 +39,8 @@ BackdropKey EstimateBackdropKey(const cv::Mat& rgb, const MattingOptions& option
 
 // Per-pixel evidence E (CV_32F) against the estimated clean plate, or
 // against `background_rgb` if it is not empty.
-cv::Mat BackdropEvidence(const cv::Mat& rgb, const MattingOptions& options,
-                         const BackdropKey& key, const cv::Mat& background_rgb);
+cv::Mat BackdropEvidence(const cv::Mat& rgb, const MattingOptions& options, const BackdropKey& key,
+                         const cv::Mat& background_rgb);
 
 }  // namespace sylva
 

@@ -30,8 +30,8 @@ struct BandSystem {
   int height = 0;
   std::vector<int32_t> unknown_of_pixel;  // -1 for known pixels
   std::vector<int32_t> pixel_of_unknown;
-  std::vector<double> known_alpha;        // 0 or 1 per pixel (unknown: 0)
-  std::vector<double> slots;              // kSlotsPerRow per unknown
+  std::vector<double> known_alpha;  // 0 or 1 per pixel (unknown: 0)
+  std::vector<double> slots;        // kSlotsPerRow per unknown
   Eigen::VectorXd rhs;
 };
 
@@ -86,9 +86,8 @@ void AddWindow(const FloatImage& photo, int centre, double epsilon, BandSystem* 
   }
   const Eigen::RowVector3d mean = colours.colwise().mean();
   const Eigen::Matrix<double, kWindowPixels, 3> centred = colours.rowwise() - mean;
-  const Eigen::Matrix3d covariance =
-      centred.transpose() * centred / kWindowPixels +
-      (epsilon / kWindowPixels) * Eigen::Matrix3d::Identity();
+  const Eigen::Matrix3d covariance = centred.transpose() * centred / kWindowPixels +
+                                     (epsilon / kWindowPixels) * Eigen::Matrix3d::Identity();
   const Eigen::Matrix<double, kWindowPixels, kWindowPixels> affinity =
       (Eigen::Matrix<double, kWindowPixels, kWindowPixels>::Ones() +
        centred * covariance.inverse() * centred.transpose()) /
@@ -100,8 +99,9 @@ void AddWindow(const FloatImage& photo, int centre, double epsilon, BandSystem* 
       const double value = (a == b ? 1.0 : 0.0) - affinity(a, b);
       const int32_t col = system->unknown_of_pixel[pixels[b]];
       if (col >= 0) {
-        system->slots[static_cast<size_t>(row) * kSlotsPerRow +
-                      Slot(b % 3 - a % 3, b / 3 - a / 3)] += value;
+        system
+            ->slots[static_cast<size_t>(row) * kSlotsPerRow + Slot(b % 3 - a % 3, b / 3 - a / 3)] +=
+            value;
       } else {
         system->rhs[row] -= value * system->known_alpha[pixels[b]];
       }
@@ -122,7 +122,8 @@ RowMatrix AssembleMatrix(const BandSystem& system, double prior_weight) {
         double value = system.slots[row * kSlotsPerRow + Slot(dx, dy)];
         if (dx == 0 && dy == 0) value += prior_weight;
         if (value == 0.0) continue;
-        const int32_t col = system.unknown_of_pixel[static_cast<size_t>(y + dy) * system.width + x + dx];
+        const int32_t col =
+            system.unknown_of_pixel[static_cast<size_t>(y + dy) * system.width + x + dx];
         matrix.insert(row, col) = value;
       }
     }
@@ -142,8 +143,7 @@ void SolveConjugateGradient(const RowMatrix& a, const Eigen::VectorXd& b,
   double rz = r.dot(z);
   const double b_norm = std::max(b.norm(), 1e-30);
   int iteration = 0;
-  for (; iteration < options.max_iterations && r.norm() > options.tolerance * b_norm;
-       ++iteration) {
+  for (; iteration < options.max_iterations && r.norm() > options.tolerance * b_norm; ++iteration) {
     if (progress != nullptr && iteration % kProgressInterval == 0) {
       progress->Update(static_cast<double>(iteration) / options.max_iterations);
     }
@@ -165,8 +165,8 @@ void SolveConjugateGradient(const RowMatrix& a, const Eigen::VectorXd& b,
 FloatImage ClosedFormMatte(const FloatImage& photo, const FloatImage& trimap,
                            const ClosedFormOptions& options, ProgressTask* progress,
                            ClosedFormSummary* summary) {
-  SYLVA_CHECK(photo.channels() >= 3 && trimap.channels() == 1 &&
-              photo.width() == trimap.width() && photo.height() == trimap.height());
+  SYLVA_CHECK(photo.channels() >= 3 && trimap.channels() == 1 && photo.width() == trimap.width() &&
+              photo.height() == trimap.height());
   BandSystem system = IndexUnknowns(trimap);
   ClosedFormSummary local_summary;
   local_summary.num_unknown = static_cast<int64_t>(system.pixel_of_unknown.size());

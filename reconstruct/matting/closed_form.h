@@ -24,10 +24,10 @@
 namespace sylva {
 
 struct ClosedFormOptions {
-  double epsilon = 1e-5;        // colour-line regulariser (colours in [0, 1])
-  int max_iterations = 2000;    // conjugate-gradient iterations
-  double tolerance = 1e-6;      // stop at |residual| <= tolerance |rhs|
-  double prior_weight = 1e-6;   // lambda above
+  double epsilon = 1e-5;       // colour-line regulariser (colours in [0, 1])
+  int max_iterations = 2000;   // conjugate-gradient iterations
+  double tolerance = 1e-6;     // stop at |residual| <= tolerance |rhs|
+  double prior_weight = 1e-6;  // lambda above
 };
 
 struct ClosedFormSummary {

@@ -25,8 +25,7 @@ cv::Mat RgbToMat(const FloatImage& photo) {
 
 cv::Mat GrayToMat(const FloatImage& image) {
   SYLVA_CHECK(image.channels() == 1) << "expected one channel";
-  return cv::Mat(image.height(), image.width(), CV_32FC1, const_cast<float*>(image.data()))
-      .clone();
+  return cv::Mat(image.height(), image.width(), CV_32FC1, const_cast<float*>(image.data())).clone();
 }
 
 FloatImage MatToImage(const cv::Mat& mat) {
@@ -34,8 +33,7 @@ FloatImage MatToImage(const cv::Mat& mat) {
   FloatImage image(mat.cols, mat.rows, mat.channels());
   const size_t row_floats = static_cast<size_t>(mat.cols) * mat.channels();
   for (int y = 0; y < mat.rows; ++y) {
-    std::copy(mat.ptr<float>(y), mat.ptr<float>(y) + row_floats,
-              image.data() + y * row_floats);
+    std::copy(mat.ptr<float>(y), mat.ptr<float>(y) + row_floats, image.data() + y * row_floats);
   }
   return image;
 }

@@ -60,8 +60,8 @@ cv::Mat GuidedUpsample(const cv::Mat& small_rgb, const cv::Mat& small_alpha,
   cv::Mat alpha(full_rgb.size(), CV_32F);
   for (int y = 0; y < full_rgb.rows; ++y) {
     for (int x = 0; x < full_rgb.cols; ++x) {
-      const float value = full_a.at<cv::Vec3f>(y, x).dot(full_rgb.at<cv::Vec3f>(y, x)) +
-                          full_b.at<float>(y, x);
+      const float value =
+          full_a.at<cv::Vec3f>(y, x).dot(full_rgb.at<cv::Vec3f>(y, x)) + full_b.at<float>(y, x);
       alpha.at<float>(y, x) = std::min(1.0f, std::max(0.0f, value));
     }
   }

@@ -128,7 +128,8 @@ cv::Mat MovingUnion(const std::vector<FloatImage>& mattes, const std::vector<int
 // by a pixel so that what touches them is next to them.
 cv::Mat NearSubject(const cv::Mat& moving) {
   cv::Mat labels, stats, centroids;
-  const int num_labels = cv::connectedComponentsWithStats(moving, labels, stats, centroids, 8, CV_32S);
+  const int num_labels =
+      cv::connectedComponentsWithStats(moving, labels, stats, centroids, 8, CV_32S);
   int largest = 0;
   for (int label = 1; label < num_labels; ++label) {
     largest = std::max(largest, stats.at<int>(label, cv::CC_STAT_AREA));
@@ -241,7 +242,8 @@ int MatteSetFactor(int width, int height, const MatteSetOptions& options) {
 
 FloatImage SmallMatte(const FloatImage& matte, int factor) {
   SYLVA_CHECK(factor >= 1 && matte.channels() == 1);
-  FloatImage small((matte.width() + factor - 1) / factor, (matte.height() + factor - 1) / factor, 1);
+  FloatImage small((matte.width() + factor - 1) / factor, (matte.height() + factor - 1) / factor,
+                   1);
   for (int y = 0; y < matte.height(); ++y) {
     for (int x = 0; x < matte.width(); ++x) {
       float& value = small.at(x / factor, y / factor);
@@ -266,7 +268,8 @@ std::vector<FloatImage> FindStaticStructure(const std::vector<FloatImage>& small
         needed);
     cv::Mat structure = RigStructure(pixels, small_mattes, group);
     if (cv::countNonZero(structure) < kMinStructureShare * structure.total()) continue;
-    if (options.static_margin_px > 0) cv::dilate(structure, structure, Disk(options.static_margin_px));
+    if (options.static_margin_px > 0)
+      cv::dilate(structure, structure, Disk(options.static_margin_px));
     int64_t foreground = 0, moving = 0;
     CountMoving(small_mattes, group, structure, &foreground, &moving);
     const double moving_share = foreground > 0 ? static_cast<double>(moving) / foreground : 0.0;
@@ -281,11 +284,11 @@ std::vector<FloatImage> FindStaticStructure(const std::vector<FloatImage>& small
     }
     const double structure_share = static_cast<double>(cv::countNonZero(structure)) /
                                    (static_cast<double>(structure.rows) * structure.cols);
-    warnings->push_back({"static-structure",
-                         photos + ": " + Percent(structure_share) +
-                             " of the image is foreground at the same pixels in every photo "
-                             "(a fixed camera's rig: frame, rails, pot holder) and was made "
-                             "background (MatteSet.remove_static=false keeps it)"});
+    warnings->push_back(
+        {"static-structure", photos + ": " + Percent(structure_share) +
+                                 " of the image is foreground at the same pixels in every photo "
+                                 "(a fixed camera's rig: frame, rails, pot holder) and was made "
+                                 "background (MatteSet.remove_static=false keeps it)"});
     const FloatImage image = StructureImage(structure);
     for (int i : group) structures[i] = image;
   }

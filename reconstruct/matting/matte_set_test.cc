@@ -88,7 +88,8 @@ TEST(MatteSetTest, RigStructureGoesAndTheTreeStays) {
   EXPECT_EQ(warnings[0].code, "static-structure") << warnings[0].message;
   for (size_t v = 0; v < set.photos.size(); ++v) {
     const SilhouetteScores before = CompareSilhouettes(set.mattes[v], set.truth[v]);
-    const SilhouetteScores after = CompareSilhouettes(Without(set.mattes[v], structure[v]), set.truth[v]);
+    const SilhouetteScores after =
+        CompareSilhouettes(Without(set.mattes[v], structure[v]), set.truth[v]);
     std::printf("view %zu: IoU %.3f before, %.3f after; recall %.3f\n", v, before.iou, after.iou,
                 after.recall);
     EXPECT_LT(before.iou, 0.7);

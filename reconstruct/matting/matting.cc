@@ -42,8 +42,7 @@ void CheckHint(const FloatImage& hint, int width, int height) {
   for (size_t i = 0; i < hint.NumPixels(); ++i) {
     const float h = hint.values()[i];
     SYLVA_CHECK_INPUT(std::isfinite(h) && h >= 0.0f && h <= 1.0f, "hint trimap")
-        << "value " << h << " at pixel (" << i % width << ", " << i / width
-        << ") is not in [0, 1]";
+        << "value " << h << " at pixel (" << i % width << ", " << i / width << ") is not in [0, 1]";
   }
 }
 
@@ -58,11 +57,11 @@ std::string MattingSummary::BriefReport() const {
         << ", border agreement " << std::lround(100 * border_agreement) << " %)";
   }
   if (hint_used) out << " + painted hint";
-  out << "; " << num_foreground << " foreground, " << num_unknown << " unknown, "
-      << num_background << " background pixels; refined at 1/" << refine_factor;
+  out << "; " << num_foreground << " foreground, " << num_unknown << " unknown, " << num_background
+      << " background pixels; refined at 1/" << refine_factor;
   if (solver_iterations > 0) out << " (" << solver_iterations << " CG iterations)";
-  out << "; " << seconds_trimap << " s trimap, " << seconds_refine << " s refine, "
-      << seconds_total << " s total";
+  out << "; " << seconds_trimap << " s trimap, " << seconds_refine << " s refine, " << seconds_total
+      << " s total";
   return out.str();
 }
 

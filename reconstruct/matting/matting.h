@@ -181,13 +181,13 @@ struct MattingOptions {
 
 // What ComputeMatte did, for logs and reports.
 struct MattingSummary {
-  std::string trimap_source;                    // "backdrop", "difference", "grabcut"
+  std::string trimap_source;                       // "backdrop", "difference", "grabcut"
   std::array<double, 3> backdrop_rgb = {0, 0, 0};  // seed colour in [0, 1] (backdrop only)
   double border_agreement = 0.0;  // fraction of border pixels matching backdrop_rgb
   bool hint_used = false;
   int64_t num_foreground = 0, num_background = 0, num_unknown = 0;  // final trimap
-  int refine_factor = 1;          // integer downsampling factor of the refinement
-  int solver_iterations = 0;      // closed-form conjugate gradient
+  int refine_factor = 1;      // integer downsampling factor of the refinement
+  int solver_iterations = 0;  // closed-form conjugate gradient
   double seconds_trimap = 0, seconds_refine = 0, seconds_total = 0;
 
   std::string BriefReport() const;

@@ -85,17 +85,16 @@ std::optional<RegionFraction> ParseRegion(const std::string& text) {
   if (text.empty()) return std::nullopt;
   const std::vector<double> v =
       ParseNumbers(text, 4, "Matting.region", "'' or 'x0,y0,x1,y1' (fractions of the photo)");
-  SYLVA_CHECK_INPUT(v[0] >= 0 && v[1] >= 0 && v[2] <= 1 && v[3] <= 1 && v[0] < v[2] &&
-                        v[1] < v[3],
+  SYLVA_CHECK_INPUT(v[0] >= 0 && v[1] >= 0 && v[2] <= 1 && v[3] <= 1 && v[0] < v[2] && v[1] < v[3],
                     "Matting.region")
       << "needs 0 <= x0 < x1 <= 1 and 0 <= y0 < y1 <= 1, got '" << text << "'";
   return RegionFraction{v[0], v[1], v[2], v[3]};
 }
 
 void MattingOptions::Check() const {
-  SYLVA_CHECK_INPUT(trimap == "auto" || trimap == "backdrop" || trimap == "difference" ||
-                        trimap == "grabcut",
-                    "Matting.trimap")
+  SYLVA_CHECK_INPUT(
+      trimap == "auto" || trimap == "backdrop" || trimap == "difference" || trimap == "grabcut",
+      "Matting.trimap")
       << "must be 'auto', 'backdrop', 'difference' or 'grabcut', got '" << trimap << "'";
   SYLVA_CHECK_INPUT(auto_backdrop_fraction >= 0 && auto_backdrop_fraction <= 1,
                     "Matting.auto_backdrop_fraction")
@@ -129,8 +128,7 @@ void MattingOptions::Check() const {
       << "must be between 1 and 101 pixels, got " << reject_min_width_px;
   SYLVA_CHECK_INPUT(reject_margin_px >= 0 && reject_margin_px <= 100, "Matting.reject_margin_px")
       << "must be between 0 and 100 pixels, got " << reject_margin_px;
-  SYLVA_CHECK_INPUT(reject_below_value >= 0 && reject_below_value < 1,
-                    "Matting.reject_below_value")
+  SYLVA_CHECK_INPUT(reject_below_value >= 0 && reject_below_value < 1, "Matting.reject_below_value")
       << "must be in [0, 1), got " << reject_below_value;
   ParseRegion(region);
   SYLVA_CHECK_INPUT(grabcut_iterations >= 1 && grabcut_iterations <= 100,

@@ -182,8 +182,7 @@ void Hsv(const FloatImage& photo, int x, int y, double* hue, double* saturation,
 // of the dataset's own crude matte, whose min > 95 also takes the dim blended
 // edges) and drops the strongly orange ones.
 TEST(MattingTest, RomiKeepsStemsAndRejectsOrange) {
-  const FloatImage photo =
-      ReadImage(kData + "romi-real-plant-24/images/pict20190201_110110_0.jpg");
+  const FloatImage photo = ReadImage(kData + "romi-real-plant-24/images/pict20190201_110110_0.jpg");
   MattingOptions options;
   options.reject_hues = "330-35";
   MattingSummary summary;
@@ -301,8 +300,7 @@ TEST(MattingTest, BadInputsThrowNamingTheProblem) {
   ExpectInputError([&] { RefineMatte(photo, trimap, options); }, "trimap");
   ExpectInputError([&] { ComputeMatte(photo.Channel(0), {}, {}, options); }, "photo");
   ExpectInputError([&] { ComputeMatte(FloatImage(4, 4, 3), {}, {}, options); }, "photo");
-  ExpectInputError([&] { ComputeMatte(photo, FloatImage(3, 3, 1), {}, options); },
-                   "hint trimap");
+  ExpectInputError([&] { ComputeMatte(photo, FloatImage(3, 3, 1), {}, options); }, "hint trimap");
   ExpectInputError([&] { ComputeMatte(photo, {}, FloatImage(3, 3, 3), options); },
                    "background photo");
   MattingOptions difference;

@@ -1,5 +1,6 @@
 // RefineMatte (matting.h): alpha for the unknown pixels of a trimap.
 #include <opencv2/core.hpp>  // alphamat.hpp needs it first
+
 #include <opencv2/alphamat.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -81,7 +82,7 @@ cv::Mat InfoFlowAlpha(const cv::Mat& rgb, const cv::Mat& classified) {
   if (num_foreground < kMinKnownSamples || num_background < kMinKnownSamples) {
     // Too few samples of one label for information flow: the unknown pixels
     // take the label that is present (0.5 if neither is).
-    const float fill = num_foreground >= kMinKnownSamples ? 1.0f
+    const float fill = num_foreground >= kMinKnownSamples   ? 1.0f
                        : num_background >= kMinKnownSamples ? 0.0f
                                                             : kTrimapUnknown;
     alpha.setTo(fill, unknown);
@@ -108,16 +109,15 @@ cv::Mat ClosedFormAlpha(const cv::Mat& rgb, const cv::Mat& classified,
   solver.tolerance = options.closed_form_tolerance;
   solver.prior_weight = options.closed_form_prior_weight;
   ClosedFormSummary solver_summary;
-  const FloatImage alpha = ClosedFormMatte(MatToImage(rgb), MatToImage(classified), solver,
-                                           progress, &solver_summary);
+  const FloatImage alpha =
+      ClosedFormMatte(MatToImage(rgb), MatToImage(classified), solver, progress, &solver_summary);
   if (summary != nullptr) summary->solver_iterations = solver_summary.iterations;
   return GrayToMat(alpha);
 }
 
 // Alpha of the classified trimap's unknown pixels at the trimap's resolution.
-cv::Mat RefineAtScale(const cv::Mat& rgb, const cv::Mat& classified,
-                      const MattingOptions& options, ProgressTask* progress,
-                      MattingSummary* summary) {
+cv::Mat RefineAtScale(const cv::Mat& rgb, const cv::Mat& classified, const MattingOptions& options,
+                      ProgressTask* progress, MattingSummary* summary) {
   if (options.refine == "alphamat") return InfoFlowAlpha(rgb, classified);
   SYLVA_CHECK(options.refine == "closed_form") << options.refine;
   return ClosedFormAlpha(rgb, classified, options, progress, summary);
@@ -127,8 +127,8 @@ void CheckTrimap(const FloatImage& trimap, const FloatImage& photo) {
   SYLVA_CHECK_INPUT(trimap.channels() == 1, "trimap")
       << "must have one channel, got " << trimap.channels();
   SYLVA_CHECK_INPUT(trimap.width() == photo.width() && trimap.height() == photo.height(), "trimap")
-      << "is " << trimap.width() << "x" << trimap.height() << " but the photo is "
-      << photo.width() << "x" << photo.height();
+      << "is " << trimap.width() << "x" << trimap.height() << " but the photo is " << photo.width()
+      << "x" << photo.height();
   for (size_t i = 0; i < trimap.NumPixels(); ++i) {
     const float v = trimap.values()[i];
     SYLVA_CHECK_INPUT(std::isfinite(v) && v >= 0.0f && v <= 1.0f, "trimap")
@@ -160,8 +160,8 @@ FloatImage RefineMatte(const FloatImage& photo, const FloatImage& trimap,
     const cv::Size small_size = ReducedSize(rgb.size(), factor);
     cv::Mat small_rgb;
     cv::resize(rgb, small_rgb, small_size, 0, 0, cv::INTER_AREA);
-    const cv::Mat small_alpha = RefineAtScale(small_rgb, ReduceTrimap(classified, small_size),
-                                              options, progress, summary);
+    const cv::Mat small_alpha =
+        RefineAtScale(small_rgb, ReduceTrimap(classified, small_size), options, progress, summary);
     alpha = GuidedUpsample(small_rgb, small_alpha, rgb, options.upsample_radius,
                            options.upsample_epsilon);
   }

@@ -89,9 +89,9 @@ cv::Mat RejectedMask(const cv::Mat& rgb, const MattingOptions& options) {
   if (!ranges.empty()) {
     const cv::Mat seeds =
         HueMask(hsv, ranges, options.reject_min_saturation, options.reject_min_value);
-    const cv::Mat weak = HueMask(hsv, ranges,
-                                 kRejectWeakSaturationFactor * options.reject_min_saturation,
-                                 options.reject_min_value);
+    const cv::Mat weak =
+        HueMask(hsv, ranges, kRejectWeakSaturationFactor * options.reject_min_saturation,
+                options.reject_min_value);
     rejected |= CleanRejected(seeds, weak, options);
   }
   if (options.reject_below_value > 0) {
@@ -150,8 +150,10 @@ cv::Mat GrabCutForeground(const cv::Mat& rgb, const cv::Mat& hard_background,
   cv::resize(rgb, small_rgb, small_size, 0, 0, cv::INTER_AREA);
   cv::resize(hard_background, small_hard, small_size, 0, 0, cv::INTER_NEAREST);
   cv::Mat mask(small_size, CV_8U, cv::Scalar(cv::GC_BGD));
-  const int margin_x = std::max(1, static_cast<int>(std::lround(options.grabcut_margin * small_size.width)));
-  const int margin_y = std::max(1, static_cast<int>(std::lround(options.grabcut_margin * small_size.height)));
+  const int margin_x =
+      std::max(1, static_cast<int>(std::lround(options.grabcut_margin * small_size.width)));
+  const int margin_y =
+      std::max(1, static_cast<int>(std::lround(options.grabcut_margin * small_size.height)));
   mask(cv::Rect(margin_x, margin_y, small_size.width - 2 * margin_x,
                 small_size.height - 2 * margin_y))
       .setTo(cv::GC_PR_FGD);
@@ -197,8 +199,8 @@ std::string ResolveSource(const MattingOptions& options, const FloatImage& backg
 void CheckPhoto(const FloatImage& photo, const char* what) {
   SYLVA_CHECK_INPUT(!photo.empty(), what) << "is empty";
   SYLVA_CHECK_INPUT(photo.width() >= kMinPhotoSide && photo.height() >= kMinPhotoSide, what)
-      << "is " << photo.width() << "x" << photo.height() << " pixels; at least "
-      << kMinPhotoSide << "x" << kMinPhotoSide << " are needed";
+      << "is " << photo.width() << "x" << photo.height() << " pixels; at least " << kMinPhotoSide
+      << "x" << kMinPhotoSide << " are needed";
   SYLVA_CHECK_INPUT(photo.channels() == 3 || photo.channels() == 4, what)
       << "must be RGB or RGBA, got " << photo.channels() << " channels";
   for (float v : photo.values()) {
@@ -210,9 +212,9 @@ void CheckPhotos(const FloatImage& photo, const FloatImage& background_photo) {
   CheckPhoto(photo, "photo");
   if (background_photo.empty()) return;
   CheckPhoto(background_photo, "background photo");
-  SYLVA_CHECK_INPUT(background_photo.width() == photo.width() &&
-                        background_photo.height() == photo.height(),
-                    "background photo")
+  SYLVA_CHECK_INPUT(
+      background_photo.width() == photo.width() && background_photo.height() == photo.height(),
+      "background photo")
       << "is " << background_photo.width() << "x" << background_photo.height()
       << " but the photo is " << photo.width() << "x" << photo.height();
 }
@@ -225,7 +227,8 @@ FloatImage ComputeAutomaticTrimap(const FloatImage& photo, const MattingOptions&
   const std::string source = ResolveSource(options, background_photo, key);
   SYLVA_CHECK_INPUT(source != "difference" || !background_photo.empty(), "Matting.trimap")
       << "'difference' needs a background photo";
-  const cv::Mat hard_background = RejectedMask(rgb, options) | OutsideRegionMask(rgb.size(), options);
+  const cv::Mat hard_background =
+      RejectedMask(rgb, options) | OutsideRegionMask(rgb.size(), options);
   cv::Mat labels;
   if (source == "grabcut") {
     int factor = 1;

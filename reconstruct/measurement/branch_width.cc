@@ -74,8 +74,9 @@ float EdgeRadiusInView(const View& view, const Camera& camera, const cv::Mat& di
 
 // The value at `quantile` of the finite values, or NaN when fewer than `needed`.
 double Quantile(std::vector<float> values, double quantile, int needed) {
-  values.erase(std::remove_if(values.begin(), values.end(), [](float v) { return !std::isfinite(v); }),
-               values.end());
+  values.erase(
+      std::remove_if(values.begin(), values.end(), [](float v) { return !std::isfinite(v); }),
+      values.end());
   if (static_cast<int>(values.size()) < needed || values.empty()) return kUnmeasured;
   const size_t k = static_cast<size_t>(std::floor(quantile * (values.size() - 1)));
   std::nth_element(values.begin(), values.begin() + k, values.end());
@@ -163,7 +164,8 @@ BranchWidthSummary MeasureBranchRadii(const ImageSet& views, const std::vector<F
     std::vector<double> ratios;
     for (size_t j = 1; j < axis.size(); ++j) {
       const int i = axis[j];
-      const double edge = (skeleton->nodes[i].position - skeleton->nodes[axis[j - 1]].position).norm();
+      const double edge =
+          (skeleton->nodes[i].position - skeleton->nodes[axis[j - 1]].position).norm();
       length += edge;
       if (std::isfinite(measured[i]) && prior[i] > 0) ratios.push_back(measured[i] / prior[i]);
     }

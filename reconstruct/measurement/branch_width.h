@@ -62,10 +62,10 @@ struct BranchWidthOptions {
 
 struct BranchWidthSummary {
   int num_axes = 0;
-  int measured_axes = 0;        // scaled by their own measurement
-  double measured_length = 0;   // world units, in measured axes
+  int measured_axes = 0;       // scaled by their own measurement
+  double measured_length = 0;  // world units, in measured axes
   double total_length = 0;
-  double trunk_scale = 1.0;     // the trunk axis' measured / prior (1 if not measured)
+  double trunk_scale = 1.0;  // the trunk axis' measured / prior (1 if not measured)
   std::string BriefReport() const;
 };
 

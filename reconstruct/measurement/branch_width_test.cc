@@ -50,8 +50,8 @@ TEST(BranchWidthTest, MeasuresALeaflessTreesBranches) {
   AssignPipeModelRadii(allometry, &skeleton);
   const std::map<int, double> before = RatioByOrder(skeleton, truth);
 
-  const BranchWidthSummary summary = MeasureBranchRadii(data.image_set, data.mattes, true, false,
-                                                        BranchWidthOptions(), &skeleton);
+  const BranchWidthSummary summary =
+      MeasureBranchRadii(data.image_set, data.mattes, true, false, BranchWidthOptions(), &skeleton);
   const std::map<int, double> after = RatioByOrder(skeleton, truth);
   std::printf("%s\n", summary.BriefReport().c_str());
   for (const auto& [order, ratio] : after) {
@@ -61,7 +61,7 @@ TEST(BranchWidthTest, MeasuresALeaflessTreesBranches) {
   EXPECT_EQ(skeleton.radius_source, kMattesMeasured);
   EXPECT_GT(summary.measured_length, 0.5 * summary.total_length);
   // Measured 1.003, 0.956, 0.925, 1.015 against 0.34-0.51 before.
-  EXPECT_NEAR(after.at(0), 1.0, 0.1);  // the trunk
+  EXPECT_NEAR(after.at(0), 1.0, 0.1);   // the trunk
   EXPECT_NEAR(after.at(1), 1.0, 0.15);  // its branches
   EXPECT_NEAR(after.at(2), 1.0, 0.2);
   EXPECT_NEAR(after.at(3), 1.0, 0.2);
@@ -77,11 +77,12 @@ TEST(BranchWidthTest, ModesAndAGivenTrunk) {
   BranchWidthOptions options;
   // auto: a leafy plant keeps the prior.
   SkeletonGraph leafy = prior;
-  EXPECT_EQ(MeasureBranchRadii(data.image_set, data.mattes, false, false, options, &leafy)
-                .measured_axes,
-            0);
+  EXPECT_EQ(
+      MeasureBranchRadii(data.image_set, data.mattes, false, false, options, &leafy).measured_axes,
+      0);
   EXPECT_EQ(leafy.radius_source, kAllometricPrior);
-  for (int i = 0; i < prior.NumNodes(); ++i) EXPECT_EQ(leafy.nodes[i].radius, prior.nodes[i].radius);
+  for (int i = 0; i < prior.NumNodes(); ++i)
+    EXPECT_EQ(leafy.nodes[i].radius, prior.nodes[i].radius);
   // A given trunk keeps its radii; its branches are still measured.
   SkeletonGraph kept = prior;
   const BranchWidthSummary summary =

@@ -567,9 +567,9 @@ CommandOutcome MapWithRetries(RunContext* context, const fs::path& image_list,
     const bool relaxed = first_seed + attempt > 0;
     CommandOutcome outcome;
     try {
-      outcome = RunStep(context, "mapper",
-                        MappingFlags(*context, image_list, output, seeded, relaxed), seeded,
-                        progress, task);
+      outcome =
+          RunStep(context, "mapper", MappingFlags(*context, image_list, output, seeded, relaxed),
+                  seeded, progress, task);
     } catch (const RegistrationError&) {
       if (first) throw;
       result->notes.push_back("COLMAP mapper retry " + std::to_string(first_seed + attempt) +
@@ -739,11 +739,10 @@ ColmapResult RunColmap(const fs::path& photos_dir, const std::vector<std::string
   std::error_code ec;
   const bool can_rematch =
       fs::copy_file(context.database, features_database, fs::copy_options::overwrite_existing, ec);
-  result.matching_seconds =
-      RunStep(&context, result.matcher + "_matcher",
-              MatchingFlags(context, result.matcher, options, false), options, matching_progress,
-              matching)
-          .seconds;
+  result.matching_seconds = RunStep(&context, result.matcher + "_matcher",
+                                    MatchingFlags(context, result.matcher, options, false), options,
+                                    matching_progress, matching)
+                                .seconds;
   CommandOutcome mapping =
       MapWithRetries(&context, image_list, workspace, options, 0, mapping_task, &result);
 
@@ -756,11 +755,10 @@ ColmapResult RunColmap(const fs::path& photos_dir, const std::vector<std::string
                            " photos at first; matched again (guided) and mapped again");
     SYLVA_LOG(kWarning) << result.notes.back();
     fs::copy_file(features_database, context.database, fs::copy_options::overwrite_existing);
-    result.matching_seconds +=
-        RunStep(&context, result.matcher + "_matcher",
-                MatchingFlags(context, result.matcher, options, true), options, matching_progress,
-                matching)
-            .seconds;
+    result.matching_seconds += RunStep(&context, result.matcher + "_matcher",
+                                       MatchingFlags(context, result.matcher, options, true),
+                                       options, matching_progress, matching)
+                                   .seconds;
     ++result.matching_runs;
     CommandOutcome again = MapWithRetries(&context, image_list, workspace, options,
                                           options.mapper_attempts, mapping_task, &result);

@@ -402,20 +402,26 @@ TEST(ColmapRunnerTest, TooFewRegisteredPhotosAreMatchedAgain) {
   WriteModel(scratch.path() / "strong" / "0", names);
   const fs::path guided = scratch.path() / "guided";
   const fs::path script = scratch.path() / "stand_in_colmap.sh";
-  AtomicWriteString(
-      script, "#!/bin/sh\ncommand=$1\nout=\ndb=\nguide=0\n"
-              "while [ $# -gt 0 ]; do\n"
-              "  [ \"$1\" = --output_path ] && out=$2\n"
-              "  [ \"$1\" = --database_path ] && db=$2\n"
-              "  [ \"$1\" = --SiftMatching.guided_matching ] && guide=$2\n"
-              "  shift\ndone\n"
-              "[ \"$command\" = feature_extractor ] && echo features > \"$db\"\n"
-              "[ \"$guide\" = 1 ] && touch '" + guided.string() + "'\n"
-              "if [ \"$command\" = mapper ]; then\n"
-              "  if [ -e '" + guided.string() + "' ]; then cp -r '" +
-              (scratch.path() / "strong").string() + "'/. \"$out\"/\n"
-              "  else cp -r '" + (scratch.path() / "weak").string() + "'/. \"$out\"/; fi\n"
-              "fi\nexit 0\n");
+  AtomicWriteString(script,
+                    "#!/bin/sh\ncommand=$1\nout=\ndb=\nguide=0\n"
+                    "while [ $# -gt 0 ]; do\n"
+                    "  [ \"$1\" = --output_path ] && out=$2\n"
+                    "  [ \"$1\" = --database_path ] && db=$2\n"
+                    "  [ \"$1\" = --SiftMatching.guided_matching ] && guide=$2\n"
+                    "  shift\ndone\n"
+                    "[ \"$command\" = feature_extractor ] && echo features > \"$db\"\n"
+                    "[ \"$guide\" = 1 ] && touch '" +
+                        guided.string() +
+                        "'\n"
+                        "if [ \"$command\" = mapper ]; then\n"
+                        "  if [ -e '" +
+                        guided.string() + "' ]; then cp -r '" +
+                        (scratch.path() / "strong").string() +
+                        "'/. \"$out\"/\n"
+                        "  else cp -r '" +
+                        (scratch.path() / "weak").string() +
+                        "'/. \"$out\"/; fi\n"
+                        "fi\nexit 0\n");
   fs::permissions(script, fs::perms::owner_all);
   ColmapOptions options = FastOptions();
   options.executable = script.string();

@@ -15,31 +15,33 @@
 
 #include "core/util/check.h"
 #include "core/util/random.h"
-#include "reconstruct/attractors/livewire.h"
-#include "simulate/particle_flow.h"
 #include "datasets/eval/graph_metrics.h"
 #include "datasets/eval/point_metrics.h"
 #include "datasets/synthetic/synthetic_dataset.h"
+#include "reconstruct/attractors/livewire.h"
 #include "reconstruct/density/density_reconstruction.h"
+#include "simulate/particle_flow.h"
+#include "tests/bench/probe_main.h"
 #include "ui/pipeline/report.h"
 #include "ui/pipeline/tree_building.h"
-#include "tests/bench/probe_main.h"
 
 namespace sylva {
 namespace {
 
 struct Result {
-  double chamfer_2d_px = 0, ours_to_truth = 0, truth_to_ours = 0, chamfer_3d = 0, mean_iou = 0, min_iou = 1;
+  double chamfer_2d_px = 0, ours_to_truth = 0, truth_to_ours = 0, chamfer_3d = 0, mean_iou = 0,
+         min_iou = 1;
 };
 
-Result Evaluate(const SyntheticDataset& data, const BuiltSkeleton& built, const DensityGrid& density,
-                const PipelineOptions& options) {
+Result Evaluate(const SyntheticDataset& data, const BuiltSkeleton& built,
+                const DensityGrid& density, const PipelineOptions& options) {
   Result result;
   const ImageSet inputs = data.InputImageSet();
   const std::vector<FloatImage> mattes = data.InputMattes();
   for (int v = 0; v < inputs.NumViews(); ++v) {
-    const PointSetDistances d = CompareGraphs2D(ProjectSkeleton(built.skeleton, inputs, v, 2),
-                                                ProjectSkeleton(data.tree.skeleton, inputs, v, 2), 1.0);
+    const PointSetDistances d =
+        CompareGraphs2D(ProjectSkeleton(built.skeleton, inputs, v, 2),
+                        ProjectSkeleton(data.tree.skeleton, inputs, v, 2), 1.0);
     result.chamfer_2d_px += d.chamfer / inputs.NumViews();
     result.ours_to_truth += d.mean_a_to_b / inputs.NumViews();
     result.truth_to_ours += d.mean_b_to_a / inputs.NumViews();
@@ -47,12 +49,15 @@ Result Evaluate(const SyntheticDataset& data, const BuiltSkeleton& built, const 
   const double height = data.tree.mesh.Bounds().max().z();
   const double spacing = 0.005 * height;
   result.chamfer_3d = ComparePointSets(built.skeleton.SamplePoints(spacing),
-                                       data.tree.skeleton.SamplePoints(spacing)).chamfer / height;
+                                       data.tree.skeleton.SamplePoints(spacing))
+                          .chamfer /
+                      height;
   std::string brief;
   const TriangleMesh mesh = BuildTreeMesh(built.skeleton, density, inputs, mattes, options, &brief);
   ReportOptions report_options;
   report_options.write_images = false;
-  FidelityReport report = ComputeFidelity(density, data.image_set, data.mattes, data.HeldOutFlags(), report_options);
+  FidelityReport report =
+      ComputeFidelity(density, data.image_set, data.mattes, data.HeldOutFlags(), report_options);
   AddMeshFidelity(mesh, data.image_set, report_options, &report);
   int n = 0;
   for (const ViewFidelity& view : report.views) {
@@ -75,7 +80,8 @@ int Main(int argc, char** argv) {
   for (int i = 1; i < argc; ++i) {
     const std::string flag = argv[i];
     const size_t eq = flag.find('=');
-    SYLVA_CHECK_INPUT(flag.rfind("--", 0) == 0 && eq != std::string::npos, flag) << "expected --name=value";
+    SYLVA_CHECK_INPUT(flag.rfind("--", 0) == 0 && eq != std::string::npos, flag)
+        << "expected --name=value";
     const std::string name = flag.substr(2, eq - 2), value = flag.substr(eq + 1);
     if (name == "seeds") {
       seeds.clear();
@@ -100,7 +106,8 @@ int Main(int argc, char** argv) {
     const SyntheticDataset data = MakeSyntheticDataset(synth);
     const ImageSet inputs = data.InputImageSet();
     const std::vector<FloatImage> mattes = data.InputMattes();
-    const DensityGrid density = ReconstructDensity(inputs, mattes, options.density, nullptr, nullptr);
+    const DensityGrid density =
+        ReconstructDensity(inputs, mattes, options.density, nullptr, nullptr);
     std::vector<AttractorGraph2D> graphs;
     const Eigen::Vector3d base = EstimateTreeBase(density, options.tree_base);
     LivewireOptions livewire_options = options.attract.livewire;
@@ -108,19 +115,22 @@ int Main(int argc, char** argv) {
     for (int v = 0; v < inputs.NumViews(); ++v) {
       Eigen::Vector2d target;
       inputs.Project(v, base, &target);
-      graphs.push_back(livewire ? TraceAttractorGraph(data.photos[v], mattes[v], target, {}, livewire_options)
-                                : ProjectSkeleton(data.tree.skeleton, inputs, v, graph_order));
+      graphs.push_back(
+          livewire ? TraceAttractorGraph(data.photos[v], mattes[v], target, {}, livewire_options)
+                   : ProjectSkeleton(data.tree.skeleton, inputs, v, graph_order));
     }
     const BuiltSkeleton without = BuildSkeleton(density, inputs, mattes, {}, options, nullptr);
     const BuiltSkeleton with = BuildSkeleton(density, inputs, mattes, graphs, options, nullptr);
     const Result a = Evaluate(data, without, density, options);
     const Result b = Evaluate(data, with, density, options);
-    std::printf("seed %d: 2D Chamfer %.2f -> %.2f px (%+.0f %%), 3D Chamfer %.2f -> %.2f %% of height, "
-                "mesh IoU mean %.3f -> %.3f, min %.3f -> %.3f; ours->truth %.2f -> %.2f, truth->ours %.2f -> %.2f\n",
-                static_cast<int>(seed), a.chamfer_2d_px, b.chamfer_2d_px,
-                100 * (b.chamfer_2d_px / a.chamfer_2d_px - 1), 100 * a.chamfer_3d, 100 * b.chamfer_3d,
-                a.mean_iou, b.mean_iou, a.min_iou, b.min_iou, a.ours_to_truth, b.ours_to_truth,
-                a.truth_to_ours, b.truth_to_ours);
+    std::printf(
+        "seed %d: 2D Chamfer %.2f -> %.2f px (%+.0f %%), 3D Chamfer %.2f -> %.2f %% of height, "
+        "mesh IoU mean %.3f -> %.3f, min %.3f -> %.3f; ours->truth %.2f -> %.2f, truth->ours %.2f "
+        "-> %.2f\n",
+        static_cast<int>(seed), a.chamfer_2d_px, b.chamfer_2d_px,
+        100 * (b.chamfer_2d_px / a.chamfer_2d_px - 1), 100 * a.chamfer_3d, 100 * b.chamfer_3d,
+        a.mean_iou, b.mean_iou, a.min_iou, b.min_iou, a.ours_to_truth, b.ours_to_truth,
+        a.truth_to_ours, b.truth_to_ours);
     std::fflush(stdout);
     sum_without.chamfer_2d_px += a.chamfer_2d_px / seeds.size();
     sum_with.chamfer_2d_px += b.chamfer_2d_px / seeds.size();

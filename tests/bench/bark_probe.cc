@@ -3,8 +3,8 @@
 //
 // For every QSM table (CSV with columns id, parent_id, start_x/y/z,
 // axis_x/y/z, length, radius, ...: the ITSMe qsm_csv format), read by
-// core/io/qsm_io.h into one skeleton per root cylinder. Prints triangles, CheckMesh of the watertight mesh and the
-// overlapping tubes, and the mesh volume against the sum of the cylinders'
+// core/io/qsm_io.h into one skeleton per root cylinder. Prints triangles, CheckMesh of the
+// watertight mesh and the overlapping tubes, and the mesh volume against the sum of the cylinders'
 // volumes (pi r^2 L).
 //
 // --picture PATH: renders a close-up of the first trunk junction of the
@@ -105,8 +105,8 @@ void Picture(const std::string& path) {
   const Rigid3d pose = LookAt(eye, target + Eigen::Vector3d(0, 0, 0.15), Eigen::Vector3d::UnitZ());
   MeshRenderOptions options;
   options.samples_per_axis = 3;
-  const FloatImage left =
-      MeshRenderer(MeshBarkWatertight(g, BarkMeshOptions(), nullptr)).RenderRgba(camera, pose, options);
+  const FloatImage left = MeshRenderer(MeshBarkWatertight(g, BarkMeshOptions(), nullptr))
+                              .RenderRgba(camera, pose, options);
   const FloatImage right =
       MeshRenderer(MeshBranches(g, BranchMeshOptions(), nullptr)).RenderRgba(camera, pose, options);
   FloatImage both(2 * camera.width(), camera.height(), 4);
@@ -146,7 +146,8 @@ void InsideOut(const SkeletonGraph& g, const TriangleMesh& mesh,
   for (int t = 0; t < mesh.NumTriangles(); ++t) {
     const Eigen::Vector3i& f = mesh.triangles[t];
     const int c = find(f[0]);
-    const Eigen::Vector3d a = mesh.vertices[f[0]].cast<double>(), b = mesh.vertices[f[1]].cast<double>(),
+    const Eigen::Vector3d a = mesh.vertices[f[0]].cast<double>(),
+                          b = mesh.vertices[f[1]].cast<double>(),
                           d = mesh.vertices[f[2]].cast<double>();
     volume[c] += a.dot(b.cross(d)) / 6;
     if (!first.count(c)) first[c] = t;
@@ -165,13 +166,15 @@ void InsideOut(const SkeletonGraph& g, const TriangleMesh& mesh,
     const SkeletonNode& u = g.nodes[o.node];
     const SkeletonNode& w = g.nodes[o.next];
     const Eigen::Vector3d d = (w.position - u.position).normalized();
-    const Eigen::Vector3d up = u.parent_idx >= 0
-                                   ? Eigen::Vector3d((u.position - g.nodes[u.parent_idx].position).normalized())
-                                   : Eigen::Vector3d::UnitZ();
-    std::printf("    extra component: volume %.3g, %d triangles, node %d (r %.4f, %zu children) -> %d "
-                "(r %.4f, edge %.4f, %.0f deg off the parent)\n",
-                v, count[c], o.node, u.radius, g.Children()[o.node].size(), o.next, w.radius,
-                (w.position - u.position).norm(), std::acos(std::clamp(d.dot(up), -1.0, 1.0)) * 180 / M_PI);
+    const Eigen::Vector3d up =
+        u.parent_idx >= 0
+            ? Eigen::Vector3d((u.position - g.nodes[u.parent_idx].position).normalized())
+            : Eigen::Vector3d::UnitZ();
+    std::printf(
+        "    extra component: volume %.3g, %d triangles, node %d (r %.4f, %zu children) -> %d "
+        "(r %.4f, edge %.4f, %.0f deg off the parent)\n",
+        v, count[c], o.node, u.radius, g.Children()[o.node].size(), o.next, w.radius,
+        (w.position - u.position).norm(), std::acos(std::clamp(d.dot(up), -1.0, 1.0)) * 180 / M_PI);
   }
   for (const auto& [c, v] : volume) {
     if (v >= 0) continue;
@@ -179,11 +182,11 @@ void InsideOut(const SkeletonGraph& g, const TriangleMesh& mesh,
     const BarkTriangleOrigin& o = origins[first[c]];
     std::string kind_list;
     for (int k : kinds[c]) kind_list += std::to_string(k);
-    std::printf("    inside out: volume %.3g, %d triangles, kinds %s, first origin kind %d node %d "
-                "next %d r %.4f children %zu\n",
-                v, count[c], kind_list.c_str(), o.kind, o.node, o.next,
-                o.node >= 0 ? g.nodes[o.node].radius : -1.0,
-                o.node >= 0 ? g.Children()[o.node].size() : 0);
+    std::printf(
+        "    inside out: volume %.3g, %d triangles, kinds %s, first origin kind %d node %d "
+        "next %d r %.4f children %zu\n",
+        v, count[c], kind_list.c_str(), o.kind, o.node, o.next,
+        o.node >= 0 ? g.nodes[o.node].radius : -1.0, o.node >= 0 ? g.Children()[o.node].size() : 0);
   }
   std::printf("  %zu components, %d inside out\n", volume.size(), negative);
 }
@@ -210,7 +213,8 @@ int Main(int argc, char** argv) {
         BarkMeshSummary summary;
         std::vector<BarkTriangleOrigin> origins;
         const TriangleMesh bark = MeshBarkWatertight(part.skeleton, options, &summary, &origins);
-        std::printf("part of %d nodes: %s\n", part.skeleton.NumNodes(), summary.BriefReport().c_str());
+        std::printf("part of %d nodes: %s\n", part.skeleton.NumNodes(),
+                    summary.BriefReport().c_str());
         InsideOut(part.skeleton, bark, origins);
         volume += CheckMesh(bark, "", false).volume;
       }
@@ -256,7 +260,8 @@ int Main(int argc, char** argv) {
       }
       BarkMeshOptions options;  // as mesh-qsm meshes
       options.tube.circle_area = true;
-      Probe(parts[k].skeleton, std::string(argv[a]) + " part " + std::to_string(k), volume, options);
+      Probe(parts[k].skeleton, std::string(argv[a]) + " part " + std::to_string(k), volume,
+            options);
     }
   }
   return 0;

@@ -42,9 +42,8 @@ std::atomic<int64_t> g_heap_current{0};
 std::atomic<int64_t> g_heap_peak{0};
 
 void CountAllocation(void* pointer) {
-  const int64_t now =
-      g_heap_current.fetch_add(static_cast<int64_t>(malloc_usable_size(pointer))) +
-      static_cast<int64_t>(malloc_usable_size(pointer));
+  const int64_t now = g_heap_current.fetch_add(static_cast<int64_t>(malloc_usable_size(pointer))) +
+                      static_cast<int64_t>(malloc_usable_size(pointer));
   int64_t peak = g_heap_peak.load();
   while (now > peak && !g_heap_peak.compare_exchange_weak(peak, now)) {
   }
@@ -134,7 +133,8 @@ double PixelLoopMean(const FloatImage& matte, double x0, double y0, double x1, d
   return sum / ((i1 - i0) * (j1 - j0));
 }
 
-float ReferenceInitialValue(const Scene& scene, const VoxelBlock& block, const Eigen::Vector3i& ijk) {
+float ReferenceInitialValue(const Scene& scene, const VoxelBlock& block,
+                            const Eigen::Vector3i& ijk) {
   float best = std::numeric_limits<float>::infinity();
   for (int v = 0; v < scene.image_set.NumViews(); ++v) {
     Eigen::AlignedBox2d rect;
@@ -142,8 +142,8 @@ float ReferenceInitialValue(const Scene& scene, const VoxelBlock& block, const E
     for (int corner = 0; corner < 8 && visible; ++corner) {
       const Eigen::Vector3d p =
           block.lower_corner +
-          block.voxel_size * (ijk + Eigen::Vector3i(corner & 1, (corner >> 1) & 1, corner >> 2))
-                                 .cast<double>();
+          block.voxel_size *
+              (ijk + Eigen::Vector3i(corner & 1, (corner >> 1) & 1, corner >> 2)).cast<double>();
       Eigen::Vector2d pixel;
       visible = scene.image_set.Project(v, p, &pixel);
       rect.extend(pixel);
@@ -156,7 +156,8 @@ float ReferenceInitialValue(const Scene& scene, const VoxelBlock& block, const E
   return std::isinf(best) ? 0.0f : best;
 }
 
-double ReferenceDensity(const Scene& scene, const VoxelBlock& block, const DensityOptions& options) {
+double ReferenceDensity(const Scene& scene, const VoxelBlock& block,
+                        const DensityOptions& options) {
   const Clock::time_point start = Clock::now();
   std::vector<int32_t> column_of_voxel(block.NumVoxels(), -1);
   std::vector<double> x;
@@ -209,7 +210,8 @@ Measurement MeasureFast(const Scene& scene, const DensityOptions& options, int r
     g_heap_peak.store(baseline);
     DensitySummary summary;
     const Clock::time_point start = Clock::now();
-    const DensityGrid grid = ReconstructDensity(scene.image_set, scene.mattes, options, nullptr, &summary);
+    const DensityGrid grid =
+        ReconstructDensity(scene.image_set, scene.mattes, options, nullptr, &summary);
     const double seconds = Seconds(start);
     if (seconds < best.seconds) {
       best.seconds = seconds;
@@ -230,7 +232,8 @@ VoxelBlock BlockOf(const DensitySummary& summary) {
 
 void PrintRow(const char* what, int n, int size, double seconds, double reference) {
   std::printf("%-34s %4d^3 %5d^2  %9.3f s", what, n, size, seconds);
-  if (reference > 0) std::printf("   reference %9.3f s   ratio %7.1fx", reference, reference / seconds);
+  if (reference > 0)
+    std::printf("   reference %9.3f s   ratio %7.1fx", reference, reference / seconds);
   std::printf("\n");
 }
 
@@ -267,10 +270,10 @@ int Main(bool quick) {
     defaults.resolution = full_n;
     defaults.max_resolution = full_n;  // the same grid; the thin-structure share is still measured
     const Measurement checked = MeasureFast(scene, defaults, 1);
-    std::printf("Fast with the view-consensus test and the thin-structure probe (defaults at "
-                "%d^3): %.3f s, of which bounds and both checks %.3f s (%.3f s without them)\n\n",
-                full_n, checked.seconds, checked.summary.seconds_bounds,
-                fast.summary.seconds_bounds);
+    std::printf(
+        "Fast with the view-consensus test and the thin-structure probe (defaults at "
+        "%d^3): %.3f s, of which bounds and both checks %.3f s (%.3f s without them)\n\n",
+        full_n, checked.seconds, checked.summary.seconds_bounds, fast.summary.seconds_bounds);
   }
 
   // Equal sizes: n^3 from (8n)^2 images, reference beside the fast version.
@@ -298,7 +301,8 @@ int Main(bool quick) {
   }
   struct rusage usage;
   getrusage(RUSAGE_SELF, &usage);
-  std::printf("\nProcess peak RSS %.1f MB (includes the rendered photos).\n", usage.ru_maxrss / 1e3);
+  std::printf("\nProcess peak RSS %.1f MB (includes the rendered photos).\n",
+              usage.ru_maxrss / 1e3);
   return 0;
 }
 

@@ -46,8 +46,6 @@ namespace {
 
 using Clock = BenchClock;
 
-
-
 // Voxels within one voxel of the thin branches' sample points, opacity 0.4.
 DensityGrid ThinBranchDensity(const SkeletonGraph& skeleton, double thin_radius, double voxel) {
   DensityGrid grid(voxel, Eigen::Vector3d::Zero());

@@ -42,7 +42,8 @@ double LocalCost(const LivewireFeatures& f, const LivewireOptions& o, cv::Point 
   double dp = (gp[1] * step_x - gp[0] * step_y) / norm;  // D(p) = gradient turned clockwise
   double dq = (gq[1] * step_x - gq[0] * step_y) / norm;
   if (dp < 0) dp = -dp, dq = -dq;
-  const double direction = (std::acos(std::clamp(dp, -1.0, 1.0)) + std::acos(std::clamp(dq, -1.0, 1.0))) / M_PI;
+  const double direction =
+      (std::acos(std::clamp(dp, -1.0, 1.0)) + std::acos(std::clamp(dq, -1.0, 1.0))) / M_PI;
   const double centerline = f.centerline.at<float>(q) * (diagonal ? 1.0 : 1.0 / std::sqrt(2.0));
   return o.weight_outside * f.outside.at<uchar>(q) + o.weight_direction * direction +
          o.weight_centerline * centerline;
@@ -74,7 +75,8 @@ std::vector<cv::Point> ReferencePath(const LivewireFeatures& f, const LivewireOp
     }
   }
   std::vector<cv::Point> path;
-  for (int index = goal; index >= 0; index = previous[index]) path.emplace_back(index % width, index / width);
+  for (int index = goal; index >= 0; index = previous[index])
+    path.emplace_back(index % width, index / width);
   std::reverse(path.begin(), path.end());
   return path;
 }
@@ -121,10 +123,11 @@ void RunSize(int image_size, int trees, int views, const LivewireOptions& option
   }
   const double fast = timing.megapixels / timing.fast_seconds;
   const double reference = timing.megapixels / timing.reference_seconds;
-  std::printf("%5d px %3d views %3d seeds  livewire %7.2f MP/s  reference %7.3f MP/s  ratio %6.1fx"
-              "  agree %.2f px\n",
-              image_size, timing.views, options.num_seeds, fast, reference, fast / reference,
-              timing.agree / timing.views);
+  std::printf(
+      "%5d px %3d views %3d seeds  livewire %7.2f MP/s  reference %7.3f MP/s  ratio %6.1fx"
+      "  agree %.2f px\n",
+      image_size, timing.views, options.num_seeds, fast, reference, fast / reference,
+      timing.agree / timing.views);
 }
 
 }  // namespace

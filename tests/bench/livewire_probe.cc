@@ -47,19 +47,29 @@ std::vector<std::string> Split(const std::string& list) {
 
 bool ApplyFlag(const std::string& name, const std::string& value, ProbeFlags* flags) {
   LivewireOptions& o = flags->options;
-  if (name == "out") flags->out = value;
-  else if (name == "trees") flags->trees = std::stoi(value);
-  else if (name == "max_order") flags->max_order = std::stoi(value);
-  else if (name == "strategies") flags->strategies = Split(value);
+  if (name == "out")
+    flags->out = value;
+  else if (name == "trees")
+    flags->trees = std::stoi(value);
+  else if (name == "max_order")
+    flags->max_order = std::stoi(value);
+  else if (name == "strategies")
+    flags->strategies = Split(value);
   else if (name == "num_seeds") {
     flags->num_seeds.clear();
     for (const std::string& n : Split(value)) flags->num_seeds.push_back(std::stoi(n));
-  } else if (name == "weight_outside") o.weight_outside = std::stod(value);
-  else if (name == "weight_direction") o.weight_direction = std::stod(value);
-  else if (name == "weight_centerline") o.weight_centerline = std::stod(value);
-  else if (name == "photo_weight") o.photo_weight = std::stod(value);
-  else if (name == "simplify_tolerance") o.simplify_tolerance = std::stod(value);
-  else return false;
+  } else if (name == "weight_outside")
+    o.weight_outside = std::stod(value);
+  else if (name == "weight_direction")
+    o.weight_direction = std::stod(value);
+  else if (name == "weight_centerline")
+    o.weight_centerline = std::stod(value);
+  else if (name == "photo_weight")
+    o.photo_weight = std::stod(value);
+  else if (name == "simplify_tolerance")
+    o.simplify_tolerance = std::stod(value);
+  else
+    return false;
   return true;
 }
 
@@ -98,11 +108,12 @@ int Main(int argc, char** argv) {
     datasets.push_back(MakeSyntheticDataset(data_options));
   }
   const double image_size = data_options.image_size;
-  std::printf("%d trees x %d views, %d px; truth = skeleton orders <= %d; weights outside %.2f "
-              "direction %.2f centreline %.2f photo %.2f\n",
-              flags.trees, data_options.num_views, data_options.image_size, flags.max_order,
-              flags.options.weight_outside, flags.options.weight_direction,
-              flags.options.weight_centerline, flags.options.photo_weight);
+  std::printf(
+      "%d trees x %d views, %d px; truth = skeleton orders <= %d; weights outside %.2f "
+      "direction %.2f centreline %.2f photo %.2f\n",
+      flags.trees, data_options.num_views, data_options.image_size, flags.max_order,
+      flags.options.weight_outside, flags.options.weight_direction, flags.options.weight_centerline,
+      flags.options.photo_weight);
   std::printf("%-15s %5s %9s %8s %9s %9s %8s\n", "strategy", "seeds", "chamfer", "%size",
               "coverage", "precision", "s/view");
   if (!flags.out.empty()) std::filesystem::create_directories(flags.out);
@@ -127,8 +138,9 @@ int Main(int argc, char** argv) {
             WriteImage(std::filesystem::path(flags.out) /
                            (strategy + "_view" + std::to_string(v) + ".png"),
                        DrawAttractorOverlay(data.photos[v], graph));
-            WriteImage(std::filesystem::path(flags.out) / ("truth_view" + std::to_string(v) + ".png"),
-                       DrawAttractorOverlay(data.photos[v], truth));
+            WriteImage(
+                std::filesystem::path(flags.out) / ("truth_view" + std::to_string(v) + ".png"),
+                DrawAttractorOverlay(data.photos[v], truth));
           }
         }
       }

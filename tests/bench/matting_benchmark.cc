@@ -3,8 +3,8 @@
 // 1. Refinement accuracy and speed, closed-form vs information flow, on
 //    ground truth: the five tuxpaint-trees cut-outs composited over black,
 //    white and a cluttered photo (opencv-alphamat-plant/plant.jpg, mirrored
-//    to cover) with a margin of backdrop around them, each refined from (a) the automatic trimap (ComputeTrimap
-//    with default options: "backdrop" on the uniform backdrops, "grabcut" on
+//    to cover) with a margin of backdrop around them, each refined from (a) the automatic trimap
+//    (ComputeTrimap with default options: "backdrop" on the uniform backdrops, "grabcut" on
 //    clutter) and (b) the true alpha's trimap with 3-pixel erosion. Errors
 //    against the true alpha: SAD (sum of |alpha difference| / 1000, as the
 //    alphamatting.com benchmark), MSE x 1000, IoU of the 0.5 thresholds.
@@ -12,14 +12,13 @@
 // 2. Time per megapixel of ComputeMatte (trimap + refinement, the recommended
 //    options) on real photos (romi-real-plant-24, 1616x1080; PhenoArch side
 //    view, 2056x2454) at several sizes, beside a straightforward reference of
-//    the same refinement run in the same process: Levin et al.'s closed-form system over every pixel of
-//    the photo, (L + lambda D) alpha = lambda D alpha_trimap with lambda = 100
-//    on known pixels (the paper's formulation; our solver restricts the
-//    system to the unknown pixels and eliminates the known ones exactly),
-//    assembled from triplets and solved by Eigen's conjugate gradients. The
-//    MAD between the two mattes shows they agree. Information flow on the
-//    same trimap is timed too. The reference needs ~1.3 kB per pixel, so it
-//    runs up to 0.5 MP only; its time is compared with our refinement's.
+//    the same refinement run in the same process: Levin et al.'s closed-form system over every
+//    pixel of the photo, (L + lambda D) alpha = lambda D alpha_trimap with lambda = 100 on known
+//    pixels (the paper's formulation; our solver restricts the system to the unknown pixels and
+//    eliminates the known ones exactly), assembled from triplets and solved by Eigen's conjugate
+//    gradients. The MAD between the two mattes shows they agree. Information flow on the same
+//    trimap is timed too. The reference needs ~1.3 kB per pixel, so it runs up to 0.5 MP only; its
+//    time is compared with our refinement's.
 //
 // usage: sylva_matting_benchmark [--quick]   (--quick: a smoke test on small inputs)
 #include <Eigen/Dense>
@@ -83,19 +82,18 @@ void RunAccuracy(bool quick) {
   const FloatImage clutter = ReadImage(kData + "opencv-alphamat-plant/plant.jpg");
   const std::vector<std::string> refines = {"closed_form", "alphamat"};
   std::printf("Part 1: refinement on tuxpaint-trees composites (SAD/1000, MSE*1000, IoU@0.5, s)\n");
-  std::printf("%-13s %-10s %-8s | %-34s | %-34s\n", "tree", "backdrop", "trimap",
-              "closed_form", "alphamat");
+  std::printf("%-13s %-10s %-8s | %-34s | %-34s\n", "tree", "backdrop", "trimap", "closed_form",
+              "alphamat");
   // totals[backdrop][trimap][refine]
   Score totals[3][2][2] = {};
   for (const std::string& tree : trees) {
     const FloatImage stamp = ReadImage(kData + "tuxpaint-trees/" + tree + ".png");
-    const FloatImage cutout =
-        PadCutout(stamp, static_cast<int>(kMarginFraction * std::max(stamp.width(), stamp.height())));
+    const FloatImage cutout = PadCutout(
+        stamp, static_cast<int>(kMarginFraction * std::max(stamp.width(), stamp.height())));
     const FloatImage truth = AlphaOf(cutout);
-    const FloatImage backgrounds[3] = {
-        FloatImage(cutout.width(), cutout.height(), 3, 0.02f),
-        FloatImage(cutout.width(), cutout.height(), 3, 0.95f),
-        TileMirrored(clutter, cutout.width(), cutout.height())};
+    const FloatImage backgrounds[3] = {FloatImage(cutout.width(), cutout.height(), 3, 0.02f),
+                                       FloatImage(cutout.width(), cutout.height(), 3, 0.95f),
+                                       TileMirrored(clutter, cutout.width(), cutout.height())};
     const char* backdrop_names[3] = {"black", "white", "clutter"};
     for (int b = quick ? 1 : 0; b < (quick ? 2 : 3); ++b) {  // quick: white only
       const FloatImage photo = CompositeOver(cutout, backgrounds[b]);
@@ -127,8 +125,7 @@ void RunAccuracy(bool quick) {
       for (int r = 0; r < 2; ++r) {
         const Score& s = totals[b][t][r];
         const double n = static_cast<double>(trees.size());
-        std::printf(" | %7.3f %7.3f %6.3f %8.2f", s.sad / n, s.mse / n, s.iou / n,
-                    s.seconds / n);
+        std::printf(" | %7.3f %7.3f %6.3f %8.2f", s.sad / n, s.mse / n, s.iou / n, s.seconds / n);
       }
       std::printf("\n");
     }
@@ -139,8 +136,8 @@ void RunAccuracy(bool quick) {
 
 // Levin et al.'s closed-form system over every pixel, straightforwardly:
 // (L + lambda D) alpha = lambda D alpha_trimap, D = 1 on known pixels.
-FloatImage ReferenceClosedForm(const FloatImage& photo, const FloatImage& trimap,
-                               double epsilon, int* iterations) {
+FloatImage ReferenceClosedForm(const FloatImage& photo, const FloatImage& trimap, double epsilon,
+                               int* iterations) {
   constexpr double kLambda = 100.0;
   const int w = photo.width(), h = photo.height();
   const int64_t n = static_cast<int64_t>(w) * h;
@@ -186,7 +183,8 @@ FloatImage ReferenceClosedForm(const FloatImage& photo, const FloatImage& trimap
   const Eigen::VectorXd x = solver.solveWithGuess(rhs, Eigen::VectorXd::Constant(n, 0.5));
   *iterations = static_cast<int>(solver.iterations());
   FloatImage alpha(w, h, 1);
-  for (int64_t i = 0; i < n; ++i) alpha.values()[i] = static_cast<float>(std::clamp(x[i], 0.0, 1.0));
+  for (int64_t i = 0; i < n; ++i)
+    alpha.values()[i] = static_cast<float>(std::clamp(x[i], 0.0, 1.0));
   return alpha;
 }
 
@@ -205,8 +203,9 @@ void RunSpeedOn(const std::string& name, const MattingOptions& options,
     const double megapixels = photo.NumPixels() / 1e6;
     FloatImage ours;
     MattingSummary summary;
-    const double seconds = SecondsOf(
-        [&] { ours = ComputeMatte(photo, FloatImage(), FloatImage(), options, nullptr, &summary); });
+    const double seconds = SecondsOf([&] {
+      ours = ComputeMatte(photo, FloatImage(), FloatImage(), options, nullptr, &summary);
+    });
     std::printf("%4dx%-5d %6.3f | %8.3f (%8.3f)   | %8.3f (1/%d)       ", photo.width(),
                 photo.height(), megapixels, seconds, seconds / megapixels, summary.seconds_refine,
                 summary.refine_factor);

@@ -37,51 +37,91 @@ struct ProbeFlags {
 };
 
 bool ApplyMattingFlag(const std::string& name, const std::string& value, MattingOptions* o) {
-  if (name == "trimap_source") o->trimap = value;
-  else if (name == "backdrop_color") o->backdrop_color = value;
-  else if (name == "auto_backdrop_fraction") o->auto_backdrop_fraction = std::stod(value);
-  else if (name == "border_fraction") o->border_fraction = std::stod(value);
-  else if (name == "chroma_tolerance") o->chroma_tolerance = std::stod(value);
-  else if (name == "luminance_tolerance") o->luminance_tolerance = std::stod(value);
-  else if (name == "dark_level") o->dark_level = std::stod(value);
-  else if (name == "foreground_evidence") o->foreground_evidence = std::stod(value);
-  else if (name == "backdrop_smoothness") o->backdrop_smoothness = std::stod(value);
-  else if (name == "band_px") o->band_px = std::stoi(value);
-  else if (name == "reject_hues") o->reject_hues = value;
-  else if (name == "reject_min_saturation") o->reject_min_saturation = std::stod(value);
-  else if (name == "reject_min_value") o->reject_min_value = std::stod(value);
-  else if (name == "reject_min_width_px") o->reject_min_width_px = std::stoi(value);
-  else if (name == "reject_margin_px") o->reject_margin_px = std::stoi(value);
-  else if (name == "reject_below_value") o->reject_below_value = std::stod(value);
-  else if (name == "region") o->region = value;
-  else if (name == "grabcut_iterations") o->grabcut_iterations = std::stoi(value);
-  else if (name == "grabcut_margin") o->grabcut_margin = std::stod(value);
-  else if (name == "grabcut_max_megapixels") o->grabcut_max_megapixels = std::stod(value);
-  else if (name == "refine") o->refine = value;
-  else if (name == "max_megapixels") o->max_megapixels = std::stod(value);
-  else if (name == "closed_form_epsilon") o->closed_form_epsilon = std::stod(value);
-  else if (name == "closed_form_max_iterations") o->closed_form_max_iterations = std::stoi(value);
-  else if (name == "closed_form_tolerance") o->closed_form_tolerance = std::stod(value);
-  else if (name == "upsample_radius") o->upsample_radius = std::stoi(value);
-  else if (name == "upsample_epsilon") o->upsample_epsilon = std::stod(value);
-  else if (name == "seed") o->seed = std::stoi(value);
-  else return false;
+  if (name == "trimap_source")
+    o->trimap = value;
+  else if (name == "backdrop_color")
+    o->backdrop_color = value;
+  else if (name == "auto_backdrop_fraction")
+    o->auto_backdrop_fraction = std::stod(value);
+  else if (name == "border_fraction")
+    o->border_fraction = std::stod(value);
+  else if (name == "chroma_tolerance")
+    o->chroma_tolerance = std::stod(value);
+  else if (name == "luminance_tolerance")
+    o->luminance_tolerance = std::stod(value);
+  else if (name == "dark_level")
+    o->dark_level = std::stod(value);
+  else if (name == "foreground_evidence")
+    o->foreground_evidence = std::stod(value);
+  else if (name == "backdrop_smoothness")
+    o->backdrop_smoothness = std::stod(value);
+  else if (name == "band_px")
+    o->band_px = std::stoi(value);
+  else if (name == "reject_hues")
+    o->reject_hues = value;
+  else if (name == "reject_min_saturation")
+    o->reject_min_saturation = std::stod(value);
+  else if (name == "reject_min_value")
+    o->reject_min_value = std::stod(value);
+  else if (name == "reject_min_width_px")
+    o->reject_min_width_px = std::stoi(value);
+  else if (name == "reject_margin_px")
+    o->reject_margin_px = std::stoi(value);
+  else if (name == "reject_below_value")
+    o->reject_below_value = std::stod(value);
+  else if (name == "region")
+    o->region = value;
+  else if (name == "grabcut_iterations")
+    o->grabcut_iterations = std::stoi(value);
+  else if (name == "grabcut_margin")
+    o->grabcut_margin = std::stod(value);
+  else if (name == "grabcut_max_megapixels")
+    o->grabcut_max_megapixels = std::stod(value);
+  else if (name == "refine")
+    o->refine = value;
+  else if (name == "max_megapixels")
+    o->max_megapixels = std::stod(value);
+  else if (name == "closed_form_epsilon")
+    o->closed_form_epsilon = std::stod(value);
+  else if (name == "closed_form_max_iterations")
+    o->closed_form_max_iterations = std::stoi(value);
+  else if (name == "closed_form_tolerance")
+    o->closed_form_tolerance = std::stod(value);
+  else if (name == "upsample_radius")
+    o->upsample_radius = std::stoi(value);
+  else if (name == "upsample_epsilon")
+    o->upsample_epsilon = std::stod(value);
+  else if (name == "seed")
+    o->seed = std::stoi(value);
+  else
+    return false;
   return true;
 }
 
 bool ApplyFlag(const std::string& name, const std::string& value, ProbeFlags* flags,
                MattingOptions* options) {
-  if (name == "silhouette") flags->silhouette = value;
-  else if (name == "hint") flags->hint = value;
-  else if (name == "background") flags->background = value;
-  else if (name == "given_trimap") flags->given_trimap = value;
-  else if (name == "reference") flags->reference = value;
-  else if (name == "side_by_side") flags->side_by_side = value;
-  else if (name == "matte") flags->matte = value;
-  else if (name == "trimap") flags->trimap = value;
-  else if (name == "overlay") flags->overlay = value;
-  else if (name == "scale") flags->scale = std::stoi(value);
-  else return ApplyMattingFlag(name, value, options);
+  if (name == "silhouette")
+    flags->silhouette = value;
+  else if (name == "hint")
+    flags->hint = value;
+  else if (name == "background")
+    flags->background = value;
+  else if (name == "given_trimap")
+    flags->given_trimap = value;
+  else if (name == "reference")
+    flags->reference = value;
+  else if (name == "side_by_side")
+    flags->side_by_side = value;
+  else if (name == "matte")
+    flags->matte = value;
+  else if (name == "trimap")
+    flags->trimap = value;
+  else if (name == "overlay")
+    flags->overlay = value;
+  else if (name == "scale")
+    flags->scale = std::stoi(value);
+  else
+    return ApplyMattingFlag(name, value, options);
   return true;
 }
 
@@ -165,8 +205,9 @@ int Main(int argc, char** argv) {
     }
   }
   const FloatImage photo = DownsampleChannels(ReadImage(argv[1]), flags.scale);
-  const FloatImage hint =
-      flags.hint.empty() ? FloatImage() : DownsampleChannels(ReadHintTrimap(flags.hint), flags.scale);
+  const FloatImage hint = flags.hint.empty()
+                              ? FloatImage()
+                              : DownsampleChannels(ReadHintTrimap(flags.hint), flags.scale);
   const FloatImage background = flags.background.empty()
                                     ? FloatImage()
                                     : DownsampleChannels(ReadImage(flags.background), flags.scale);

@@ -49,7 +49,6 @@ namespace {
 
 using Clock = BenchClock;
 
-
 SkeletonGraph MakeSkeleton(bool quick) {
   SyntheticTreeOptions options;
   if (!quick) {
@@ -130,7 +129,6 @@ TriangleMesh ReferenceMesh(const SkeletonGraph& skeleton, const BranchMeshOption
 }
 
 // ---- Measurements ------------------------------------------------------------
-
 
 double MaxVertexDistance(const TriangleMesh& a, const TriangleMesh& b) {
   double worst = 0.0;

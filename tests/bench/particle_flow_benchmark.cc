@@ -221,15 +221,16 @@ ImageSet RingOfViews() {
     const double azimuth = k * M_PI / 4, elevation = 10 * M_PI / 180;
     const Eigen::Vector3d centre =
         target + 1.6 * Eigen::Vector3d(std::cos(azimuth) * std::cos(elevation),
-                                       std::sin(azimuth) * std::cos(elevation), std::sin(elevation));
+                                       std::sin(azimuth) * std::cos(elevation),
+                                       std::sin(elevation));
     const Eigen::Vector3d z = (target - centre).normalized();
     const Eigen::Vector3d x = z.cross(Eigen::Vector3d::UnitZ()).normalized();
     const Eigen::Vector3d y = z.cross(x);
     Eigen::Matrix3d rotation;
     rotation << x.transpose(), y.transpose(), z.transpose();
     const Eigen::Quaterniond q(rotation);
-    set.views.push_back({k + 1, "view_" + std::to_string(k) + ".png", 1,
-                         Rigid3d(q, -(q * centre))});
+    set.views.push_back(
+        {k + 1, "view_" + std::to_string(k) + ".png", 1, Rigid3d(q, -(q * centre))});
   }
   return set;
 }
@@ -292,21 +293,25 @@ void AttractorFields(const DensityGrid& density, bool quick) {
   const std::vector<Eigen::Vector3d> points = SeedPoints(density, 100000);
   std::vector<Eigen::Vector3d> sampled(points.size()), lifted(points.size());
   start = Clock::now();
-  for (size_t i = 0; i < points.size(); ++i) sampled[i] = field.Direction(points[i] * density.voxel_size());
+  for (size_t i = 0; i < points.size(); ++i)
+    sampled[i] = field.Direction(points[i] * density.voxel_size());
   const double t_sampled = Seconds(start);
   start = Clock::now();
-  for (size_t i = 0; i < points.size(); ++i) lifted[i] = field.Lifted(points[i] * density.voxel_size());
+  for (size_t i = 0; i < points.size(); ++i)
+    lifted[i] = field.Lifted(points[i] * density.voxel_size());
   const double t_lifted = Seconds(start);
   double mean_angle = 0;
   for (size_t i = 0; i < points.size(); ++i) {
     if (sampled[i].norm() > 1e-6 && lifted[i].norm() > 1e-6) {
-      mean_angle += std::acos(std::clamp(sampled[i].normalized().dot(lifted[i].normalized()), -1.0, 1.0));
+      mean_angle +=
+          std::acos(std::clamp(sampled[i].normalized().dot(lifted[i].normalized()), -1.0, 1.0));
     }
   }
-  std::printf("  one look-up (1 thread): sampled grid %.0f ns, lifted from 8 views %.0f ns (%.1fx); "
-              "mean angle between them %.2f deg\n",
-              1e9 * t_sampled / points.size(), 1e9 * t_lifted / points.size(), t_lifted / t_sampled,
-              mean_angle / points.size() * 180 / M_PI);
+  std::printf(
+      "  one look-up (1 thread): sampled grid %.0f ns, lifted from 8 views %.0f ns (%.1fx); "
+      "mean angle between them %.2f deg\n",
+      1e9 * t_sampled / points.size(), 1e9 * t_lifted / points.size(), t_lifted / t_sampled,
+      mean_angle / points.size() * 180 / M_PI);
   const LiftedEveryTime reference(field);
   for (int count : {2000, 100000, 1000000}) {
     if (quick && count > 2000) break;
@@ -316,13 +321,15 @@ void AttractorFields(const DensityGrid& density, bool quick) {
     const Run with = Flow(density, flow_options, "uniform_grid", field);
     PrintRun("no field", count, without, 0.0);
     PrintRun("field", count, with, 0.0);
-    std::printf("  field/no field %.2fx time, %.2fx per particle-step\n", with.seconds / without.seconds,
+    std::printf("  field/no field %.2fx time, %.2fx per particle-step\n",
+                with.seconds / without.seconds,
                 (with.seconds / with.summary.particle_steps) /
                     (without.seconds / without.summary.particle_steps));
     if (count <= 2000) {
       const Run brute = Flow(density, flow_options, "brute_force", reference);
       PrintRun("brute+lifted", count, brute, 0.0);
-      std::printf("  brute force with the lifted field / field: %.1fx\n", brute.seconds / with.seconds);
+      std::printf("  brute force with the lifted field / field: %.1fx\n",
+                  brute.seconds / with.seconds);
     }
     std::printf("  %s\n", with.summary.BriefReport().c_str());
   }

@@ -70,14 +70,13 @@ LeafInstances ClusterLeaves(const SkeletonGraph& skeleton, const SyntheticTreeOp
       offset = Eigen::Vector3f(uniform(-1, 1), uniform(-1, 1), uniform(-1, 1));
     } while (offset.norm() > 1.0f);
     LeafInstance leaf;
-    leaf.translation = tip.position.cast<float>() +
-                       static_cast<float>(tree.cluster_radius) *
-                           Eigen::Vector3f(offset.x(), offset.y(), 1.3f * offset.z());
-    leaf.rotation = Eigen::Quaternionf(static_cast<float>(random.Normal()),
-                                       static_cast<float>(random.Normal()),
-                                       static_cast<float>(random.Normal()),
-                                       static_cast<float>(random.Normal()))
-                        .normalized();
+    leaf.translation =
+        tip.position.cast<float>() + static_cast<float>(tree.cluster_radius) *
+                                         Eigen::Vector3f(offset.x(), offset.y(), 1.3f * offset.z());
+    leaf.rotation =
+        Eigen::Quaternionf(static_cast<float>(random.Normal()), static_cast<float>(random.Normal()),
+                           static_cast<float>(random.Normal()), static_cast<float>(random.Normal()))
+            .normalized();
     leaf.scale = uniform(tree.leaf_length_min, tree.leaf_length_max);
     leaves.instances.push_back(leaf);
   }
@@ -151,8 +150,8 @@ void WriteJunctionCloseUp(const SkeletonGraph& skeleton, const TriangleMesh& bar
   const int junction = ThickestJunction(skeleton, options.sun_direction, &azimuth);
   if (junction < 0) return;
   const SkeletonNode& node = skeleton.nodes[junction];
-  WriteImage(path, RenderCloseUp(bark, nullptr, node.position, 5.0 * node.radius, azimuth, 20.0,
-                                 options));
+  WriteImage(
+      path, RenderCloseUp(bark, nullptr, node.position, 5.0 * node.radius, azimuth, 20.0, options));
   std::printf("wrote %s (junction node %d, radius %.3f)\n", path.string().c_str(), junction,
               node.radius);
 }
@@ -182,11 +181,12 @@ int Run(bool quick, const std::string& keep, const std::string& qsm_path) {
   const double rays = static_cast<double>(options.width) * options.height *
                       options.samples_per_axis * options.samples_per_axis *
                       instanced.pictures.size();
-  std::printf("tree: %d bark triangles, %d leaves x %d triangles; %d views of %d x %d, %d x %d rays "
-              "per pixel\n",
-              bark.NumTriangles(), num_leaves, instanced.stats.leaf_triangles,
-              static_cast<int>(instanced.pictures.size()), options.width, options.height,
-              options.samples_per_axis, options.samples_per_axis);
+  std::printf(
+      "tree: %d bark triangles, %d leaves x %d triangles; %d views of %d x %d, %d x %d rays "
+      "per pixel\n",
+      bark.NumTriangles(), num_leaves, instanced.stats.leaf_triangles,
+      static_cast<int>(instanced.pictures.size()), options.width, options.height,
+      options.samples_per_axis, options.samples_per_axis);
   std::printf("%-10s %12s %12s %12s %14s\n", "leaves", "build s", "memory MiB", "render s",
               "camera rays/s");
   std::printf("%-10s %12.3f %12.1f %12.3f %14.3g   (+ %.3f s baking %d triangles)\n", "baked",

@@ -18,8 +18,8 @@
 // wrong wood from right).
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <filesystem>
+#include <fstream>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -55,18 +55,20 @@ void WriteSamples(const std::string& path, const SkeletonGraph& ours, const Skel
   for (const SkeletonNode& node : ours.nodes) {
     if (node.parent_idx < 0) continue;
     const Eigen::Vector3d& parent = ours.nodes[node.parent_idx].position;
-    const int steps = std::max(1, static_cast<int>(std::ceil((node.position - parent).norm() / spacing)));
+    const int steps =
+        std::max(1, static_cast<int>(std::ceil((node.position - parent).norm() / spacing)));
     for (int s = 0; s < steps; ++s) {
       const Eigen::Vector3d p = parent + (node.position - parent) * ((s + 0.5) / steps);
       const Eigen::Vector3i ijk = density.IndexFromWorld(p).array().round().cast<int>();
       int occupied = 0;
       for (int dz = -2; dz <= 2; ++dz)
         for (int dy = -2; dy <= 2; ++dy)
-          for (int dx = -2; dx <= 2; ++dx) occupied += density.Value(ijk + Eigen::Vector3i(dx, dy, dz)) > 0.05f;
+          for (int dx = -2; dx <= 2; ++dx)
+            occupied += density.Value(ijk + Eigen::Vector3i(dx, dy, dz)) > 0.05f;
       double distance = 0;
       true_points.Nearest(p, 1e300, &distance);
-      out << p.x() << "," << p.y() << "," << p.z() << "," << node.strands << "," << density.Value(ijk) << ","
-          << occupied / 125.0 << "," << distance << "\n";
+      out << p.x() << "," << p.y() << "," << p.z() << "," << node.strands << ","
+          << density.Value(ijk) << "," << occupied / 125.0 << "," << distance << "\n";
     }
   }
 }

@@ -41,9 +41,8 @@ struct Meshed {
 Meshed MeshJoined(const SkeletonGraph& grown, int repetitions, bool crossings) {
   Meshed out;
   TriangleMesh bark;
-  out.seconds = BestSeconds(repetitions, [&] {
-    bark = MeshBarkWatertight(grown, BarkMeshOptions(), nullptr);
-  });
+  out.seconds = BestSeconds(repetitions,
+                            [&] { bark = MeshBarkWatertight(grown, BarkMeshOptions(), nullptr); });
   out.bark_triangles = bark.NumTriangles();
   out.bark_check = CheckMesh(bark, "", crossings);
   return out;
@@ -89,12 +88,11 @@ void CompareAtDefaultRate(bool quick, const TwigOptions& twig_options) {
     TwigSummary summary;
     const SkeletonGraph grown = GrowTwigs(skeleton, DensityGrid(), twig_options, &summary);
     TriangleMesh bare;
-    const double bare_seconds = BestSeconds(quick ? 1 : 3, [&] {
-      bare = MeshBarkWatertight(skeleton, BarkMeshOptions(), nullptr);
-    });
-    std::printf("Seed %d: %d nodes, %d twigs (%d nodes added); bark without twigs %d tri in %.2f s\n",
-                seed, skeleton.NumNodes(), summary.twigs, summary.nodes_added, bare.NumTriangles(),
-                bare_seconds);
+    const double bare_seconds = BestSeconds(
+        quick ? 1 : 3, [&] { bare = MeshBarkWatertight(skeleton, BarkMeshOptions(), nullptr); });
+    std::printf(
+        "Seed %d: %d nodes, %d twigs (%d nodes added); bark without twigs %d tri in %.2f s\n", seed,
+        skeleton.NumNodes(), summary.twigs, summary.nodes_added, bare.NumTriangles(), bare_seconds);
     // The joined reference runs once (it can take minutes), the separate best of 3.
     const Meshed joined = MeshJoined(grown, 1, !quick);
     const Meshed separate = MeshSeparate(grown, summary, quick ? 1 : 3, !quick);

@@ -28,11 +28,11 @@
 #include "core/io/qsm_io.h"
 #include "core/io/skeleton_io.h"
 #include "core/io/vdb_io.h"
-#include "mesh/gltf_export.h"
-#include "mesh/mesh_checks.h"
 #include "core/types/float_image.h"
 #include "core/util/file_util.h"
 #include "datasets/eval/silhouette_metrics.h"
+#include "mesh/gltf_export.h"
+#include "mesh/mesh_checks.h"
 #include "reconstruct/registration/registration_test_util.h"
 #include "tests/e2e/subprocess.h"
 
@@ -819,7 +819,9 @@ TEST_F(CliTest, AttractorGraphsFromLivewireStrokesAndEdits) {
     EXPECT_EQ(overlay.width(), kImageSize);
   }
   const std::string skeleton_brief = ReadJsonFile(project / "cache" / "stages.json")
-                                         .at("skeleton").at("summary").get<std::string>();
+                                         .at("skeleton")
+                                         .at("summary")
+                                         .get<std::string>();
   EXPECT_TRUE(Contains(skeleton_brief, "attractor graphs of 6 of 6 views")) << skeleton_brief;
 
   // A stroke down the middle of view_00, a whole graph for view_01.
@@ -855,7 +857,8 @@ TEST_F(CliTest, AttractorGraphsFromLivewireStrokesAndEdits) {
 
   const SubprocessResult off = Sylva({"run", p, "--Attractors.mode=off"});
   ASSERT_TRUE(Succeeded(off));
-  for (const auto& [name, entry] : ReadJsonFile(attractors / "attractors.json").at("views").items()) {
+  for (const auto& [name, entry] :
+       ReadJsonFile(attractors / "attractors.json").at("views").items()) {
     EXPECT_EQ(entry.at("source"), "none") << name;
   }
   EXPECT_TRUE(Contains(off.out, "No attractor graphs")) << off.out;
@@ -869,8 +872,8 @@ TEST_F(CliTest, AttractorGraphsFromLivewireStrokesAndEdits) {
 // none with --no-previews); a broken table is refused.
 TEST_F(CliTest, MeshQsmMakesClosedBarkFromLaserScanCylinders) {
   const fs::path data = fs::path(SYLVA_SOURCE_DIR) / "datasets" / "itsme-qsm";
-  for (const char* name : {"tree_1_qsm", "tree_2_qsm", "buttressed_tree_1_qsm_1",
-                           "buttressed_tree_2_qsm_1"}) {
+  for (const char* name :
+       {"tree_1_qsm", "tree_2_qsm", "buttressed_tree_1_qsm_1", "buttressed_tree_2_qsm_1"}) {
     const fs::path out = work_ / name;
     const bool previews = std::string(name) != "tree_2_qsm";
     const SubprocessResult result =
@@ -917,8 +920,9 @@ TEST_F(CliTest, MeshQsmMakesClosedBarkFromLaserScanCylinders) {
     EXPECT_EQ(metrics.at("sources").at("height"), "unknown") << name;
   }
   const fs::path broken = work_ / "broken.csv";
-  WriteFile(broken, "id,parent_id,start_x,start_y,start_z,axis_x,axis_y,axis_z,length,radius,"
-                    "branch,branch_order\n1,0,0,0,0,0,0,1,abc,0.1,1,0\n");
+  WriteFile(broken,
+            "id,parent_id,start_x,start_y,start_z,axis_x,axis_y,axis_z,length,radius,"
+            "branch,branch_order\n1,0,0,0,0,0,0,1,abc,0.1,1,0\n");
   const SubprocessResult refused = Sylva({"mesh-qsm", broken.string(), (work_ / "x").string()});
   EXPECT_TRUE(FailedNaming(refused, kExitBadInput, {"broken.csv"}));
   EXPECT_FALSE(fs::exists(work_ / "x"));
@@ -950,8 +954,8 @@ TEST_F(CliTest, MeshQsmBarkOfLargeTablesIsOutwardAndHoldsTheCylinders) {
         << result.out;
     const MeshCheck bark = CheckMesh(ReadObj(out / "bark.obj"), "", false);
     const double united = QsmUnionVolume(qsm, 64, 1);
-    std::printf("synthetic QSM seed %s: %zu cylinders; %s; volume / union %.4f, / sum %.4f\n",
-                seed, qsm.cylinders.size(), bark.BriefReport().c_str(), bark.volume / united,
+    std::printf("synthetic QSM seed %s: %zu cylinders; %s; volume / union %.4f, / sum %.4f\n", seed,
+                qsm.cylinders.size(), bark.BriefReport().c_str(), bark.volume / united,
                 bark.volume / QsmCylinderVolumeSum(qsm));
     EXPECT_EQ(bark.inside_out_components, 0) << seed;
     EXPECT_EQ(bark.boundary_edges + bark.nonmanifold_edges + bark.misoriented_edges, 0) << seed;
@@ -1023,10 +1027,10 @@ TEST_F(CliTest, SeparateTwigsLeaveTheBarkClosed) {
 TEST_F(CliTest, BundledDemoMeetsItsFidelityTargets) {
   const fs::path demo = fs::path(SYLVA_SOURCE_DIR) / "datasets" / "demo";
   const fs::path project = work_ / "demo-project";
-  ASSERT_TRUE(Succeeded(Sylva({"init", project.string(), "--photos", (demo / "photos").string(),
-                               "--mattes", (demo / "mattes").string(), "--colmap",
-                               (demo / "colmap").string(), "--held-out",
-                               "@" + (demo / "held_out.txt").string(), "--units", "m"})));
+  ASSERT_TRUE(
+      Succeeded(Sylva({"init", project.string(), "--photos", (demo / "photos").string(), "--mattes",
+                       (demo / "mattes").string(), "--colmap", (demo / "colmap").string(),
+                       "--held-out", "@" + (demo / "held_out.txt").string(), "--units", "m"})));
   const SubprocessResult run = Sylva({"run", project.string()});
   ASSERT_TRUE(Succeeded(run));
   EXPECT_TRUE(Contains(run.out, "held-out views (2)")) << run.out;
@@ -1089,8 +1093,8 @@ std::vector<std::string> MakeRomiSet(const fs::path& dir, const std::vector<int>
   for (const std::string& line : Lines(ReadFileToString(source / "colmap" / "images.txt"))) {
     if (line.empty() || line[0] == '#') continue;
     for (const std::string& name : names) {
-      if (line.size() > name.size() && line.compare(line.size() - name.size(), name.size(),
-                                                    name) == 0) {
+      if (line.size() > name.size() &&
+          line.compare(line.size() - name.size(), name.size(), name) == 0) {
         images += line + "\n\n";
       }
     }
@@ -1107,10 +1111,9 @@ TEST_F(CliTest, RealPhotosAreMattedRegisteredAndReconstructed) {
   const fs::path data = work_ / "romi";
   const std::vector<std::string> names = MakeRomiSet(data, {0, 3, 6, 9, 12, 15, 18, 21, 1, 13});
   const fs::path project = work_ / "plant";
-  const SubprocessResult init = Sylva({"init", project.string(), "--photos",
-                                       (data / "images").string(), "--colmap",
-                                       (data / "colmap").string(), "--held-out",
-                                       names[8] + "," + names[9]});
+  const SubprocessResult init =
+      Sylva({"init", project.string(), "--photos", (data / "images").string(), "--colmap",
+             (data / "colmap").string(), "--held-out", names[8] + "," + names[9]});
   ASSERT_TRUE(Succeeded(init));
   EXPECT_TRUE(Contains(init.out, "mattes computed by the matte stage")) << init.out;
 
@@ -1168,7 +1171,8 @@ TEST_F(CliTest, RealPhotosAreMattedRegisteredAndReconstructed) {
   const SubprocessResult edited = Sylva({"run", project.string(), "--until", "matte"});
   ASSERT_TRUE(Succeeded(edited));
   EXPECT_TRUE(Contains(edited.out, "(1 computed, 9 unchanged)")) << edited.out;
-  const FloatImage painted = ReadMatte(out / "mattes" / fs::path(names[0]).replace_extension(".png"));
+  const FloatImage painted =
+      ReadMatte(out / "mattes" / fs::path(names[0]).replace_extension(".png"));
   EXPECT_GT(painted.at(20, 20), 0.99f);
   EXPECT_TRUE(Facts(other_matte) == other_before) << "an unchanged photo was re-matted";
 }
@@ -1183,8 +1187,8 @@ TEST_F(CliTest, AnInvertedMatteIsNamedAndLeftOut) {
   const fs::path synthetic = work_ / "synthetic";
   ASSERT_TRUE(Succeeded(RunSubprocess({kSylva, "synth", synthetic.string(), "--size", "192",
                                        "--samples", "2", "--views", "10", "--held-out", "0"})));
-  const FloatImage room = ReadImage(fs::path(SYLVA_SOURCE_DIR) / "datasets" /
-                                    "opencv-alphamat-plant" / "plant.jpg");
+  const FloatImage room =
+      ReadImage(fs::path(SYLVA_SOURCE_DIR) / "datasets" / "opencv-alphamat-plant" / "plant.jpg");
   const fs::path photos = work_ / "photos";
   fs::create_directories(photos);
   const std::vector<std::string> names = ListImageFiles(synthetic / "photos");
@@ -1203,7 +1207,8 @@ TEST_F(CliTest, AnInvertedMatteIsNamedAndLeftOut) {
         const float a = tree.at(x, y, 3);
         for (int c = 0; c < 3; ++c) {
           const float cloth = 0.07f + 0.02f * ((x * 7 + y * 13) % 5) / 4.0f;
-          const float wall = 0.7f - 0.05f * c + 0.1f * room.at(x % room.width(), y % room.height(), c);
+          const float wall =
+              0.7f - 0.05f * c + 0.1f * room.at(x % room.width(), y % room.height(), c);
           const float back = in_room ? wall : cloth;
           photo.at(x, y, c) = a * tree.at(x, y, c) + (1 - a) * back;
         }
@@ -1293,8 +1298,8 @@ TEST_F(CliTest, ColmapRegistersRealPhotos) {
   const fs::path data = work_ / "romi";
   MakeRomiSet(data, {0, 1, 2, 3, 4, 5, 6, 7});
   const fs::path project = work_ / "plant";
-  const SubprocessResult init = Sylva({"init", project.string(), "--photos",
-                                       (data / "images").string(), "--register", "colmap"});
+  const SubprocessResult init = Sylva(
+      {"init", project.string(), "--photos", (data / "images").string(), "--register", "colmap"});
   ASSERT_TRUE(Succeeded(init));
   EXPECT_TRUE(Contains(init.out, "registered by COLMAP")) << init.out;
   ASSERT_TRUE(Succeeded(Sylva({"matte", project.string(), kRomiMatting, "--save"})));
@@ -1302,8 +1307,8 @@ TEST_F(CliTest, ColmapRegistersRealPhotos) {
   ExpectRunFails(project, {"run", project.string(), "--Colmap.executable=/nonexistent/colmap"},
                  {"/nonexistent/colmap"});
 
-  const SubprocessResult run = Sylva({"run", project.string(), "--until", "register",
-                                      "--Colmap.max_image_size=1000"});
+  const SubprocessResult run =
+      Sylva({"run", project.string(), "--until", "register", "--Colmap.max_image_size=1000"});
   ASSERT_TRUE(Succeeded(run));
   const fs::path cameras = project / "out" / "cameras";
   const Json registration = ReadJsonFile(cameras / "registration.json");
@@ -1318,10 +1323,11 @@ TEST_F(CliTest, ColmapRegistersRealPhotos) {
   // against ROMI's own (a ring of 350 mm radius), after the best similarity.
   const PoseErrors errors =
       ComparePoses(ReadCameraFile(cameras / "cameras.json"), ReadColmapModelText(data / "colmap"));
-  std::printf("ROMI, %zu photos through cameras.json: rotation error median %.3f max %.3f deg; "
-              "position error median %.2f max %.2f mm\n",
-              errors.rotation_degrees.size(), Median(errors.rotation_degrees),
-              Max(errors.rotation_degrees), Median(errors.position), Max(errors.position));
+  std::printf(
+      "ROMI, %zu photos through cameras.json: rotation error median %.3f max %.3f deg; "
+      "position error median %.2f max %.2f mm\n",
+      errors.rotation_degrees.size(), Median(errors.rotation_degrees), Max(errors.rotation_degrees),
+      Median(errors.position), Max(errors.position));
   EXPECT_LT(Median(errors.rotation_degrees), 0.5);
   EXPECT_LT(Max(errors.rotation_degrees), 1.0);
   EXPECT_LT(Median(errors.position), 0.01 * 350.0);
@@ -1339,9 +1345,8 @@ TEST_F(CliTest, ManualRegistrationOfTwoOrthographicViews) {
       {"name": "view_00.png", "azimuth_deg": 0, "projection": "orthographic"},
       {"name": "view_01.png", "azimuth_deg": 93, "projection": "orthographic"}]})");
   const fs::path project = work_ / "tree";
-  ASSERT_TRUE(Succeeded(Sylva({"init", project.string(), "--photos",
-                               (dataset / "photos").string(), "--mattes",
-                               (dataset / "mattes").string(), "--register", "manual",
+  ASSERT_TRUE(Succeeded(Sylva({"init", project.string(), "--photos", (dataset / "photos").string(),
+                               "--mattes", (dataset / "mattes").string(), "--register", "manual",
                                "--loose-cameras", loose.string()})));
   const SubprocessResult run = Sylva({"run", project.string()});
   ASSERT_TRUE(Succeeded(run));
@@ -1385,7 +1390,8 @@ TEST_F(CliTest, RealPhotoInputsAreValidated) {
                   project, {"--loose-cameras"});
   const fs::path loose = work_ / "loose.json";
   WriteFile(loose, R"({"photos": [{"name": "nothere.jpg", "azimuth_deg": 0,
-      "projection": "perspective"}, {"name": ")" + names[0] + R"(", "azimuth_deg": 90,
+      "projection": "perspective"}, {"name": ")" +
+                       names[0] + R"(", "azimuth_deg": 90,
       "projection": "perspective"}]})");
   ExpectInitFails({kSylva, "init", project.string(), "--photos", (data / "images").string(),
                    "--register", "manual", "--loose-cameras", loose.string()},

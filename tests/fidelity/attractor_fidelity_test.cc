@@ -95,9 +95,10 @@ struct Steered {
 Steered Evaluate(const SyntheticDataset& data, const DensityGrid& density,
                  const std::vector<AttractorGraph2D>& graphs, const PipelineOptions& options) {
   const ImageSet inputs = data.InputImageSet();
-  const BuiltSkeleton built = BuildSkeleton(density, inputs, data.InputMattes(), graphs, options, nullptr);
-  return {MainBranchChamfer2D(built.skeleton, data.tree.skeleton, inputs), Chamfer3D(built.skeleton, data),
-          MeshIoUs(built, density, data, options)};
+  const BuiltSkeleton built =
+      BuildSkeleton(density, inputs, data.InputMattes(), graphs, options, nullptr);
+  return {MainBranchChamfer2D(built.skeleton, data.tree.skeleton, inputs),
+          Chamfer3D(built.skeleton, data), MeshIoUs(built, density, data, options)};
 }
 
 void ExpectNoWorse(const Steered& with, const Steered& without, const std::string& what) {
@@ -134,13 +135,14 @@ TEST(AttractorFidelity, AttractorGraphsBringTheSkeletonCloserToTheTruth) {
     const Steered without = Evaluate(data, density, {}, options);
     const Steered with_livewire = Evaluate(data, density, traced, options);
     const Steered with_truth = Evaluate(data, density, truth, options);
-    std::printf("tree %d: 2D main-branch Chamfer %.2f px without attractors, %.2f with livewire "
-                "graphs (%+.1f %%), %.2f with the true branches (%+.1f %%); 3D Chamfer %.2f / %.2f "
-                "/ %.2f %% of height; mesh IoU per view (without/livewire):",
-                static_cast<int>(seed), without.chamfer_2d, with_livewire.chamfer_2d,
-                100 * (with_livewire.chamfer_2d / without.chamfer_2d - 1), with_truth.chamfer_2d,
-                100 * (with_truth.chamfer_2d / without.chamfer_2d - 1), 100 * without.chamfer_3d,
-                100 * with_livewire.chamfer_3d, 100 * with_truth.chamfer_3d);
+    std::printf(
+        "tree %d: 2D main-branch Chamfer %.2f px without attractors, %.2f with livewire "
+        "graphs (%+.1f %%), %.2f with the true branches (%+.1f %%); 3D Chamfer %.2f / %.2f "
+        "/ %.2f %% of height; mesh IoU per view (without/livewire):",
+        static_cast<int>(seed), without.chamfer_2d, with_livewire.chamfer_2d,
+        100 * (with_livewire.chamfer_2d / without.chamfer_2d - 1), with_truth.chamfer_2d,
+        100 * (with_truth.chamfer_2d / without.chamfer_2d - 1), 100 * without.chamfer_3d,
+        100 * with_livewire.chamfer_3d, 100 * with_truth.chamfer_3d);
     for (size_t v = 0; v < without.ious.size(); ++v) {
       std::printf(" %.3f/%.3f", without.ious[v], with_livewire.ious[v]);
     }
@@ -154,10 +156,11 @@ TEST(AttractorFidelity, AttractorGraphsBringTheSkeletonCloserToTheTruth) {
   }
   const double livewire_cut = 1 - sum_livewire / sum_without;
   const double truth_cut = 1 - sum_truth / sum_without;
-  std::printf("mean 2D main-branch Chamfer %.2f px without attractors; %.2f px with livewire graphs "
-              "(%.1f %% lower); %.2f px with the true branches (%.1f %% lower)\n",
-              sum_without / seeds.size(), sum_livewire / seeds.size(), 100 * livewire_cut,
-              sum_truth / seeds.size(), 100 * truth_cut);
+  std::printf(
+      "mean 2D main-branch Chamfer %.2f px without attractors; %.2f px with livewire graphs "
+      "(%.1f %% lower); %.2f px with the true branches (%.1f %% lower)\n",
+      sum_without / seeds.size(), sum_livewire / seeds.size(), 100 * livewire_cut,
+      sum_truth / seeds.size(), 100 * truth_cut);
   EXPECT_GE(truth_cut, 0.22);
   EXPECT_GE(livewire_cut, 0.14);
 }
@@ -228,16 +231,18 @@ TEST(AttractorFidelity, DrawnStrokesOnBlankMattesShapeTheSkeleton) {
   const BuiltSkeleton with = BuildSkeleton(density, inputs, blank, graphs, options, nullptr);
   double chamfer_without = 0, chamfer_with = 0;
   for (int v = 0; v < inputs.NumViews(); ++v) {
-    chamfer_without += CompareGraphs2D(ProjectSkeleton(without.skeleton, inputs, v, 2), graphs[v], 1.0)
-                           .chamfer / inputs.NumViews();
+    chamfer_without +=
+        CompareGraphs2D(ProjectSkeleton(without.skeleton, inputs, v, 2), graphs[v], 1.0).chamfer /
+        inputs.NumViews();
     chamfer_with +=
         CompareGraphs2D(ProjectSkeleton(with.skeleton, inputs, v, 2), graphs[v], 1.0).chamfer /
         inputs.NumViews();
   }
-  std::printf("blank mattes + drawn strokes: 2D Chamfer of the main branches to the strokes "
-              "%.2f px (%.2f %% of the image) without the strokes' field, %.2f px (%.2f %%) with\n",
-              chamfer_without, 100 * chamfer_without / kImageSize, chamfer_with,
-              100 * chamfer_with / kImageSize);
+  std::printf(
+      "blank mattes + drawn strokes: 2D Chamfer of the main branches to the strokes "
+      "%.2f px (%.2f %% of the image) without the strokes' field, %.2f px (%.2f %%) with\n",
+      chamfer_without, 100 * chamfer_without / kImageSize, chamfer_with,
+      100 * chamfer_with / kImageSize);
   EXPECT_LE(chamfer_with, 0.02 * kImageSize);
   EXPECT_LT(chamfer_with, chamfer_without);
 }

@@ -32,9 +32,9 @@ TEST_P(SkeletonFidelity, LeaflessTreeLengthAndPrecision) {
   const std::vector<FloatImage> mattes = data.InputMattes();
   PipelineOptions options;
   const DensityGrid density = ReconstructDensity(inputs, mattes, options.density, nullptr, nullptr);
-  const BuiltSkeleton built =
-      BuildSkeleton(density, inputs, mattes,
-                    SyntheticLivewireGraphs(data, inputs, mattes, density, options), options, nullptr);
+  const BuiltSkeleton built = BuildSkeleton(
+      density, inputs, mattes, SyntheticLivewireGraphs(data, inputs, mattes, density, options),
+      options, nullptr);
   const SkeletonGraph& truth = data.tree.skeleton;
   const SkeletonComparison c = CompareSkeletons(built.skeleton, truth, truth.Height());
   std::printf("seed %d: %s\n  %s\n", static_cast<int>(GetParam()), c.BriefReport().c_str(),

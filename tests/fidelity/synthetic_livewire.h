@@ -18,9 +18,11 @@ namespace sylva {
 
 // `inputs` and `mattes` are data.InputImageSet() and data.InputMattes(); the
 // input views come first in data.photos.
-inline std::vector<AttractorGraph2D> SyntheticLivewireGraphs(
-    const SyntheticDataset& data, const ImageSet& inputs, const std::vector<FloatImage>& mattes,
-    const DensityGrid& density, const PipelineOptions& options) {
+inline std::vector<AttractorGraph2D> SyntheticLivewireGraphs(const SyntheticDataset& data,
+                                                             const ImageSet& inputs,
+                                                             const std::vector<FloatImage>& mattes,
+                                                             const DensityGrid& density,
+                                                             const PipelineOptions& options) {
   const Eigen::Vector3d base = EstimateTreeBase(density, options.tree_base);
   LivewireOptions livewire = options.attract.livewire;
   livewire.seed = DeriveSeed(options.general.seed, 3);  // the attract stage's stream

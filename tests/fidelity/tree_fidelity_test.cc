@@ -39,13 +39,14 @@ TreeResult ReconstructTree(uint64_t seed) {
   const ImageSet inputs = data.InputImageSet();
   const std::vector<FloatImage> input_mattes = data.InputMattes();
   const PipelineOptions options;
-  const DensityGrid density = ReconstructDensity(inputs, input_mattes, options.density, nullptr, nullptr);
-  const BuiltSkeleton built =
-      BuildSkeleton(density, inputs, input_mattes, {}, options, nullptr);
+  const DensityGrid density =
+      ReconstructDensity(inputs, input_mattes, options.density, nullptr, nullptr);
+  const BuiltSkeleton built = BuildSkeleton(density, inputs, input_mattes, {}, options, nullptr);
   std::string mesh_brief;
   const TriangleMesh mesh =
       BuildTreeMesh(built.skeleton, density, inputs, input_mattes, options, &mesh_brief);
-  std::printf("seed %d: %s\n  %s\n", static_cast<int>(seed), built.brief.c_str(), mesh_brief.c_str());
+  std::printf("seed %d: %s\n  %s\n", static_cast<int>(seed), built.brief.c_str(),
+              mesh_brief.c_str());
 
   TreeResult result;
   ReportOptions report_options;
@@ -74,15 +75,15 @@ class TreeFidelity : public ::testing::TestWithParam<uint64_t> {};
 TEST_P(TreeFidelity, MeshSilhouettesSkeletonAndRoot) {
   const TreeResult result = ReconstructTree(GetParam());
   const TreeMetricsReport& tree = result.metrics;
-  std::printf("  true height %.3f; reconstructed height %.3f, crown base %.3f (true %.3f), crown "
-              "width %.3f, crown volume %.2f (hull %.2f, leaf clusters %.2f), DBH %.4f (true %.4f), "
-              "branch length %.1f\n"
-              "  skeleton Chamfer %.2f %% of height, root %.2f %% of height from the true base\n",
-              result.height, tree.height, tree.crown_base_height, result.true_crown_base,
-              tree.crown_width, tree.crown_volume_density.value_or(0), tree.crown_volume_hull,
-              result.true_crown_volume, tree.dbh.value_or(0), result.true_dbh, tree.total_length,
-              100 * result.chamfer_over_height,
-              100 * result.root_error_over_height);
+  std::printf(
+      "  true height %.3f; reconstructed height %.3f, crown base %.3f (true %.3f), crown "
+      "width %.3f, crown volume %.2f (hull %.2f, leaf clusters %.2f), DBH %.4f (true %.4f), "
+      "branch length %.1f\n"
+      "  skeleton Chamfer %.2f %% of height, root %.2f %% of height from the true base\n",
+      result.height, tree.height, tree.crown_base_height, result.true_crown_base, tree.crown_width,
+      tree.crown_volume_density.value_or(0), tree.crown_volume_hull, result.true_crown_volume,
+      tree.dbh.value_or(0), result.true_dbh, tree.total_length, 100 * result.chamfer_over_height,
+      100 * result.root_error_over_height);
   for (const ViewFidelity& view : result.report.views) {
     std::printf("  %-16s %s mesh IoU %.3f precision %.3f recall %.3f | density IoU %.3f\n",
                 view.name.c_str(), view.held_out ? "held-out" : "input   ", view.mesh_scores.iou,
@@ -98,7 +99,8 @@ TEST_P(TreeFidelity, MeshSilhouettesSkeletonAndRoot) {
   EXPECT_NEAR(tree.height, result.height, 0.02 * result.height);
   EXPECT_NEAR(tree.crown_base_height, result.true_crown_base, 0.1 * result.height);
   ASSERT_TRUE(tree.crown_volume_density.has_value());
-  EXPECT_NEAR(*tree.crown_volume_density, result.true_crown_volume, 0.35 * result.true_crown_volume);
+  EXPECT_NEAR(*tree.crown_volume_density, result.true_crown_volume,
+              0.35 * result.true_crown_volume);
 }
 
 INSTANTIATE_TEST_SUITE_P(Seeds, TreeFidelity, ::testing::Values(1, 2, 3));

@@ -28,7 +28,7 @@ struct CommandSpec {
 
 struct ParsedArguments {
   std::vector<std::string> positional;
-  std::map<std::string, std::string> flags;  // switches map to "true"
+  std::map<std::string, std::string> flags;                  // switches map to "true"
   std::vector<std::pair<std::string, std::string>> options;  // Section.field, value
   bool help = false;
 

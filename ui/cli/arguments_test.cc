@@ -17,9 +17,8 @@ ParsedArguments Parse(std::vector<const char*> argv) {
 }
 
 TEST(ArgumentsTest, FlagsSwitchesPositionalAndOptions) {
-  const ParsedArguments a =
-      Parse({"proj", "--photos", "dir one", "--copy", "--Density.resolution=64",
-             "--Report.write_images", "false"});
+  const ParsedArguments a = Parse({"proj", "--photos", "dir one", "--copy",
+                                   "--Density.resolution=64", "--Report.write_images", "false"});
   EXPECT_EQ(a.positional, std::vector<std::string>{"proj"});
   EXPECT_EQ(a.Get("photos"), "dir one");
   EXPECT_TRUE(a.Has("copy"));

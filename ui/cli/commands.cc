@@ -25,40 +25,46 @@ const FlagSpec kLogLevelFlag = {"log-level", "LEVEL",
                                 "debug, info (default), warning, error or silent"};
 
 CommandSpec InitSpec() {
-  return {"init",
-          "sylva init PROJECT --photos DIR (--colmap MODEL_DIR | --cameras FILE.json | "
-          "--register colmap | --register manual --loose-cameras FILE.json) [--mattes DIR] "
-          "[--held-out NAMES] [--copy] [--units UNITS]",
-          "Creates a project folder for one tree from its photos. The cameras are given (a\n"
-          "COLMAP sparse model, text or binary, or a sylva camera file for orthographic or\n"
-          "hand-placed views) or registered by the register stage: '--register colmap' runs\n"
-          "COLMAP's structure from motion on every photo of --photos (sub-folders included);\n"
-          "'--register manual' places 2-4 photos from their viewing azimuths and refines them\n"
-          "from clicked correspondences (see reconstruct/registration/loose_registration.h).\n"
-          "Mattes come from --mattes (same relative name, any image format), else from the\n"
-          "photos' alpha channels, else the matte stage computes them (painted trimaps in\n"
-          "PROJECT/edits/trimaps/<photo>.png override it). Every photo is decoded now, so a\n"
-          "corrupt file is reported before any work. Photos and mattes are referenced where\n"
-          "they are, or copied with --copy.",
-          {{"photos", "DIR", "folder of the photos (names as in the camera model)"},
-           {"colmap", "MODEL_DIR", "given COLMAP sparse model folder (cameras/images .txt or .bin)"},
-           {"cameras", "FILE.json", "given sylva camera file (see core/io/camera_file.h)"},
-           {"register", "METHOD", "register the photos: colmap (structure from motion) or "
-                                  "manual (with --loose-cameras)"},
-           {"loose-cameras", "FILE.json", "azimuth (and optional elevation, focal length, "
-                                          "correspondences) of each photo, for --register manual"},
-           {"mattes", "DIR", "folder of alpha mattes; default: the photos' alpha channels, "
-                             "else computed"},
-           {"held-out", "NAMES", "views kept out of the reconstruction and reported separately: "
-                                 "comma-separated names, or @FILE with one name per line"},
-           {"copy", "", "copy the photos and mattes into the project"},
-           {"units", "UNITS", "world units of the cameras (default: from the camera file, "
-                              "else 'arbitrary'; with WorldFrame.known_height, the unit of "
-                              "that height)"},
-           kLogLevelFlag},
-          1,
-          1,
-          false};
+  return {
+      "init",
+      "sylva init PROJECT --photos DIR (--colmap MODEL_DIR | --cameras FILE.json | "
+      "--register colmap | --register manual --loose-cameras FILE.json) [--mattes DIR] "
+      "[--held-out NAMES] [--copy] [--units UNITS]",
+      "Creates a project folder for one tree from its photos. The cameras are given (a\n"
+      "COLMAP sparse model, text or binary, or a sylva camera file for orthographic or\n"
+      "hand-placed views) or registered by the register stage: '--register colmap' runs\n"
+      "COLMAP's structure from motion on every photo of --photos (sub-folders included);\n"
+      "'--register manual' places 2-4 photos from their viewing azimuths and refines them\n"
+      "from clicked correspondences (see reconstruct/registration/loose_registration.h).\n"
+      "Mattes come from --mattes (same relative name, any image format), else from the\n"
+      "photos' alpha channels, else the matte stage computes them (painted trimaps in\n"
+      "PROJECT/edits/trimaps/<photo>.png override it). Every photo is decoded now, so a\n"
+      "corrupt file is reported before any work. Photos and mattes are referenced where\n"
+      "they are, or copied with --copy.",
+      {{"photos", "DIR", "folder of the photos (names as in the camera model)"},
+       {"colmap", "MODEL_DIR", "given COLMAP sparse model folder (cameras/images .txt or .bin)"},
+       {"cameras", "FILE.json", "given sylva camera file (see core/io/camera_file.h)"},
+       {"register", "METHOD",
+        "register the photos: colmap (structure from motion) or "
+        "manual (with --loose-cameras)"},
+       {"loose-cameras", "FILE.json",
+        "azimuth (and optional elevation, focal length, "
+        "correspondences) of each photo, for --register manual"},
+       {"mattes", "DIR",
+        "folder of alpha mattes; default: the photos' alpha channels, "
+        "else computed"},
+       {"held-out", "NAMES",
+        "views kept out of the reconstruction and reported separately: "
+        "comma-separated names, or @FILE with one name per line"},
+       {"copy", "", "copy the photos and mattes into the project"},
+       {"units", "UNITS",
+        "world units of the cameras (default: from the camera file, "
+        "else 'arbitrary'; with WorldFrame.known_height, the unit of "
+        "that height)"},
+       kLogLevelFlag},
+      1,
+      1,
+      false};
 }
 
 CommandSpec RunSpec() {
@@ -68,8 +74,9 @@ CommandSpec RunSpec() {
           "writes the outputs under PROJECT/out/. Options given here apply to this run (and\n"
           "are saved in the project's sylva.json with --save); the effective options of every\n"
           "run are written to PROJECT/out/run.json.",
-          {{"until", "STAGE", "stop after this stage (matte, register, density, attract, skeleton, mesh, "
-                              "report)"},
+          {{"until", "STAGE",
+            "stop after this stage (matte, register, density, attract, skeleton, mesh, "
+            "report)"},
            {"force", "", "re-run stages even if up to date"},
            {"save", "", "save the options given here in the project's sylva.json"},
            kLogLevelFlag},
@@ -81,10 +88,10 @@ CommandSpec RunSpec() {
 CommandSpec StageSpec(const StageInfo& stage) {
   return {stage.name,
           std::string("sylva ") + stage.name + " PROJECT [--Section.field=value ...]",
-          std::string("Runs the '") + stage.name + "' stage now: " + stage.description + ".\n"
+          std::string("Runs the '") + stage.name + "' stage now: " + stage.description +
+              ".\n"
               "Its inputs from earlier stages must exist. Options as for 'sylva run'.",
-          {{"save", "", "save the options given here in the project's sylva.json"},
-           kLogLevelFlag},
+          {{"save", "", "save the options given here in the project's sylva.json"}, kLogLevelFlag},
           1,
           1,
           true};
@@ -120,29 +127,30 @@ CommandSpec SynthSpec() {
 }
 
 CommandSpec MeshQsmSpec() {
-  return {"mesh-qsm",
-          "sylva mesh-qsm QSM.csv OUT_DIR [--merge F] [--subdivide N] [--no-previews] "
-          "[--Section.field=value ...]",
-          "Meshes a QSM cylinder table (TreeQSM's columns: id, parent_id, start_x..z,\n"
-          "axis_x..z, length, radius, branch, branch_order; e.g. from a laser scan) without a\n"
-          "project: one sylva skeleton per root cylinder, the watertight bark of the mesh\n"
-          "stage (BranchMesh.* options). Writes OUT_DIR/bark.obj (closed solid), tree.obj,\n"
-          "tree.glb, qsm.csv (the table as read), metrics.json and preview pictures of the\n"
-          "bark from 4 sides, preview_0.png .. preview_3.png (Report.preview_* options).\n"
-          "Prints the bark's figures: components, how many are inside out, and its volume\n"
-          "over the union of the cylinders (and over their sum, which counts overlaps twice).\n"
-          "Try it on a generated table: sylva synth T --qsm; sylva mesh-qsm T/qsm.csv OUT",
-          {{"merge", "F",
-            "children starting within F x their radius of the parent's axis hang from it "
-            "directly (default 0.1); children starting inside their parent cylinder always do"},
-           {"subdivide", "N",
-            "N levels of Loop subdivision of the bark, 0-3 (default 0; same as "
-            "--BranchMesh.subdivision=N)"},
-           {"no-previews", "", "do not render the preview pictures (same as --Report.previews=false)"},
-           kLogLevelFlag},
-          2,
-          2,
-          true};
+  return {
+      "mesh-qsm",
+      "sylva mesh-qsm QSM.csv OUT_DIR [--merge F] [--subdivide N] [--no-previews] "
+      "[--Section.field=value ...]",
+      "Meshes a QSM cylinder table (TreeQSM's columns: id, parent_id, start_x..z,\n"
+      "axis_x..z, length, radius, branch, branch_order; e.g. from a laser scan) without a\n"
+      "project: one sylva skeleton per root cylinder, the watertight bark of the mesh\n"
+      "stage (BranchMesh.* options). Writes OUT_DIR/bark.obj (closed solid), tree.obj,\n"
+      "tree.glb, qsm.csv (the table as read), metrics.json and preview pictures of the\n"
+      "bark from 4 sides, preview_0.png .. preview_3.png (Report.preview_* options).\n"
+      "Prints the bark's figures: components, how many are inside out, and its volume\n"
+      "over the union of the cylinders (and over their sum, which counts overlaps twice).\n"
+      "Try it on a generated table: sylva synth T --qsm; sylva mesh-qsm T/qsm.csv OUT",
+      {{"merge", "F",
+        "children starting within F x their radius of the parent's axis hang from it "
+        "directly (default 0.1); children starting inside their parent cylinder always do"},
+       {"subdivide", "N",
+        "N levels of Loop subdivision of the bark, 0-3 (default 0; same as "
+        "--BranchMesh.subdivision=N)"},
+       {"no-previews", "", "do not render the preview pictures (same as --Report.previews=false)"},
+       kLogLevelFlag},
+      2,
+      2,
+      true};
 }
 
 int CmdMeshQsm(const ParsedArguments& args) {
@@ -227,16 +235,16 @@ int CmdInit(const ParsedArguments& args) {
   setup.copy_inputs = args.Has("copy");
   setup.units = args.Get("units");
   const Project project = Project::Create(setup);
-  const std::string cameras = project.RegistersWithColmap()  ? "registered by COLMAP"
+  const std::string cameras = project.RegistersWithColmap() ? "registered by COLMAP"
                               : project.RegistersManually() ? "placed from loose azimuths"
                                                             : "given";
-  const std::string mattes = project.ComputesMattes() ? "computed by the matte stage"
+  const std::string mattes = project.ComputesMattes()   ? "computed by the matte stage"
                              : setup.mattes_dir.empty() ? "the photos' alpha channels"
                                                         : "given";
-  std::cout << "Created project " << project.root().string() << ": "
-            << project.photo_names().size() << " photos (" << project.held_out().size()
-            << " held out); cameras " << cameras << "; mattes " << mattes << "; units "
-            << project.units() << ".\nNext: sylva run " << setup.root.string() << "\n";
+  std::cout << "Created project " << project.root().string() << ": " << project.photo_names().size()
+            << " photos (" << project.held_out().size() << " held out); cameras " << cameras
+            << "; mattes " << mattes << "; units " << project.units() << ".\nNext: sylva run "
+            << setup.root.string() << "\n";
   return kExitOk;
 }
 
@@ -267,8 +275,8 @@ int RunPipeline(const ParsedArguments& args, const Stage* single_stage) {
   const PipelineOptions options = ResolveOptions(&project, args);
   std::unique_ptr<tbb::global_control> threads;
   if (options.general.num_threads > 0) {
-    threads = std::make_unique<tbb::global_control>(
-        tbb::global_control::max_allowed_parallelism, options.general.num_threads);
+    threads = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
+                                                    options.general.num_threads);
   }
   TerminalProgress progress;
   TerminalProgress::InstallInterruptHandler(&progress);
@@ -277,8 +285,8 @@ int RunPipeline(const ParsedArguments& args, const Stage* single_stage) {
   if (single_stage != nullptr) {
     summary.stages.push_back(pipeline.RunStage(*single_stage));
   } else {
-    const Stage until = args.Has("until") ? ParseStage(args.Get("until"), "--until")
-                                          : AllStages().back().stage;
+    const Stage until =
+        args.Has("until") ? ParseStage(args.Get("until"), "--until") : AllStages().back().stage;
     summary = pipeline.Run(until, args.Has("force"));
   }
   progress.Finish();
@@ -312,8 +320,8 @@ int CmdSynth(const ParsedArguments& args) {
   const std::string camera = args.Get("camera", "pinhole");
   SYLVA_CHECK_INPUT(camera == "pinhole" || camera == "ortho", "--camera")
       << "expected pinhole or ortho, got '" << camera << "'";
-  options.camera = camera == "ortho" ? SyntheticCameraKind::kOrthographic
-                                     : SyntheticCameraKind::kPinhole;
+  options.camera =
+      camera == "ortho" ? SyntheticCameraKind::kOrthographic : SyntheticCameraKind::kPinhole;
   options.num_views = args.GetInt("views", camera == "ortho" ? 2 : 8, 1, 1000);
   options.num_held_out = args.GetInt("held-out", 2, 0, 1000);
   options.image_size = args.GetInt("size", options.image_size, 8, 16384);

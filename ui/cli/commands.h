@@ -7,8 +7,8 @@ namespace sylva {
 
 // Exit codes.
 constexpr int kExitOk = 0;
-constexpr int kExitError = 1;       // a failure inside sylva
-constexpr int kExitBadInput = 2;    // bad files, options or arguments
+constexpr int kExitError = 1;        // a failure inside sylva
+constexpr int kExitBadInput = 2;     // bad files, options or arguments
 constexpr int kExitCancelled = 130;  // interrupted (as shells report SIGINT)
 
 // Dispatches argv[1] to a command.

@@ -94,9 +94,11 @@ StageRun RunAttractStage(const StageContext& context) {
       const fs::path strokes_path = project.StrokesPath(name);
       if (!edit.empty()) {
         result.graph = ReadAttractorGraphJson(edit);
-        const double aspect_error = std::abs(result.graph.width * static_cast<double>(camera.height()) -
-                                             result.graph.height * static_cast<double>(camera.width()));
-        SYLVA_CHECK_INPUT(aspect_error <= 0.01 * result.graph.width * camera.height(), edit.string())
+        const double aspect_error =
+            std::abs(result.graph.width * static_cast<double>(camera.height()) -
+                     result.graph.height * static_cast<double>(camera.width()));
+        SYLVA_CHECK_INPUT(aspect_error <= 0.01 * result.graph.width * camera.height(),
+                          edit.string())
             << "the graph is for a " << result.graph.width << "x" << result.graph.height
             << " image, the photo is " << camera.width() << "x" << camera.height();
         result.source = "edited";
@@ -170,7 +172,8 @@ StageRun RunAttractStage(const StageContext& context) {
     if (results[v].source != "none") {
       const fs::path path = project.AttractorGraphPath(name);
       WriteAttractorGraphJson(path, results[v].graph, name);
-      entry["graph"] = fs::relative(path, project.AttractorIndexPath().parent_path()).generic_string();
+      entry["graph"] =
+          fs::relative(path, project.AttractorIndexPath().parent_path()).generic_string();
       entry["nodes"] = results[v].graph.NumNodes();
       entry["length_px"] = results[v].graph.TotalLength();
       run.outputs.push_back(path);
@@ -202,7 +205,8 @@ std::vector<AttractorGraph2D> LoadAttractorGraphs(const Project& project, const 
     if (!index["views"].contains(name)) continue;
     const Json& entry = index["views"][name];
     if (!entry.is_object() || !entry.contains("graph") || !entry["graph"].is_string()) continue;
-    graphs[v] = ReadAttractorGraphJson(index_path.parent_path() / entry["graph"].get<std::string>());
+    graphs[v] =
+        ReadAttractorGraphJson(index_path.parent_path() / entry["graph"].get<std::string>());
   }
   return graphs;
 }

@@ -68,7 +68,8 @@ std::map<std::string, OwnMatte> ReadMatteRecords(const Project& project) {
   if (!fs::is_regular_file(path, ec)) return records;
   try {
     const Json json = ReadJsonFile(path);
-    if (!json.is_object() || !json.contains("photos") || !json["photos"].is_object()) return records;
+    if (!json.is_object() || !json.contains("photos") || !json["photos"].is_object())
+      return records;
     for (const auto& [name, record] : json["photos"].items()) {
       if (!record.is_object() || !record.contains("backdrop_rgb")) continue;
       OwnMatte own;
@@ -90,8 +91,8 @@ std::map<std::string, OwnMatte> ReadMatteRecords(const Project& project) {
 FloatImage ReadBackgroundPhoto(const StageContext& context, std::string* key) {
   const std::string& given = context.options.matte_stage.background_photo;
   if (given.empty()) return FloatImage();
-  const fs::path path = fs::path(given).is_absolute() ? fs::path(given)
-                                                      : context.project.root() / given;
+  const fs::path path =
+      fs::path(given).is_absolute() ? fs::path(given) : context.project.root() / given;
   *key = FileKey(context.project, path);
   return ReadImage(path);
 }
@@ -120,9 +121,9 @@ PhotoInputs ReadPhotoInputs(const StageContext& context, const std::string& name
         << " but the photo is " << inputs.photo.width() << "x" << inputs.photo.height();
   }
   if (!background.empty()) {
-    SYLVA_CHECK_INPUT(background.width() == inputs.photo.width() &&
-                          background.height() == inputs.photo.height(),
-                      context.options.matte_stage.background_photo)
+    SYLVA_CHECK_INPUT(
+        background.width() == inputs.photo.width() && background.height() == inputs.photo.height(),
+        context.options.matte_stage.background_photo)
         << "background photo is " << background.width() << "x" << background.height()
         << " but photo '" << name << "' is " << inputs.photo.width() << "x"
         << inputs.photo.height();
@@ -191,8 +192,7 @@ SmallSet ReadSmallSet(const StageContext& context, const MatteSetOptions& option
     const FloatImage photo = ReadImage(context.project.PhotoPath(names[i]));
     set.factors[i] = MatteSetFactor(photo.width(), photo.height(), options);
     set.photos[i] = DownsampleChannels(photo, set.factors[i]);
-    set.mattes[i] =
-        SmallMatte(ReadMatte(OwnMattePath(context.project, names[i])), set.factors[i]);
+    set.mattes[i] = SmallMatte(ReadMatte(OwnMattePath(context.project, names[i])), set.factors[i]);
   });
   return set;
 }
@@ -225,8 +225,8 @@ double MedianForegroundShare(const std::vector<MatteShape>& shapes) {
 
 // The backdrop colour most photos were keyed against (per-channel median of
 // the plausible photos keyed by "backdrop"); false if none.
-bool ConsensusBackdrop(const std::vector<OwnMatte>& records, const std::vector<std::string>& reasons,
-                       std::array<double, 3>* rgb) {
+bool ConsensusBackdrop(const std::vector<OwnMatte>& records,
+                       const std::vector<std::string>& reasons, std::array<double, 3>* rgb) {
   std::array<std::vector<double>, 3> channels;
   for (size_t i = 0; i < records.size(); ++i) {
     if (records[i].trimap_source != "backdrop" || !reasons[i].empty()) continue;
@@ -278,10 +278,10 @@ std::vector<int> StaleOwnMattes(const StageContext& context, const std::string& 
   std::vector<int> stale;
   for (size_t i = 0; i < names.size(); ++i) {
     const fs::path hint = project.TrimapHintPath(names[i]);
-    const std::string key = HexString(Fnv1a64(
-        std::string(kMatteVersion) + ";" + FileKey(project, project.PhotoPath(names[i])) + ";" +
-        (hint.empty() ? "no hint" : FileKey(project, hint)) + ";" + background_key + ";" +
-        options_text));
+    const std::string key = HexString(Fnv1a64(std::string(kMatteVersion) + ";" +
+                                              FileKey(project, project.PhotoPath(names[i])) + ";" +
+                                              (hint.empty() ? "no hint" : FileKey(project, hint)) +
+                                              ";" + background_key + ";" + options_text));
     const auto found = previous.find(names[i]);
     std::error_code exists_ec;
     if (found != previous.end() && found->second.key == key &&
@@ -309,8 +309,8 @@ struct SetVerdict {
   std::vector<FloatImage> structure;  // per photo, analysis size (empty: none)
   std::vector<MatteShape> shapes;     // without the structure
   double median_share = 0.0;
-  std::vector<std::string> reasons;   // per photo: why implausible ("" if not)
-  bool has_backdrop = false;          // the set agrees on a backdrop colour
+  std::vector<std::string> reasons;  // per photo: why implausible ("" if not)
+  bool has_backdrop = false;         // the set agrees on a backdrop colour
   std::array<double, 3> backdrop{};
 };
 
@@ -346,9 +346,8 @@ std::vector<int> StaleFinalMattes(const StageContext& context, const SetVerdict&
     const std::string repair = verdict.reasons[i].empty() || !verdict.has_backdrop
                                    ? "none"
                                    : "backdrop " + RgbText(verdict.backdrop);
-    const std::string key = HexString(Fnv1a64(record.key + ";" +
-                                              ImageKey(verdict.structure[i]) + ";" + repair +
-                                              ";" + options_text));
+    const std::string key = HexString(Fnv1a64(record.key + ";" + ImageKey(verdict.structure[i]) +
+                                              ";" + repair + ";" + options_text));
     std::error_code exists_ec;
     if (key != record.final_key ||
         !fs::is_regular_file(project.ComputedMattePath(project.photo_names()[i]), exists_ec)) {
@@ -409,12 +408,15 @@ void AddMatteWarnings(const std::vector<std::string>& names, const SetVerdict& v
     if (reason.empty()) continue;
     if (records[i].repaired) {
       warnings->push_back({"repaired-matte",
-                           names[i] + ": " + reason + "; matted again against the backdrop the "
-                               "other photos agree on (RGB " + RgbText(verdict.backdrop) + ")",
+                           names[i] + ": " + reason +
+                               "; matted again against the backdrop the "
+                               "other photos agree on (RGB " +
+                               RgbText(verdict.backdrop) + ")",
                            names[i]});
     } else {
       warnings->push_back({"implausible-matte",
-                           names[i] + ": " + reason + "; kept (the density stage tests it "
+                           names[i] + ": " + reason +
+                               "; kept (the density stage tests it "
                                "against the other views; paint a trimap in edits/trimaps/ to "
                                "fix it)",
                            names[i]});

@@ -8,8 +8,8 @@
 // order; each figure labelled measured or prior).
 #include <sstream>
 
-#include "core/io/mesh_io.h"
 #include "core/io/image_io.h"
+#include "core/io/mesh_io.h"
 #include "core/io/qsm_io.h"
 #include "core/io/skeleton_io.h"
 #include "core/io/vdb_io.h"
@@ -64,9 +64,8 @@ StageRun RunMeshStage(const StageContext& context) {
   WriteTreeMetricsJson(run.outputs[4], metrics);
   std::ostringstream brief;
   brief << " Metrics (out/metrics.json): height " << metrics.height << " " << units
-        << ", crown base " << metrics.crown_base_height << ", crown width "
-        << metrics.crown_width << " (measured), " << metrics.num_tips
-        << " tips (prior); cylinders in out/qsm.csv.";
+        << ", crown base " << metrics.crown_base_height << ", crown width " << metrics.crown_width
+        << " (measured), " << metrics.num_tips << " tips (prior); cylinders in out/qsm.csv.";
   run.brief += brief.str();
   progress.Update(1.0);
   return run;

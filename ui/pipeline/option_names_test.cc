@@ -91,8 +91,7 @@ std::map<std::string, std::string> NamedOptions() {
       }
       const std::string text = ReadFileToString(entry.path());
       for (const std::string macro : {"SYLVA_CHECK_INPUT(", "SYLVA_INPUT_ERROR("}) {
-        for (size_t at = text.find(macro); at != std::string::npos;
-             at = text.find(macro, at + 1)) {
+        for (size_t at = text.find(macro); at != std::string::npos; at = text.find(macro, at + 1)) {
           if (at > 0 && text[at - 1] == ' ' && text.compare(at - 8, 8, "#define ") == 0) continue;
           const std::string name = NamedOption(text, at + macro.size() - 1);
           if (!name.empty()) names.emplace(name, entry.path().string());
@@ -136,8 +135,8 @@ TEST(OptionNamesTest, EveryCheckedOptionIsRegistered) {
       EXPECT_FALSE(registry.Has(name)) << name << " is registered after all";
       continue;
     }
-    EXPECT_TRUE(registry.Has(name)) << file << " names " << name
-                                    << ", which the command line does not accept";
+    EXPECT_TRUE(registry.Has(name))
+        << file << " names " << name << ", which the command line does not accept";
   }
 }
 

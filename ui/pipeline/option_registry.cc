@@ -57,8 +57,8 @@ Box3d ParseBox(const std::string& text) {
   if (Trim(text) == "auto" || Trim(text).empty()) return Box3d();
   const std::vector<double> values = ParseNumberList(text);
   if (values.size() != 6) {
-    throw std::invalid_argument("expected 'auto' or six numbers x0,y0,z0,x1,y1,z1, got '" +
-                                text + "'");
+    throw std::invalid_argument("expected 'auto' or six numbers x0,y0,z0,x1,y1,z1, got '" + text +
+                                "'");
   }
   const Box3d box(Eigen::Vector3d(values[0], values[1], values[2]),
                   Eigen::Vector3d(values[3], values[4], values[5]));

@@ -39,20 +39,38 @@ const std::vector<StageDefinition>& Definitions() {
       {{Stage::kMatte, "matte",
         "alpha mattes from the photos: automatic trimap refined by alpha matting, painted "
         "trimaps in edits/trimaps/ override it (out/mattes/)"},
-       "matte/2", {"Matting.", "MatteSet."}, {}, true, RunMatteStage, WhenComputingMattes},
+       "matte/2",
+       {"Matting.", "MatteSet."},
+       {},
+       true,
+       RunMatteStage,
+       WhenComputingMattes},
       {{Stage::kRegister, "register",
         "cameras of the photos (given, COLMAP, or loose azimuths refined with Ceres) in "
         "sylva's world frame: up +Z, tree base at the origin (out/cameras/)"},
-       "register/2", {"Colmap.", "WorldFrame.", "LooseCameras."}, {Stage::kMatte}, true,
-       RunRegisterStage, Always},
+       "register/2",
+       {"Colmap.", "WorldFrame.", "LooseCameras."},
+       {Stage::kMatte},
+       true,
+       RunRegisterStage,
+       Always},
       {{Stage::kDensity, "density",
         "back-project the mattes into a voxel density grid (out/density.vdb)"},
-       "density/3", {"Density."}, {Stage::kRegister}, false, RunDensityStage, Always},
+       "density/3",
+       {"Density."},
+       {Stage::kRegister},
+       false,
+       RunDensityStage,
+       Always},
       {{Stage::kAttract, "attract",
         "attractor graphs per photo: edited graphs or drawn strokes in edits/, else traced by "
         "livewire to the tree base (out/attractors/)"},
-       "attract/1", {"Attractors.", "TreeBase.", "Skeleton.base", "General.seed"}, {Stage::kDensity}, false,
-       RunAttractStage, Always},
+       "attract/1",
+       {"Attractors.", "TreeBase.", "Skeleton.base", "General.seed"},
+       {Stage::kDensity},
+       false,
+       RunAttractStage,
+       Always},
       {{Stage::kSkeleton, "skeleton",
         "particle flow from the density to the tree base, steered by the attractor graphs' "
         "direction fields; skeleton with pipe-model radii, scaled to the mattes on leafless plants "
@@ -60,17 +78,26 @@ const std::vector<StageDefinition>& Definitions() {
        "skeleton/4",
        {"TreeBase.", "DirectionField.", "ParticleFlow.", "Skeleton.", "Allometry.", "BranchWidth.",
         "Leaves.num_leaves", "General.seed"},
-       {Stage::kDensity, Stage::kAttract}, false, RunSkeletonStage, Always},
-      {{Stage::kMesh, "mesh",
-        "branch tubes and leaves from the skeleton (out/tree.glb, tree.obj)"},
-       "mesh/5", {"BranchMesh.", "Twigs.", "Leaves.", "Export.", "TreeMetrics.", "General.seed"},
+       {Stage::kDensity, Stage::kAttract},
+       false,
+       RunSkeletonStage,
+       Always},
+      {{Stage::kMesh, "mesh", "branch tubes and leaves from the skeleton (out/tree.glb, tree.obj)"},
+       "mesh/5",
+       {"BranchMesh.", "Twigs.", "Leaves.", "Export.", "TreeMetrics.", "General.seed"},
        {Stage::kDensity, Stage::kSkeleton},
-       false, RunMeshStage, Always},
+       false,
+       RunMeshStage,
+       Always},
       {{Stage::kReport, "report",
         "per-view fidelity of the density and the mesh against the mattes, tree metrics "
         "(out/report.json, report.html)"},
-       "report/5", {"Report."}, {Stage::kDensity, Stage::kSkeleton, Stage::kMesh}, true,
-       RunReportStage, Always},
+       "report/5",
+       {"Report."},
+       {Stage::kDensity, Stage::kSkeleton, Stage::kMesh},
+       true,
+       RunReportStage,
+       Always},
   };
   return definitions;
 }
@@ -224,12 +251,9 @@ void Pipeline::Record(const StageRun& run) const {
     warnings.push_back(
         {{"code", warning.code}, {"message", warning.message}, {"subject", warning.subject}});
   }
-  records[GetStageInfo(run.stage).name] = {{"key", StageKey(run.stage)},
-                                           {"outputs", outputs},
-                                           {"seconds", run.seconds},
-                                           {"summary", run.brief},
-                                           {"warnings", warnings},
-                                           {"finished", LocalTime()}};
+  records[GetStageInfo(run.stage).name] = {{"key", StageKey(run.stage)}, {"outputs", outputs},
+                                           {"seconds", run.seconds},     {"summary", run.brief},
+                                           {"warnings", warnings},       {"finished", LocalTime()}};
   WriteJsonFile(project_.CacheDir() / "stages.json", records);
 }
 

@@ -261,8 +261,9 @@ void RegisterParticleFlow(ParticleFlowOptions* o, OptionRegistry* r) {
 void RegisterSkeleton(SkeletonOptions* o, AllometryOptions* allometry, OptionRegistry* r) {
   r->AddPoint("Skeleton.base", &o->base, "world units",
               "bottom of the trunk x,y,z, or auto (estimated from the density)");
-  r->AddDouble("Skeleton.trunk_radius", &o->trunk_radius, "world units",
-               "trunk radius at the base (an allometric prior's scale); 0 = measured in the mattes");
+  r->AddDouble(
+      "Skeleton.trunk_radius", &o->trunk_radius, "world units",
+      "trunk radius at the base (an allometric prior's scale); 0 = measured in the mattes");
   r->AddDouble("Skeleton.trunk_radius_fraction", &o->trunk_radius_fraction, "",
                "trunk radius as a fraction of the tree height where the mattes cannot tell");
   r->AddDouble("Skeleton.min_radius_fraction", &o->min_radius_fraction, "",
@@ -546,8 +547,7 @@ void RegisterMatteSet(MatteSetOptions* o, OptionRegistry* r) {
 }
 
 void RegisterColmap(ColmapOptions* o, OptionRegistry* r) {
-  r->AddString("Colmap.executable", &o->executable,
-               "the COLMAP program (name on PATH or a path)");
+  r->AddString("Colmap.executable", &o->executable, "the COLMAP program (name on PATH or a path)");
   r->AddString("Colmap.matcher", &o->matcher,
                "exhaustive, sequential, or auto (exhaustive up to Colmap.exhaustive_max_photos)");
   r->AddInt("Colmap.exhaustive_max_photos", &o->exhaustive_max_photos, "photos",
@@ -558,8 +558,7 @@ void RegisterColmap(ColmapOptions* o, OptionRegistry* r) {
              "pass the mattes (dilated) as COLMAP masks: features only on the tree");
   r->AddInt("Colmap.max_image_size", &o->max_image_size, "pixels",
             "SIFT runs on photos downscaled to at most this size");
-  r->AddInt("Colmap.max_num_features", &o->max_num_features, "features",
-            "SIFT features per photo");
+  r->AddInt("Colmap.max_num_features", &o->max_num_features, "features", "SIFT features per photo");
   r->AddString("Colmap.camera_model", &o->camera_model,
                "COLMAP camera model (SIMPLE_RADIAL, PINHOLE, OPENCV, ...)");
   r->AddBool("Colmap.single_camera", &o->single_camera,

@@ -128,8 +128,7 @@ fs::path Project::AttractorOverlayPath(const std::string& view_name) const {
 namespace {
 
 // edits/<name without extension><suffix> if it is a file, else empty.
-fs::path ExistingEdit(const fs::path& edits_dir, const std::string& view_name,
-                      const char* suffix) {
+fs::path ExistingEdit(const fs::path& edits_dir, const std::string& view_name, const char* suffix) {
   fs::path path = edits_dir / fs::path(view_name).replace_extension();
   path += suffix;
   std::error_code ec;

@@ -65,8 +65,8 @@ struct ProjectSetup {
   // the mattes if every photo has one, else the matte stage computes them.
   fs::path mattes_dir;
   std::vector<std::string> held_out;
-  bool copy_inputs = false;   // copy photos and mattes into the project
-  std::string units;          // empty: from the camera file, else "arbitrary"
+  bool copy_inputs = false;  // copy photos and mattes into the project
+  std::string units;         // empty: from the camera file, else "arbitrary"
 };
 
 class Project {
@@ -149,7 +149,7 @@ class Project {
   std::vector<std::string> photo_names_;
   std::string mattes_;
   std::string matte_source_ = "given";  // "given", "alpha" or "computed"
-  std::string camera_type_;  // "colmap", "sylva", "sfm" or "manual"
+  std::string camera_type_;             // "colmap", "sylva", "sfm" or "manual"
   std::string camera_path_;
   std::string units_ = "arbitrary";
   std::vector<std::string> held_out_;

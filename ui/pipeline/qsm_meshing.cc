@@ -52,16 +52,14 @@ QsmMeshing MeshQsm(const QsmModel& qsm, const PipelineOptions& options, double m
   meshing.cylinder_union_volume = QsmUnionVolume(qsm, kUnionSamplesPerCylinder, 1);
   meshing.volume_ratio = check.volume / meshing.cylinder_union_volume;
   brief << " Bark: " << check.components << " components (" << check.inside_out_components
-        << " inside out, " << meshing.turned_components
-        << " turned right side out before), volume " << check.volume << " = " << meshing.volume_ratio
-        << " x the cylinders' union (" << check.volume / QsmCylinderVolumeSum(qsm)
-        << " x their sum).";
+        << " inside out, " << meshing.turned_components << " turned right side out before), volume "
+        << check.volume << " = " << meshing.volume_ratio << " x the cylinders' union ("
+        << check.volume / QsmCylinderVolumeSum(qsm) << " x their sum).";
   meshing.brief = brief.str();
   return meshing;
 }
 
-std::vector<std::filesystem::path> WriteQsmMeshing(const QsmMeshing& meshing,
-                                                   const QsmModel& qsm,
+std::vector<std::filesystem::path> WriteQsmMeshing(const QsmMeshing& meshing, const QsmModel& qsm,
                                                    const std::filesystem::path& out_dir,
                                                    const PipelineOptions& options) {
   SYLVA_CHECK(!meshing.parts.empty()) << "nothing to write";
@@ -75,9 +73,9 @@ std::vector<std::filesystem::path> WriteQsmMeshing(const QsmMeshing& meshing,
   GltfExportOptions gltf;
   gltf.extras["units"] = qsm.units;
   gltf.extras["branch_radii"] = "from the QSM (" + qsm.radius_source + ")";
-  std::vector<std::filesystem::path> paths = {
-      out_dir / "bark.obj", out_dir / "tree.obj", out_dir / "tree.glb", out_dir / "qsm.csv",
-      out_dir / "metrics.json"};
+  std::vector<std::filesystem::path> paths = {out_dir / "bark.obj", out_dir / "tree.obj",
+                                              out_dir / "tree.glb", out_dir / "qsm.csv",
+                                              out_dir / "metrics.json"};
   WriteObj(paths[0], meshing.bark);
   WriteObj(paths[1], meshing.bark);
   WriteGlb(paths[2], meshing.bark, gltf);

@@ -47,8 +47,7 @@ QsmMeshing MeshQsm(const QsmModel& qsm, const PipelineOptions& options, double m
 // OUT_DIR/preview_<k>.png
 // (RenderReportPreviews), each atomically; creates OUT_DIR. Returns the
 // paths written.
-std::vector<std::filesystem::path> WriteQsmMeshing(const QsmMeshing& meshing,
-                                                   const QsmModel& qsm,
+std::vector<std::filesystem::path> WriteQsmMeshing(const QsmMeshing& meshing, const QsmModel& qsm,
                                                    const std::filesystem::path& out_dir,
                                                    const PipelineOptions& options);
 

@@ -144,10 +144,9 @@ StageRun RunRegisterStage(const StageContext& context) {
   }
   for (const std::string& name : unregistered) {
     if (project.IsHeldOut(name)) {
-      notes.push_back({"held-out-unregistered",
-                       "held-out photo '" + name +
-                           "' was not registered; it is left out of the report",
-                       name});
+      notes.push_back(
+          {"held-out-unregistered",
+           "held-out photo '" + name + "' was not registered; it is left out of the report", name});
     }
   }
   details["registered"] = cameras.NumViews();

@@ -76,8 +76,11 @@ FloatImage ComparisonPicture(const FloatImage& predicted, const FloatImage& obse
 }
 
 Json ScoresJson(const SilhouetteScores& s) {
-  return {{"iou", s.iou}, {"precision", s.precision}, {"recall", s.recall},
-          {"true_positive", s.true_positive}, {"false_positive", s.false_positive},
+  return {{"iou", s.iou},
+          {"precision", s.precision},
+          {"recall", s.recall},
+          {"true_positive", s.true_positive},
+          {"false_positive", s.false_positive},
           {"false_negative", s.false_negative}};
 }
 
@@ -123,22 +126,22 @@ Json ReportJson(const FidelityReport& report, const std::map<std::string, std::s
   Json views = Json::array();
   for (const ViewFidelity& view : report.views) views.push_back(ViewJson(view));
   const Box3d& b = report.bounds;
-  Json json = {
-      {"format", "sylva-report"},
-      {"version", 3},
-      {"what", "silhouettes of the projected density grid and of the rendered mesh against the "
-               "mattes, per view; input and held-out views separately"},
-      {"units", report.units},
-      {"density",
-       {{"voxel_size", report.voxel_size},
-        {"active_voxels", report.num_voxels},
-        {"bounds_min", {b.min().x(), b.min().y(), b.min().z()}},
-        {"bounds_max", {b.max().x(), b.max().y(), b.max().z()}}}},
-      {"input_views", GroupJson(report.input)},
-      {"held_out_views", GroupJson(report.held_out)},
-      {"stages", briefs},
-      {"warnings", WarningsJson(report.warnings)},
-      {"views", views}};
+  Json json = {{"format", "sylva-report"},
+               {"version", 3},
+               {"what",
+                "silhouettes of the projected density grid and of the rendered mesh against the "
+                "mattes, per view; input and held-out views separately"},
+               {"units", report.units},
+               {"density",
+                {{"voxel_size", report.voxel_size},
+                 {"active_voxels", report.num_voxels},
+                 {"bounds_min", {b.min().x(), b.min().y(), b.min().z()}},
+                 {"bounds_max", {b.max().x(), b.max().y(), b.max().z()}}}},
+               {"input_views", GroupJson(report.input)},
+               {"held_out_views", GroupJson(report.held_out)},
+               {"stages", briefs},
+               {"warnings", WarningsJson(report.warnings)},
+               {"views", views}};
   if (report.has_tree) {
     json["mesh_input_views"] = GroupJson(report.mesh_input);
     json["mesh_held_out_views"] = GroupJson(report.mesh_held_out);
@@ -158,11 +161,20 @@ std::string HtmlEscape(const std::string& text) {
   std::string out;
   for (char c : text) {
     switch (c) {
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '&': out += "&amp;"; break;
-      case '"': out += "&quot;"; break;
-      default: out += c;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '&':
+        out += "&amp;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      default:
+        out += c;
     }
   }
   return out;
@@ -211,7 +223,8 @@ std::string TreeSectionHtml(const FidelityReport& report) {
        << row("crown base height", Number(m.crown_base_height, m.units), "crown_base_height")
        << row("crown depth", Number(m.crown_depth, m.units), "crown_depth")
        << row("crown width", Number(m.crown_width, m.units), "crown_width")
-       << row("crown volume (convex hull)", Number(m.crown_volume_hull, volume), "crown_volume_hull")
+       << row("crown volume (convex hull)", Number(m.crown_volume_hull, volume),
+              "crown_volume_hull")
        << row("crown volume (density)",
               m.crown_volume_density ? Number(*m.crown_volume_density, volume) : "none",
               "crown_volume_density")
@@ -219,8 +232,8 @@ std::string TreeSectionHtml(const FidelityReport& report) {
        << row("tips", std::to_string(m.num_tips), "num_tips")
        << row("total branch length", Number(m.total_length, m.units), "total_length");
   for (const OrderMetrics& order : m.orders) {
-    std::string value = std::to_string(order.num_branches) + " branches, " +
-                        Number(order.total_length, m.units);
+    std::string value =
+        std::to_string(order.num_branches) + " branches, " + Number(order.total_length, m.units);
     if (order.num_angles > 0) value += ", mean angle " + Number(order.mean_angle_deg, "deg");
     html << row("order " + std::to_string(order.order), value, "orders");
   }
@@ -236,8 +249,8 @@ std::string WarningsHtml(const std::vector<Warning>& warnings) {
   if (warnings.empty()) return "";
   std::string html = "<h2>Warnings</h2>\n<ul>\n";
   for (const Warning& warning : warnings) {
-    html += "<li class=\"warning\"><b>" + HtmlEscape(warning.code) + "</b>: " +
-            HtmlEscape(warning.message) + "</li>\n";
+    html += "<li class=\"warning\"><b>" + HtmlEscape(warning.code) +
+            "</b>: " + HtmlEscape(warning.message) + "</li>\n";
   }
   return html + "</ul>\n";
 }
@@ -251,8 +264,8 @@ std::string ReportHtml(const FidelityReport& report,
           "image-rendering:pixelated}img.preview{width:320px;image-rendering:auto}"
           ".warning{color:#b00}</style></head>"
           "<body>\n<h1>sylva report</h1>\n<pre>"
-       << HtmlEscape(report.BriefReport()) << "</pre>\n" << WarningsHtml(report.warnings)
-       << TreeSectionHtml(report) << "<ul>";
+       << HtmlEscape(report.BriefReport()) << "</pre>\n"
+       << WarningsHtml(report.warnings) << TreeSectionHtml(report) << "<ul>";
   for (const auto& [stage, brief] : briefs) {
     html << "<li><b>" << HtmlEscape(stage) << "</b>: " << HtmlEscape(brief) << "</li>\n";
   }
@@ -340,7 +353,8 @@ void AddWarnings(const std::vector<Warning>& warnings, FidelityReport* report) {
   for (const Warning& warning : warnings) {
     report->warnings.push_back(warning);
     for (ViewFidelity& view : report->views) {
-      if (!warning.subject.empty() && warning.subject == view.name) view.warnings.push_back(warning);
+      if (!warning.subject.empty() && warning.subject == view.name)
+        view.warnings.push_back(warning);
     }
   }
 }
@@ -365,8 +379,8 @@ void AddMeshFidelity(const TriangleMesh& mesh, const ImageSet& image_set,
                                           static_cast<float>(options.matte_threshold));
     view.has_mesh = true;
     if (options.write_images) {
-      const int factor = std::max(1, (std::max(camera.width(), camera.height()) + kRenderSize - 1) /
-                                         kRenderSize);
+      const int factor =
+          std::max(1, (std::max(camera.width(), camera.height()) + kRenderSize - 1) / kRenderSize);
       view.mesh_render = renderer.RenderRgba(DownsampledCamera(camera, factor), pose, shading);
     }
   }

@@ -33,7 +33,7 @@ struct ViewFidelity {
   bool has_mesh = false;
   SilhouetteScores mesh_scores;  // the mesh's rendered silhouette
   FloatImage mesh_coverage;
-  FloatImage mesh_render;        // shaded RGBA picture of the mesh from this view
+  FloatImage mesh_render;  // shaded RGBA picture of the mesh from this view
   // The stages' warnings about this view (a distrusted or repaired matte).
   std::vector<Warning> warnings;
 };
@@ -79,8 +79,7 @@ FidelityGroup SummariseViews(const std::vector<ViewFidelity>& views, bool held_o
 // (full resolution, one per view).
 FidelityReport ComputeFidelity(const DensityGrid& grid, const ImageSet& image_set,
                                const std::vector<FloatImage>& mattes,
-                               const std::vector<bool>& held_out,
-                               const ReportOptions& options);
+                               const std::vector<bool>& held_out, const ReportOptions& options);
 
 // Adds `warnings` to the report, and each one about a view (its subject) to
 // that view too.

@@ -44,7 +44,8 @@ StageRun RunReportStage(const StageContext& context) {
   }
   StageRun run;
   run.brief = report.BriefReport();
-  run.outputs = WriteFidelityReport(report, briefs, context.options.report, context.project.OutDir());
+  run.outputs =
+      WriteFidelityReport(report, briefs, context.options.report, context.project.OutDir());
   return run;
 }
 

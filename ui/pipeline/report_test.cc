@@ -131,13 +131,14 @@ TEST(ReportTest, TreeFiguresAreMetricsJsonsWithTheirSources) {
   EXPECT_EQ(json["version"], 3);
   EXPECT_EQ(json["tree"], metrics);  // the same figures, not a second definition
   const std::string html = ReadFileToString(out / "report.html");
-  EXPECT_TRUE(Contains(html, "<td>height</td><td>" +
-                                 [&] {
-                                   std::ostringstream text;
-                                   text << std::setprecision(4) << report.metrics.height << " m";
-                                   return text.str();
-                                 }() +
-                                 "</td><td>measured</td>"))
+  EXPECT_TRUE(Contains(
+      html, "<td>height</td><td>" +
+                [&] {
+                  std::ostringstream text;
+                  text << std::setprecision(4) << report.metrics.height << " m";
+                  return text.str();
+                }() +
+                "</td><td>measured</td>"))
       << html;
   EXPECT_TRUE(Contains(html, "<td>allometric prior</td>")) << html;
   EXPECT_TRUE(Contains(html, "<td>order 1</td>")) << html;

@@ -61,8 +61,8 @@ std::vector<Warning> ReadRecordedWarnings(const Project& project, const std::str
   if (!records.contains(stage_name)) return warnings;
   for (const Json& warning : records[stage_name].value("warnings", Json::array())) {
     if (warning.is_object()) {
-      warnings.push_back({warning.value("code", ""), warning.value("message", ""),
-                          warning.value("subject", "")});
+      warnings.push_back(
+          {warning.value("code", ""), warning.value("message", ""), warning.value("subject", "")});
     }
   }
   return warnings;

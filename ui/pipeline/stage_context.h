@@ -27,7 +27,7 @@ struct StageRun {
   Stage stage = Stage::kDensity;
   bool up_to_date = false;  // skipped: inputs unchanged since the last run
   double seconds = 0.0;
-  std::string brief;        // the stage's BriefReport()
+  std::string brief;  // the stage's BriefReport()
   // What the user must know about the result (core/util/warning.h); kept in
   // cache/stages.json, so an up-to-date stage still reports them.
   std::vector<Warning> warnings;

@@ -2,14 +2,14 @@
 // changing any declared file or option makes the stage out of date.
 #include <gtest/gtest.h>
 
+#include <unistd.h>
 #include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <string>
-#include <unistd.h>
 
-#include "core/util/check.h"
 #include "core/io/image_io.h"
+#include "core/util/check.h"
 #include "datasets/synthetic/synthetic_dataset.h"
 #include "ui/pipeline/option_registry.h"
 #include "ui/pipeline/pipeline.h"
@@ -88,12 +88,14 @@ void ExpectEveryFileMatters(const Project& project, const PipelineOptions& optio
       if (fs::exists(file, ec)) {
         const auto time = fs::last_write_time(file);
         fs::last_write_time(file, time + std::chrono::hours(1));
-        EXPECT_NE(pipeline.StageKey(info.stage), before) << info.name << ": " << what << " " << file;
+        EXPECT_NE(pipeline.StageKey(info.stage), before)
+            << info.name << ": " << what << " " << file;
         fs::last_write_time(file, time);
       } else {
         fs::create_directories(file.parent_path());
         { std::ofstream(file) << "{}"; }
-        EXPECT_NE(pipeline.StageKey(info.stage), before) << info.name << ": " << what << " " << file;
+        EXPECT_NE(pipeline.StageKey(info.stage), before)
+            << info.name << ": " << what << " " << file;
         fs::remove(file);
       }
       EXPECT_EQ(pipeline.StageKey(info.stage), before) << info.name << ": " << file << " restored";

@@ -11,8 +11,8 @@
 #include "mesh/branch_mesh.h"
 #include "mesh/leaves.h"
 #include "mesh/subdivision.h"
-#include "mesh/twigs.h"
 #include "mesh/trunk_width.h"
+#include "mesh/twigs.h"
 #include "reconstruct/measurement/branch_width.h"
 #include "simulate/attractor_field.h"
 #include "simulate/direction_field.h"
@@ -95,19 +95,19 @@ BuiltSkeleton BuildSkeleton(const DensityGrid& density, const ImageSet& input_vi
   AssignPipeModelRadii(allometry, &built.skeleton);
   std::string widths = "Radii are an allometric prior.";
   if (!mattes.empty()) {
-    const BranchWidthSummary summary =
-        MeasureBranchRadii(input_views, mattes, options.leaves.num_leaves < 0,
-                           options.skeleton.trunk_radius > 0,
-                           options.branch_width, &built.skeleton);
+    const BranchWidthSummary summary = MeasureBranchRadii(
+        input_views, mattes, options.leaves.num_leaves<0, options.skeleton.trunk_radius> 0,
+        options.branch_width, &built.skeleton);
     if (summary.measured_axes > 0) widths = summary.BriefReport();
   }
-  built.trunk_radius = built.skeleton.nodes.empty() ? allometry.trunk_radius
-                                                    : built.skeleton.nodes[built.skeleton.RootIdx()].radius;
+  built.trunk_radius = built.skeleton.nodes.empty()
+                           ? allometry.trunk_radius
+                           : built.skeleton.nodes[built.skeleton.RootIdx()].radius;
   std::ostringstream brief;
   brief << field_brief << " " << flow_summary.BriefReport() << " " << pruning.BriefReport() << " "
-        << consolidation.BriefReport() << " Base ("
-        << built.base.transpose() << "); trunk radius " << allometry.trunk_radius << " (" << how
-        << "; pipe model, Delta " << allometry.diameter_exponent << "). " << widths;
+        << consolidation.BriefReport() << " Base (" << built.base.transpose() << "); trunk radius "
+        << allometry.trunk_radius << " (" << how << "; pipe model, Delta "
+        << allometry.diameter_exponent << "). " << widths;
   built.brief = brief.str();
   return built;
 }

@@ -45,8 +45,8 @@ BuiltSkeleton BuildSkeleton(const DensityGrid& density, const ImageSet& input_vi
 // bases sit inside the bark; either way the leaves grow on the skeleton with
 // its twigs.
 struct TreeGeometry {
-  TriangleMesh bark;   // one closed surface when watertight (no separate twigs)
-  TriangleMesh twigs;  // separate twig tubes, material "twigs"; empty if joined or none
+  TriangleMesh bark;     // one closed surface when watertight (no separate twigs)
+  TriangleMesh twigs;    // separate twig tubes, material "twigs"; empty if joined or none
   LeafInstances leaves;  // empty for leafless plants
   std::string brief;
   // Bark + twigs + baked leaves.
