@@ -29,12 +29,6 @@ PoseErrors ComparePoses(const ImageSet& estimate, const ImageSet& truth) {
   return errors;
 }
 
-double Median(std::vector<double> values) {
-  SYLVA_CHECK(!values.empty());
-  std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
-  return values[values.size() / 2];
-}
-
 double Max(const std::vector<double>& values) {
   SYLVA_CHECK(!values.empty());
   return *std::max_element(values.begin(), values.end());

@@ -11,6 +11,7 @@
 #include "core/geometry/sim3.h"
 #include "core/types/float_image.h"
 #include "core/types/image_set.h"
+#include "core/util/statistics.h"  // Median
 
 namespace sylva {
 
@@ -25,7 +26,6 @@ struct PoseErrors {
 };
 PoseErrors ComparePoses(const ImageSet& estimate, const ImageSet& truth);
 
-double Median(std::vector<double> values);
 double Max(const std::vector<double>& values);
 
 // The file names in `folder` (not recursive), sorted.
