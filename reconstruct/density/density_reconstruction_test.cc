@@ -151,6 +151,42 @@ TEST(DensityReconstructionTest, AutomaticBoundsContainTheObjectSnugly) {
   EXPECT_LT(summary.bounds.volume(), 1.6 * object.volume());
 }
 
+// Where two grids on different lattices agree on occupancy (opacity above
+// `threshold`): recall = share of the truth's occupied voxel centres that are
+// occupied in `grid`; precision = share of `grid`'s occupied voxel centres
+// that are occupied in the truth.
+struct Occupancy {
+  double recall = 0, precision = 0;
+};
+Occupancy CompareOccupancy(const DensityGrid& truth, const DensityGrid& grid, float threshold) {
+  const auto occupied_at = [threshold](const DensityGrid& g, const Eigen::Vector3d& p) {
+    return g.Value(g.IndexFromWorld(p).array().round().cast<int>()) > threshold;
+  };
+  int64_t truth_occupied = 0, found = 0, grid_occupied = 0, right = 0;
+  truth.ForEachActive([&](const Eigen::Vector3i& ijk, float value) {
+    if (value <= threshold) return;
+    ++truth_occupied;
+    found += occupied_at(grid, truth.WorldFromIndex(ijk.cast<double>()));
+  });
+  grid.ForEachActive([&](const Eigen::Vector3i& ijk, float value) {
+    if (value <= threshold) return;
+    ++grid_occupied;
+    right += occupied_at(truth, grid.WorldFromIndex(ijk.cast<double>()));
+  });
+  Occupancy result;
+  if (truth_occupied > 0) result.recall = static_cast<double>(found) / truth_occupied;
+  if (grid_occupied > 0) result.precision = static_cast<double>(right) / grid_occupied;
+  return result;
+}
+
+// Two views leave the depth along each ray unknown: the least-squares grid
+// reproduces both pictures, holds every voxel of the truth, and spreads only
+// inside the two views' visual hull. For the ellipsoidal crown and the round
+// trunk that hull (two cylinders crossing at right angles: a rectangle where
+// the truth has an ellipse in every horizontal slice) is 4 / pi ~ 1.27x their
+// volume: a grid filling that hull evenly would score a precision of 0.79.
+// Measured: recall 0.936, precision 0.878 (the solve keeps the hull's corners,
+// crossed by short chords only, nearly empty).
 TEST(DensityReconstructionTest, TwoOrthographicViewsAtRightAngles) {
   const DensityGrid truth = TrueDensity();
   const ImageSet set = TwoOrthographicViews(64);
@@ -162,6 +198,10 @@ TEST(DensityReconstructionTest, TwoOrthographicViewsAtRightAngles) {
   SCOPED_TRACE(summary.BriefReport());
   EXPECT_LT(MeanReprojectionError(grid, set, mattes, options), 0.02);
   EXPECT_TRUE(summary.bounds.contains(truth.ActiveWorldBounds().center()));
+  const Occupancy occupancy = CompareOccupancy(truth, grid, 0.02f);
+  std::printf("two views: recall %.3f, precision %.3f\n", occupancy.recall, occupancy.precision);
+  EXPECT_GT(occupancy.recall, 0.9) << "voxels of the known density the grid misses";
+  EXPECT_GT(occupancy.precision, 0.82) << "the grid spreads beyond the two views' hull";
 }
 
 TEST(DensityReconstructionTest, SameInputsSameGrid) {
