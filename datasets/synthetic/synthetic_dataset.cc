@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <utility>
 
 #include "core/io/camera_file.h"
 #include "core/io/colmap_model.h"
@@ -238,9 +239,16 @@ ImageSet MakeSyntheticCameras(const SyntheticDatasetOptions& options, const Tria
 SyntheticDataset MakeSyntheticDataset(const SyntheticDatasetOptions& options,
                                       ProgressReporter* progress) {
   options.Check();
+  return RenderSyntheticDataset(GenerateSyntheticTree(options.tree, options.seed), options,
+                                progress);
+}
+
+SyntheticDataset RenderSyntheticDataset(SyntheticTree tree, const SyntheticDatasetOptions& options,
+                                        ProgressReporter* progress) {
+  options.Check();
   ProgressTask task(progress, "synthetic dataset");
   SyntheticDataset dataset;
-  dataset.tree = GenerateSyntheticTree(options.tree, options.seed);
+  dataset.tree = std::move(tree);
   dataset.image_set = MakeSyntheticCameras(options, dataset.tree.mesh);
   for (int i = options.num_views; i < dataset.image_set.NumViews(); ++i) {
     dataset.held_out.push_back(dataset.image_set.views[i].name);

@@ -86,6 +86,11 @@ struct SyntheticDataset {
 SyntheticDataset MakeSyntheticDataset(const SyntheticDatasetOptions& options,
                                       ProgressReporter* progress = nullptr);
 
+// The same for a tree made elsewhere (e.g. the bark of a laser-scanned QSM
+// and its skeleton as the truth): options.tree and options.seed are unused.
+SyntheticDataset RenderSyntheticDataset(SyntheticTree tree, const SyntheticDatasetOptions& options,
+                                        ProgressReporter* progress = nullptr);
+
 // The cameras alone (no rendering) for a tree, as MakeSyntheticDataset places
 // them.
 ImageSet MakeSyntheticCameras(const SyntheticDatasetOptions& options, const TriangleMesh& mesh);

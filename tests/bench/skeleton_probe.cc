@@ -6,7 +6,11 @@
 // ratio, precision and recall (within 2 % of the height), Chamfer, axes per
 // order.
 //   sylva_skeleton_probe [--seeds=1,2,3,4,5] [--trees=leafless,leafy]
-//       [--graphs=livewire|none] [--out=DIR] [--name=value ...]
+//       [--qsm=A.csv,B.csv] [--graphs=livewire|none] [--out=DIR] [--name=value ...]
+// --qsm: laser-scanned trees' QSM tables (e.g. datasets/itsme-qsm/*.csv),
+// each meshed as mesh-qsm does and rendered from the synthetic views; the
+// table's largest part is the true skeleton (--trees= leaves out the
+// generated trees).
 // with names of pipeline options (e.g. --ParticleFlow.num_particles=2000).
 // Or compares two skeleton files (e.g. a project's out/skeleton.json with a
 // synthetic set's ground_truth/skeleton.json):
@@ -32,7 +36,9 @@
 #include "reconstruct/density/density_reconstruction.h"
 #include "tests/bench/probe_main.h"
 #include "tests/fidelity/synthetic_livewire.h"
+#include "core/io/qsm_io.h"
 #include "ui/pipeline/option_registry.h"
+#include "ui/pipeline/qsm_meshing.h"
 #include "ui/pipeline/tree_building.h"
 
 namespace sylva {
@@ -73,9 +79,67 @@ void WriteSamples(const std::string& path, const SkeletonGraph& ours, const Skel
   }
 }
 
+// Mean figures over the trees of one kind.
+struct ProbeSums {
+  int trees = 0;
+  double ratio = 0, precision = 0, recall = 0, chamfer = 0;
+
+  void Add(const SkeletonComparison& c) {
+    ++trees;
+    ratio += c.length_ratio;
+    precision += c.precision;
+    recall += c.recall;
+    chamfer += c.chamfer_fraction;
+  }
+  void Print(const std::string& kind) const {
+    if (trees == 0) return;
+    std::printf("%-8s mean: length %.2f x truth, precision %.3f, recall %.3f, Chamfer %.2f %%\n",
+                kind.c_str(), ratio / trees, precision / trees, recall / trees,
+                100 * chamfer / trees);
+  }
+};
+
+// Reconstructs the skeleton of a rendered dataset as the stages would and
+// compares it with the dataset's true skeleton.
+SkeletonComparison ProbeTree(const std::string& label, const SyntheticDataset& data,
+                             const PipelineOptions& options, bool livewire,
+                             const std::string& out) {
+  const ImageSet inputs = data.InputImageSet();
+  const std::vector<FloatImage> mattes = data.InputMattes();
+  const DensityGrid density = ReconstructDensity(inputs, mattes, options.density, nullptr, nullptr);
+  const std::vector<AttractorGraph2D> graphs =
+      livewire ? SyntheticLivewireGraphs(data, inputs, mattes, density, options)
+               : std::vector<AttractorGraph2D>();
+  const BuiltSkeleton built = BuildSkeleton(density, inputs, mattes, graphs, options, nullptr);
+  const SkeletonGraph& truth = data.tree.skeleton;
+  const SkeletonComparison c = CompareSkeletons(built.skeleton, truth, truth.Height());
+  std::printf("%s: %s\n", label.c_str(), c.BriefReport().c_str());
+  std::fflush(stdout);
+  if (!out.empty()) {
+    const std::string stem = out + "/" + label;
+    WriteSkeletonJson(stem + "_ours.json", built.skeleton, "m");
+    WriteSkeletonJson(stem + "_truth.json", truth, "m");
+    WriteSamples(stem + "_samples.csv", built.skeleton, truth, density);
+  }
+  return c;
+}
+
+// A laser-scanned tree's QSM as photos: the bark mesh-qsm makes of it,
+// rendered from the synthetic views; its largest part's skeleton is the truth.
+SyntheticDataset QsmDataset(const std::string& path, const SyntheticDatasetOptions& views,
+                            const PipelineOptions& options) {
+  const QsmMeshing meshing = MeshQsm(ReadQsmCsv(path), options, 0.1);
+  SyntheticTree tree;
+  tree.mesh = meshing.bark;
+  for (const QsmSkeleton& part : meshing.parts) {
+    if (part.skeleton.TotalLength() > tree.skeleton.TotalLength()) tree.skeleton = part.skeleton;
+  }
+  return RenderSyntheticDataset(std::move(tree), views);
+}
+
 int Main(int argc, char** argv) {
   std::vector<uint64_t> seeds = {1, 2, 3, 4, 5};
-  std::vector<std::string> trees = {"leafless", "leafy"};
+  std::vector<std::string> trees = {"leafless", "leafy"}, qsm_files;
   bool livewire = true;
   std::string out;
   PipelineOptions options;
@@ -91,7 +155,9 @@ int Main(int argc, char** argv) {
       seeds.clear();
       for (const std::string& item : SplitList(value)) seeds.push_back(std::stoull(item));
     } else if (name == "trees") {
-      trees = SplitList(value);
+      trees = value.empty() ? std::vector<std::string>() : SplitList(value);
+    } else if (name == "qsm") {
+      qsm_files = SplitList(value);
     } else if (name == "graphs") {
       livewire = value == "livewire";
     } else if (name == "compare") {
@@ -108,43 +174,27 @@ int Main(int argc, char** argv) {
   }
   options.Check();
   if (!out.empty()) std::filesystem::create_directories(out);
+  SyntheticDatasetOptions views;
+  views.num_views = 8;
+  views.num_held_out = 0;
   for (const std::string& kind : trees) {
     SYLVA_CHECK_INPUT(kind == "leafless" || kind == "leafy", "--trees") << "unknown tree " << kind;
-    double ratio = 0, precision = 0, recall = 0, chamfer = 0;
+    ProbeSums sums;
     for (uint64_t seed : seeds) {
-      SyntheticDatasetOptions synth;
+      SyntheticDatasetOptions synth = views;
       synth.seed = seed;
-      synth.num_views = 8;
-      synth.num_held_out = 0;
       if (kind == "leafless") synth.tree.leaves_per_cluster = 0;
-      const SyntheticDataset data = MakeSyntheticDataset(synth);
-      const ImageSet inputs = data.InputImageSet();
-      const std::vector<FloatImage> mattes = data.InputMattes();
-      const DensityGrid density =
-          ReconstructDensity(inputs, mattes, options.density, nullptr, nullptr);
-      const std::vector<AttractorGraph2D> graphs =
-          livewire ? SyntheticLivewireGraphs(data, inputs, mattes, density, options)
-                   : std::vector<AttractorGraph2D>();
-      const BuiltSkeleton built = BuildSkeleton(density, inputs, mattes, graphs, options, nullptr);
-      const SkeletonGraph& truth = data.tree.skeleton;
-      const SkeletonComparison c = CompareSkeletons(built.skeleton, truth, truth.Height());
-      std::printf("%-8s seed %d: %s\n", kind.c_str(), static_cast<int>(seed),
-                  c.BriefReport().c_str());
-      std::fflush(stdout);
-      if (!out.empty()) {
-        const std::string stem = out + "/" + kind + "_" + std::to_string(seed);
-        WriteSkeletonJson(stem + "_ours.json", built.skeleton, "m");
-        WriteSkeletonJson(stem + "_truth.json", truth, "m");
-        WriteSamples(stem + "_samples.csv", built.skeleton, truth, density);
-      }
-      ratio += c.length_ratio / seeds.size();
-      precision += c.precision / seeds.size();
-      recall += c.recall / seeds.size();
-      chamfer += c.chamfer_fraction / seeds.size();
+      const std::string label = kind + "_" + std::to_string(seed);
+      sums.Add(ProbeTree(label, MakeSyntheticDataset(synth), options, livewire, out));
     }
-    std::printf("%-8s mean: length %.2f x truth, precision %.3f, recall %.3f, Chamfer %.2f %%\n",
-                kind.c_str(), ratio, precision, recall, 100 * chamfer);
+    sums.Print(kind);
   }
+  ProbeSums qsm_sums;
+  for (const std::string& file : qsm_files) {
+    const std::string label = "qsm_" + std::filesystem::path(file).stem().string();
+    qsm_sums.Add(ProbeTree(label, QsmDataset(file, views, options), options, livewire, out));
+  }
+  qsm_sums.Print("qsm");
   return 0;
 }
 
