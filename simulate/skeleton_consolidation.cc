@@ -112,17 +112,10 @@ std::vector<char> TrimTwigs(const SkeletonGraph& skeleton, const DensityGrid& de
     for (size_t k = 1; k < axes[a].size(); ++k) axis_of[axes[a][k]] = static_cast<int>(a);
     parent_axis[a] = axis_of[axes[a][0]];
   }
-  // Whether axis b is axis a or hangs (indirectly) off it.
-  const auto within_axis = [&](int b, int a) {
-    for (; b > 0; b = parent_axis[b]) {
-      if (b == a) return true;
-    }
-    return false;
-  };
   const WoodSamples wood(skeleton, std::max(radius, spacing), spacing);
   const std::vector<std::vector<int>> children = skeleton.Children();
   // Axes are listed by order: backwards, the outermost go first.
-  for (int a = static_cast<int>(axes.size()) - 1; a >= 1; --a) {
+  for (int a = static_cast<int>(axes.size()) - 1; a >= 0; --a) {
     const BranchAxis& axis = axes[a];
     // Nodes up to the last one still carrying a side branch stay (0: none).
     size_t keep = 0;
@@ -132,7 +125,7 @@ std::vector<char> TrimTwigs(const SkeletonGraph& skeleton, const DensityGrid& de
       }
     }
     const auto other_wood = [&](int owner) {
-      return !removed[owner] && !within_axis(axis_of[owner], a);
+      return !removed[owner] && axis_of[owner] != a;
     };
     size_t first_removed = axis.size();
     for (size_t k = axis.size() - 1; k > keep; --k) {

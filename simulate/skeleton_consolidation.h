@@ -7,12 +7,14 @@
 // density's ghost regions. On synthetic trees with known skeletons these made
 // 1.8 x (leafless) to 3.9 x (leafy) the true branch length
 // (tests/bench/skeleton_probe.cc). Three steps, in this order:
-//   1. redundant and unsupported twigs: branch axes are trimmed from their
-//      tips, axes of higher order first, while the trimmed stretch lies
-//      within redundancy_fraction of the height of other wood (not its own
-//      branches: a branch drawn twice keeps the trace its parent continues
-//      into) or the density around it is too sparse to show wood
-//      (min_support);
+//   1. redundant and unsupported twigs: branch axes, the trunk included,
+//      are trimmed from their tips, axes of higher order first, while the
+//      trimmed stretch lies within redundancy_fraction of the height of
+//      other wood (any but its own axis) or the density around it is too
+//      sparse to show wood (min_support). A branch drawn twice keeps the
+//      trace its parent continues into; where the child reaches farther
+//      (its tip is not redundant) the parent's own tail beside it goes
+//      instead, and the child continues the parent;
 //   2. bare sticks: thin axes of which more than max_empty_fraction runs
 //      through empty density (no opacity in the 3 x 3 x 3 voxels around) are
 //      removed with what they carry; the density is the evidence of wood or
@@ -22,9 +24,12 @@
 //      foot holds no twigs; they are particles seeded in the trunk's own
 //      width, or that reached the base beside it).
 // On the 5 leafless synthetic trees of the probe (livewire graphs) this gave
-// 1.08-1.25 x the true length (was 1.69-1.90 x) at precision 0.82-0.87
-// (was 0.82-0.88); leafy crowns keep about 3.5 x: in foliage the density
-// cannot tell a twig from leaves.
+// 0.94-1.10 x the true length (was 1.69-1.90 x) at precision 0.80-0.86
+// (was 0.82-0.88); on the 4 ITSMe laser-scanned trees rendered to photos
+// 0.78-1.32 x at precision 0.97-1.00 (the trunk's top traced twice made
+// 1.43-1.56 x before the trunk's tail could be trimmed, and a radius of 1 %
+// instead of 1.25 % of the height kept 1.36 x on average); leafy crowns
+// keep about 3.4 x: in foliage the density cannot tell a twig from leaves.
 // Every junction still carries the sum of its children (pipe model): the
 // strands of trimmed twigs move onto the wood that stays there (their
 // particles did flow into it), those of removed sticks and base branches
@@ -42,7 +47,7 @@ namespace sylva {
 struct ConsolidationOptions {
   // A twig stretch within this distance of other wood, as a fraction of the
   // tree height, is redundant; 0 disables it.
-  double redundancy_fraction = 0.01;
+  double redundancy_fraction = 0.0125;
   // A twig stretch is also trimmed where the density does not support it:
   // on average less than min_support of the voxels within
   // support_radius_voxels (a cube) reach support_opacity. 0 disables it.

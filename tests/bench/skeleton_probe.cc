@@ -36,9 +36,8 @@
 #include "reconstruct/density/density_reconstruction.h"
 #include "tests/bench/probe_main.h"
 #include "tests/fidelity/synthetic_livewire.h"
-#include "core/io/qsm_io.h"
+#include "tests/fidelity/qsm_photos.h"
 #include "ui/pipeline/option_registry.h"
-#include "ui/pipeline/qsm_meshing.h"
 #include "ui/pipeline/tree_building.h"
 
 namespace sylva {
@@ -124,19 +123,6 @@ SkeletonComparison ProbeTree(const std::string& label, const SyntheticDataset& d
   return c;
 }
 
-// A laser-scanned tree's QSM as photos: the bark mesh-qsm makes of it,
-// rendered from the synthetic views; its largest part's skeleton is the truth.
-SyntheticDataset QsmDataset(const std::string& path, const SyntheticDatasetOptions& views,
-                            const PipelineOptions& options) {
-  const QsmMeshing meshing = MeshQsm(ReadQsmCsv(path), options, 0.1);
-  SyntheticTree tree;
-  tree.mesh = meshing.bark;
-  for (const QsmSkeleton& part : meshing.parts) {
-    if (part.skeleton.TotalLength() > tree.skeleton.TotalLength()) tree.skeleton = part.skeleton;
-  }
-  return RenderSyntheticDataset(std::move(tree), views);
-}
-
 int Main(int argc, char** argv) {
   std::vector<uint64_t> seeds = {1, 2, 3, 4, 5};
   std::vector<std::string> trees = {"leafless", "leafy"}, qsm_files;
@@ -192,7 +178,7 @@ int Main(int argc, char** argv) {
   ProbeSums qsm_sums;
   for (const std::string& file : qsm_files) {
     const std::string label = "qsm_" + std::filesystem::path(file).stem().string();
-    qsm_sums.Add(ProbeTree(label, QsmDataset(file, views, options), options, livewire, out));
+    qsm_sums.Add(ProbeTree(label, QsmPhotoDataset(file, views, options), options, livewire, out));
   }
   qsm_sums.Print("qsm");
   return 0;
