@@ -124,9 +124,7 @@ std::vector<char> TrimTwigs(const SkeletonGraph& skeleton, const DensityGrid& de
         if (!removed[child] && (k + 1 == axis.size() || child != axis[k + 1])) keep = k;
       }
     }
-    const auto other_wood = [&](int owner) {
-      return !removed[owner] && axis_of[owner] != a;
-    };
+    const auto other_wood = [&](int owner) { return !removed[owner] && axis_of[owner] != a; };
     size_t first_removed = axis.size();
     for (size_t k = axis.size() - 1; k > keep; --k) {
       const std::vector<Eigen::Vector3d> samples = EdgeSamples(

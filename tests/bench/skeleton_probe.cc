@@ -35,8 +35,8 @@
 #include "datasets/synthetic/synthetic_dataset.h"
 #include "reconstruct/density/density_reconstruction.h"
 #include "tests/bench/probe_main.h"
-#include "tests/fidelity/synthetic_livewire.h"
 #include "tests/fidelity/qsm_photos.h"
+#include "tests/fidelity/synthetic_livewire.h"
 #include "ui/pipeline/option_registry.h"
 #include "ui/pipeline/tree_building.h"
 
