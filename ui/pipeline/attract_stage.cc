@@ -40,6 +40,11 @@ namespace {
 // Stream id for DeriveSeed(General.seed, stream) (tree_building.cc uses 1, 2).
 constexpr uint64_t kLivewireSeedStream = 3;
 
+// The summary's figures: views by graph source, and the views with a note.
+const std::pair<const char*, const char*> kSourceFigures[] = {
+    {"edited", "edited"},     {"strokes", "strokes"}, {"strokes+livewire", "strokes_livewire"},
+    {"livewire", "livewire"}, {"none", "none"},       {"noted (see attractors.json)", "noted"}};
+
 struct ViewAttractors {
   AttractorGraph2D graph;
   std::string source = "none";
@@ -198,6 +203,11 @@ StageRun RunAttractStage(const StageContext& context) {
   for (const auto& [source, count] : counts) brief << " " << count << " " << source << ";";
   brief << " written to out/attractors/.";
   run.brief = brief.str();
+  run.AddFigure("views", views.NumViews(), "views");
+  for (const auto& [source, key] : kSourceFigures) {
+    const auto found = counts.find(source);
+    run.AddFigure(key, found == counts.end() ? 0 : found->second, "views");
+  }
   return run;
 }
 

@@ -253,6 +253,9 @@ StageRun RunRegisterStage(const StageContext& context) {
     run.warnings.push_back(warning);
   }
   run.brief = RegisterBrief(registration, num_photos);
+  run.AddFigure("photos", num_photos, "photos");
+  run.AddFigure("registered", registration.cameras.NumViews(), "photos");
+  run.AddFigure("unregistered", registration.unregistered.size(), "photos");
   return run;
 }
 

@@ -95,6 +95,20 @@ fs::path PreviewPath(size_t k) {
   return fs::path("report") / ("preview_" + std::to_string(k) + ".png");
 }
 
+// {stage: [{"key", "value", "unit"}, ...]}
+Json StageFiguresJson(
+    const std::vector<std::pair<std::string, std::vector<StageFigure>>>& stage_figures) {
+  Json json = Json::object();
+  for (const auto& [stage, figures] : stage_figures) {
+    Json list = Json::array();
+    for (const StageFigure& figure : figures) {
+      list.push_back({{"key", figure.key}, {"value", figure.value}, {"unit", figure.unit}});
+    }
+    json[stage] = list;
+  }
+  return json;
+}
+
 Json ReportJson(const FidelityReport& report, const std::map<std::string, std::string>& briefs) {
   Json views = Json::array();
   for (const ViewFidelity& view : report.views) views.push_back(ViewJson(view));
@@ -127,6 +141,7 @@ Json ReportJson(const FidelityReport& report, const std::map<std::string, std::s
     previews.push_back(PreviewPath(k).generic_string());
   }
   json["previews"] = previews;
+  json["stage_figures"] = StageFiguresJson(report.stage_figures);
   return json;
 }
 
@@ -217,6 +232,18 @@ std::string TreeSectionHtml(const FidelityReport& report) {
   return html.str();
 }
 
+// The stages' figures as a table (nothing if there are none).
+std::string StageFiguresHtml(
+    const std::vector<std::pair<std::string, std::vector<StageFigure>>>& stage_figures) {
+  if (stage_figures.empty()) return "";
+  std::string html = "<h2>Stages</h2>\n<table>\n<tr><th>stage</th><th>figures</th></tr>\n";
+  for (const auto& [stage, figures] : stage_figures) {
+    html += "<tr><td>" + HtmlEscape(stage) + "</td><td>" + HtmlEscape(FiguresText(figures)) +
+            "</td></tr>\n";
+  }
+  return html + "</table>\n";
+}
+
 // The warnings as a list (nothing if there are none).
 std::string WarningsHtml(const std::vector<Warning>& warnings) {
   if (warnings.empty()) return "";
@@ -238,7 +265,8 @@ std::string ReportHtml(const FidelityReport& report,
           ".warning{color:#b00}</style></head>"
           "<body>\n<h1>sylva report</h1>\n<pre>"
        << HtmlEscape(report.BriefReport()) << "</pre>\n"
-       << WarningsHtml(report.warnings) << TreeSectionHtml(report) << "<ul>";
+       << WarningsHtml(report.warnings) << TreeSectionHtml(report)
+       << StageFiguresHtml(report.stage_figures) << "<ul>";
   for (const auto& [stage, brief] : briefs) {
     html << "<li><b>" << HtmlEscape(stage) << "</b>: " << HtmlEscape(brief) << "</li>\n";
   }

@@ -20,6 +20,7 @@
 #include "mesh/leaves.h"
 #include "mesh/tree_metrics.h"
 #include "ui/pipeline/pipeline_options.h"
+#include "ui/pipeline/stage_context.h"
 
 namespace sylva {
 
@@ -36,6 +37,9 @@ struct FidelityReport {
   // Preview pictures of the tree (Report.previews), written as
   // out/report/preview_<k>.png.
   std::vector<FloatImage> previews;
+  // The earlier stages' figures (StageRun::figures, as recorded), in
+  // pipeline order.
+  std::vector<std::pair<std::string, std::vector<StageFigure>>> stage_figures;
   // Every stage's warnings (core/util/warning.h), in pipeline order; those
   // about one view are also in that view's ViewFidelity::warnings.
   std::vector<Warning> warnings;
