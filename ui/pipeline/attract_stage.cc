@@ -181,6 +181,21 @@ std::map<std::string, int> WriteGraphsAndIndex(const Project& project, const Ima
   return counts;
 }
 
+// The brief and the figures from the number of views by source.
+void SummariseAttract(const std::string& mode, int num_views,
+                      const std::map<std::string, int>& counts, StageRun* run) {
+  std::ostringstream brief;
+  brief << "Attractor graphs (mode " << mode << ") for " << num_views << " input views:";
+  for (const auto& [source, count] : counts) brief << " " << count << " " << source << ";";
+  brief << " written to out/attractors/.";
+  run->brief = brief.str();
+  run->AddFigure("views", num_views, "views");
+  for (const auto& [source, key] : kSourceFigures) {
+    const auto found = counts.find(source);
+    run->AddFigure(key, found == counts.end() ? 0 : found->second, "views");
+  }
+}
+
 }  // namespace
 
 StageRun RunAttractStage(const StageContext& context) {
@@ -197,17 +212,7 @@ StageRun RunAttractStage(const StageContext& context) {
   StageRun run;
   const std::map<std::string, int> counts =
       WriteGraphsAndIndex(context.project, views, results, options, &run);
-  std::ostringstream brief;
-  brief << "Attractor graphs (mode " << options.mode << ") for " << views.NumViews()
-        << " input views:";
-  for (const auto& [source, count] : counts) brief << " " << count << " " << source << ";";
-  brief << " written to out/attractors/.";
-  run.brief = brief.str();
-  run.AddFigure("views", views.NumViews(), "views");
-  for (const auto& [source, key] : kSourceFigures) {
-    const auto found = counts.find(source);
-    run.AddFigure(key, found == counts.end() ? 0 : found->second, "views");
-  }
+  SummariseAttract(options.mode, views.NumViews(), counts, &run);
   return run;
 }
 
