@@ -204,12 +204,10 @@ AttractorDirectionField::AttractorDirectionField(const ImageSet& image_set,
     AttractorGraph2D graph = graphs[v];
     if (graph.width != camera.width() || graph.height != camera.height()) {
       // A graph drawn on a resized copy of the photo: same aspect, rescaled.
-      const double sx = static_cast<double>(camera.width()) / graph.width;
-      const double sy = static_cast<double>(camera.height()) / graph.height;
-      SYLVA_CHECK_INPUT(graph.width > 0 && graph.height > 0 && std::abs(sx - sy) < 0.01 * sx, name)
+      SYLVA_CHECK_INPUT(graph.FitsAspectOf(camera.width(), camera.height()), name)
           << "is for a " << graph.width << " x " << graph.height << " image, the photo is "
           << camera.width() << " x " << camera.height();
-      graph = graph.Scaled(sx);
+      graph = graph.Scaled(static_cast<double>(camera.width()) / graph.width);
       graph.width = camera.width();
       graph.height = camera.height();
     }

@@ -170,6 +170,13 @@ AttractorGraph2D AttractorGraph2D::Scaled(double scale) const {
   return out;
 }
 
+bool AttractorGraph2D::FitsAspectOf(int image_width, int image_height) const {
+  if (width <= 0 || height <= 0) return false;
+  const double scale_x = static_cast<double>(image_width) / width;
+  const double scale_y = static_cast<double>(image_height) / height;
+  return std::abs(scale_x - scale_y) < kGraphAspectTolerance * scale_x;
+}
+
 void AttractorGraph2D::Check(const std::string& source_name) const {
   SYLVA_CHECK_INPUT(width > 0 && height > 0, source_name)
       << "the attractor graph's image size must be positive, got " << width << " x " << height;

@@ -20,6 +20,15 @@
 
 namespace sylva {
 
+// How far the aspect ratio of the image a graph was made for may differ from
+// its photo's (AttractorGraph2D::FitsAspectOf), as a fraction of the scale
+// between them (dimensionless). A graph drawn on a resized copy of the photo
+// is scaled to the photo; rounding the copy's size to whole pixels changes
+// its aspect by up to one pixel in its shorter side, so 1 % accepts copies
+// down to about 100 pixels a side and still refuses a crop or a rotated
+// photo.
+constexpr double kGraphAspectTolerance = 0.01;
+
 struct AttractorNode {
   Eigen::Vector2d position = Eigen::Vector2d::Zero();  // pixels
   int parent_idx = -1;                                 // towards the base; -1 = a root
@@ -66,6 +75,10 @@ class AttractorGraph2D {
   // The graph in an image scaled by `scale` (positions times scale, size
   // rounded).
   AttractorGraph2D Scaled(double scale) const;
+  // Whether the graph's image (positive size) has the aspect of an
+  // image_width x image_height image: the scales from one to the other
+  // along x and y differ by less than kGraphAspectTolerance of the x scale.
+  bool FitsAspectOf(int image_width, int image_height) const;
 
   // Throws InputError naming `source_name` if the size is not positive, a
   // position is not finite, a parent index is invalid, the parents form a

@@ -99,5 +99,20 @@ TEST(AttractorGraph, ScaledAndCheckErrors) {
   EXPECT_THROW(no_size.Check("size"), InputError);
 }
 
+TEST(AttractorGraph, FitsAspectOfResizedCopiesNotCrops) {
+  AttractorGraph2D graph = MakeY();  // 100 x 100
+  EXPECT_TRUE(graph.FitsAspectOf(100, 100));
+  EXPECT_TRUE(graph.FitsAspectOf(400, 400));
+  EXPECT_TRUE(graph.FitsAspectOf(400, 403));   // 0.75 % off: a rounded resize
+  EXPECT_FALSE(graph.FitsAspectOf(400, 405));  // 1.25 % off
+  EXPECT_FALSE(graph.FitsAspectOf(400, 300));  // a crop
+  graph.width = 1333;  // a 4000 x 3000 photo drawn on at a third of its size
+  graph.height = 1000;
+  EXPECT_TRUE(graph.FitsAspectOf(4000, 3000));
+  EXPECT_FALSE(graph.FitsAspectOf(3000, 4000));  // rotated
+  graph.width = 0;
+  EXPECT_FALSE(graph.FitsAspectOf(100, 100));
+}
+
 }  // namespace
 }  // namespace sylva

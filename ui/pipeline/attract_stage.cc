@@ -14,8 +14,6 @@
 // and the index out/attractors/attractors.json naming every input view's
 // graph file and source ("edited", "strokes", "livewire" or "none"), which
 // the skeleton stage reads.
-#include <cmath>
-#include <limits>
 #include <map>
 #include <mutex>
 #include <sstream>
@@ -29,6 +27,7 @@
 #include "core/util/random.h"
 #include "core/util/threading.h"
 #include "reconstruct/attractors/livewire.h"
+#include "reconstruct/attractors/livewire_target.h"
 #include "reconstruct/attractors/overlay.h"
 #include "simulate/particle_flow.h"
 #include "sketch/stroke_graph.h"
@@ -41,154 +40,179 @@ namespace {
 // Stream id for DeriveSeed(General.seed, stream) (tree_building.cc uses 1, 2).
 constexpr uint64_t kLivewireSeedStream = 3;
 
+// The summary's figures: views by graph source, and the views with a note.
+const std::pair<const char*, const char*> kSourceFigures[] = {
+    {"edited", "edited"},     {"strokes", "strokes"}, {"strokes+livewire", "strokes_livewire"},
+    {"livewire", "livewire"}, {"none", "none"},       {"noted (see attractors.json)", "noted"}};
+
 struct ViewAttractors {
   AttractorGraph2D graph;
   std::string source = "none";
   std::string note;  // why the graph differs from the usual, if it does
 };
 
-// The centre of the foreground pixel (matte >= threshold) nearest to `point`
-// (ties: the first in row order). InputError if the matte has none.
-Eigen::Vector2d NearestForeground(const FloatImage& matte, const Eigen::Vector2d& point,
-                                  double threshold) {
-  double best = std::numeric_limits<double>::infinity();
-  Eigen::Vector2d nearest = point;
-  for (int y = 0; y < matte.height(); ++y) {
-    for (int x = 0; x < matte.width(); ++x) {
-      if (matte.at(x, y, 0) < threshold) continue;
-      const Eigen::Vector2d centre(x + 0.5, y + 0.5);
-      const double d2 = (centre - point).squaredNorm();
-      if (d2 < best) best = d2, nearest = centre;
-    }
+// The tree base, as the skeleton stage finds it.
+Eigen::Vector3d TreeBaseInWorld(const StageContext& context) {
+  if (context.options.skeleton.base.allFinite()) return context.options.skeleton.base;
+  return EstimateTreeBase(ReadDensityGrid(context.RequireOutput("density.vdb", "density")),
+                          context.options.tree_base);
+}
+
+// Step 1: the view's graph as a person made it (a whole graph, or strokes
+// joined into one), else source "livewire" (mode auto: to be traced) or
+// "none".
+ViewAttractors ReadViewEdits(const Project& project, const std::string& name, const Camera& camera,
+                             const AttractStageOptions& options) {
+  ViewAttractors result;
+  const fs::path edit = project.AttractorEditPath(name);
+  const fs::path strokes_path = project.StrokesPath(name);
+  if (!edit.empty()) {
+    result.graph = ReadAttractorGraphJson(edit);
+    SYLVA_CHECK_INPUT(result.graph.FitsAspectOf(camera.width(), camera.height()), edit.string())
+        << "the graph is for a " << result.graph.width << "x" << result.graph.height
+        << " image, the photo is " << camera.width() << "x" << camera.height();
+    result.source = "edited";
+  } else if (!strokes_path.empty()) {
+    const StrokeSet strokes = ReadStrokes(strokes_path, camera.width(), camera.height());
+    result.graph = GraphFromStrokes(strokes, options.strokes);
+    result.source = "strokes";
+  } else if (options.mode == "auto") {
+    result.source = "livewire";
   }
-  SYLVA_CHECK_INPUT(std::isfinite(best), "matte") << "the matte has no foreground pixel";
-  return nearest;
+  return result;
+}
+
+// Step 2: traces the graph of a "livewire" view on its photo from the tree
+// base, or snaps drawn strokes onto it (Attractors.snap_strokes).
+void TraceOnPhoto(const Project& project, const ImageSet& views, int v,
+                  const Eigen::Vector3d& base_in_world, const AttractStageOptions& options,
+                  ViewAttractors* result) {
+  const bool needs_photo =
+      result->source == "livewire" || (result->source == "strokes" && options.snap_strokes);
+  if (!needs_photo) return;
+  const std::string& name = views.views[v].name;
+  const Camera& camera = views.CameraOf(v);
+  const FloatImage photo = ReadImage(project.PhotoPath(name));
+  const FloatImage matte = project.LoadMatte(views, v);
+  SYLVA_CHECK_INPUT(photo.width() == camera.width() && photo.height() == camera.height(),
+                    project.PhotoPath(name).string())
+      << "the photo is " << photo.width() << "x" << photo.height() << " but its camera is "
+      << camera.width() << "x" << camera.height();
+  if (result->source == "strokes") {
+    result->graph = SnapGraphToImage(result->graph, photo, matte, options.livewire);
+    result->source = "strokes+livewire";
+    return;
+  }
+  const LivewireTarget target =
+      ChooseLivewireTarget(views, v, base_in_world, matte, options.livewire.matte_threshold);
+  result->note = target.note;
+  if (!target.found) {
+    result->source = "none";
+    return;
+  }
+  result->graph = TraceAttractorGraph(photo, matte, target.point_in_image, {}, options.livewire);
+}
+
+// Every view's graph (steps 1 and 2), in parallel.
+std::vector<ViewAttractors> AttractViews(const Project& project, const ImageSet& views,
+                                         const Eigen::Vector3d& base_in_world,
+                                         const AttractStageOptions& options, ProgressTask* task) {
+  const int n = views.NumViews();
+  std::vector<ViewAttractors> results(n);
+  std::mutex mutex;
+  int done = 0;
+  ParallelForFirstError(n, [&](int v) {
+    task->CheckCancelled();
+    results[v] = ReadViewEdits(project, views.views[v].name, views.CameraOf(v), options);
+    TraceOnPhoto(project, views, v, base_in_world, options, &results[v]);
+    std::lock_guard<std::mutex> lock(mutex);
+    task->Update(static_cast<double>(++done) / n);
+  });
+  return results;
+}
+
+// Every graph drawn on its photo (photos decoded again rather than all held,
+// so a failure while attracting leaves the old outputs untouched).
+void WriteOverlays(const Project& project, const ImageSet& views,
+                   const std::vector<ViewAttractors>& results, const ProgressTask& task) {
+  ParallelForFirstError(views.NumViews(), [&](int v) {
+    task.CheckCancelled();
+    if (results[v].source == "none") return;
+    const std::string& name = views.views[v].name;
+    WriteImage(project.AttractorOverlayPath(name),
+               DrawAttractorOverlay(ReadImage(project.PhotoPath(name)), results[v].graph));
+  });
+}
+
+// Writes the graphs, then the index (so the index never names a graph not
+// written), adding the files to `run`; returns the number of views by
+// source (and of noted views).
+std::map<std::string, int> WriteGraphsAndIndex(const Project& project, const ImageSet& views,
+                                               const std::vector<ViewAttractors>& results,
+                                               const AttractStageOptions& options, StageRun* run) {
+  Json entries = Json::object();
+  std::map<std::string, int> counts;
+  for (int v = 0; v < views.NumViews(); ++v) {
+    const std::string& name = views.views[v].name;
+    const ViewAttractors& result = results[v];
+    ++counts[result.source];
+    Json entry = {{"source", result.source}};
+    if (!result.note.empty()) {
+      entry["note"] = result.note;
+      ++counts["noted (see attractors.json)"];
+    }
+    if (result.source != "none") {
+      const fs::path path = project.AttractorGraphPath(name);
+      WriteAttractorGraphJson(path, result.graph, name);
+      entry["graph"] =
+          fs::relative(path, project.AttractorIndexPath().parent_path()).generic_string();
+      entry["nodes"] = result.graph.NumNodes();
+      entry["length_px"] = result.graph.TotalLength();
+      run->outputs.push_back(path);
+      if (options.write_overlays) run->outputs.push_back(project.AttractorOverlayPath(name));
+    }
+    entries[name] = entry;
+  }
+  WriteJsonFile(project.AttractorIndexPath(), {{"format", "sylva-attractor-index"},
+                                               {"version", 1},
+                                               {"mode", options.mode},
+                                               {"views", entries}});
+  run->outputs.push_back(project.AttractorIndexPath());
+  return counts;
+}
+
+// The brief and the figures from the number of views by source.
+void SummariseAttract(const std::string& mode, int num_views,
+                      const std::map<std::string, int>& counts, StageRun* run) {
+  std::ostringstream brief;
+  brief << "Attractor graphs (mode " << mode << ") for " << num_views << " input views:";
+  for (const auto& [source, count] : counts) brief << " " << count << " " << source << ";";
+  brief << " written to out/attractors/.";
+  run->brief = brief.str();
+  run->AddFigure("views", num_views, "views");
+  for (const auto& [source, key] : kSourceFigures) {
+    const auto found = counts.find(source);
+    run->AddFigure(key, found == counts.end() ? 0 : found->second, "views");
+  }
 }
 
 }  // namespace
 
 StageRun RunAttractStage(const StageContext& context) {
-  const Project& project = context.project;
   AttractStageOptions options = context.options.attract;
   options.livewire.seed = DeriveSeed(context.options.general.seed, kLivewireSeedStream);
   const ImageSet views = context.InputViews();
-  const int n = views.NumViews();
-  std::vector<ViewAttractors> results(n);
-  StageRun run;
+  std::vector<ViewAttractors> results(views.NumViews());
   if (options.mode != "off") {
-    // The tree base, as the skeleton stage finds it.
-    const Eigen::Vector3d base =
-        context.options.skeleton.base.allFinite()
-            ? context.options.skeleton.base
-            : EstimateTreeBase(ReadDensityGrid(context.RequireOutput("density.vdb", "density")),
-                               context.options.tree_base);
+    const Eigen::Vector3d base_in_world = TreeBaseInWorld(context);
     ProgressTask task(context.progress, "attract: attractor graphs");
-    std::mutex mutex;
-    int done = 0;
-    // One view's graph (results[v]).
-    const auto attract_view = [&](int v) {
-      const std::string& name = views.views[v].name;
-      const Camera& camera = views.CameraOf(v);
-      ViewAttractors& result = results[v];
-      const fs::path edit = project.AttractorEditPath(name);
-      const fs::path strokes_path = project.StrokesPath(name);
-      if (!edit.empty()) {
-        result.graph = ReadAttractorGraphJson(edit);
-        const double aspect_error =
-            std::abs(result.graph.width * static_cast<double>(camera.height()) -
-                     result.graph.height * static_cast<double>(camera.width()));
-        SYLVA_CHECK_INPUT(aspect_error <= 0.01 * result.graph.width * camera.height(),
-                          edit.string())
-            << "the graph is for a " << result.graph.width << "x" << result.graph.height
-            << " image, the photo is " << camera.width() << "x" << camera.height();
-        result.source = "edited";
-      } else if (!strokes_path.empty()) {
-        const StrokeSet strokes = ReadStrokes(strokes_path, camera.width(), camera.height());
-        result.graph = GraphFromStrokes(strokes, options.strokes);
-        result.source = "strokes";
-      } else if (options.mode == "auto") {
-        result.source = "livewire";
-      }
-      if (result.source == "none") return;
-      const bool needs_photo =
-          result.source == "livewire" || (result.source == "strokes" && options.snap_strokes);
-      if (!needs_photo) return;
-      const FloatImage photo = ReadImage(project.PhotoPath(name));
-      const FloatImage matte = project.LoadMatte(views, v);
-      SYLVA_CHECK_INPUT(photo.width() == camera.width() && photo.height() == camera.height(),
-                        project.PhotoPath(name).string())
-          << "the photo is " << photo.width() << "x" << photo.height() << " but its camera is "
-          << camera.width() << "x" << camera.height();
-      if (result.source == "livewire") {
-        Eigen::Vector2d target;
-        if (!views.Project(v, base, &target)) {
-          result.source = "none";  // the base is behind the camera
-          result.note = "tree base behind the camera";
-          return;
-        }
-        if (!(target.x() >= 0 && target.y() >= 0 && target.x() <= camera.width() &&
-              target.y() <= camera.height())) {
-          // The base is out of frame (a close-up): the paths end where the
-          // tree leaves the photo nearest to it.
-          target = NearestForeground(matte, target, options.livewire.matte_threshold);
-          result.note = "tree base outside the photo; target moved to the matte's nearest point";
-        }
-        result.graph = TraceAttractorGraph(photo, matte, target, {}, options.livewire);
-      } else if (result.source == "strokes" && options.snap_strokes) {
-        result.graph = SnapGraphToImage(result.graph, photo, matte, options.livewire);
-        result.source = "strokes+livewire";
-      }
-    };
-    ParallelForFirstError(n, [&](int v) {
-      task.CheckCancelled();
-      attract_view(v);
-      std::lock_guard<std::mutex> lock(mutex);
-      task.Update(static_cast<double>(++done) / n);
-    });
-    // Every graph is known: now the overlays (photos decoded again rather
-    // than all held, so a failure above leaves the old outputs untouched).
-    if (options.write_overlays) {
-      ParallelForFirstError(n, [&](int v) {
-        task.CheckCancelled();
-        if (results[v].source == "none") return;
-        const std::string& name = views.views[v].name;
-        WriteImage(project.AttractorOverlayPath(name),
-                   DrawAttractorOverlay(ReadImage(project.PhotoPath(name)), results[v].graph));
-      });
-    }
+    results = AttractViews(context.project, views, base_in_world, options, &task);
+    if (options.write_overlays) WriteOverlays(context.project, views, results, task);
   }
-  // Graphs, then the index (so the index never names a graph not written).
-  Json index = {{"format", "sylva-attractor-index"}, {"version", 1}, {"mode", options.mode}};
-  Json entries = Json::object();
-  std::map<std::string, int> counts;
-  for (int v = 0; v < n; ++v) {
-    const std::string& name = views.views[v].name;
-    ++counts[results[v].source];
-    Json entry = {{"source", results[v].source}};
-    if (!results[v].note.empty()) {
-      entry["note"] = results[v].note;
-      ++counts["noted (see attractors.json)"];
-    }
-    if (results[v].source != "none") {
-      const fs::path path = project.AttractorGraphPath(name);
-      WriteAttractorGraphJson(path, results[v].graph, name);
-      entry["graph"] =
-          fs::relative(path, project.AttractorIndexPath().parent_path()).generic_string();
-      entry["nodes"] = results[v].graph.NumNodes();
-      entry["length_px"] = results[v].graph.TotalLength();
-      run.outputs.push_back(path);
-      if (options.write_overlays) run.outputs.push_back(project.AttractorOverlayPath(name));
-    }
-    entries[name] = entry;
-  }
-  index["views"] = entries;
-  WriteJsonFile(project.AttractorIndexPath(), index);
-  run.outputs.push_back(project.AttractorIndexPath());
-  std::ostringstream brief;
-  brief << "Attractor graphs (mode " << options.mode << ") for " << n << " input views:";
-  for (const auto& [source, count] : counts) brief << " " << count << " " << source << ";";
-  brief << " written to out/attractors/.";
-  run.brief = brief.str();
+  StageRun run;
+  const std::map<std::string, int> counts =
+      WriteGraphsAndIndex(context.project, views, results, options, &run);
+  SummariseAttract(options.mode, views.NumViews(), counts, &run);
   return run;
 }
 

@@ -4,6 +4,24 @@
 #include "ui/pipeline/stage_context.h"
 
 namespace sylva {
+namespace {
+
+void AddDensityFigures(const DensitySummary& summary, const std::string& units, StageRun* run) {
+  int iterations = 0;
+  for (const CglsSummary& solve : summary.solves) iterations += solve.iterations;
+  run->AddFigure("views", summary.num_views, "views");
+  run->AddFigure("distrusted_views", summary.distrusted_views.size(), "views");
+  run->AddFigure("resolution", summary.resolution, "voxels");
+  run->AddFigure("voxel_size", summary.voxel_size, units);
+  run->AddFigure("carved_voxels", summary.num_carved_voxels, "voxels");
+  run->AddFigure("pixel_rays", summary.num_rows, "rays");
+  run->AddFigure("unexplained_pixels", summary.num_unexplained_pixels, "pixels");
+  run->AddFigure("iterations", iterations, "iterations");
+  run->AddFigure("stored_voxels", summary.num_output_voxels, "voxels");
+  run->AddFigure("solve_seconds", summary.seconds_solve, "s");
+}
+
+}  // namespace
 
 StageRun RunDensityStage(const StageContext& context) {
   const ImageSet views = context.InputViews();
@@ -14,6 +32,7 @@ StageRun RunDensityStage(const StageContext& context) {
   grid.SetMetadata("units", context.Units());
   StageRun run;
   run.brief = summary.BriefReport();
+  AddDensityFigures(summary, context.Units(), &run);
   run.warnings = summary.warnings;
   run.outputs = {context.Out("density.vdb")};
   WriteDensityGrid(run.outputs[0], grid);

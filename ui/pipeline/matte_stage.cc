@@ -424,6 +424,26 @@ void AddMatteWarnings(const std::vector<std::string>& names, const SetVerdict& v
   }
 }
 
+// The summary's figures: mattes computed and kept, implausible and repaired,
+// and the mean foreground share.
+void AddMatteFigures(size_t num_photos, size_t num_computed, const SetVerdict& verdict,
+                     const std::vector<OwnMatte>& records, StageRun* run) {
+  int implausible = 0, repaired = 0;
+  for (size_t i = 0; i < records.size(); ++i) {
+    implausible += !verdict.reasons[i].empty();
+    repaired += records[i].repaired;
+  }
+  run->AddFigure("photos", num_photos, "photos");
+  run->AddFigure("computed", num_computed, "mattes");
+  run->AddFigure("unchanged", num_photos - num_computed, "mattes");
+  run->AddFigure("implausible", implausible, "mattes");
+  run->AddFigure("repaired", repaired, "mattes");
+  if (verdict.shapes.empty()) return;
+  double share = 0.0;
+  for (const MatteShape& shape : verdict.shapes) share += shape.foreground_share;
+  run->AddFigure("mean_foreground", 100.0 * share / verdict.shapes.size(), "% of pixels");
+}
+
 }  // namespace
 
 StageRun RunMatteStage(const StageContext& context) {
@@ -457,6 +477,7 @@ StageRun RunMatteStage(const StageContext& context) {
           << " % of the pixels";
   }
   run.brief = brief.str();
+  AddMatteFigures(names.size(), computed.size(), verdict, records, &run);
   for (const std::string& name : names) run.outputs.push_back(project.ComputedMattePath(name));
   return run;
 }

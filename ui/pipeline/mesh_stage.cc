@@ -19,6 +19,18 @@
 #include "ui/pipeline/tree_building.h"
 
 namespace sylva {
+namespace {
+
+void AddMeshFigures(const TreeGeometry& geometry, const TreeMetricsReport& metrics, StageRun* run) {
+  run->AddFigure("bark_triangles", geometry.bark.NumTriangles(), "triangles");
+  run->AddFigure("twig_triangles", geometry.twigs.NumTriangles(), "triangles");
+  run->AddFigure("leaves", geometry.leaves.instances.size(), "leaves");
+  run->AddFigure("height", metrics.height, metrics.units);
+  run->AddFigure("crown_width", metrics.crown_width, metrics.units);
+  run->AddFigure("tips", metrics.num_tips, "tips");
+}
+
+}  // namespace
 
 StageRun RunMeshStage(const StageContext& context) {
   const SkeletonGraph skeleton =
@@ -67,6 +79,7 @@ StageRun RunMeshStage(const StageContext& context) {
         << ", crown base " << metrics.crown_base_height << ", crown width " << metrics.crown_width
         << " (measured), " << metrics.num_tips << " tips (prior); cylinders in out/qsm.csv.";
   run.brief += brief.str();
+  AddMeshFigures(geometry, metrics, &run);
   progress.Update(1.0);
   return run;
 }

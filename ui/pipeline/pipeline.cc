@@ -92,7 +92,7 @@ const std::vector<StageDefinition>& Definitions() {
       {{Stage::kReport, "report",
         "per-view fidelity of the density and the mesh against the mattes, tree metrics "
         "(out/report.json, report.html)"},
-       "report/5",
+       "report/6",
        {"Report."},
        {Stage::kDensity, Stage::kSkeleton, Stage::kMesh},
        true,
@@ -146,6 +146,7 @@ std::string RunSummary::BriefReport() const {
   for (const StageRun& run : stages) {
     out << GetStageInfo(run.stage).name << ": "
         << (run.up_to_date ? "up to date (inputs unchanged)" : run.brief) << "\n";
+    if (!run.figures.empty()) out << "  figures: " << FiguresText(run.figures) << "\n";
     for (const Warning& warning : run.warnings) out << "  warning " << warning.ToString() << "\n";
   }
   return out.str();
@@ -251,9 +252,14 @@ void Pipeline::Record(const StageRun& run) const {
     warnings.push_back(
         {{"code", warning.code}, {"message", warning.message}, {"subject", warning.subject}});
   }
+  Json figures = Json::array();
+  for (const StageFigure& figure : run.figures) {
+    figures.push_back({{"key", figure.key}, {"value", figure.value}, {"unit", figure.unit}});
+  }
   records[GetStageInfo(run.stage).name] = {{"key", StageKey(run.stage)}, {"outputs", outputs},
                                            {"seconds", run.seconds},     {"summary", run.brief},
-                                           {"warnings", warnings},       {"finished", LocalTime()}};
+                                           {"figures", figures},         {"warnings", warnings},
+                                           {"finished", LocalTime()}};
   WriteJsonFile(project_.CacheDir() / "stages.json", records);
 }
 
@@ -301,6 +307,7 @@ RunSummary Pipeline::Run(Stage until, bool force) {
       skipped.stage = stage;
       skipped.up_to_date = true;
       skipped.warnings = ReadRecordedWarnings(project_, definition.info.name);
+      skipped.figures = ReadRecordedFigures(project_, definition.info.name);
       summary.stages.push_back(skipped);
     }
     if (stage == until) break;
@@ -338,6 +345,7 @@ StageRun Pipeline::Execute(Stage stage) {
   StageRun run = Definition(stage).run(context);
   run.stage = stage;
   run.seconds = SecondsSince(start);
+  run.AddFigure("seconds", run.seconds, "s");
   Record(run);
   return run;
 }

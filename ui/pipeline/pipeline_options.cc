@@ -351,7 +351,8 @@ void RegisterLeaves(LeafOptions* o, OptionRegistry* r) {
                "leaf positions drawn at most this many times the leaves wanted");
 }
 
-void RegisterGeometry(TreeGeometryOptions* o, LeafOptions* leaves, OptionRegistry* r) {
+// RegisterGeometry's parts, in registration order: bark, twigs, leaf shapes.
+void RegisterBarkGeometry(TreeGeometryOptions* o, OptionRegistry* r) {
   r->AddBool("BranchMesh.watertight", &o->watertight_bark,
              "one closed 2-manifold bark mesh with joints at junctions (thesis 5.3); false = "
              "overlapping tubes");
@@ -369,6 +370,9 @@ void RegisterGeometry(TreeGeometryOptions* o, LeafOptions* leaves, OptionRegistr
   r->AddInt("BranchMesh.subdivision", &o->bark_subdivision, "levels",
             "Loop subdivision of the bark for smooth junctions: 0 = off, at most 3 (each level "
             "x4 triangles; thin branches shrink a little)");
+}
+
+void RegisterTwigs(TreeGeometryOptions* o, OptionRegistry* r) {
   r->AddBool("Twigs.enabled", &o->twigs, "grow twigs from the terminal branches (thesis 5.4)");
   r->AddString("Twigs.pattern", &o->twig.pattern, "monopodial or sympodial");
   r->AddDouble("Twigs.twigs_per_length", &o->twig.twigs_per_length, "per twig length",
@@ -401,6 +405,9 @@ void RegisterGeometry(TreeGeometryOptions* o, LeafOptions* leaves, OptionRegistr
             "monopodial: lateral shoots per twig, half as long");
   r->AddDouble("Twigs.sympodial_angle_deg", &o->twig.sympodial_angle_deg, "degrees",
                "sympodial: turn of each unit from the previous one");
+}
+
+void RegisterLeafGeometry(TreeGeometryOptions* o, LeafOptions* leaves, OptionRegistry* r) {
   r->AddString("Leaves.shape", &leaves->shape, "quad, ovate, lanceolate or needle");
   r->AddString("Leaves.image", &o->leaf_image,
                "a leaf picture (RGBA; alpha = outline) used as a textured leaf");
@@ -453,7 +460,8 @@ void RegisterReport(ReportOptions* o, OptionRegistry* r) {
             "rays per preview pixel along each axis (anti-aliasing)");
 }
 
-void RegisterMatting(MattingOptions* o, MatteStageOptions* stage, OptionRegistry* r) {
+// RegisterMatting's parts, in registration order: the trimap, its refinement.
+void RegisterTrimap(MattingOptions* o, MatteStageOptions* stage, OptionRegistry* r) {
   r->AddString("Matting.trimap", &o->trimap,
                "trimap source: auto (backdrop if the photo border is uniform, else grabcut), "
                "backdrop, difference (needs Matting.background_photo) or grabcut");
@@ -501,6 +509,9 @@ void RegisterMatting(MattingOptions* o, MatteStageOptions* stage, OptionRegistry
                "border strip GrabCut assumes background, of each side");
   r->AddDouble("Matting.grabcut_max_megapixels", &o->grabcut_max_megapixels, "MP",
                "GrabCut runs on the photo downsampled to at most this size");
+}
+
+void RegisterAlphaRefinement(MattingOptions* o, OptionRegistry* r) {
   r->AddString("Matting.refine", &o->refine,
                "alpha refinement of the unknown pixels: closed_form (Levin et al.), alphamat "
                "(OpenCV information flow) or none");
@@ -621,7 +632,8 @@ void RegisterLoose(LooseInitOptions* init, LooseRefineOptions* refine, OptionReg
 
 void RegisterPipelineOptions(PipelineOptions* options, OptionRegistry* registry) {
   RegisterGeneral(&options->general, registry);
-  RegisterMatting(&options->matting, &options->matte_stage, registry);
+  RegisterTrimap(&options->matting, &options->matte_stage, registry);
+  RegisterAlphaRefinement(&options->matting, registry);
   RegisterMatteSet(&options->matte_set, registry);
   RegisterColmap(&options->colmap, registry);
   RegisterWorldFrame(&options->world_frame, registry);
@@ -635,7 +647,9 @@ void RegisterPipelineOptions(PipelineOptions* options, OptionRegistry* registry)
   RegisterBranchWidth(&options->branch_width, registry);
   RegisterBranchMesh(&options->branch_mesh, registry);
   RegisterLeaves(&options->leaves, registry);
-  RegisterGeometry(&options->geometry, &options->leaves, registry);
+  RegisterBarkGeometry(&options->geometry, registry);
+  RegisterTwigs(&options->geometry, registry);
+  RegisterLeafGeometry(&options->geometry, &options->leaves, registry);
   RegisterTreeMetrics(&options->tree_metrics, registry);
   RegisterReport(&options->report, registry);
 }

@@ -86,6 +86,153 @@ std::string AbsoluteString(const fs::path& path) {
   return fs::weakly_canonical(fs::absolute(path)).string();
 }
 
+// The checks of `sylva init`'s arguments that need no photo: a new project
+// folder, existing input folders, exactly one camera source.
+void CheckSetup(const ProjectSetup& setup) {
+  std::error_code ec;
+  SYLVA_CHECK_INPUT(!fs::exists(setup.root, ec), setup.root.string())
+      << "already exists; choose a new project folder";
+  SYLVA_CHECK_INPUT(fs::is_directory(setup.photos_dir, ec), setup.photos_dir.string())
+      << "photo folder not found";
+  SYLVA_CHECK_INPUT(setup.mattes_dir.empty() || fs::is_directory(setup.mattes_dir, ec),
+                    setup.mattes_dir.string())
+      << "matte folder not found";
+  const int num_sources =
+      !setup.colmap_model_dir.empty() + !setup.camera_file.empty() + !setup.register_method.empty();
+  SYLVA_CHECK_INPUT(num_sources == 1, "init")
+      << "give exactly one of --colmap MODEL_DIR, --cameras FILE.json and --register "
+         "colmap|manual";
+  SYLVA_CHECK_INPUT(setup.register_method.empty() || setup.register_method == "colmap" ||
+                        setup.register_method == "manual",
+                    "--register")
+      << "expected 'colmap' or 'manual', got '" << setup.register_method << "'";
+  const bool manual = setup.register_method == "manual";
+  SYLVA_CHECK_INPUT(manual == !setup.loose_cameras_file.empty(), "--loose-cameras")
+      << (manual ? "--register manual needs --loose-cameras FILE.json (azimuths per photo)"
+                 : "--loose-cameras is only used with --register manual");
+  if (manual) {
+    SYLVA_CHECK_INPUT(fs::is_regular_file(setup.loose_cameras_file, ec),
+                      setup.loose_cameras_file.string())
+        << "loose-camera file not found";
+  }
+}
+
+// The project's photos and where their cameras come from.
+struct PhotoList {
+  std::string camera_type;         // "colmap", "sylva", "manual" or "sfm"
+  std::vector<std::string> names;  // sorted
+  ImageSet given;                  // the given cameras (none when registering)
+  std::string file_units;          // the camera file's units ("" if none)
+};
+
+// The photos of the given camera model, or (registering) of the photo folder.
+PhotoList ReadPhotoList(const ProjectSetup& setup) {
+  PhotoList photos;
+  if (!setup.colmap_model_dir.empty() || !setup.camera_file.empty()) {
+    photos.camera_type = !setup.colmap_model_dir.empty() ? "colmap" : "sylva";
+    photos.given = ReadCameraSource(
+        photos.camera_type,
+        photos.camera_type == "colmap" ? setup.colmap_model_dir : setup.camera_file,
+        &photos.file_units);
+    for (const View& view : photos.given.views) photos.names.push_back(view.name);
+    std::sort(photos.names.begin(), photos.names.end());
+    return photos;
+  }
+  photos.camera_type = setup.register_method == "manual" ? "manual" : "sfm";
+  photos.names = ListImageFiles(setup.photos_dir);
+  SYLVA_CHECK_INPUT(photos.names.size() >= 2, setup.photos_dir.string())
+      << "registration needs at least 2 photos; found " << photos.names.size();
+  return photos;
+}
+
+// Refuses two photos whose computed mattes would share a file (a.jpg, a.png).
+void CheckMatteNamesDiffer(const std::vector<std::string>& photo_names,
+                           const fs::path& photos_dir) {
+  std::vector<std::string> matte_names;
+  for (const std::string& name : photo_names) {
+    matte_names.push_back(fs::path(name).replace_extension().generic_string());
+  }
+  std::sort(matte_names.begin(), matte_names.end());
+  const auto duplicate = std::adjacent_find(matte_names.begin(), matte_names.end());
+  SYLVA_CHECK_INPUT(duplicate == matte_names.end(), photos_dir.string())
+      << "two photos are named '" << *duplicate
+      << ".*' with different extensions; rename one (their mattes would clash)";
+}
+
+// The matte source: a folder ("given"), the photos' alpha channels ("alpha",
+// all or none must have one), or "computed".
+std::string FindMatteSource(const Project& project, const ProjectSetup& setup) {
+  if (!setup.mattes_dir.empty()) return "given";
+  int with_alpha = 0;
+  fs::path without_alpha;  // the first photo without an alpha channel
+  for (const std::string& name : project.photo_names()) {
+    const fs::path photo = project.PhotoPath(name);
+    std::error_code ec;
+    SYLVA_CHECK_INPUT(fs::is_regular_file(photo, ec), photo.string())
+        << "photo '" << name << "' named by the camera model is missing";
+    const bool has_alpha = ReadImageHeader(photo).alpha_channel >= 0;
+    with_alpha += has_alpha;
+    if (!has_alpha && without_alpha.empty()) without_alpha = photo;
+  }
+  SYLVA_CHECK_INPUT(with_alpha == 0 || without_alpha.empty(), without_alpha.string())
+      << "photo has no alpha channel while others have one; give --mattes DIR, or "
+         "photos without alpha so that sylva computes the mattes";
+  return with_alpha == 0 ? "computed" : "alpha";
+}
+
+// Every photo and matte is decoded (a truncated file is caught now, not
+// half-way through a run); in parallel, with the first photo's error shown.
+void CheckInputFiles(const Project& project, const ImageSet& given) {
+  ParallelForFirstError(static_cast<int>(project.photo_names().size()), [&](int i) {
+    const std::string& name = project.photo_names()[i];
+    const int v = given.FindView(name);
+    CheckPhotoFiles(project, name, v >= 0 ? &given.CameraOf(v) : nullptr);
+  });
+}
+
+// Each held-out view is a photo of the project, and at least one is not.
+void CheckHeldOut(const std::vector<std::string>& photo_names,
+                  const std::vector<std::string>& held_out) {
+  for (const std::string& name : held_out) {
+    SYLVA_CHECK_INPUT(std::binary_search(photo_names.begin(), photo_names.end(), name),
+                      "--held-out")
+        << "view '" << name << "' is not one of the project's photos";
+  }
+  SYLVA_CHECK_INPUT(photo_names.size() > held_out.size(), "--held-out")
+      << "every view is held out; at least one must remain for the reconstruction";
+}
+
+// The loose-camera file must name photos of the folder.
+void CheckLoosePhotos(const ProjectSetup& setup, const std::vector<std::string>& photo_names) {
+  const LooseSetup loose = ReadLooseSetup(setup.loose_cameras_file);
+  for (const LoosePhoto& photo : loose.photos) {
+    SYLVA_CHECK_INPUT(std::binary_search(photo_names.begin(), photo_names.end(), photo.name),
+                      setup.loose_cameras_file.string())
+        << "photo '" << photo.name << "' is not in the photo folder " << setup.photos_dir.string();
+  }
+}
+
+// Copies the camera source into `project_root`/cameras/; returns its path
+// relative to the project ("" for "sfm": COLMAP registers the photos).
+std::string CopyCameraSource(const ProjectSetup& setup, const std::string& camera_type,
+                             const fs::path& project_root) {
+  if (camera_type == "colmap") {
+    CopyColmapModel(setup.colmap_model_dir, project_root / "cameras" / "colmap");
+    return "cameras/colmap";
+  }
+  if (camera_type == "sylva") {
+    fs::create_directories(project_root / "cameras");
+    fs::copy_file(setup.camera_file, project_root / "cameras" / "cameras.json");
+    return "cameras/cameras.json";
+  }
+  if (camera_type == "manual") {
+    fs::create_directories(project_root / "cameras");
+    fs::copy_file(setup.loose_cameras_file, project_root / "cameras" / "loose.json");
+    return "cameras/loose.json";
+  }
+  return "";
+}
+
 }  // namespace
 
 bool Project::IsHeldOut(const std::string& view_name) const {
@@ -284,33 +431,7 @@ Project Project::Open(const fs::path& root) {
 }
 
 Project Project::Create(const ProjectSetup& setup) {
-  std::error_code ec;
-  SYLVA_CHECK_INPUT(!fs::exists(setup.root, ec), setup.root.string())
-      << "already exists; choose a new project folder";
-  SYLVA_CHECK_INPUT(fs::is_directory(setup.photos_dir, ec), setup.photos_dir.string())
-      << "photo folder not found";
-  SYLVA_CHECK_INPUT(setup.mattes_dir.empty() || fs::is_directory(setup.mattes_dir, ec),
-                    setup.mattes_dir.string())
-      << "matte folder not found";
-  const int num_sources =
-      !setup.colmap_model_dir.empty() + !setup.camera_file.empty() + !setup.register_method.empty();
-  SYLVA_CHECK_INPUT(num_sources == 1, "init")
-      << "give exactly one of --colmap MODEL_DIR, --cameras FILE.json and --register "
-         "colmap|manual";
-  SYLVA_CHECK_INPUT(setup.register_method.empty() || setup.register_method == "colmap" ||
-                        setup.register_method == "manual",
-                    "--register")
-      << "expected 'colmap' or 'manual', got '" << setup.register_method << "'";
-  const bool manual = setup.register_method == "manual";
-  SYLVA_CHECK_INPUT(manual == !setup.loose_cameras_file.empty(), "--loose-cameras")
-      << (manual ? "--register manual needs --loose-cameras FILE.json (azimuths per photo)"
-                 : "--loose-cameras is only used with --register manual");
-  if (manual) {
-    SYLVA_CHECK_INPUT(fs::is_regular_file(setup.loose_cameras_file, ec),
-                      setup.loose_cameras_file.string())
-        << "loose-camera file not found";
-  }
-
+  CheckSetup(setup);
   // Build the project in a temporary folder beside the target, then rename.
   const fs::path root = fs::absolute(setup.root);
   const fs::path staging = TempPathBeside(root);
@@ -321,93 +442,18 @@ Project Project::Create(const ProjectSetup& setup) {
     project.held_out_ = setup.held_out;
     project.photos_ = AbsoluteString(setup.photos_dir);
     project.mattes_ = setup.mattes_dir.empty() ? "" : AbsoluteString(setup.mattes_dir);
-    std::string file_units;
-    ImageSet given;
-    if (!setup.colmap_model_dir.empty() || !setup.camera_file.empty()) {
-      project.camera_type_ = !setup.colmap_model_dir.empty() ? "colmap" : "sylva";
-      given = ReadCameraSource(
-          project.camera_type_,
-          project.camera_type_ == "colmap" ? setup.colmap_model_dir : setup.camera_file,
-          &file_units);
-      for (const View& view : given.views) project.photo_names_.push_back(view.name);
-      std::sort(project.photo_names_.begin(), project.photo_names_.end());
-    } else {
-      project.camera_type_ = manual ? "manual" : "sfm";
-      project.photo_names_ = ListImageFiles(setup.photos_dir);
-      SYLVA_CHECK_INPUT(project.photo_names_.size() >= 2, setup.photos_dir.string())
-          << "registration needs at least 2 photos; found " << project.photo_names_.size();
-    }
-    project.units_ =
-        !setup.units.empty() ? setup.units : (file_units.empty() ? "arbitrary" : file_units);
-    // Two photos whose computed mattes would share a file (a.jpg, a.png).
-    std::vector<std::string> matte_names;
-    for (const std::string& name : project.photo_names_) {
-      matte_names.push_back(fs::path(name).replace_extension().generic_string());
-    }
-    std::sort(matte_names.begin(), matte_names.end());
-    const auto duplicate = std::adjacent_find(matte_names.begin(), matte_names.end());
-    SYLVA_CHECK_INPUT(duplicate == matte_names.end(), setup.photos_dir.string())
-        << "two photos are named '" << *duplicate
-        << ".*' with different extensions; rename one (their mattes would clash)";
-
-    // The matte source: a folder, the photos' alpha channels, or computed.
-    if (!setup.mattes_dir.empty()) {
-      project.matte_source_ = "given";
-    } else {
-      int with_alpha = 0;
-      fs::path without_alpha;  // the first photo without an alpha channel
-      for (const std::string& name : project.photo_names_) {
-        const fs::path photo = project.PhotoPath(name);
-        SYLVA_CHECK_INPUT(fs::is_regular_file(photo, ec), photo.string())
-            << "photo '" << name << "' named by the camera model is missing";
-        const bool has_alpha = ReadImageHeader(photo).alpha_channel >= 0;
-        with_alpha += has_alpha;
-        if (!has_alpha && without_alpha.empty()) without_alpha = photo;
-      }
-      SYLVA_CHECK_INPUT(with_alpha == 0 || without_alpha.empty(), without_alpha.string())
-          << "photo has no alpha channel while others have one; give --mattes DIR, or "
-             "photos without alpha so that sylva computes the mattes";
-      project.matte_source_ = with_alpha == 0 ? "computed" : "alpha";
-    }
-    // Every photo and matte is decoded (a truncated file is caught now, not
-    // half-way through a run); in parallel, with the first photo's error shown.
-    ParallelForFirstError(static_cast<int>(project.photo_names_.size()), [&](int i) {
-      const std::string& name = project.photo_names_[i];
-      const int v = given.FindView(name);
-      CheckPhotoFiles(project, name, v >= 0 ? &given.CameraOf(v) : nullptr);
-    });
-    for (const std::string& name : setup.held_out) {
-      SYLVA_CHECK_INPUT(
-          std::binary_search(project.photo_names_.begin(), project.photo_names_.end(), name),
-          "--held-out")
-          << "view '" << name << "' is not one of the project's photos";
-    }
-    SYLVA_CHECK_INPUT(project.photo_names_.size() > setup.held_out.size(), "--held-out")
-        << "every view is held out; at least one must remain for the reconstruction";
-
-    if (manual) {
-      // The loose-camera file must name photos of the folder.
-      const LooseSetup loose = ReadLooseSetup(setup.loose_cameras_file);
-      for (const LoosePhoto& photo : loose.photos) {
-        SYLVA_CHECK_INPUT(std::binary_search(project.photo_names_.begin(),
-                                             project.photo_names_.end(), photo.name),
-                          setup.loose_cameras_file.string())
-            << "photo '" << photo.name << "' is not in the photo folder "
-            << setup.photos_dir.string();
-      }
-    }
-    if (project.camera_type_ == "colmap") {
-      CopyColmapModel(setup.colmap_model_dir, staging / "cameras" / "colmap");
-      project.camera_path_ = "cameras/colmap";
-    } else if (project.camera_type_ == "sylva") {
-      fs::create_directories(staging / "cameras");
-      fs::copy_file(setup.camera_file, staging / "cameras" / "cameras.json");
-      project.camera_path_ = "cameras/cameras.json";
-    } else if (manual) {
-      fs::create_directories(staging / "cameras");
-      fs::copy_file(setup.loose_cameras_file, staging / "cameras" / "loose.json");
-      project.camera_path_ = "cameras/loose.json";
-    }
+    const PhotoList photos = ReadPhotoList(setup);
+    project.camera_type_ = photos.camera_type;
+    project.photo_names_ = photos.names;
+    project.units_ = !setup.units.empty()
+                         ? setup.units
+                         : (photos.file_units.empty() ? "arbitrary" : photos.file_units);
+    CheckMatteNamesDiffer(project.photo_names_, setup.photos_dir);
+    project.matte_source_ = FindMatteSource(project, setup);
+    CheckInputFiles(project, photos.given);
+    CheckHeldOut(project.photo_names_, setup.held_out);
+    if (setup.register_method == "manual") CheckLoosePhotos(setup, project.photo_names_);
+    project.camera_path_ = CopyCameraSource(setup, project.camera_type_, staging);
     if (setup.copy_inputs) {
       CopyViewFiles(project.photo_names_, setup.photos_dir, setup.mattes_dir, staging);
       project.photos_ = "photos";
@@ -419,6 +465,7 @@ Project Project::Create(const ProjectSetup& setup) {
     project.root_ = root;
     return project;
   } catch (...) {
+    std::error_code ec;
     fs::remove_all(staging, ec);
     throw;
   }

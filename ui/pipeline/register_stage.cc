@@ -6,23 +6,22 @@
 // frame), COLMAP's structure from motion on the photos (workspace in
 // cache/colmap/), or loose azimuths refined with Ceres (already in the world
 // frame).
-#include <chrono>
+#include "ui/pipeline/register_stage.h"
+
+#include <algorithm>
 #include <map>
 #include <sstream>
 
 #include "core/io/camera_file.h"
 #include "core/io/colmap_model.h"
 #include "core/io/image_io.h"
-#include "core/io/json_util.h"
 #include "core/util/check.h"
 #include "core/util/file_util.h"
-#include "core/util/logging.h"
 #include "core/util/threading.h"
 #include "reconstruct/registration/colmap_runner.h"
 #include "reconstruct/registration/loose_registration.h"
 #include "reconstruct/registration/loose_setup_io.h"
 #include "reconstruct/registration/world_frame.h"
-#include "ui/pipeline/stage_context.h"
 
 namespace sylva {
 namespace {
@@ -45,155 +44,218 @@ void WriteMasks(const StageContext& context, const fs::path& masks_dir) {
 
 Json Vector(const Eigen::Vector3d& v) { return Json::array({v.x(), v.y(), v.z()}); }
 
+Json ColmapJson(const ColmapResult& result, const Project& project) {
+  return {{"matcher", result.matcher},
+          {"single_camera", result.single_camera},
+          {"num_models", result.num_models},
+          {"mapper_runs", result.mapper_runs},
+          {"matching_runs", result.matching_runs},
+          {"relaxed_mapping", result.relaxed_mapping},
+          {"extraction_seconds", result.extraction_seconds},
+          {"matching_seconds", result.matching_seconds},
+          {"mapping_seconds", result.mapping_seconds},
+          {"colmap_seconds", result.colmap_seconds},
+          {"sylva_seconds", result.sylva_seconds},
+          {"log", fs::relative(result.log_path, project.root()).generic_string()},
+          {"summary", result.BriefReport()}};
+}
+
+Json WorldFrameJson(const WorldFrame& frame) {
+  const Sim3d& sim = frame.world_from_model;
+  return {{"scale", sim.scale},
+          {"rotation_wxyz",
+           Json::array({sim.rotation.w(), sim.rotation.x(), sim.rotation.y(), sim.rotation.z()})},
+          {"translation", Vector(sim.translation)},
+          {"up_in_model", Vector(frame.up_in_model)},
+          {"base_in_model", Vector(frame.base_in_model)},
+          {"tree_height", frame.tree_height},
+          {"up_source", frame.up_source},
+          {"base_source", frame.base_source},
+          {"summary", frame.BriefReport()}};
+}
+
+// COLMAP's structure from motion on the photos (model frame).
+Registration RegisterWithColmap(const StageContext& context) {
+  const Project& project = context.project;
+  const fs::path workspace = project.CacheDir() / "colmap";
+  fs::path masks_dir;
+  if (context.options.colmap.use_masks) {
+    masks_dir = workspace / "masks";
+    WriteMasks(context, masks_dir);
+  }
+  const ColmapResult result = RunColmap(project.PhotosDir(), project.photo_names(), masks_dir,
+                                        workspace, context.options.colmap, context.progress);
+  Registration registration;
+  registration.cameras = result.cameras;
+  registration.unregistered = result.unregistered;
+  registration.units = project.units();
+  for (const std::string& note : result.notes) {
+    registration.warnings.push_back({"colmap-retry", note});
+  }
+  registration.details["method"] = "colmap";
+  registration.details["colmap"] = ColmapJson(result, project);
+  return registration;
+}
+
+// The photos of a loose-camera file: their sizes and mattes (each photo
+// checked to be in the project's photo folder).
+struct LoosePhotos {
+  std::map<std::string, Eigen::Vector2i> sizes;
+  std::map<std::string, FloatImage> mattes;
+  std::vector<Eigen::Vector2i> size_list;  // in the file's order
+};
+
+LoosePhotos ReadLoosePhotos(const Project& project, const LooseSetup& setup) {
+  LoosePhotos photos;
+  for (const LoosePhoto& photo : setup.photos) {
+    const fs::path path = project.PhotoPath(photo.name);
+    std::error_code ec;
+    SYLVA_CHECK_INPUT(fs::is_regular_file(path, ec), project.LooseCamerasPath().string())
+        << "photo '" << photo.name << "' is not in the project's photo folder";
+    const ImageHeader header = ReadImageHeader(path);
+    photos.sizes[photo.name] = Eigen::Vector2i(header.width, header.height);
+    photos.size_list.push_back(photos.sizes[photo.name]);
+    photos.mattes[photo.name] = project.LoadMatte(photo.name, header.width, header.height);
+  }
+  return photos;
+}
+
+// Loose azimuths refined with Ceres (built in the world frame).
+Registration RegisterManually(const StageContext& context) {
+  const Project& project = context.project;
+  const LooseSetup setup = ReadLooseSetup(project.LooseCamerasPath());
+  const LoosePhotos photos = ReadLoosePhotos(project, setup);
+  setup.CheckPixels(photos.size_list);
+  LooseInitSummary init_summary;
+  const ImageSet initial = InitialLooseCameras(setup, photos.sizes, photos.mattes,
+                                               context.options.loose_init, &init_summary);
+  const LooseRefinement refinement =
+      RefineLooseCameras(setup, initial, context.options.loose_refine);
+  Registration registration;
+  for (const std::string& warning : init_summary.warnings) {
+    registration.warnings.push_back({"loose-cameras", warning});
+  }
+  for (const std::string& warning : refinement.summary.warnings) {
+    registration.warnings.push_back({"loose-refinement", warning});
+  }
+  registration.cameras = refinement.image_set;
+  registration.in_world_frame = true;
+  registration.units = init_summary.height_known ? init_summary.units : project.units();
+  registration.details["method"] = "manual";
+  registration.details["initial"] = init_summary.BriefReport();
+  registration.details["refinement"] = refinement.summary.BriefReport();
+  registration.details["rms_before_px"] = refinement.summary.rms_before_px;
+  registration.details["rms_after_px"] = refinement.summary.rms_after_px;
+  for (const std::string& name : project.photo_names()) {
+    if (setup.FindPhoto(name) < 0) registration.unregistered.push_back(name);
+  }
+  return registration;
+}
+
+// The cameras given at init (model frame).
+Registration RegisterGiven(const Project& project) {
+  Registration registration;
+  registration.cameras = project.LoadGivenCameras();
+  registration.units = project.units();
+  registration.details["method"] = "given";
+  return registration;
+}
+
+// Takes the cameras into sylva's world frame (up +Z, base at the origin),
+// found from the cameras and the mattes.
+void TakeIntoWorldFrame(const StageContext& context, Registration* registration) {
+  const std::vector<FloatImage> mattes =
+      context.LoadMattes(registration->cameras, "register: reading mattes");
+  const WorldFrame frame =
+      EstimateWorldFrame(registration->cameras, mattes, context.options.world_frame);
+  registration->cameras = TransformCameras(registration->cameras, frame);
+  registration->in_world_frame = true;
+  registration->details["world_frame"] = WorldFrameJson(frame);
+  if (context.options.world_frame.known_height > 0) registration->units = frame.units;
+}
+
+std::string RegisterBrief(const Registration& registration, int num_photos) {
+  std::ostringstream brief;
+  brief << registration.cameras.NumViews() << " of " << num_photos << " photos registered ("
+        << registration.details["method"].get<std::string>() << ")";
+  if (!registration.unregistered.empty()) {
+    brief << "; not registered: see out/cameras/unregistered.txt";
+  }
+  return brief.str();
+}
+
 }  // namespace
 
-StageRun RunRegisterStage(const StageContext& context) {
-  const Project& project = context.project;
-  const PipelineOptions& options = context.options;
-  Json details;
-  std::string units = project.units();
-  ImageSet cameras;
-  std::vector<std::string> unregistered;
-  std::vector<Warning> notes;  // become the run's warnings
-  bool needs_world_frame = true;
-
-  if (project.RegistersWithColmap()) {
-    const fs::path workspace = project.CacheDir() / "colmap";
-    fs::path masks_dir;
-    if (options.colmap.use_masks) {
-      masks_dir = workspace / "masks";
-      WriteMasks(context, masks_dir);
-    }
-    const ColmapResult result = RunColmap(project.PhotosDir(), project.photo_names(), masks_dir,
-                                          workspace, options.colmap, context.progress);
-    cameras = result.cameras;
-    unregistered = result.unregistered;
-    for (const std::string& note : result.notes) notes.push_back({"colmap-retry", note});
-    details["method"] = "colmap";
-    details["colmap"] = {{"matcher", result.matcher},
-                         {"single_camera", result.single_camera},
-                         {"num_models", result.num_models},
-                         {"mapper_runs", result.mapper_runs},
-                         {"matching_runs", result.matching_runs},
-                         {"relaxed_mapping", result.relaxed_mapping},
-                         {"extraction_seconds", result.extraction_seconds},
-                         {"matching_seconds", result.matching_seconds},
-                         {"mapping_seconds", result.mapping_seconds},
-                         {"colmap_seconds", result.colmap_seconds},
-                         {"sylva_seconds", result.sylva_seconds},
-                         {"log", fs::relative(result.log_path, project.root()).generic_string()},
-                         {"summary", result.BriefReport()}};
-  } else if (project.RegistersManually()) {
-    const LooseSetup setup = ReadLooseSetup(project.LooseCamerasPath());
-    std::map<std::string, Eigen::Vector2i> sizes;
-    std::map<std::string, FloatImage> mattes;
-    std::vector<Eigen::Vector2i> size_list;
-    for (const LoosePhoto& photo : setup.photos) {
-      const fs::path path = project.PhotoPath(photo.name);
-      std::error_code ec;
-      SYLVA_CHECK_INPUT(fs::is_regular_file(path, ec), project.LooseCamerasPath().string())
-          << "photo '" << photo.name << "' is not in the project's photo folder";
-      const ImageHeader header = ReadImageHeader(path);
-      sizes[photo.name] = Eigen::Vector2i(header.width, header.height);
-      size_list.push_back(sizes[photo.name]);
-      mattes[photo.name] = project.LoadMatte(photo.name, header.width, header.height);
-    }
-    setup.CheckPixels(size_list);
-    LooseInitSummary init_summary;
-    const ImageSet initial =
-        InitialLooseCameras(setup, sizes, mattes, options.loose_init, &init_summary);
-    const LooseRefinement refinement = RefineLooseCameras(setup, initial, options.loose_refine);
-    for (const std::string& warning : init_summary.warnings) {
-      notes.push_back({"loose-cameras", warning});
-    }
-    for (const std::string& warning : refinement.summary.warnings) {
-      notes.push_back({"loose-refinement", warning});
-    }
-    cameras = refinement.image_set;
-    details["method"] = "manual";
-    details["initial"] = init_summary.BriefReport();
-    details["refinement"] = refinement.summary.BriefReport();
-    details["rms_before_px"] = refinement.summary.rms_before_px;
-    details["rms_after_px"] = refinement.summary.rms_after_px;
-    if (init_summary.height_known) units = init_summary.units;
-    needs_world_frame = false;  // built in the world frame
-    for (const std::string& name : project.photo_names()) {
-      if (setup.FindPhoto(name) < 0) unregistered.push_back(name);
-    }
-  } else {
-    cameras = project.LoadGivenCameras();
-    details["method"] = "given";
-  }
-
-  if (needs_world_frame) {
-    const std::vector<FloatImage> mattes = context.LoadMattes(cameras, "register: reading mattes");
-    const WorldFrame frame = EstimateWorldFrame(cameras, mattes, options.world_frame);
-    cameras = TransformCameras(cameras, frame);
-    const Sim3d& sim = frame.world_from_model;
-    details["world_frame"] = {{"scale", sim.scale},
-                              {"rotation_wxyz", Json::array({sim.rotation.w(), sim.rotation.x(),
-                                                             sim.rotation.y(), sim.rotation.z()})},
-                              {"translation", Vector(sim.translation)},
-                              {"up_in_model", Vector(frame.up_in_model)},
-                              {"base_in_model", Vector(frame.base_in_model)},
-                              {"tree_height", frame.tree_height},
-                              {"up_source", frame.up_source},
-                              {"base_source", frame.base_source},
-                              {"summary", frame.BriefReport()}};
-    if (options.world_frame.known_height > 0) units = frame.units;
-  }
+std::vector<Warning> UnregisteredWarnings(const std::vector<std::string>& unregistered,
+                                          const std::vector<std::string>& held_out,
+                                          int num_photos) {
+  std::vector<Warning> warnings;
   for (const std::string& name : unregistered) {
-    if (project.IsHeldOut(name)) {
-      notes.push_back(
-          {"held-out-unregistered",
-           "held-out photo '" + name + "' was not registered; it is left out of the report", name});
-    }
+    if (std::find(held_out.begin(), held_out.end(), name) == held_out.end()) continue;
+    warnings.push_back(
+        {"held-out-unregistered",
+         "held-out photo '" + name + "' was not registered; it is left out of the report", name});
   }
-  details["registered"] = cameras.NumViews();
-  details["unregistered"] = unregistered;
-  details["units"] = units;
+  if (unregistered.empty()) return warnings;
+  warnings.push_back(
+      {"unregistered-photos",
+       std::to_string(unregistered.size()) + " of " + std::to_string(num_photos) +
+           " photos not registered (first: " + unregistered.front() +
+           "); they are left out of the reconstruction (list in out/cameras/unregistered.txt)",
+       ""});
+  return warnings;
+}
 
+std::vector<fs::path> WriteRegistration(const Registration& registration, const fs::path& dir) {
   // The cameras the later stages read (sylva's camera file holds every
   // model), and the same as a COLMAP text model when COLMAP can hold them
   // (not for orthographic cameras).
-  const fs::path dir = project.RegisteredCamerasDir();
   bool colmap_compatible = true;
-  for (const auto& [id, camera] : cameras.cameras) {
+  for (const auto& [id, camera] : registration.cameras.cameras) {
     colmap_compatible = colmap_compatible && camera.model() != CameraModel::kOrthographic;
   }
+  Json details = registration.details;
+  details["registered"] = registration.cameras.NumViews();
+  details["unregistered"] = registration.unregistered;
+  details["units"] = registration.units;
   details["colmap_model"] = colmap_compatible ? "out/cameras/colmap/" : "";
-  std::string list;
-  for (const std::string& name : unregistered) list += name + "\n";
-  StageRun run;
-  run.outputs = {dir / "cameras.json", dir / "unregistered.txt", dir / "registration.json"};
+  std::vector<fs::path> written = {dir / "cameras.json", dir / "unregistered.txt",
+                                   dir / "registration.json"};
   if (colmap_compatible) {
-    WriteColmapModelText(cameras, dir / "colmap");
+    WriteColmapModelText(registration.cameras, dir / "colmap");
     for (const char* name : {"cameras.txt", "images.txt", "points3D.txt"}) {
-      run.outputs.push_back(dir / "colmap" / name);
+      written.push_back(dir / "colmap" / name);
     }
   } else {
     std::error_code ec;
     fs::remove_all(dir / "colmap", ec);
   }
+  std::string list;
+  for (const std::string& name : registration.unregistered) list += name + "\n";
   AtomicWriteString(dir / "unregistered.txt", list);
   WriteJsonFile(dir / "registration.json", details);
-  WriteCameraFile(dir / "cameras.json", cameras, units);
+  WriteCameraFile(dir / "cameras.json", registration.cameras, registration.units);
+  return written;
+}
 
-  run.warnings = notes;
-  if (!unregistered.empty()) {
-    run.warnings.push_back(
-        {"unregistered-photos",
-         std::to_string(unregistered.size()) + " of " +
-             std::to_string(project.photo_names().size()) +
-             " photos not registered (first: " + unregistered.front() +
-             "); they are left out of the reconstruction (list in out/cameras/unregistered.txt)",
-         ""});
+StageRun RunRegisterStage(const StageContext& context) {
+  const Project& project = context.project;
+  Registration registration = project.RegistersWithColmap() ? RegisterWithColmap(context)
+                              : project.RegistersManually() ? RegisterManually(context)
+                                                            : RegisterGiven(project);
+  if (!registration.in_world_frame) TakeIntoWorldFrame(context, &registration);
+  const int num_photos = static_cast<int>(project.photo_names().size());
+  StageRun run;
+  run.outputs = WriteRegistration(registration, project.RegisteredCamerasDir());
+  run.warnings = registration.warnings;
+  for (const Warning& warning :
+       UnregisteredWarnings(registration.unregistered, project.held_out(), num_photos)) {
+    run.warnings.push_back(warning);
   }
-  std::ostringstream brief;
-  brief << cameras.NumViews() << " of " << project.photo_names().size() << " photos registered ("
-        << details["method"].get<std::string>() << ")";
-  if (!unregistered.empty()) brief << "; not registered: see out/cameras/unregistered.txt";
-  run.brief = brief.str();
+  run.brief = RegisterBrief(registration, num_photos);
+  run.AddFigure("photos", num_photos, "photos");
+  run.AddFigure("registered", registration.cameras.NumViews(), "photos");
+  run.AddFigure("unregistered", registration.unregistered.size(), "photos");
   return run;
 }
 

@@ -1,47 +1,20 @@
 #include "ui/pipeline/report.h"
 
-#include <tbb/parallel_for.h>
-
 #include <algorithm>
 #include <iomanip>
 #include <sstream>
 
 #include "core/io/image_io.h"
 #include "core/io/json_util.h"
-#include "core/util/check.h"
 #include "core/util/file_util.h"
-#include "mesh/mesh_renderer.h"
 #include "mesh/tree_preview.h"
-#include "reconstruct/density/opacity_projection.h"
 
 namespace sylva {
-
-FidelityGroup SummariseViews(const std::vector<ViewFidelity>& views, bool held_out, bool mesh) {
-  FidelityGroup group;
-  double iou = 0.0, min_iou = 1.0, precision = 0.0, recall = 0.0;
-  for (const ViewFidelity& view : views) {
-    if (view.held_out != held_out || (mesh && !view.has_mesh)) continue;
-    const SilhouetteScores& scores = mesh ? view.mesh_scores : view.scores;
-    ++group.num_views;
-    iou += scores.iou;
-    min_iou = std::min(min_iou, scores.iou);
-    precision += scores.precision;
-    recall += scores.recall;
-  }
-  if (group.num_views == 0) return group;  // no scores: absent, not 0
-  group.mean_iou = iou / group.num_views;
-  group.min_iou = min_iou;
-  group.mean_precision = precision / group.num_views;
-  group.mean_recall = recall / group.num_views;
-  return group;
-}
 
 namespace {
 
 // Comparison pictures are enlarged (nearest neighbour) to at least this size.
 constexpr int kMinPictureSize = 256;
-// Shaded renders of the mesh are made at most this many pixels across.
-constexpr int kRenderSize = 512;
 
 // A value with 3 decimals, or "none" if absent.
 std::string Fixed(const std::optional<double>& value) {
@@ -122,6 +95,20 @@ fs::path PreviewPath(size_t k) {
   return fs::path("report") / ("preview_" + std::to_string(k) + ".png");
 }
 
+// {stage: [{"key", "value", "unit"}, ...]}
+Json StageFiguresJson(
+    const std::vector<std::pair<std::string, std::vector<StageFigure>>>& stage_figures) {
+  Json json = Json::object();
+  for (const auto& [stage, figures] : stage_figures) {
+    Json list = Json::array();
+    for (const StageFigure& figure : figures) {
+      list.push_back({{"key", figure.key}, {"value", figure.value}, {"unit", figure.unit}});
+    }
+    json[stage] = list;
+  }
+  return json;
+}
+
 Json ReportJson(const FidelityReport& report, const std::map<std::string, std::string>& briefs) {
   Json views = Json::array();
   for (const ViewFidelity& view : report.views) views.push_back(ViewJson(view));
@@ -154,6 +141,7 @@ Json ReportJson(const FidelityReport& report, const std::map<std::string, std::s
     previews.push_back(PreviewPath(k).generic_string());
   }
   json["previews"] = previews;
+  json["stage_figures"] = StageFiguresJson(report.stage_figures);
   return json;
 }
 
@@ -244,6 +232,18 @@ std::string TreeSectionHtml(const FidelityReport& report) {
   return html.str();
 }
 
+// The stages' figures as a table (nothing if there are none).
+std::string StageFiguresHtml(
+    const std::vector<std::pair<std::string, std::vector<StageFigure>>>& stage_figures) {
+  if (stage_figures.empty()) return "";
+  std::string html = "<h2>Stages</h2>\n<table>\n<tr><th>stage</th><th>figures</th></tr>\n";
+  for (const auto& [stage, figures] : stage_figures) {
+    html += "<tr><td>" + HtmlEscape(stage) + "</td><td>" + HtmlEscape(FiguresText(figures)) +
+            "</td></tr>\n";
+  }
+  return html + "</table>\n";
+}
+
 // The warnings as a list (nothing if there are none).
 std::string WarningsHtml(const std::vector<Warning>& warnings) {
   if (warnings.empty()) return "";
@@ -265,7 +265,8 @@ std::string ReportHtml(const FidelityReport& report,
           ".warning{color:#b00}</style></head>"
           "<body>\n<h1>sylva report</h1>\n<pre>"
        << HtmlEscape(report.BriefReport()) << "</pre>\n"
-       << WarningsHtml(report.warnings) << TreeSectionHtml(report) << "<ul>";
+       << WarningsHtml(report.warnings) << TreeSectionHtml(report)
+       << StageFiguresHtml(report.stage_figures) << "<ul>";
   for (const auto& [stage, brief] : briefs) {
     html << "<li><b>" << HtmlEscape(stage) << "</b>: " << HtmlEscape(brief) << "</li>\n";
   }
@@ -288,10 +289,15 @@ std::string ReportHtml(const FidelityReport& report,
   return html.str();
 }
 
-// A camera for the image downsampled by `factor` (box filter, partial blocks).
-Camera DownsampledCamera(const Camera& camera, int factor) {
-  return camera.Scaled(1.0 / factor, (camera.width() + factor - 1) / factor,
-                       (camera.height() + factor - 1) / factor);
+// The comparison settings of the Report options.
+ViewFidelityOptions FidelityOptions(const ReportOptions& options) {
+  ViewFidelityOptions fidelity;
+  fidelity.opacity_threshold = options.opacity_threshold;
+  fidelity.matte_threshold = options.matte_threshold;
+  fidelity.pixels_per_voxel = options.pixels_per_voxel;
+  fidelity.mesh_samples_per_axis = options.mesh_samples_per_axis;
+  fidelity.render_pictures = options.write_images;
+  return fidelity;
 }
 
 }  // namespace
@@ -322,28 +328,11 @@ FidelityReport ComputeFidelity(const DensityGrid& grid, const ImageSet& image_se
                                const std::vector<FloatImage>& mattes,
                                const std::vector<bool>& held_out, const ReportOptions& options) {
   FidelityReport report;
-  const OpacityProjector projector(grid);
   report.voxel_size = grid.voxel_size();
   report.num_voxels = grid.NumActiveVoxels();
   report.bounds = grid.ActiveWorldBounds();
-  const Eigen::Vector3d center =
-      grid.IsEmpty() ? grid.origin() : Eigen::Vector3d(report.bounds.center());
-  for (int v = 0; v < image_set.NumViews(); ++v) {
-    const ViewSampling sampling =
-        MakeViewSampling(image_set, v, center, grid.voxel_size(), options.pixels_per_voxel, 1);
-    ViewFidelity view;
-    view.name = image_set.views[v].name;
-    view.held_out = held_out[v];
-    view.downsample_factor = sampling.factor;
-    view.width = sampling.width();
-    view.height = sampling.height();
-    view.predicted = projector.Render(image_set, v, sampling);
-    view.observed = DownsampleBox(mattes[v], sampling.factor);
-    view.scores = CompareSilhouettes(view.predicted, view.observed,
-                                     static_cast<float>(options.opacity_threshold),
-                                     static_cast<float>(options.matte_threshold));
-    report.views.push_back(std::move(view));
-  }
+  report.views =
+      ComputeDensityViewFidelity(grid, image_set, mattes, held_out, FidelityOptions(options));
   report.input = SummariseViews(report.views, false, false);
   report.held_out = SummariseViews(report.views, true, false);
   return report;
@@ -361,29 +350,10 @@ void AddWarnings(const std::vector<Warning>& warnings, FidelityReport* report) {
 
 void AddMeshFidelity(const TriangleMesh& mesh, const ImageSet& image_set,
                      const ReportOptions& options, FidelityReport* report) {
-  SYLVA_CHECK(static_cast<int>(report->views.size()) == image_set.NumViews());
   report->has_tree = true;
   report->num_mesh_triangles = mesh.NumTriangles();
+  AddMeshViewFidelity(mesh, image_set, FidelityOptions(options), &report->views);
   if (mesh.NumTriangles() == 0) return;
-  const MeshRenderer renderer(mesh);
-  MeshRenderOptions shading;
-  shading.samples_per_axis = 2;
-  for (int v = 0; v < image_set.NumViews(); ++v) {
-    ViewFidelity& view = report->views[v];
-    const Camera& camera = image_set.CameraOf(v);
-    const Rigid3d& pose = image_set.views[v].cam_from_world;
-    view.mesh_coverage = renderer.RenderCoverage(DownsampledCamera(camera, view.downsample_factor),
-                                                 pose, options.mesh_samples_per_axis);
-    view.mesh_scores = CompareSilhouettes(view.mesh_coverage, view.observed,
-                                          static_cast<float>(options.opacity_threshold),
-                                          static_cast<float>(options.matte_threshold));
-    view.has_mesh = true;
-    if (options.write_images) {
-      const int factor =
-          std::max(1, (std::max(camera.width(), camera.height()) + kRenderSize - 1) / kRenderSize);
-      view.mesh_render = renderer.RenderRgba(DownsampledCamera(camera, factor), pose, shading);
-    }
-  }
   report->mesh_input = SummariseViews(report->views, false, true);
   report->mesh_held_out = SummariseViews(report->views, true, true);
 }

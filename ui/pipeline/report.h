@@ -1,6 +1,7 @@
 // The fidelity report: how well the reconstruction reproduces the mattes,
-// per view, for input and held-out views separately (thesis 7.2.2 uses
-// silhouette precision and recall).
+// per view, for input and held-out views separately (the scores:
+// datasets/eval/view_fidelity.h), with the tree's figures, previews and the
+// stages' warnings; written as out/report.json and report.html.
 #ifndef SYLVA_UI_PIPELINE_REPORT_H_
 #define SYLVA_UI_PIPELINE_REPORT_H_
 
@@ -15,34 +16,13 @@
 #include "core/types/image_set.h"
 #include "core/types/triangle_mesh.h"
 #include "core/util/warning.h"
-#include "datasets/eval/silhouette_metrics.h"
+#include "datasets/eval/view_fidelity.h"
 #include "mesh/leaves.h"
 #include "mesh/tree_metrics.h"
 #include "ui/pipeline/pipeline_options.h"
+#include "ui/pipeline/stage_context.h"
 
 namespace sylva {
-
-struct ViewFidelity {
-  std::string name;
-  bool held_out = false;
-  int downsample_factor = 1;
-  int width = 0, height = 0;  // of the compared (downsampled) images
-  SilhouetteScores scores;    // the density's projection
-  FloatImage predicted;       // projected opacity
-  FloatImage observed;        // downsampled matte
-  bool has_mesh = false;
-  SilhouetteScores mesh_scores;  // the mesh's rendered silhouette
-  FloatImage mesh_coverage;
-  FloatImage mesh_render;  // shaded RGBA picture of the mesh from this view
-  // The stages' warnings about this view (a distrusted or repaired matte).
-  std::vector<Warning> warnings;
-};
-
-// The scores of a group of views; absent (not 0) when the group has none.
-struct FidelityGroup {
-  int num_views = 0;
-  std::optional<double> mean_iou, min_iou, mean_precision, mean_recall;
-};
 
 struct FidelityReport {
   std::vector<ViewFidelity> views;
@@ -57,6 +37,9 @@ struct FidelityReport {
   // Preview pictures of the tree (Report.previews), written as
   // out/report/preview_<k>.png.
   std::vector<FloatImage> previews;
+  // The earlier stages' figures (StageRun::figures, as recorded), in
+  // pipeline order.
+  std::vector<std::pair<std::string, std::vector<StageFigure>>> stage_figures;
   // Every stage's warnings (core/util/warning.h), in pipeline order; those
   // about one view are also in that view's ViewFidelity::warnings.
   std::vector<Warning> warnings;
@@ -70,13 +53,8 @@ struct FidelityReport {
   std::string BriefReport() const;
 };
 
-// The scores of `views` that are held out (or not), of the density (or of
-// the mesh: views with has_mesh only).
-FidelityGroup SummariseViews(const std::vector<ViewFidelity>& views, bool held_out, bool mesh);
-
-// Projects `grid` into every view of `image_set` (one ray per downsampled
-// pixel, at ReportOptions::pixels_per_voxel) and compares with `mattes`
-// (full resolution, one per view).
+// The report of the density's fidelity (ComputeDensityViewFidelity with
+// the Report options, and its input and held-out groups) and the grid's facts.
 FidelityReport ComputeFidelity(const DensityGrid& grid, const ImageSet& image_set,
                                const std::vector<FloatImage>& mattes,
                                const std::vector<bool>& held_out, const ReportOptions& options);
@@ -85,9 +63,8 @@ FidelityReport ComputeFidelity(const DensityGrid& grid, const ImageSet& image_se
 // that view too.
 void AddWarnings(const std::vector<Warning>& warnings, FidelityReport* report);
 
-// Renders `mesh` (Embree) from every view of `image_set` at the resolution
-// each view was compared at, and compares its coverage with the matte; also
-// keeps a shaded picture of each view (if options.write_images).
+// Adds the mesh's fidelity (AddMeshViewFidelity with the Report options,
+// and its groups) to a report of ComputeFidelity on the same views.
 void AddMeshFidelity(const TriangleMesh& mesh, const ImageSet& image_set,
                      const ReportOptions& options, FidelityReport* report);
 

@@ -9,6 +9,23 @@
 #include "ui/pipeline/stage_context.h"
 
 namespace sylva {
+namespace {
+
+// The summary's figures: views compared and mean IoU per group (a group's
+// IoU only when it has views).
+void AddReportFigures(const FidelityReport& report, StageRun* run) {
+  const std::pair<const char*, const FidelityGroup*> groups[] = {
+      {"input", &report.input},
+      {"held_out", &report.held_out},
+      {"mesh_input", &report.mesh_input},
+      {"mesh_held_out", &report.mesh_held_out}};
+  for (const auto& [name, group] : groups) {
+    run->AddFigure(std::string(name) + "_views", group->num_views, "views");
+    if (group->mean_iou) run->AddFigure(std::string(name) + "_mean_iou", *group->mean_iou);
+  }
+}
+
+}  // namespace
 
 StageRun RunReportStage(const StageContext& context) {
   const DensityGrid grid = ReadDensityGrid(context.RequireOutput("density.vdb", "density"));
@@ -41,9 +58,12 @@ StageRun RunReportStage(const StageContext& context) {
   }
   for (const char* stage : {"matte", "register", "density", "attract", "skeleton", "mesh"}) {
     AddWarnings(context.RecordedWarnings(stage), &report);
+    std::vector<StageFigure> figures = context.RecordedFigures(stage);
+    if (!figures.empty()) report.stage_figures.emplace_back(stage, std::move(figures));
   }
   StageRun run;
   run.brief = report.BriefReport();
+  AddReportFigures(report, &run);
   run.outputs =
       WriteFidelityReport(report, briefs, context.options.report, context.project.OutDir());
   return run;

@@ -146,5 +146,25 @@ TEST(ReportTest, TreeFiguresAreMetricsJsonsWithTheirSources) {
   EXPECT_EQ(html.find("<td>height</td>"), html.rfind("<td>height</td>"));
 }
 
+TEST(ReportTest, StagesFiguresAreWrittenAsGiven) {
+  const Fixture fixture(0);
+  FidelityReport report = fixture.Report();
+  report.stage_figures = {{"register", {{"registered", 3, "photos"}}},
+                          {"density", {{"views", 3, "views"}, {"voxel_size", 0.25, "m"}}}};
+  const fs::path out = TestDir("stage_figures");
+  ReportOptions options;
+  WriteFidelityReport(report, {}, options, out);
+  const nlohmann::json json = nlohmann::json::parse(ReadFileToString(out / "report.json"));
+  const nlohmann::json& density = json.at("stage_figures").at("density");
+  ASSERT_EQ(density.size(), 2u);
+  EXPECT_EQ(density[1]["key"], "voxel_size");
+  EXPECT_EQ(density[1]["value"], 0.25);
+  EXPECT_EQ(density[1]["unit"], "m");
+  EXPECT_EQ(json["stage_figures"]["register"][0]["value"], 3);
+  const std::string html = ReadFileToString(out / "report.html");
+  EXPECT_TRUE(Contains(html, "<tr><td>density</td><td>views=3 views, voxel_size=0.25 m</td></tr>"))
+      << html;
+}
+
 }  // namespace
 }  // namespace sylva

@@ -20,6 +20,10 @@ StageRun RunSkeletonStage(const StageContext& context) {
   const std::string units = context.Units();
   StageRun run;
   run.brief = built.brief;
+  run.AddFigure("nodes", built.skeleton.NumNodes(), "nodes");
+  run.AddFigure("tips", built.skeleton.Tips().size(), "tips");
+  run.AddFigure("raw_nodes", built.raw.NumNodes(), "nodes");
+  run.AddFigure("trunk_radius", built.trunk_radius, units);
   run.outputs = {context.Out("skeleton.json"), context.Out("skeleton.ply"),
                  context.Out("skeleton_raw.json")};
   WriteSkeletonJson(run.outputs[0], built.skeleton, units);

@@ -1,5 +1,9 @@
 #include "ui/pipeline/stage_context.h"
 
+#include <cmath>
+#include <iomanip>
+#include <sstream>
+
 #include "core/io/json_util.h"
 #include "core/util/check.h"
 #include "core/util/file_util.h"
@@ -7,6 +11,33 @@
 #include "core/util/threading.h"
 
 namespace sylva {
+
+void StageRun::AddFigure(const std::string& key, double value, const std::string& unit) {
+  figures.push_back({key, value, unit});
+}
+
+std::optional<double> StageRun::Figure(const std::string& key) const {
+  for (const StageFigure& figure : figures) {
+    if (figure.key == key) return figure.value;
+  }
+  return std::nullopt;
+}
+
+std::string FiguresText(const std::vector<StageFigure>& figures) {
+  std::ostringstream text;
+  for (size_t i = 0; i < figures.size(); ++i) {
+    const StageFigure& figure = figures[i];
+    text << (i > 0 ? ", " : "") << figure.key << "=";
+    // Counts up to 2^53 are exact in a double: print them whole.
+    if (figure.value == std::round(figure.value) && std::abs(figure.value) < 9.0e15) {
+      text << static_cast<int64_t>(figure.value);
+    } else {
+      text << std::setprecision(4) << figure.value;
+    }
+    if (!figure.unit.empty()) text << " " << figure.unit;
+  }
+  return text.str();
+}
 
 fs::path StageContext::RequireOutput(const std::string& name, const char* stage) const {
   const fs::path path = Out(name);
@@ -70,6 +101,24 @@ std::vector<Warning> ReadRecordedWarnings(const Project& project, const std::str
 
 std::vector<Warning> StageContext::RecordedWarnings(const std::string& stage_name) const {
   return ReadRecordedWarnings(project, stage_name);
+}
+
+std::vector<StageFigure> ReadRecordedFigures(const Project& project,
+                                             const std::string& stage_name) {
+  const Json records = ParseJson(ReadStageRecordsText(project), "stage records");
+  std::vector<StageFigure> figures;
+  if (!records.contains(stage_name)) return figures;
+  for (const Json& figure : records[stage_name].value("figures", Json::array())) {
+    if (figure.is_object() && figure.contains("value") && figure["value"].is_number()) {
+      figures.push_back(
+          {figure.value("key", ""), figure["value"].get<double>(), figure.value("unit", "")});
+    }
+  }
+  return figures;
+}
+
+std::vector<StageFigure> StageContext::RecordedFigures(const std::string& stage_name) const {
+  return ReadRecordedFigures(project, stage_name);
 }
 
 std::string OptionsText(const PipelineOptions& options, const std::vector<std::string>& prefixes) {

@@ -8,6 +8,7 @@
 #define SYLVA_UI_PIPELINE_STAGE_CONTEXT_H_
 
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -23,16 +24,37 @@ namespace sylva {
 
 enum class Stage { kMatte, kRegister, kDensity, kAttract, kSkeleton, kMesh, kReport };
 
+// One figure of a stage's summary (Ceres' Summary fields, as data): a count,
+// a time or a score under a stable snake_case key, with its unit ("" for a
+// plain number or a fraction).
+struct StageFigure {
+  std::string key;
+  double value = 0.0;
+  std::string unit;
+};
+
 struct StageRun {
   Stage stage = Stage::kDensity;
   bool up_to_date = false;  // skipped: inputs unchanged since the last run
   double seconds = 0.0;
-  std::string brief;  // the stage's BriefReport()
+  std::string brief;  // the stage's BriefReport(), for humans
+  // The run as figures, for the CLI, the report and tests: the stage's own in
+  // the order it adds them, then "seconds" (the stage's wall time); kept in
+  // cache/stages.json, so an up-to-date stage still reports them.
+  std::vector<StageFigure> figures;
   // What the user must know about the result (core/util/warning.h); kept in
   // cache/stages.json, so an up-to-date stage still reports them.
   std::vector<Warning> warnings;
   std::vector<std::filesystem::path> outputs;
+
+  void AddFigure(const std::string& key, double value, const std::string& unit = "");
+  // The value of the figure under `key`; nullopt if there is none.
+  std::optional<double> Figure(const std::string& key) const;
 };
+
+// "key=value unit, ..." (whole numbers as integers, other values with 4
+// significant digits); "" without figures.
+std::string FiguresText(const std::vector<StageFigure>& figures);
 
 struct StageContext {
   const Project& project;
@@ -54,6 +76,8 @@ struct StageContext {
   std::string RecordedBrief(const std::string& stage_name) const;
   // The warnings recorded by an earlier stage (none if it has not run).
   std::vector<Warning> RecordedWarnings(const std::string& stage_name) const;
+  // The figures recorded by an earlier stage (none if it has not run).
+  std::vector<StageFigure> RecordedFigures(const std::string& stage_name) const;
 };
 
 StageRun RunMatteStage(const StageContext& context);
@@ -80,6 +104,10 @@ std::string FileKey(const Project& project, const std::filesystem::path& file);
 // The warnings recorded for a stage in cache/stages.json (none if the stage
 // has not run or the cache is unreadable).
 std::vector<Warning> ReadRecordedWarnings(const Project& project, const std::string& stage_name);
+
+// The figures recorded for a stage in cache/stages.json (none if the stage
+// has not run or the cache is unreadable).
+std::vector<StageFigure> ReadRecordedFigures(const Project& project, const std::string& stage_name);
 
 // cache/stages.json as JSON text ("{}" if missing or unreadable: the cache is
 // safe to delete, a corrupt one only means re-running).

@@ -1,0 +1,88 @@
+// Stage summaries as figures (StageRun::figures): filled by the stages,
+// printed by the CLI's run summary, kept for up-to-date stages.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <string>
+
+#include "datasets/synthetic/synthetic_dataset.h"
+#include "ui/pipeline/pipeline.h"
+
+namespace sylva {
+namespace {
+
+namespace fs = std::filesystem;
+
+bool Contains(const std::string& text, const std::string& part) {
+  return text.find(part) != std::string::npos;
+}
+
+// A project on a written synthetic dataset: 3 input views, one held out,
+// mattes given.
+class StageSummaryTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("sylva_stage_summary_" + std::to_string(getpid()));
+    fs::remove_all(dir_);
+    SyntheticDatasetOptions options;
+    options.num_views = 3;
+    options.num_held_out = 1;
+    options.image_size = 48;
+    options.samples_per_axis = 1;
+    WriteSyntheticDataset(MakeSyntheticDataset(options), options, dir_ / "data");
+    ProjectSetup setup;
+    setup.root = dir_ / "project";
+    setup.photos_dir = dir_ / "data" / "photos";
+    setup.colmap_model_dir = dir_ / "data" / "colmap";
+    setup.mattes_dir = dir_ / "data" / "mattes";
+    setup.held_out = {"heldout_00.png"};
+    project_ = std::make_unique<Project>(Project::Create(setup));
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  fs::path dir_;
+  std::unique_ptr<Project> project_;
+};
+
+TEST_F(StageSummaryTest, StagesReportFiguresThatUpToDateRunsKeep) {
+  PipelineOptions options;
+  options.density.resolution = 24;
+  RunSummary first = Pipeline(*project_, options, nullptr).Run(Stage::kDensity, false);
+  ASSERT_EQ(first.stages.size(), 2u);
+  const StageRun& registered = first.stages[0];
+  EXPECT_EQ(registered.Figure("photos"), 4.0);
+  EXPECT_EQ(registered.Figure("registered"), 4.0);
+  EXPECT_EQ(registered.Figure("unregistered"), 0.0);
+  ASSERT_TRUE(registered.Figure("seconds"));
+  EXPECT_EQ(*registered.Figure("seconds"), registered.seconds);
+  const StageRun& density = first.stages[1];
+  EXPECT_EQ(density.Figure("views"), 3.0);  // the held-out view is not used
+  ASSERT_TRUE(density.Figure("stored_voxels"));
+  EXPECT_GT(*density.Figure("stored_voxels"), 0.0);
+  EXPECT_FALSE(density.Figure("no such figure"));
+  EXPECT_TRUE(Contains(first.BriefReport(),
+                       "  figures: photos=4 photos, registered=4 photos, unregistered=0 photos, "
+                       "seconds="))
+      << first.BriefReport();
+
+  // Up to date: the same figures, as recorded.
+  const RunSummary again = Pipeline(*project_, options, nullptr).Run(Stage::kDensity, false);
+  ASSERT_EQ(again.stages.size(), 2u);
+  for (size_t s = 0; s < 2; ++s) {
+    EXPECT_TRUE(again.stages[s].up_to_date);
+    EXPECT_EQ(FiguresText(again.stages[s].figures), FiguresText(first.stages[s].figures));
+  }
+}
+
+TEST(StageFiguresTest, TextShowsCountsWholeAndOtherValuesShort) {
+  StageRun run;
+  EXPECT_EQ(FiguresText(run.figures), "");
+  run.AddFigure("voxels", 5094241, "voxels");
+  run.AddFigure("mean_iou", 0.95123456);
+  run.AddFigure("seconds", 12.3456, "s");
+  EXPECT_EQ(FiguresText(run.figures), "voxels=5094241 voxels, mean_iou=0.9512, seconds=12.35 s");
+}
+
+}  // namespace
+}  // namespace sylva
