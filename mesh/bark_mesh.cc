@@ -74,118 +74,90 @@ double EnclosingSphereRadius(double r1, double r2, double gamma) {
   return std::max(r1 / std::sin(alpha), std::max(r1, r2));
 }
 
-class WatertightMesher {
- public:
-  WatertightMesher(const SkeletonGraph& skeleton, const BarkMeshOptions& options,
-                   BarkMeshSummary* summary)
-      : skeleton_(skeleton), options_(options), summary_(summary) {
-    children_ = skeleton.Children();
-    root_ = skeleton.RootIdx();
-    for (const SkeletonNode& node : skeleton.nodes)
-      max_radius_ = std::max(max_radius_, node.radius);
-    group_.assign(skeleton.NumNodes(), -1);
-  }
-
-  // Meshes; a junction whose thin lateral found no quad on its parent tube
-  // becomes a convex joint and everything is meshed again, and so do
-  // junctions next to crossings (repairs, options_.repair_rounds rounds).
-  TriangleMesh Run() {
-    std::set<int> forced;           // junctions made convex joints for closedness
-    std::set<int> repairs;          // ... and to take their triangles off others
-    std::set<int> given_up;         // repairs whose joint grew too large
-    std::vector<int> batch;         // repairs added for this attempt
-    std::vector<int> forced_batch;  // junctions forced for the last attempt
-    int overflows_this_round = 0;
-    int rounds = 0;
-    for (int attempt = 0;; ++attempt) {
-      const BarkMeshSummary clean = *summary_;
-      const std::set<int> spread_before = spread_;
-      std::set<int> convex = forced;
-      convex.insert(repairs.begin(), repairs.end());
-      repairs_ = repairs;
-      forced_ = forced;
-      TriangleMesh mesh = Attempt(convex);
-      const bool last = attempt == kMaxAttempts;
-      bool again = false;
-      if (!overflow_.empty()) {
-        // A repair's joint swallowed more than kMaxRepairJointNodes nodes:
-        // it costs more than its crossing. The repairs of that joint from
-        // the last round's batch (else all of that joint's) are given up,
-        // and all this attempt did to other junctions is undone. Junctions
-        // forced for a lateral that found no quad leave their laterals
-        // capped and overlapping the parent instead.
-        std::vector<int> culprits;
-        for (int u : overflow_) {
-          if (std::find(batch.begin(), batch.end(), u) != batch.end()) culprits.push_back(u);
-        }
-        if (culprits.empty()) culprits = overflow_;
-        // A round whose repairs keep overflowing is given up as a whole.
-        if (++overflows_this_round > kMaxOverflowsPerRound) culprits = batch;
-        if (attempt >= kMaxAttempts) {  // out of attempts: no repairs, no forcing
-          culprits.assign(repairs.begin(), repairs.end());
-          culprits.insert(culprits.end(), forced.begin(), forced.end());
-        }
-        // The whole forced batch goes (one by one would mean an attempt for
-        // each of hundreds on dense trees).
-        for (int u : culprits) {
-          if (overlapping_.count(u)) continue;
-          if (forced.count(u)) {
-            for (int f : forced_batch) {
-              forced.erase(f);
-              overlapping_.insert(f);
-            }
-            forced.erase(u);
-            overlapping_.insert(u);
-          } else {
-            repairs.erase(u);
-            given_up.insert(u);
-          }
-        }
-        forced_batch.clear();
-        for (int u : culprits) batch.erase(std::remove(batch.begin(), batch.end(), u), batch.end());
-        spread_ = spread_before;
-        again = true;
-      } else if (!failed_attach_.empty() && !last) {
-        forced.insert(failed_attach_.begin(), failed_attach_.end());
-        forced_batch.assign(failed_attach_.begin(), failed_attach_.end());
-        again = true;
-      } else if (rounds < options_.repair_rounds && !last) {
-        batch.clear();
-        std::set<std::pair<int, int>> merges;
-        overflows_this_round = 0;
-        for (int u : CrossingJunctions(mesh, &merges)) {
-          if (!given_up.count(u) && !forced.count(u) && !repairs.count(u) &&
-              !overlapping_.count(u)) {
-            batch.push_back(u);
-          }
-        }
-        const size_t merged_before = merges_.size();
-        merges_.insert(merges.begin(), merges.end());
-        if (!batch.empty() || merges_.size() > merged_before) {
-          again = true;
-          ++rounds;
-        }
+// What every meshing attempt shares: the skeleton, the options and what
+// follows from them alone.
+struct BarkTree {
+  BarkTree(const SkeletonGraph& skeleton, const BarkMeshOptions& options)
+      : skeleton(skeleton), options(options) {
+    children = skeleton.Children();
+    root = skeleton.RootIdx();
+    for (const SkeletonNode& node : skeleton.nodes) max_radius = std::max(max_radius, node.radius);
+    axis_child.assign(skeleton.NumNodes(), -1);
+    const std::vector<BranchAxis> axes = skeleton.BranchAxes();
+    for (size_t a = 0; a < axes.size(); ++a) {
+      for (size_t k = a == 0 ? 0 : 1; k + 1 < axes[a].size(); ++k) {
+        axis_child[axes[a][k]] = axes[a][k + 1];
       }
-      if (!again) {
-        summary_->repaired = static_cast<int>(repairs.size());
-        return mesh;
-      }
-      repairs.insert(batch.begin(), batch.end());
-      *summary_ = clean;
-      group_.assign(skeleton_.NumNodes(), -1);
-      exits_.clear();
-      joint_rings_.clear();
-      pieces_.clear();
-      ring_axes_.clear();
-      attach_piece_.clear();
-      taken_.clear();
-      removed_.clear();
-      failed_attach_.clear();
-      origins_.clear();
     }
   }
 
-  const std::vector<BarkTriangleOrigin>& origins() const { return origins_; }
+  const SkeletonGraph& skeleton;
+  const BarkMeshOptions& options;
+  std::vector<std::vector<int>> children;
+  int root = -1;
+  double max_radius = 0.0;
+  std::vector<int> axis_child;  // the child continuing each node's axis, else -1
+};
+
+// The settings of one meshing attempt: what the retry loop (MeshWithRetries)
+// has decided about the junctions so far.
+struct AttemptSettings {
+  std::set<int> forced;       // junctions made convex joints because a lateral found no quad
+  std::set<int> repairs;      // ... and to take their triangles off others
+  std::set<int> spread;       // junctions of 3+ children attaching their laterals one by one
+  std::set<int> overlapping;  // junctions whose unattached laterals stay capped, overlapping
+  std::set<std::pair<int, int>> merges;  // chains (first two nodes) taken into their joint
+  // Look up the junctions next to crossing triangles when the attempt
+  // meshed everything it was asked to (no overflow, every lateral attached).
+  bool find_crossings = false;
+};
+
+// What one attempt gave.
+struct AttemptResult {
+  TriangleMesh mesh;                        // empty if `overflow` is not
+  std::vector<BarkTriangleOrigin> origins;  // one per triangle of `mesh`
+  BarkMeshSummary summary;                  // of this attempt (without `repaired`)
+  // Repairs and forced junctions in a joint that grew over
+  // kMaxRepairJointNodes nodes: the attempt stopped there.
+  std::vector<int> overflow;
+  std::vector<int> failed_attach;  // attach junctions with a lateral left unattached
+  std::set<int> spread;            // settings.spread and the junctions this attempt spread
+  // With settings.find_crossings: BarkAttempt::CrossingJunctions.
+  std::set<int> crossing_junctions;
+  std::set<std::pair<int, int>> crossing_merges;
+};
+
+// One meshing attempt with fixed settings: plans the joints, meshes the
+// pieces and joints, and (asked) finds where the result crosses itself.
+// Holds all of the attempt's state; used once.
+class BarkAttempt {
+ public:
+  BarkAttempt(const BarkTree& tree, const AttemptSettings& settings)
+      : skeleton_(tree.skeleton),
+        options_(tree.options),
+        children_(tree.children),
+        max_radius_(tree.max_radius),
+        root_(tree.root),
+        axis_child_(tree.axis_child),
+        forced_(settings.forced),
+        repairs_(settings.repairs),
+        overlapping_(settings.overlapping),
+        merges_(settings.merges),
+        spread_(settings.spread) {}
+
+  AttemptResult Run(bool find_crossings) {
+    AttemptResult result;
+    result.mesh = Attempt();
+    result.overflow = overflow_;
+    result.failed_attach = failed_attach_;
+    result.spread = spread_;
+    if (find_crossings && overflow_.empty() && failed_attach_.empty()) {
+      result.crossing_junctions = CrossingJunctions(result.mesh, &result.crossing_merges);
+    }
+    result.origins = std::move(origins_);
+    result.summary = summary_;
+    return result;
+  }
 
   // Junctions next to crossing triangles: those of attached laterals, and
   // the junction nearest a crossing within kNearJunction of its radius
@@ -245,80 +217,82 @@ class WatertightMesher {
     return culprits;
   }
 
-  TriangleMesh Attempt(const std::set<int>& forced) {
-    // The child continuing each node's axis.
-    std::vector<int>& axis_child = axis_child_;
-    axis_child.assign(skeleton_.NumNodes(), -1);
-    const std::vector<BranchAxis> axes = skeleton_.BranchAxes();
-    for (size_t a = 0; a < axes.size(); ++a) {
-      for (size_t k = a == 0 ? 0 : 1; k + 1 < axes[a].size(); ++k) {
-        axis_child[axes[a][k]] = axes[a][k + 1];
-      }
-    }
-    // Plan the joints; junctions whose joints grow too large attach their
-    // laterals one by one instead, and the plan is made again (spread_ only
-    // grows, so this ends).
-    const BarkMeshSummary clean = *summary_;
-    while (true) {
-      *summary_ = clean;
-      respread_ = false;
-      group_.assign(skeleton_.NumNodes(), -1);
-      continuation_.assign(skeleton_.NumNodes(), -1);
-      laterals_.assign(skeleton_.NumNodes(), {});
-      for (int i = 0; i < skeleton_.NumNodes(); ++i) {
-        if (children_[i].size() < 2) continue;
-        ++summary_->junctions;
-        // Laterals thin against the parent are attached to its tube.
-        bool thin = (i != root_ || spread_.count(i)) && axis_child[i] >= 0 && !forced.count(i) &&
-                    (children_[i].size() == 2 || spread_.count(i));
-        for (int c : children_[i]) {
-          if (c == axis_child[i]) continue;
-          thin = thin &&
-                 skeleton_.nodes[c].radius <= options_.attach_ratio * skeleton_.nodes[i].radius;
-        }
-        if (thin) {
-          continuation_[i] = axis_child[i];
-          for (int c : children_[i]) {
-            if (c != axis_child[i]) laterals_[i].push_back(c);
-          }
-        } else {
-          group_[i] = i;
-        }
-      }
-      overflow_.clear();
+  // Plans the joints and meshes them and the pieces between. Junctions
+  // whose joints grow too large attach their laterals one by one instead,
+  // and the plan is made again (spread_ only grows, so this ends).
+  TriangleMesh Attempt() {
+    do {
+      StartPlan();
       FormJoints();
       if (!overflow_.empty()) return TriangleMesh();
-      if (!respread_) {
-        // Junctions of several laterals whose convex joint grew over more
-        // than kMaxJointNodes nodes.
-        std::map<int, int> sizes;
-        for (int i = 0; i < skeleton_.NumNodes(); ++i) {
-          if (group_[i] >= 0) ++sizes[Group(i)];
-        }
-        for (int i = 0; i < skeleton_.NumNodes(); ++i) {
-          if (group_[i] >= 0 && sizes[Group(i)] > kMaxJointNodes && children_[i].size() > 2 &&
-              !spread_.count(i)) {
-            spread_.insert(i);
-            respread_ = true;
-          }
-        }
-      }
-      if (!respread_) break;
-    }
+      if (!respread_) SpreadLargeJoints();
+    } while (respread_);
     TriangleMesh mesh;
     material_ = mesh.AddMaterial(options_.tube.bark);
     MeshPieces(&mesh);
     for (auto& [root, rings] : joint_rings_) {
-      ++summary_->joints;
+      ++summary_.joints;
       BarkTriangleOrigin origin;
       origin.kind = BarkTriangleOrigin::kJoint;
       origin.node = root;
-      if (rings.size() >= 2 && !BuildHull(rings, origin, &mesh)) ++summary_->failed_joints;
+      if (rings.size() >= 2 && !BuildHull(rings, origin, &mesh)) ++summary_.failed_joints;
     }
     return mesh;
   }
 
  private:
+  // A fresh plan: every junction either a convex joint of its own or, if
+  // its laterals are thin against the parent, an attach junction.
+  void StartPlan() {
+    summary_ = BarkMeshSummary();
+    respread_ = false;
+    overflow_.clear();
+    group_.assign(skeleton_.NumNodes(), -1);
+    continuation_.assign(skeleton_.NumNodes(), -1);
+    laterals_.assign(skeleton_.NumNodes(), {});
+    for (int i = 0; i < skeleton_.NumNodes(); ++i) {
+      if (children_[i].size() < 2) continue;
+      ++summary_.junctions;
+      if (AttachesLaterals(i)) {
+        continuation_[i] = axis_child_[i];
+        for (int c : children_[i]) {
+          if (c != axis_child_[i]) laterals_[i].push_back(c);
+        }
+      } else {
+        group_[i] = i;
+      }
+    }
+  }
+
+  // Whether junction i attaches its laterals to its parent's tube: they are
+  // thin against the parent, and i is no root, forced or repaired joint
+  // (the root and 3+ children only once spread).
+  bool AttachesLaterals(int i) const {
+    bool thin = (i != root_ || spread_.count(i)) && axis_child_[i] >= 0 && !forced_.count(i) &&
+                !repairs_.count(i) && (children_[i].size() == 2 || spread_.count(i));
+    for (int c : children_[i]) {
+      if (c == axis_child_[i]) continue;
+      thin = thin && skeleton_.nodes[c].radius <= options_.attach_ratio * skeleton_.nodes[i].radius;
+    }
+    return thin;
+  }
+
+  // Junctions of several laterals whose convex joint grew over more than
+  // kMaxJointNodes nodes are spread (respread_ set).
+  void SpreadLargeJoints() {
+    std::map<int, int> sizes;
+    for (int i = 0; i < skeleton_.NumNodes(); ++i) {
+      if (group_[i] >= 0) ++sizes[Group(i)];
+    }
+    for (int i = 0; i < skeleton_.NumNodes(); ++i) {
+      if (group_[i] >= 0 && sizes[Group(i)] > kMaxJointNodes && children_[i].size() > 2 &&
+          !spread_.count(i)) {
+        spread_.insert(i);
+        respread_ = true;
+      }
+    }
+  }
+
   double RingRadius(double r) const {
     return std::max(r, options_.min_radius_fraction * max_radius_);
   }
@@ -522,7 +496,7 @@ class WatertightMesher {
         }
         if (worst >= 0 && (worst_ratio > options_.max_cut_fraction || !faces)) {
           for (int node : exits[worst].path) Join(g, node);
-          ++summary_->fallbacks;
+          ++summary_.fallbacks;
           if (JointOverflows(g)) return;
           changed = true;
           break;
@@ -539,7 +513,7 @@ class WatertightMesher {
         if (other == exits_.end()) continue;
         if (e.t + other->second.t > options_.max_cut_fraction * e.Length()) {
           for (int node : e.path) Join(key.first, node);
-          ++summary_->fallbacks;
+          ++summary_.fallbacks;
           if (JointOverflows(key.first)) return;
           changed = true;
           break;
@@ -550,14 +524,14 @@ class WatertightMesher {
     for (int i = 0; i < skeleton_.NumNodes(); ++i) {
       if (group_[i] < 0) continue;
       groups.insert(Group(i));
-      if (children_[i].empty()) ++summary_->swallowed_tips;
+      if (children_[i].empty()) ++summary_.swallowed_tips;
     }
     std::map<int, int> sizes;
     for (int i = 0; i < skeleton_.NumNodes(); ++i) {
       if (group_[i] >= 0) ++sizes[Group(i)];
     }
-    for (const auto& [g, size] : sizes) summary_->bridged += size == 1 ? 1 : 0;
-    summary_->pushed_out = static_cast<int>(push_count_.size());
+    for (const auto& [g, size] : sizes) summary_.bridged += size == 1 ? 1 : 0;
+    summary_.pushed_out = static_cast<int>(push_count_.size());
   }
 
   // Every chain between joints, tips and the root becomes one open or capped
@@ -902,7 +876,7 @@ class WatertightMesher {
     Patch patch;
     const bool attached = attach && FindAttachment(chain, *mesh, end, &patch, &attach_cut);
     if (attach && !attached) {
-      ++summary_->unattached;
+      ++summary_.unattached;
       if (!overlapping_.count(u)) failed_attach_.push_back(u);
     }
     const Exit* start = start_cut ? &exits_.at({u, chain[1]}) : (attached ? &attach_cut : nullptr);
@@ -927,7 +901,7 @@ class WatertightMesher {
       if (!laterals_[chain[k]].empty())
         attach_piece_[chain[k]] = static_cast<int>(pieces_.size()) - 1;
     }
-    ++summary_->pieces;
+    ++summary_.pieces;
     const int first = info.first_vertex, rings = info.rings;
     // Ring edges the joint must use: the reverse of the tube's.
     JointRing start_ring;
@@ -957,9 +931,9 @@ class WatertightMesher {
       origin.node = u;
       origin.next = chain[1];
       if (BuildHull({hole, start_ring}, origin, mesh)) {
-        ++summary_->attached;
+        ++summary_.attached;
       } else {
-        ++summary_->failed_joints;
+        ++summary_.failed_joints;
       }
     }
     if (end_cut) {
@@ -1053,37 +1027,153 @@ class WatertightMesher {
     return true;
   }
 
+  // The tree (shared by all attempts).
   const SkeletonGraph& skeleton_;
   const BarkMeshOptions& options_;
-  BarkMeshSummary* summary_;
-  std::vector<std::vector<int>> children_;
-  double max_radius_ = 0.0;
-  int root_ = -1;
+  const std::vector<std::vector<int>>& children_;
+  const double max_radius_;
+  const int root_;
+  const std::vector<int>& axis_child_;  // the child continuing each node's axis
+  // The settings (AttemptSettings).
+  const std::set<int> forced_;
+  const std::set<int> repairs_;
+  const std::set<int> overlapping_;
+  const std::set<std::pair<int, int>> merges_;
+  std::set<int> spread_;  // grows where joints grow too large
+  // The plan.
+  BarkMeshSummary summary_;
   std::vector<int> continuation_;           // axis child of attach junctions, else -1
-  std::vector<int> axis_child_;             // the child continuing each node's axis
   std::vector<std::vector<int>> laterals_;  // attached laterals of attach junctions
+  std::vector<int> group_;                  // union-find parent of joint nodes, -1 elsewhere
+  std::map<std::pair<int, int>, Exit> exits_;
+  std::map<int, int> push_count_;
+  std::map<int, int> exit_count_;
+  bool respread_ = false;
+  std::vector<int> overflow_;  // repairs in a joint that grew too large
+  // The mesh.
   std::vector<PieceInfo> pieces_;
   // Ring centres and radii of pieces (by index) laterals attach to.
   mutable std::map<int, std::vector<std::pair<Eigen::Vector3d, double>>> ring_axes_;
   std::map<int, int> attach_piece_;  // attach junction -> the piece through it
   std::set<int> taken_;              // first triangles of used quads
   std::vector<char> removed_;        // triangles replaced by attachment joints
-  std::set<int> spread_;             // junctions of 3+ children attaching their laterals
-  std::set<int> repairs_;            // junctions made convex joints by repairs
-  std::vector<int> overflow_;        // repairs in a joint that grew too large
-  std::set<int> forced_;             // junctions made joints because a lateral found no quad
-  std::set<int> overlapping_;        // ... whose joint grew too large: laterals left overlapping
-  std::set<std::pair<int, int>> merges_;  // repairs: chains taken into their joint
-  bool respread_ = false;
-  std::vector<int> failed_attach_;  // attach junctions with a lateral left unattached
-  std::vector<int> group_;          // union-find parent of joint nodes, -1 elsewhere
-  std::map<std::pair<int, int>, Exit> exits_;
-  std::map<int, int> push_count_;
-  std::map<int, int> exit_count_;
+  std::vector<int> failed_attach_;   // attach junctions with a lateral left unattached
   std::map<int, std::vector<JointRing>> joint_rings_;
   int material_ = 0;
   std::vector<BarkTriangleOrigin> origins_;  // one per triangle of the mesh
 };
+
+// One attempt: a function of the tree and the settings alone.
+AttemptResult MeshAttempt(const BarkTree& tree, const AttemptSettings& settings) {
+  return BarkAttempt(tree, settings).Run(settings.find_crossings);
+}
+
+// What the retry loop knows between attempts.
+struct RetryState {
+  AttemptSettings settings;       // of the next attempt
+  std::set<int> given_up;         // repairs whose joint grew too large
+  std::vector<int> batch;         // repairs added by the last round
+  std::vector<int> forced_batch;  // junctions forced for the last attempt
+  int overflows_this_round = 0;
+  int rounds = 0;  // repair rounds started
+};
+
+// A repair's joint swallowed more than kMaxRepairJointNodes nodes (the
+// attempt's `overflow`): it costs more than its crossing. The repairs of
+// that joint from the last round's batch (else all of that joint's) are
+// given up; the attempt's spread is not kept. Junctions forced for a
+// lateral that found no quad leave their laterals capped and overlapping the
+// parent instead.
+void GiveUpOverflowing(const std::vector<int>& overflow, int attempt, RetryState* state) {
+  AttemptSettings& settings = state->settings;
+  std::vector<int>& batch = state->batch;
+  std::vector<int> culprits;
+  for (int u : overflow) {
+    if (std::find(batch.begin(), batch.end(), u) != batch.end()) culprits.push_back(u);
+  }
+  if (culprits.empty()) culprits = overflow;
+  // A round whose repairs keep overflowing is given up as a whole.
+  if (++state->overflows_this_round > kMaxOverflowsPerRound) culprits = batch;
+  if (attempt >= kMaxAttempts) {  // out of attempts: no repairs, no forcing
+    culprits.assign(settings.repairs.begin(), settings.repairs.end());
+    culprits.insert(culprits.end(), settings.forced.begin(), settings.forced.end());
+  }
+  // The whole forced batch goes (one by one would mean an attempt for each
+  // of hundreds on dense trees).
+  for (int u : culprits) {
+    if (settings.overlapping.count(u)) continue;
+    if (settings.forced.count(u)) {
+      for (int f : state->forced_batch) {
+        settings.forced.erase(f);
+        settings.overlapping.insert(f);
+      }
+      settings.forced.erase(u);
+      settings.overlapping.insert(u);
+    } else {
+      settings.repairs.erase(u);
+      state->given_up.insert(u);
+    }
+  }
+  state->forced_batch.clear();
+  for (int u : culprits) batch.erase(std::remove(batch.begin(), batch.end(), u), batch.end());
+}
+
+// Junctions whose thin lateral found no quad on the parent tube become
+// convex joints for the next attempt.
+void ForceJunctions(const std::vector<int>& failed_attach, RetryState* state) {
+  state->settings.forced.insert(failed_attach.begin(), failed_attach.end());
+  state->forced_batch.assign(failed_attach.begin(), failed_attach.end());
+}
+
+// A repair round: the junctions next to crossings not tried before become
+// the next batch, and the chains to merge are added. False if the round
+// brings nothing new (the mesh stays).
+bool StartRepairRound(const AttemptResult& result, RetryState* state) {
+  AttemptSettings& settings = state->settings;
+  state->batch.clear();
+  state->overflows_this_round = 0;
+  for (int u : result.crossing_junctions) {
+    if (!state->given_up.count(u) && !settings.forced.count(u) && !settings.repairs.count(u) &&
+        !settings.overlapping.count(u)) {
+      state->batch.push_back(u);
+    }
+  }
+  const size_t merged_before = settings.merges.size();
+  settings.merges.insert(result.crossing_merges.begin(), result.crossing_merges.end());
+  if (state->batch.empty() && settings.merges.size() == merged_before) return false;
+  ++state->rounds;
+  return true;
+}
+
+// Meshes; a junction whose thin lateral found no quad on its parent tube
+// becomes a convex joint and everything is meshed again, and so do
+// junctions next to crossings (repairs, options.repair_rounds rounds), at
+// most kMaxAttempts + 1 attempts in all (one more to undo overflowing
+// repairs after the last). The last attempt's result, `repaired` counted.
+AttemptResult MeshWithRetries(const BarkTree& tree) {
+  RetryState state;
+  for (int attempt = 0;; ++attempt) {
+    const bool last = attempt == kMaxAttempts;
+    state.settings.find_crossings = state.rounds < tree.options.repair_rounds && !last;
+    AttemptResult result = MeshAttempt(tree, state.settings);
+    bool again = true;
+    if (!result.overflow.empty()) {
+      GiveUpOverflowing(result.overflow, attempt, &state);
+    } else {
+      state.settings.spread = result.spread;
+      if (!result.failed_attach.empty() && !last) {
+        ForceJunctions(result.failed_attach, &state);
+      } else {
+        again = state.settings.find_crossings && StartRepairRound(result, &state);
+      }
+    }
+    if (!again) {
+      result.summary.repaired = static_cast<int>(state.settings.repairs.size());
+      return result;
+    }
+    state.settings.repairs.insert(state.batch.begin(), state.batch.end());
+  }
+}
 
 }  // namespace
 
@@ -1130,9 +1220,11 @@ TriangleMesh MeshBarkWatertight(const SkeletonGraph& skeleton, const BarkMeshOpt
   TriangleMesh mesh;
   if (origins != nullptr) origins->clear();
   if (skeleton.NumNodes() >= 2) {
-    WatertightMesher mesher(skeleton, options, summary);
-    mesh = mesher.Run();
-    if (origins != nullptr) *origins = mesher.origins();
+    AttemptResult result = MeshWithRetries(BarkTree(skeleton, options));
+    mesh = std::move(result.mesh);
+    if (origins != nullptr) *origins = std::move(result.origins);
+    *summary = result.summary;
+    summary->radius_source = skeleton.radius_source;
   }
   summary->triangles = mesh.NumTriangles();
   summary->seconds =
