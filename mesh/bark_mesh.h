@@ -56,14 +56,13 @@
 //     ring where a joint or attachment uses it (else a capped end's ring may
 //     go too, so a tube never comes out inside out).
 //
-// Known gap (ClassifyBarkCrossings): the synthetic trees still have 0-31
+// Known gap (ClassifyBarkCrossings, mesh/bark_crossings.h): the synthetic trees still have 0-31
 // crossing pairs per ~100k triangles at junctions (next to twig clusters),
 // and more where branches of the skeleton itself pass through each other,
 // which no junction mesher can mend.
 #ifndef SYLVA_MESH_BARK_MESH_H_
 #define SYLVA_MESH_BARK_MESH_H_
 
-#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -137,27 +136,6 @@ struct BarkTriangleOrigin {
 TriangleMesh MeshBarkWatertight(const SkeletonGraph& skeleton, const BarkMeshOptions& options,
                                 BarkMeshSummary* summary,
                                 std::vector<BarkTriangleOrigin>* origins = nullptr);
-
-// Where a bark mesh crosses itself, by the skeleton: each crossing pair of
-// triangles (mesh/mesh_checks.h FindSelfIntersections) is given the skeleton
-// edges the two triangles were made for: an attachment's lateral edge, else
-// the edge whose surface (distance to the edge minus its radius) is nearest
-// the triangle's centroid, among its tube's axis (tubes) or all (joints).
-struct BarkCrossings {
-  int64_t pairs = 0;          // all crossing pairs
-  int64_t within_branch = 0;  // both near the same edge (a kink in one tube)
-  int64_t at_junctions = 0;   // edges 1-3 apart: a junction's pieces cross
-  // Edges further apart whose skeleton capsules (segments with radii, or
-  // those of their neighbouring edges) overlap: branches of the skeleton
-  // itself pass through each other; no junction mesher can help there.
-  int64_t colliding_branches = 0;
-  int64_t other = 0;  // edges further apart whose capsules do not overlap
-
-  std::string BriefReport() const;
-};
-// `bark` and `origins` from MeshBarkWatertight.
-BarkCrossings ClassifyBarkCrossings(const SkeletonGraph& skeleton, const TriangleMesh& bark,
-                                    const std::vector<BarkTriangleOrigin>& origins);
 
 }  // namespace sylva
 

@@ -9,6 +9,7 @@
 #include "core/util/check.h"
 #include "datasets/synthetic/synthetic_qsm.h"
 #include "datasets/synthetic/synthetic_tree.h"
+#include "mesh/bark_crossings.h"
 #include "mesh/mesh_checks.h"
 
 namespace sylva {
