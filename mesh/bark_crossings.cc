@@ -20,10 +20,11 @@ namespace {
 // exits and the edges next to them, which a joint's hull or an attachment
 // spans.
 constexpr int kJunctionHops = 3;
-// The skeleton capsules of two branches collide if their axes come closer
-// than this factor times the sum of their radii: 5 % more, because the
-// tubes' polygons reach a little beyond the radius (circle_area) and a
-// surface just touching another already crosses it when triangulated.
+// The skeleton capsules of two edges overlap if their segments come closer
+// than this factor times the sum of their radii: a 5 % margin of this
+// diagnostic, because tubes that nearly touch already cross once their
+// rings are polygons (with circle_area their vertices reach beyond the
+// radius).
 constexpr double kCapsuleInflation = 1.05;
 
 // Squared distance between segments [p0, p1] and [q0, q1].

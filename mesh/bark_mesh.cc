@@ -45,6 +45,20 @@ constexpr int kSidesPerPiledLateral = 3;
 constexpr int kFoldWindow = 48;
 // Tie-breaking jitter of the hull's points, as a fraction of the joint's size.
 constexpr double kJitter = 1e-7;
+// An attached lateral's first cut (FindAttachment) lies this many of its
+// ring radii beyond the centre of the parent quad it leaves through (about
+// where the parent's surface is), and each next try 12 % further out: the
+// cut is wanted as close to the parent as the quad test allows, so the
+// steps are fine there and coarser further out.
+constexpr double kFirstCutRadii = 0.5;
+constexpr double kCutGrowth = 1.12;
+// The parent's axis that an attached lateral's rings must stay clear of
+// (LateralOutsideParent) is looked up within the cut's limit plus this many
+// of the parent tube's widest ring radii and of the lateral's ring radius
+// of the junction: a margin for the parent's width and for the lateral's
+// rings, which reach one radius beyond their centres.
+constexpr double kReachParentWidths = 2.0;
+constexpr double kReachLateralRadii = 4.0;
 
 // One way out of a joint: the chain of nodes from a joint node through
 // pass-through nodes (one child, not in a joint, not the root) to the next
@@ -657,6 +671,12 @@ class BarkAttempt {
     return patch;
   }
 
+  // A segment of a tube's axis with the radii at its ends.
+  struct AxisSegment {
+    Eigen::Vector3d a, b;
+    double radius_a = 0.0, radius_b = 0.0;
+  };
+
   // Where a thin lateral from junction u along `chain` leaves the parent
   // tube: the parent quad its first edge crosses, and a cut `start` whose
   // ring sees that quad as the hull face opposite to it. False if none fits.
@@ -668,10 +688,37 @@ class BarkAttempt {
     const PieceInfo& p = pieces_[it->second];
     const Eigen::Vector3d origin = Position(u);
     const Eigen::Vector3d d = (Position(chain[1]) - origin).normalized();
+    double along = 0.0;  // from the junction to the quad's centre, along d
+    std::array<int, 2> quad = {0, 0};  // ring gap, side
+    if (!NearestFreeQuad(p, origin, d, mesh, &quad, &along)) return false;
+    // One quad: wider strips (as wide as the lateral) leave the strip's
+    // boundary edges off the hull too often (tried: 3-5 % of joints failed).
+    *patch = PatchAt(p, quad[0], quad[1], 1);
+    const PatchFace face = FaceOf(*patch, mesh);
+    *start = Chain(u, chain[1]);
+    const double limit = options_.max_cut_fraction * start->Length() - (end ? end->t : 0.0);
+    const double lateral_radius = RingRadius(skeleton_.nodes[chain[1]].radius);
+    const double reach = limit + kReachParentWidths * WidestRing(it->second, mesh) +
+                         kReachLateralRadii * lateral_radius;
+    const std::vector<AxisSegment> parent_axis = ParentAxisNear(it->second, u, reach, mesh);
+    // The cut moves out along the lateral from just beyond the quad until
+    // its ring sees the quad, and the lateral clears the parent.
+    for (double t = along + kFirstCutRadii * lateral_radius; t <= limit; t *= kCutGrowth) {
+      start->t = t;
+      Place(start);
+      const BranchTube tube = MakeTube(chain, start, end);
+      if (tube.sides == 0) return false;
+      if (CutFits(tube, *start, face, parent_axis)) return true;
+    }
+    return false;
+  }
+
+  // The free parent quad (ring gap i, side j) whose centre is nearest the
+  // ray from `origin` along unit `d`, ahead of it; `along`: the distance to
+  // that centre along d. False if every quad is taken or behind.
+  bool NearestFreeQuad(const PieceInfo& p, const Eigen::Vector3d& origin, const Eigen::Vector3d& d,
+                       const TriangleMesh& mesh, std::array<int, 2>* quad, double* along) const {
     double best = std::numeric_limits<double>::infinity();
-    double along = 0.0;
-    Quad centre;
-    int best_i = 0, best_j = 0;
     for (int i = 0; i + 1 < p.rings; ++i) {
       for (int j = 0; j < p.sides; ++j) {
         const Quad q = QuadAt(p, i, j);
@@ -683,86 +730,100 @@ class BarkAttempt {
         const double off = ((c - origin) - s * d).norm();
         if (off < best) {
           best = off;
-          along = s;
-          centre = q;
-          best_i = i;
-          best_j = j;
+          *along = s;
+          *quad = {i, j};
         }
       }
     }
-    if (!std::isfinite(best)) return false;
-    // One quad: wider strips (as wide as the lateral) leave the strip's
-    // boundary edges off the hull too often (tried: 3-5 % of joints failed).
-    *patch = PatchAt(p, best_i, best_j, 1);
-    std::vector<Eigen::Vector3d> qv;
-    for (int v : patch->loop) qv.push_back(mesh.vertices[v].cast<double>());
+    return std::isfinite(best);
+  }
+
+  // The patch as the face a cut ring must see: its loop's positions, the
+  // clearance (kFaceClearance of its size) and the outward planes of both
+  // diagonals' triangles of every quad (point, unit normal).
+  struct PatchFace {
+    std::vector<Eigen::Vector3d> loop;
+    double clearance = 0.0;
+    std::vector<std::array<Eigen::Vector3d, 2>> planes;
+  };
+  PatchFace FaceOf(const Patch& patch, const TriangleMesh& mesh) const {
+    PatchFace face;
+    for (int v : patch.loop) face.loop.push_back(mesh.vertices[v].cast<double>());
     double size = 0.0;
-    for (const Eigen::Vector3d& v : qv) size = std::max(size, (v - qv[0]).norm());
-    const double clearance = kFaceClearance * size;
-    // Planes of both diagonals' triangles of every quad, outward.
-    std::vector<std::array<Eigen::Vector3d, 2>> planes;  // point, unit normal
-    for (const Quad& q : patch->quads) {
+    for (const Eigen::Vector3d& v : face.loop) size = std::max(size, (v - face.loop[0]).norm());
+    face.clearance = kFaceClearance * size;
+    for (const Quad& q : patch.quads) {
       std::array<Eigen::Vector3d, 4> c;
       for (int k = 0; k < 4; ++k) c[k] = mesh.vertices[q.v[k]].cast<double>();
       for (const auto& t :
            std::array<std::array<int, 3>, 4>{{{0, 1, 2}, {0, 2, 3}, {0, 1, 3}, {1, 2, 3}}}) {
-        planes.push_back({c[t[0]], (c[t[1]] - c[t[0]]).cross(c[t[2]] - c[t[0]]).normalized()});
+        face.planes.push_back({c[t[0]], (c[t[1]] - c[t[0]]).cross(c[t[2]] - c[t[0]]).normalized()});
       }
     }
-    *start = Chain(u, chain[1]);
-    const double limit = options_.max_cut_fraction * start->Length() - (end ? end->t : 0.0);
-    // The parent's axis segments within reach of the lateral's cut rings.
+    return face;
+  }
+
+  // Whether the lateral's tube, cut at `start`, can be glued to the face:
+  // the lateral stays outside the parent, every face vertex lies behind the
+  // cut ring's plane and every ring vertex in front of the face's planes.
+  bool CutFits(const BranchTube& tube, const Exit& start, const PatchFace& face,
+               const std::vector<AxisSegment>& parent_axis) const {
+    const std::vector<TubeRing> rings = SampleTubeRings(tube);
+    const TubeRing& ring = rings.front();
+    bool ok = LateralOutsideParent(rings, tube.sides, parent_axis);
+    for (const Eigen::Vector3d& v : face.loop) {
+      ok = ok && (v - ring.center).dot(start.direction) < -face.clearance;
+    }
+    for (int j = 0; j < tube.sides && ok; ++j) {
+      const double a = 2 * M_PI * j / tube.sides;
+      const Eigen::Vector3d v = ring.center + ring.radius * (std::cos(a) * ring.frame.normal +
+                                                             std::sin(a) * ring.frame.binormal);
+      for (const auto& pl : face.planes) ok = ok && pl[1].dot(v - pl[0]) > face.clearance;
+    }
+    return ok;
+  }
+
+  // The ring centres and radii of piece `piece` (cached).
+  const std::vector<std::pair<Eigen::Vector3d, double>>& RingAxisOf(
+      int piece, const TriangleMesh& mesh) const {
+    auto cached = ring_axes_.find(piece);
+    if (cached == ring_axes_.end()) {
+      cached = ring_axes_.emplace(piece, RingAxis(pieces_[piece], mesh)).first;
+    }
+    return cached->second;
+  }
+  double WidestRing(int piece, const TriangleMesh& mesh) const {
+    double widest = 0.0;
+    for (const auto& ring : RingAxisOf(piece, mesh)) widest = std::max(widest, ring.second);
+    return widest;
+  }
+
+  // The parent's axis segments within `reach` of junction u, where a
+  // lateral's cut rings may meet them: those of the parent tube `piece`,
+  // and the parent's skeleton axis up and down from the junction (where
+  // the parent's tube ends at a joint nearby, the joint's hull fills about
+  // that volume).
+  std::vector<AxisSegment> ParentAxisNear(int piece, int u, double reach,
+                                          const TriangleMesh& mesh) const {
+    const Eigen::Vector3d origin = Position(u);
     std::vector<AxisSegment> parent_axis;
-    {
-      auto cached = ring_axes_.find(it->second);
-      if (cached == ring_axes_.end()) {
-        cached = ring_axes_.emplace(it->second, RingAxis(p, mesh)).first;
-      }
-      const std::vector<std::pair<Eigen::Vector3d, double>>& axis = cached->second;
-      double widest = 0.0;
-      for (const auto& ring : axis) widest = std::max(widest, ring.second);
-      const double reach = limit + 2 * widest + 4 * RingRadius(skeleton_.nodes[chain[1]].radius);
-      for (size_t i = 0; i + 1 < axis.size(); ++i) {
-        if (SegmentDistance2(origin, axis[i].first, axis[i + 1].first) > reach * reach) continue;
-        parent_axis.push_back(
-            {axis[i].first, axis[i + 1].first, axis[i].second, axis[i + 1].second});
-      }
-      // The parent's skeleton axis too, up and down from the junction: where
-      // the parent's tube ends at a joint nearby, the joint's hull fills
-      // about that volume.
-      for (int down = 0; down < 2; ++down) {
-        int a = u;
-        while (true) {
-          const int b = down ? axis_child_[a] : skeleton_.nodes[a].parent_idx;
-          if (b < 0) break;
-          const double ra = RingRadius(EdgeRadius(a, b)), rb = ra;
-          parent_axis.push_back({Position(a), Position(b), ra, rb});
-          if ((Position(b) - origin).norm() > reach) break;
-          a = b;
-        }
+    const std::vector<std::pair<Eigen::Vector3d, double>>& axis = RingAxisOf(piece, mesh);
+    for (size_t i = 0; i + 1 < axis.size(); ++i) {
+      if (SegmentDistance2(origin, axis[i].first, axis[i + 1].first) > reach * reach) continue;
+      parent_axis.push_back({axis[i].first, axis[i + 1].first, axis[i].second, axis[i + 1].second});
+    }
+    for (int down = 0; down < 2; ++down) {
+      int a = u;
+      while (true) {
+        const int b = down ? axis_child_[a] : skeleton_.nodes[a].parent_idx;
+        if (b < 0) break;
+        const double ra = RingRadius(EdgeRadius(a, b)), rb = ra;
+        parent_axis.push_back({Position(a), Position(b), ra, rb});
+        if ((Position(b) - origin).norm() > reach) break;
+        a = b;
       }
     }
-    for (double t = along + 0.5 * RingRadius(skeleton_.nodes[chain[1]].radius); t <= limit;
-         t *= 1.12) {
-      start->t = t;
-      Place(start);
-      const BranchTube tube = MakeTube(chain, start, end);
-      if (tube.sides == 0) return false;
-      const std::vector<TubeRing> rings = SampleTubeRings(tube);
-      const TubeRing& ring = rings.front();
-      bool ok = LateralOutsideParent(rings, tube.sides, parent_axis);
-      for (const Eigen::Vector3d& v : qv) {
-        ok = ok && (v - ring.center).dot(start->direction) < -clearance;
-      }
-      for (int j = 0; j < tube.sides && ok; ++j) {
-        const double a = 2 * M_PI * j / tube.sides;
-        const Eigen::Vector3d v = ring.center + ring.radius * (std::cos(a) * ring.frame.normal +
-                                                               std::sin(a) * ring.frame.binormal);
-        for (const auto& pl : planes) ok = ok && pl[1].dot(v - pl[0]) > clearance;
-      }
-      if (ok) return true;
-    }
-    return false;
+    return parent_axis;
   }
 
   // True if the circles of rings a and b (b further along the tube) lie
@@ -809,11 +870,6 @@ class BarkAttempt {
     std::reverse(kept.begin(), kept.end());
     return kept;
   }
-
-  struct AxisSegment {
-    Eigen::Vector3d a, b;
-    double radius_a = 0.0, radius_b = 0.0;
-  };
 
   // A tube's ring centres and (circumscribed) radii, from its mesh vertices.
   std::vector<std::pair<Eigen::Vector3d, double>> RingAxis(const PieceInfo& p,
