@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 
 #include "core/util/check.h"
 
@@ -77,6 +78,28 @@ TrunkWidth MeasureTrunkWidth(const ImageSet& views, const std::vector<FloatImage
   std::nth_element(widths.begin(), widths.begin() + widths.size() / 2, widths.end());
   result.radius = 0.5 * widths[widths.size() / 2];
   return result;
+}
+
+TrunkRadius ChooseTrunkRadius(const ImageSet& views, const std::vector<FloatImage>& mattes,
+                              const Eigen::Vector3d& base, double tree_height, double given_radius,
+                              double fallback_fraction) {
+  TrunkRadius trunk;
+  if (given_radius > 0) {
+    trunk.radius = given_radius;
+    trunk.how = "given";
+    return trunk;
+  }
+  const TrunkWidth width = MeasureTrunkWidth(views, mattes, base, tree_height);
+  if (width.radius > 0) {
+    trunk.radius = width.radius;
+    trunk.how = "measured in " + std::to_string(width.num_measurements) + " matte sections";
+    return trunk;
+  }
+  std::ostringstream how;
+  how << "not measurable in the mattes; " << fallback_fraction << " x height";
+  trunk.radius = fallback_fraction * tree_height;
+  trunk.how = how.str();
+  return trunk;
 }
 
 }  // namespace sylva
