@@ -688,7 +688,7 @@ class BarkAttempt {
     const PieceInfo& p = pieces_[it->second];
     const Eigen::Vector3d origin = Position(u);
     const Eigen::Vector3d d = (Position(chain[1]) - origin).normalized();
-    double along = 0.0;  // from the junction to the quad's centre, along d
+    double along = 0.0;                // from the junction to the quad's centre, along d
     std::array<int, 2> quad = {0, 0};  // ring gap, side
     if (!NearestFreeQuad(p, origin, d, mesh, &quad, &along)) return false;
     // One quad: wider strips (as wide as the lateral) leave the strip's

@@ -44,8 +44,9 @@ QsmMeshing MeshQsm(const QsmModel& qsm, const PipelineOptions& options, double m
   // tested ones: a closed piece inside out is turned, and counted.
   meshing.turned_components = TurnInsideOutComponents(&meshing.bark);
   SubdivideBark(options.geometry, &meshing.bark, &brief);
-  // What a closed bark should be: one outward solid per part, enclosing
-  // about the cylinders' union (their sum counts TreeQSM's overlaps twice).
+  // What a closed bark should be: outward solids, one per part plus one per
+  // lateral left unattached (mesh/bark_mesh.h), enclosing about the
+  // cylinders' union (their sum counts TreeQSM's overlaps twice).
   const MeshCheck check = CheckMesh(meshing.bark, "", false);
   meshing.components = check.components;
   meshing.inside_out_components = check.inside_out_components;
