@@ -467,82 +467,112 @@ class BarkAttempt {
     return true;
   }
 
-  // Groups junctions into joints whose cuts fit; fills exits_.
+  // Groups junctions into joints whose cuts fit; fills exits_. Each misfit
+  // merges a chain into a joint and the joints are fitted again, unless a
+  // joint overflows (JointOverflows: the plan stops).
   void FormJoints() {
     for (const auto& [u, v] : merges_) {
       if (group_[u] < 0) continue;
       for (int node : Chain(u, v).path) Join(u, node);
     }
-    bool changed = true;
-    while (changed) {
-      changed = false;
+    Fit fit = Fit::kMerged;
+    while (fit == Fit::kMerged) {
       exits_.clear();
       exit_count_.clear();
       push_count_.clear();
-      std::map<int, std::vector<int>> groups;
-      for (int i = 0; i < skeleton_.NumNodes(); ++i) {
-        if (group_[i] >= 0) groups[Group(i)].push_back(i);
-      }
-      for (auto& [g, members] : groups) {
-        std::vector<Exit> exits = ExitsOf(g, members);
-        std::vector<char> bad;
-        int pushes = 0;
-        while (exits.size() >= 2 && !RingsAreHullFaces(exits, &bad) && pushes < kMaxPushes) {
-          for (size_t k = 0; k < exits.size(); ++k) {
-            if (!bad[k]) continue;
-            exits[k].t *= kPushFactor;
-            Place(&exits[k]);
-          }
-          ++pushes;
-        }
-        const bool faces = exits.size() < 2 || RingsAreHullFaces(exits, &bad);
-        // The exit that fits worst on its chain (or a bad one if they all fit).
-        int worst = -1;
-        double worst_ratio = -1.0;
-        for (size_t k = 0; k < exits.size(); ++k) {
-          const double length = exits[k].Length();
-          double ratio = length > 0 ? exits[k].t / length : 1e300;
-          if (!faces && !bad[k]) ratio = -0.5;
-          if (ratio > worst_ratio) {
-            worst_ratio = ratio;
-            worst = static_cast<int>(k);
-          }
-        }
-        if (worst >= 0 && (worst_ratio > options_.max_cut_fraction || !faces)) {
-          for (int node : exits[worst].path) Join(g, node);
-          ++summary_.fallbacks;
-          if (JointOverflows(g)) return;
-          changed = true;
-          break;
-        }
-        if (pushes > 0) push_count_[g] = pushes;
-        exit_count_[g] = static_cast<int>(exits.size());
-        for (const Exit& e : exits) exits_[{e.path[0], e.path[1]}] = e;
-      }
-      if (changed) continue;
-      // Chains cut by two joints: both cuts must fit together.
-      for (const auto& [key, e] : exits_) {
-        const int n = static_cast<int>(e.path.size());
-        const auto other = exits_.find({e.path[n - 1], e.path[n - 2]});
-        if (other == exits_.end()) continue;
-        if (e.t + other->second.t > options_.max_cut_fraction * e.Length()) {
-          for (int node : e.path) Join(key.first, node);
-          ++summary_.fallbacks;
-          if (JointOverflows(key.first)) return;
-          changed = true;
-          break;
-        }
-      }
+      fit = FitJoints();
+      if (fit == Fit::kFits) fit = FitSharedChains();
+      if (fit == Fit::kStop) return;
     }
-    std::set<int> groups;
+    CountJoints();
+  }
+
+  // What fitting the joints' cuts came to.
+  enum class Fit {
+    kFits,    // every cut fits
+    kMerged,  // a chain was merged into a joint: fit again
+    kStop,    // ... and the joint overflowed
+  };
+
+  // Fits the cuts of every joint (pushed out until the rings are hull
+  // faces), recording them in exits_; merges the worst-fitting chain of the
+  // first joint whose cuts do not fit.
+  Fit FitJoints() {
+    std::map<int, std::vector<int>> groups;
     for (int i = 0; i < skeleton_.NumNodes(); ++i) {
-      if (group_[i] < 0) continue;
-      groups.insert(Group(i));
-      if (children_[i].empty()) ++summary_.swallowed_tips;
+      if (group_[i] >= 0) groups[Group(i)].push_back(i);
     }
+    for (auto& [g, members] : groups) {
+      std::vector<Exit> exits = ExitsOf(g, members);
+      std::vector<char> bad;
+      int pushes = 0;
+      while (exits.size() >= 2 && !RingsAreHullFaces(exits, &bad) && pushes < kMaxPushes) {
+        for (size_t k = 0; k < exits.size(); ++k) {
+          if (!bad[k]) continue;
+          exits[k].t *= kPushFactor;
+          Place(&exits[k]);
+        }
+        ++pushes;
+      }
+      const bool faces = exits.size() < 2 || RingsAreHullFaces(exits, &bad);
+      const auto [worst, worst_ratio] = WorstExit(exits, faces, bad);
+      if (worst >= 0 && (worst_ratio > options_.max_cut_fraction || !faces)) {
+        return MergeIntoJoint(g, exits[worst].path);
+      }
+      if (pushes > 0) push_count_[g] = pushes;
+      exit_count_[g] = static_cast<int>(exits.size());
+      for (const Exit& e : exits) exits_[{e.path[0], e.path[1]}] = e;
+    }
+    return Fit::kFits;
+  }
+
+  // The exit that fits worst on its chain (its cut's fraction of the chain),
+  // or, if the rings are not all hull faces, a bad one if they all fit.
+  // (-1, -1) if there are no exits.
+  static std::pair<int, double> WorstExit(const std::vector<Exit>& exits, bool faces,
+                                          const std::vector<char>& bad) {
+    int worst = -1;
+    double worst_ratio = -1.0;
+    for (size_t k = 0; k < exits.size(); ++k) {
+      const double length = exits[k].Length();
+      double ratio = length > 0 ? exits[k].t / length : 1e300;
+      if (!faces && !bad[k]) ratio = -0.5;
+      if (ratio > worst_ratio) {
+        worst_ratio = ratio;
+        worst = static_cast<int>(k);
+      }
+    }
+    return {worst, worst_ratio};
+  }
+
+  // Chains cut by two joints: both cuts must fit together, else the first
+  // such chain is merged into its joint.
+  Fit FitSharedChains() {
+    for (const auto& [key, e] : exits_) {
+      const int n = static_cast<int>(e.path.size());
+      const auto other = exits_.find({e.path[n - 1], e.path[n - 2]});
+      if (other == exits_.end()) continue;
+      if (e.t + other->second.t > options_.max_cut_fraction * e.Length()) {
+        return MergeIntoJoint(key.first, e.path);
+      }
+    }
+    return Fit::kFits;
+  }
+
+  // A fallback merge (counted): the chain's nodes join the joint of `node`.
+  Fit MergeIntoJoint(int node, const std::vector<int>& path) {
+    for (int member : path) Join(node, member);
+    ++summary_.fallbacks;
+    return JointOverflows(node) ? Fit::kStop : Fit::kMerged;
+  }
+
+  // The summary's figures of the joints formed.
+  void CountJoints() {
     std::map<int, int> sizes;
     for (int i = 0; i < skeleton_.NumNodes(); ++i) {
-      if (group_[i] >= 0) ++sizes[Group(i)];
+      if (group_[i] < 0) continue;
+      ++sizes[Group(i)];
+      if (children_[i].empty()) ++summary_.swallowed_tips;
     }
     for (const auto& [g, size] : sizes) summary_.bridged += size == 1 ? 1 : 0;
     summary_.pushed_out = static_cast<int>(push_count_.size());
@@ -921,6 +951,14 @@ class BarkAttempt {
     return true;
   }
 
+  struct JointRing {
+    std::vector<int> vertices;  // mesh indices in ring order
+    bool reversed = false;      // the joint uses vertices[j+1] -> vertices[j]
+  };
+
+  // The tube of `chain` (its ends cut where a joint or an attachment takes
+  // it, else capped), with its rings handed to the joints at its ends, or
+  // glued onto the parent's tube if it is an attached lateral (`attach`).
   void MeshPiece(const std::vector<int>& chain, bool attach, TriangleMesh* mesh) {
     const int u = chain.front(), w = chain.back();
     const int last_index = static_cast<int>(chain.size()) - 1;
@@ -938,74 +976,85 @@ class BarkAttempt {
     const Exit* start = start_cut ? &exits_.at({u, chain[1]}) : (attached ? &attach_cut : nullptr);
     const BranchTube tube = MakeTube(chain, start, end);
     if (tube.sides == 0) return;
+    const PieceInfo info = AppendPiece(chain, tube, start != nullptr, end_cut, mesh);
+    // Ring edges the joint must use: the reverse of the tube's.
+    const JointRing start_ring = RingOf(info, 0, /*reversed=*/true);
+    if (start_cut) joint_rings_[Group(u)].push_back(start_ring);
+    if (attached) GlueToParent(chain, patch, start_ring, mesh);
+    if (end_cut) joint_rings_[Group(w)].push_back(RingOf(info, info.rings - 1, false));
+  }
+
+  // Sweeps `tube` (cut at its start and/or end, else capped there) into
+  // the mesh as a piece of `chain`, and makes it the piece that laterals
+  // of the chain's attach junctions attach to.
+  PieceInfo AppendPiece(const std::vector<int>& chain, const BranchTube& tube, bool start_cut,
+                        bool end_cut, TriangleMesh* mesh) {
+    const int u = chain.front();
     PieceInfo info;
     info.first_vertex = mesh->NumVertices();
     info.first_triangle = mesh->NumTriangles();
     info.sides = tube.sides;
     const std::vector<TubeRing> rings_kept =
-        WithoutCrossingRings(SampleTubeRings(tube), start != nullptr, end_cut);
+        WithoutCrossingRings(SampleTubeRings(tube), start_cut, end_cut);
     info.rings = static_cast<int>(rings_kept.size());
-    AppendTube(rings_kept, tube.sides, material_, mesh, start == nullptr, !end_cut);
+    AppendTube(rings_kept, tube.sides, material_, mesh, !start_cut, !end_cut);
     BarkTriangleOrigin origin;
     origin.node = u;
     origin.next = chain[1];
     origins_.resize(mesh->NumTriangles(), origin);
     pieces_.push_back(info);
-    if (u == root_ && continuation_[u] == chain[1])
-      attach_piece_[u] = static_cast<int>(pieces_.size()) - 1;
-    for (int k = 1; k < last_index; ++k) {
-      if (!laterals_[chain[k]].empty())
-        attach_piece_[chain[k]] = static_cast<int>(pieces_.size()) - 1;
+    const int piece = static_cast<int>(pieces_.size()) - 1;
+    if (u == root_ && continuation_[u] == chain[1]) attach_piece_[u] = piece;
+    for (size_t k = 1; k + 1 < chain.size(); ++k) {
+      if (!laterals_[chain[k]].empty()) attach_piece_[chain[k]] = piece;
     }
     ++summary_.pieces;
-    const int first = info.first_vertex, rings = info.rings;
-    // Ring edges the joint must use: the reverse of the tube's.
-    JointRing start_ring;
-    for (int j = 0; j < tube.sides; ++j) start_ring.vertices.push_back(first + j);
-    start_ring.reversed = true;  // the tube uses j -> j+1; the joint j+1 -> j
-    if (start_cut) joint_rings_[Group(u)].push_back(start_ring);
-    if (attached) {
-      // The quad's two triangles give way to the hull of quad and ring.
-      // The patch and its neighbours: joints of different laterals must not touch.
-      const PieceInfo& parent = pieces_[attach_piece_.at(u)];
-      const int width = static_cast<int>(patch.quads.size());
-      for (int di = -1; di <= 1; ++di) {
-        for (int dj = -1; dj <= width; ++dj) {
-          if (patch.i + di < 0 || patch.i + di + 1 >= parent.rings) continue;
-          taken_.insert(QuadAt(parent, patch.i + di, patch.j + dj).triangle);
-        }
-      }
-      if (removed_.size() < static_cast<size_t>(mesh->NumTriangles())) {
-        removed_.resize(mesh->NumTriangles(), 0);
-      }
-      for (const Quad& q : patch.quads) removed_[q.triangle] = removed_[q.triangle + 1] = 1;
-      JointRing hole;
-      hole.vertices = patch.loop;
-      hole.reversed = false;  // the joint uses the removed triangles' edges
-      BarkTriangleOrigin origin;
-      origin.kind = BarkTriangleOrigin::kAttachment;
-      origin.node = u;
-      origin.next = chain[1];
-      if (BuildHull({hole, start_ring}, origin, mesh)) {
-        ++summary_.attached;
-      } else {
-        ++summary_.failed_joints;
-      }
-    }
-    if (end_cut) {
-      JointRing ring;
-      for (int j = 0; j < tube.sides; ++j) {
-        ring.vertices.push_back(first + (rings - 1) * tube.sides + j);
-      }
-      ring.reversed = false;  // the tube uses j+1 -> j; the joint j -> j+1
-      joint_rings_[Group(w)].push_back(ring);
-    }
+    return info;
   }
 
-  struct JointRing {
-    std::vector<int> vertices;  // mesh indices in ring order
-    bool reversed = false;      // the joint uses vertices[j+1] -> vertices[j]
-  };
+  // Ring `ring` of a piece as a joint uses it: the tube uses j -> j+1 on
+  // its first ring (the joint j+1 -> j: reversed) and j+1 -> j on its last.
+  static JointRing RingOf(const PieceInfo& info, int ring, bool reversed) {
+    JointRing joint_ring;
+    for (int j = 0; j < info.sides; ++j) {
+      joint_ring.vertices.push_back(info.first_vertex + ring * info.sides + j);
+    }
+    joint_ring.reversed = reversed;
+    return joint_ring;
+  }
+
+  // The attached lateral of `chain` glued onto its parent's tube: the
+  // patch's triangles give way to the hull of patch and `start_ring`; the
+  // patch and its neighbours are taken (joints of different laterals must
+  // not touch).
+  void GlueToParent(const std::vector<int>& chain, const Patch& patch, const JointRing& start_ring,
+                    TriangleMesh* mesh) {
+    const int u = chain.front();
+    const PieceInfo& parent = pieces_[attach_piece_.at(u)];
+    const int width = static_cast<int>(patch.quads.size());
+    for (int di = -1; di <= 1; ++di) {
+      for (int dj = -1; dj <= width; ++dj) {
+        if (patch.i + di < 0 || patch.i + di + 1 >= parent.rings) continue;
+        taken_.insert(QuadAt(parent, patch.i + di, patch.j + dj).triangle);
+      }
+    }
+    if (removed_.size() < static_cast<size_t>(mesh->NumTriangles())) {
+      removed_.resize(mesh->NumTriangles(), 0);
+    }
+    for (const Quad& q : patch.quads) removed_[q.triangle] = removed_[q.triangle + 1] = 1;
+    JointRing hole;
+    hole.vertices = patch.loop;
+    hole.reversed = false;  // the joint uses the removed triangles' edges
+    BarkTriangleOrigin origin;
+    origin.kind = BarkTriangleOrigin::kAttachment;
+    origin.node = u;
+    origin.next = chain[1];
+    if (BuildHull({hole, start_ring}, origin, mesh)) {
+      ++summary_.attached;
+    } else {
+      ++summary_.failed_joints;
+    }
+  }
 
   // The convex hull of the rings' vertices without the ring polygons, by
   // gift wrapping from the ring edges. False if it did not close cleanly.
