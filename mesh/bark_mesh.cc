@@ -45,6 +45,20 @@ constexpr int kSidesPerPiledLateral = 3;
 constexpr int kFoldWindow = 48;
 // Tie-breaking jitter of the hull's points, as a fraction of the joint's size.
 constexpr double kJitter = 1e-7;
+// An attached lateral's first cut (FindAttachment) lies this many of its
+// ring radii beyond the centre of the parent quad it leaves through (about
+// where the parent's surface is), and each next try 12 % further out: the
+// cut is wanted as close to the parent as the quad test allows, so the
+// steps are fine there and coarser further out.
+constexpr double kFirstCutRadii = 0.5;
+constexpr double kCutGrowth = 1.12;
+// The parent's axis that an attached lateral's rings must stay clear of
+// (LateralOutsideParent) is looked up within the cut's limit plus this many
+// of the parent tube's widest ring radii and of the lateral's ring radius
+// of the junction: a margin for the parent's width and for the lateral's
+// rings, which reach one radius beyond their centres.
+constexpr double kReachParentWidths = 2.0;
+constexpr double kReachLateralRadii = 4.0;
 
 // One way out of a joint: the chain of nodes from a joint node through
 // pass-through nodes (one child, not in a joint, not the root) to the next
@@ -74,118 +88,90 @@ double EnclosingSphereRadius(double r1, double r2, double gamma) {
   return std::max(r1 / std::sin(alpha), std::max(r1, r2));
 }
 
-class WatertightMesher {
- public:
-  WatertightMesher(const SkeletonGraph& skeleton, const BarkMeshOptions& options,
-                   BarkMeshSummary* summary)
-      : skeleton_(skeleton), options_(options), summary_(summary) {
-    children_ = skeleton.Children();
-    root_ = skeleton.RootIdx();
-    for (const SkeletonNode& node : skeleton.nodes)
-      max_radius_ = std::max(max_radius_, node.radius);
-    group_.assign(skeleton.NumNodes(), -1);
-  }
-
-  // Meshes; a junction whose thin lateral found no quad on its parent tube
-  // becomes a convex joint and everything is meshed again, and so do
-  // junctions next to crossings (repairs, options_.repair_rounds rounds).
-  TriangleMesh Run() {
-    std::set<int> forced;           // junctions made convex joints for closedness
-    std::set<int> repairs;          // ... and to take their triangles off others
-    std::set<int> given_up;         // repairs whose joint grew too large
-    std::vector<int> batch;         // repairs added for this attempt
-    std::vector<int> forced_batch;  // junctions forced for the last attempt
-    int overflows_this_round = 0;
-    int rounds = 0;
-    for (int attempt = 0;; ++attempt) {
-      const BarkMeshSummary clean = *summary_;
-      const std::set<int> spread_before = spread_;
-      std::set<int> convex = forced;
-      convex.insert(repairs.begin(), repairs.end());
-      repairs_ = repairs;
-      forced_ = forced;
-      TriangleMesh mesh = Attempt(convex);
-      const bool last = attempt == kMaxAttempts;
-      bool again = false;
-      if (!overflow_.empty()) {
-        // A repair's joint swallowed more than kMaxRepairJointNodes nodes:
-        // it costs more than its crossing. The repairs of that joint from
-        // the last round's batch (else all of that joint's) are given up,
-        // and all this attempt did to other junctions is undone. Junctions
-        // forced for a lateral that found no quad leave their laterals
-        // capped and overlapping the parent instead.
-        std::vector<int> culprits;
-        for (int u : overflow_) {
-          if (std::find(batch.begin(), batch.end(), u) != batch.end()) culprits.push_back(u);
-        }
-        if (culprits.empty()) culprits = overflow_;
-        // A round whose repairs keep overflowing is given up as a whole.
-        if (++overflows_this_round > kMaxOverflowsPerRound) culprits = batch;
-        if (attempt >= kMaxAttempts) {  // out of attempts: no repairs, no forcing
-          culprits.assign(repairs.begin(), repairs.end());
-          culprits.insert(culprits.end(), forced.begin(), forced.end());
-        }
-        // The whole forced batch goes (one by one would mean an attempt for
-        // each of hundreds on dense trees).
-        for (int u : culprits) {
-          if (overlapping_.count(u)) continue;
-          if (forced.count(u)) {
-            for (int f : forced_batch) {
-              forced.erase(f);
-              overlapping_.insert(f);
-            }
-            forced.erase(u);
-            overlapping_.insert(u);
-          } else {
-            repairs.erase(u);
-            given_up.insert(u);
-          }
-        }
-        forced_batch.clear();
-        for (int u : culprits) batch.erase(std::remove(batch.begin(), batch.end(), u), batch.end());
-        spread_ = spread_before;
-        again = true;
-      } else if (!failed_attach_.empty() && !last) {
-        forced.insert(failed_attach_.begin(), failed_attach_.end());
-        forced_batch.assign(failed_attach_.begin(), failed_attach_.end());
-        again = true;
-      } else if (rounds < options_.repair_rounds && !last) {
-        batch.clear();
-        std::set<std::pair<int, int>> merges;
-        overflows_this_round = 0;
-        for (int u : CrossingJunctions(mesh, &merges)) {
-          if (!given_up.count(u) && !forced.count(u) && !repairs.count(u) &&
-              !overlapping_.count(u)) {
-            batch.push_back(u);
-          }
-        }
-        const size_t merged_before = merges_.size();
-        merges_.insert(merges.begin(), merges.end());
-        if (!batch.empty() || merges_.size() > merged_before) {
-          again = true;
-          ++rounds;
-        }
+// What every meshing attempt shares: the skeleton, the options and what
+// follows from them alone.
+struct BarkTree {
+  BarkTree(const SkeletonGraph& skeleton, const BarkMeshOptions& options)
+      : skeleton(skeleton), options(options) {
+    children = skeleton.Children();
+    root = skeleton.RootIdx();
+    for (const SkeletonNode& node : skeleton.nodes) max_radius = std::max(max_radius, node.radius);
+    axis_child.assign(skeleton.NumNodes(), -1);
+    const std::vector<BranchAxis> axes = skeleton.BranchAxes();
+    for (size_t a = 0; a < axes.size(); ++a) {
+      for (size_t k = a == 0 ? 0 : 1; k + 1 < axes[a].size(); ++k) {
+        axis_child[axes[a][k]] = axes[a][k + 1];
       }
-      if (!again) {
-        summary_->repaired = static_cast<int>(repairs.size());
-        return mesh;
-      }
-      repairs.insert(batch.begin(), batch.end());
-      *summary_ = clean;
-      group_.assign(skeleton_.NumNodes(), -1);
-      exits_.clear();
-      joint_rings_.clear();
-      pieces_.clear();
-      ring_axes_.clear();
-      attach_piece_.clear();
-      taken_.clear();
-      removed_.clear();
-      failed_attach_.clear();
-      origins_.clear();
     }
   }
 
-  const std::vector<BarkTriangleOrigin>& origins() const { return origins_; }
+  const SkeletonGraph& skeleton;
+  const BarkMeshOptions& options;
+  std::vector<std::vector<int>> children;
+  int root = -1;
+  double max_radius = 0.0;
+  std::vector<int> axis_child;  // the child continuing each node's axis, else -1
+};
+
+// The settings of one meshing attempt: what the retry loop (MeshWithRetries)
+// has decided about the junctions so far.
+struct AttemptSettings {
+  std::set<int> forced;       // junctions made convex joints because a lateral found no quad
+  std::set<int> repairs;      // ... and to take their triangles off others
+  std::set<int> spread;       // junctions of 3+ children attaching their laterals one by one
+  std::set<int> overlapping;  // junctions whose unattached laterals stay capped, overlapping
+  std::set<std::pair<int, int>> merges;  // chains (first two nodes) taken into their joint
+  // Look up the junctions next to crossing triangles when the attempt
+  // meshed everything it was asked to (no overflow, every lateral attached).
+  bool find_crossings = false;
+};
+
+// What one attempt gave.
+struct AttemptResult {
+  TriangleMesh mesh;                        // empty if `overflow` is not
+  std::vector<BarkTriangleOrigin> origins;  // one per triangle of `mesh`
+  BarkMeshSummary summary;                  // of this attempt (without `repaired`)
+  // Repairs and forced junctions in a joint that grew over
+  // kMaxRepairJointNodes nodes: the attempt stopped there.
+  std::vector<int> overflow;
+  std::vector<int> failed_attach;  // attach junctions with a lateral left unattached
+  std::set<int> spread;            // settings.spread and the junctions this attempt spread
+  // With settings.find_crossings: BarkAttempt::CrossingJunctions.
+  std::set<int> crossing_junctions;
+  std::set<std::pair<int, int>> crossing_merges;
+};
+
+// One meshing attempt with fixed settings: plans the joints, meshes the
+// pieces and joints, and (asked) finds where the result crosses itself.
+// Holds all of the attempt's state; used once.
+class BarkAttempt {
+ public:
+  BarkAttempt(const BarkTree& tree, const AttemptSettings& settings)
+      : skeleton_(tree.skeleton),
+        options_(tree.options),
+        children_(tree.children),
+        max_radius_(tree.max_radius),
+        root_(tree.root),
+        axis_child_(tree.axis_child),
+        forced_(settings.forced),
+        repairs_(settings.repairs),
+        overlapping_(settings.overlapping),
+        merges_(settings.merges),
+        spread_(settings.spread) {}
+
+  AttemptResult Run(bool find_crossings) {
+    AttemptResult result;
+    result.mesh = Attempt();
+    result.overflow = overflow_;
+    result.failed_attach = failed_attach_;
+    result.spread = spread_;
+    if (find_crossings && overflow_.empty() && failed_attach_.empty()) {
+      result.crossing_junctions = CrossingJunctions(result.mesh, &result.crossing_merges);
+    }
+    result.origins = std::move(origins_);
+    result.summary = summary_;
+    return result;
+  }
 
   // Junctions next to crossing triangles: those of attached laterals, and
   // the junction nearest a crossing within kNearJunction of its radius
@@ -245,80 +231,82 @@ class WatertightMesher {
     return culprits;
   }
 
-  TriangleMesh Attempt(const std::set<int>& forced) {
-    // The child continuing each node's axis.
-    std::vector<int>& axis_child = axis_child_;
-    axis_child.assign(skeleton_.NumNodes(), -1);
-    const std::vector<BranchAxis> axes = skeleton_.BranchAxes();
-    for (size_t a = 0; a < axes.size(); ++a) {
-      for (size_t k = a == 0 ? 0 : 1; k + 1 < axes[a].size(); ++k) {
-        axis_child[axes[a][k]] = axes[a][k + 1];
-      }
-    }
-    // Plan the joints; junctions whose joints grow too large attach their
-    // laterals one by one instead, and the plan is made again (spread_ only
-    // grows, so this ends).
-    const BarkMeshSummary clean = *summary_;
-    while (true) {
-      *summary_ = clean;
-      respread_ = false;
-      group_.assign(skeleton_.NumNodes(), -1);
-      continuation_.assign(skeleton_.NumNodes(), -1);
-      laterals_.assign(skeleton_.NumNodes(), {});
-      for (int i = 0; i < skeleton_.NumNodes(); ++i) {
-        if (children_[i].size() < 2) continue;
-        ++summary_->junctions;
-        // Laterals thin against the parent are attached to its tube.
-        bool thin = (i != root_ || spread_.count(i)) && axis_child[i] >= 0 && !forced.count(i) &&
-                    (children_[i].size() == 2 || spread_.count(i));
-        for (int c : children_[i]) {
-          if (c == axis_child[i]) continue;
-          thin = thin &&
-                 skeleton_.nodes[c].radius <= options_.attach_ratio * skeleton_.nodes[i].radius;
-        }
-        if (thin) {
-          continuation_[i] = axis_child[i];
-          for (int c : children_[i]) {
-            if (c != axis_child[i]) laterals_[i].push_back(c);
-          }
-        } else {
-          group_[i] = i;
-        }
-      }
-      overflow_.clear();
+  // Plans the joints and meshes them and the pieces between. Junctions
+  // whose joints grow too large attach their laterals one by one instead,
+  // and the plan is made again (spread_ only grows, so this ends).
+  TriangleMesh Attempt() {
+    do {
+      StartPlan();
       FormJoints();
       if (!overflow_.empty()) return TriangleMesh();
-      if (!respread_) {
-        // Junctions of several laterals whose convex joint grew over more
-        // than kMaxJointNodes nodes.
-        std::map<int, int> sizes;
-        for (int i = 0; i < skeleton_.NumNodes(); ++i) {
-          if (group_[i] >= 0) ++sizes[Group(i)];
-        }
-        for (int i = 0; i < skeleton_.NumNodes(); ++i) {
-          if (group_[i] >= 0 && sizes[Group(i)] > kMaxJointNodes && children_[i].size() > 2 &&
-              !spread_.count(i)) {
-            spread_.insert(i);
-            respread_ = true;
-          }
-        }
-      }
-      if (!respread_) break;
-    }
+      if (!respread_) SpreadLargeJoints();
+    } while (respread_);
     TriangleMesh mesh;
     material_ = mesh.AddMaterial(options_.tube.bark);
     MeshPieces(&mesh);
     for (auto& [root, rings] : joint_rings_) {
-      ++summary_->joints;
+      ++summary_.joints;
       BarkTriangleOrigin origin;
       origin.kind = BarkTriangleOrigin::kJoint;
       origin.node = root;
-      if (rings.size() >= 2 && !BuildHull(rings, origin, &mesh)) ++summary_->failed_joints;
+      if (rings.size() >= 2 && !BuildHull(rings, origin, &mesh)) ++summary_.failed_joints;
     }
     return mesh;
   }
 
  private:
+  // A fresh plan: every junction either a convex joint of its own or, if
+  // its laterals are thin against the parent, an attach junction.
+  void StartPlan() {
+    summary_ = BarkMeshSummary();
+    respread_ = false;
+    overflow_.clear();
+    group_.assign(skeleton_.NumNodes(), -1);
+    continuation_.assign(skeleton_.NumNodes(), -1);
+    laterals_.assign(skeleton_.NumNodes(), {});
+    for (int i = 0; i < skeleton_.NumNodes(); ++i) {
+      if (children_[i].size() < 2) continue;
+      ++summary_.junctions;
+      if (AttachesLaterals(i)) {
+        continuation_[i] = axis_child_[i];
+        for (int c : children_[i]) {
+          if (c != axis_child_[i]) laterals_[i].push_back(c);
+        }
+      } else {
+        group_[i] = i;
+      }
+    }
+  }
+
+  // Whether junction i attaches its laterals to its parent's tube: they are
+  // thin against the parent, and i is no root, forced or repaired joint
+  // (the root and 3+ children only once spread).
+  bool AttachesLaterals(int i) const {
+    bool thin = (i != root_ || spread_.count(i)) && axis_child_[i] >= 0 && !forced_.count(i) &&
+                !repairs_.count(i) && (children_[i].size() == 2 || spread_.count(i));
+    for (int c : children_[i]) {
+      if (c == axis_child_[i]) continue;
+      thin = thin && skeleton_.nodes[c].radius <= options_.attach_ratio * skeleton_.nodes[i].radius;
+    }
+    return thin;
+  }
+
+  // Junctions of several laterals whose convex joint grew over more than
+  // kMaxJointNodes nodes are spread (respread_ set).
+  void SpreadLargeJoints() {
+    std::map<int, int> sizes;
+    for (int i = 0; i < skeleton_.NumNodes(); ++i) {
+      if (group_[i] >= 0) ++sizes[Group(i)];
+    }
+    for (int i = 0; i < skeleton_.NumNodes(); ++i) {
+      if (group_[i] >= 0 && sizes[Group(i)] > kMaxJointNodes && children_[i].size() > 2 &&
+          !spread_.count(i)) {
+        spread_.insert(i);
+        respread_ = true;
+      }
+    }
+  }
+
   double RingRadius(double r) const {
     return std::max(r, options_.min_radius_fraction * max_radius_);
   }
@@ -479,85 +467,115 @@ class WatertightMesher {
     return true;
   }
 
-  // Groups junctions into joints whose cuts fit; fills exits_.
+  // Groups junctions into joints whose cuts fit; fills exits_. Each misfit
+  // merges a chain into a joint and the joints are fitted again, unless a
+  // joint overflows (JointOverflows: the plan stops).
   void FormJoints() {
     for (const auto& [u, v] : merges_) {
       if (group_[u] < 0) continue;
       for (int node : Chain(u, v).path) Join(u, node);
     }
-    bool changed = true;
-    while (changed) {
-      changed = false;
+    Fit fit = Fit::kMerged;
+    while (fit == Fit::kMerged) {
       exits_.clear();
       exit_count_.clear();
       push_count_.clear();
-      std::map<int, std::vector<int>> groups;
-      for (int i = 0; i < skeleton_.NumNodes(); ++i) {
-        if (group_[i] >= 0) groups[Group(i)].push_back(i);
-      }
-      for (auto& [g, members] : groups) {
-        std::vector<Exit> exits = ExitsOf(g, members);
-        std::vector<char> bad;
-        int pushes = 0;
-        while (exits.size() >= 2 && !RingsAreHullFaces(exits, &bad) && pushes < kMaxPushes) {
-          for (size_t k = 0; k < exits.size(); ++k) {
-            if (!bad[k]) continue;
-            exits[k].t *= kPushFactor;
-            Place(&exits[k]);
-          }
-          ++pushes;
-        }
-        const bool faces = exits.size() < 2 || RingsAreHullFaces(exits, &bad);
-        // The exit that fits worst on its chain (or a bad one if they all fit).
-        int worst = -1;
-        double worst_ratio = -1.0;
-        for (size_t k = 0; k < exits.size(); ++k) {
-          const double length = exits[k].Length();
-          double ratio = length > 0 ? exits[k].t / length : 1e300;
-          if (!faces && !bad[k]) ratio = -0.5;
-          if (ratio > worst_ratio) {
-            worst_ratio = ratio;
-            worst = static_cast<int>(k);
-          }
-        }
-        if (worst >= 0 && (worst_ratio > options_.max_cut_fraction || !faces)) {
-          for (int node : exits[worst].path) Join(g, node);
-          ++summary_->fallbacks;
-          if (JointOverflows(g)) return;
-          changed = true;
-          break;
-        }
-        if (pushes > 0) push_count_[g] = pushes;
-        exit_count_[g] = static_cast<int>(exits.size());
-        for (const Exit& e : exits) exits_[{e.path[0], e.path[1]}] = e;
-      }
-      if (changed) continue;
-      // Chains cut by two joints: both cuts must fit together.
-      for (const auto& [key, e] : exits_) {
-        const int n = static_cast<int>(e.path.size());
-        const auto other = exits_.find({e.path[n - 1], e.path[n - 2]});
-        if (other == exits_.end()) continue;
-        if (e.t + other->second.t > options_.max_cut_fraction * e.Length()) {
-          for (int node : e.path) Join(key.first, node);
-          ++summary_->fallbacks;
-          if (JointOverflows(key.first)) return;
-          changed = true;
-          break;
-        }
-      }
+      fit = FitJoints();
+      if (fit == Fit::kFits) fit = FitSharedChains();
+      if (fit == Fit::kStop) return;
     }
-    std::set<int> groups;
+    CountJoints();
+  }
+
+  // What fitting the joints' cuts came to.
+  enum class Fit {
+    kFits,    // every cut fits
+    kMerged,  // a chain was merged into a joint: fit again
+    kStop,    // ... and the joint overflowed
+  };
+
+  // Fits the cuts of every joint (pushed out until the rings are hull
+  // faces), recording them in exits_; merges the worst-fitting chain of the
+  // first joint whose cuts do not fit.
+  Fit FitJoints() {
+    std::map<int, std::vector<int>> groups;
     for (int i = 0; i < skeleton_.NumNodes(); ++i) {
-      if (group_[i] < 0) continue;
-      groups.insert(Group(i));
-      if (children_[i].empty()) ++summary_->swallowed_tips;
+      if (group_[i] >= 0) groups[Group(i)].push_back(i);
     }
+    for (auto& [g, members] : groups) {
+      std::vector<Exit> exits = ExitsOf(g, members);
+      std::vector<char> bad;
+      int pushes = 0;
+      while (exits.size() >= 2 && !RingsAreHullFaces(exits, &bad) && pushes < kMaxPushes) {
+        for (size_t k = 0; k < exits.size(); ++k) {
+          if (!bad[k]) continue;
+          exits[k].t *= kPushFactor;
+          Place(&exits[k]);
+        }
+        ++pushes;
+      }
+      const bool faces = exits.size() < 2 || RingsAreHullFaces(exits, &bad);
+      const auto [worst, worst_ratio] = WorstExit(exits, faces, bad);
+      if (worst >= 0 && (worst_ratio > options_.max_cut_fraction || !faces)) {
+        return MergeIntoJoint(g, exits[worst].path);
+      }
+      if (pushes > 0) push_count_[g] = pushes;
+      exit_count_[g] = static_cast<int>(exits.size());
+      for (const Exit& e : exits) exits_[{e.path[0], e.path[1]}] = e;
+    }
+    return Fit::kFits;
+  }
+
+  // The exit that fits worst on its chain (its cut's fraction of the chain),
+  // or, if the rings are not all hull faces, a bad one if they all fit.
+  // (-1, -1) if there are no exits.
+  static std::pair<int, double> WorstExit(const std::vector<Exit>& exits, bool faces,
+                                          const std::vector<char>& bad) {
+    int worst = -1;
+    double worst_ratio = -1.0;
+    for (size_t k = 0; k < exits.size(); ++k) {
+      const double length = exits[k].Length();
+      double ratio = length > 0 ? exits[k].t / length : 1e300;
+      if (!faces && !bad[k]) ratio = -0.5;
+      if (ratio > worst_ratio) {
+        worst_ratio = ratio;
+        worst = static_cast<int>(k);
+      }
+    }
+    return {worst, worst_ratio};
+  }
+
+  // Chains cut by two joints: both cuts must fit together, else the first
+  // such chain is merged into its joint.
+  Fit FitSharedChains() {
+    for (const auto& [key, e] : exits_) {
+      const int n = static_cast<int>(e.path.size());
+      const auto other = exits_.find({e.path[n - 1], e.path[n - 2]});
+      if (other == exits_.end()) continue;
+      if (e.t + other->second.t > options_.max_cut_fraction * e.Length()) {
+        return MergeIntoJoint(key.first, e.path);
+      }
+    }
+    return Fit::kFits;
+  }
+
+  // A fallback merge (counted): the chain's nodes join the joint of `node`.
+  Fit MergeIntoJoint(int node, const std::vector<int>& path) {
+    for (int member : path) Join(node, member);
+    ++summary_.fallbacks;
+    return JointOverflows(node) ? Fit::kStop : Fit::kMerged;
+  }
+
+  // The summary's figures of the joints formed.
+  void CountJoints() {
     std::map<int, int> sizes;
     for (int i = 0; i < skeleton_.NumNodes(); ++i) {
-      if (group_[i] >= 0) ++sizes[Group(i)];
+      if (group_[i] < 0) continue;
+      ++sizes[Group(i)];
+      if (children_[i].empty()) ++summary_.swallowed_tips;
     }
-    for (const auto& [g, size] : sizes) summary_->bridged += size == 1 ? 1 : 0;
-    summary_->pushed_out = static_cast<int>(push_count_.size());
+    for (const auto& [g, size] : sizes) summary_.bridged += size == 1 ? 1 : 0;
+    summary_.pushed_out = static_cast<int>(push_count_.size());
   }
 
   // Every chain between joints, tips and the root becomes one open or capped
@@ -683,6 +701,12 @@ class WatertightMesher {
     return patch;
   }
 
+  // A segment of a tube's axis with the radii at its ends.
+  struct AxisSegment {
+    Eigen::Vector3d a, b;
+    double radius_a = 0.0, radius_b = 0.0;
+  };
+
   // Where a thin lateral from junction u along `chain` leaves the parent
   // tube: the parent quad its first edge crosses, and a cut `start` whose
   // ring sees that quad as the hull face opposite to it. False if none fits.
@@ -694,10 +718,37 @@ class WatertightMesher {
     const PieceInfo& p = pieces_[it->second];
     const Eigen::Vector3d origin = Position(u);
     const Eigen::Vector3d d = (Position(chain[1]) - origin).normalized();
+    double along = 0.0;                // from the junction to the quad's centre, along d
+    std::array<int, 2> quad = {0, 0};  // ring gap, side
+    if (!NearestFreeQuad(p, origin, d, mesh, &quad, &along)) return false;
+    // One quad: wider strips (as wide as the lateral) leave the strip's
+    // boundary edges off the hull too often (tried: 3-5 % of joints failed).
+    *patch = PatchAt(p, quad[0], quad[1], 1);
+    const PatchFace face = FaceOf(*patch, mesh);
+    *start = Chain(u, chain[1]);
+    const double limit = options_.max_cut_fraction * start->Length() - (end ? end->t : 0.0);
+    const double lateral_radius = RingRadius(skeleton_.nodes[chain[1]].radius);
+    const double reach = limit + kReachParentWidths * WidestRing(it->second, mesh) +
+                         kReachLateralRadii * lateral_radius;
+    const std::vector<AxisSegment> parent_axis = ParentAxisNear(it->second, u, reach, mesh);
+    // The cut moves out along the lateral from just beyond the quad until
+    // its ring sees the quad, and the lateral clears the parent.
+    for (double t = along + kFirstCutRadii * lateral_radius; t <= limit; t *= kCutGrowth) {
+      start->t = t;
+      Place(start);
+      const BranchTube tube = MakeTube(chain, start, end);
+      if (tube.sides == 0) return false;
+      if (CutFits(tube, *start, face, parent_axis)) return true;
+    }
+    return false;
+  }
+
+  // The free parent quad (ring gap i, side j) whose centre is nearest the
+  // ray from `origin` along unit `d`, ahead of it; `along`: the distance to
+  // that centre along d. False if every quad is taken or behind.
+  bool NearestFreeQuad(const PieceInfo& p, const Eigen::Vector3d& origin, const Eigen::Vector3d& d,
+                       const TriangleMesh& mesh, std::array<int, 2>* quad, double* along) const {
     double best = std::numeric_limits<double>::infinity();
-    double along = 0.0;
-    Quad centre;
-    int best_i = 0, best_j = 0;
     for (int i = 0; i + 1 < p.rings; ++i) {
       for (int j = 0; j < p.sides; ++j) {
         const Quad q = QuadAt(p, i, j);
@@ -709,86 +760,100 @@ class WatertightMesher {
         const double off = ((c - origin) - s * d).norm();
         if (off < best) {
           best = off;
-          along = s;
-          centre = q;
-          best_i = i;
-          best_j = j;
+          *along = s;
+          *quad = {i, j};
         }
       }
     }
-    if (!std::isfinite(best)) return false;
-    // One quad: wider strips (as wide as the lateral) leave the strip's
-    // boundary edges off the hull too often (tried: 3-5 % of joints failed).
-    *patch = PatchAt(p, best_i, best_j, 1);
-    std::vector<Eigen::Vector3d> qv;
-    for (int v : patch->loop) qv.push_back(mesh.vertices[v].cast<double>());
+    return std::isfinite(best);
+  }
+
+  // The patch as the face a cut ring must see: its loop's positions, the
+  // clearance (kFaceClearance of its size) and the outward planes of both
+  // diagonals' triangles of every quad (point, unit normal).
+  struct PatchFace {
+    std::vector<Eigen::Vector3d> loop;
+    double clearance = 0.0;
+    std::vector<std::array<Eigen::Vector3d, 2>> planes;
+  };
+  PatchFace FaceOf(const Patch& patch, const TriangleMesh& mesh) const {
+    PatchFace face;
+    for (int v : patch.loop) face.loop.push_back(mesh.vertices[v].cast<double>());
     double size = 0.0;
-    for (const Eigen::Vector3d& v : qv) size = std::max(size, (v - qv[0]).norm());
-    const double clearance = kFaceClearance * size;
-    // Planes of both diagonals' triangles of every quad, outward.
-    std::vector<std::array<Eigen::Vector3d, 2>> planes;  // point, unit normal
-    for (const Quad& q : patch->quads) {
+    for (const Eigen::Vector3d& v : face.loop) size = std::max(size, (v - face.loop[0]).norm());
+    face.clearance = kFaceClearance * size;
+    for (const Quad& q : patch.quads) {
       std::array<Eigen::Vector3d, 4> c;
       for (int k = 0; k < 4; ++k) c[k] = mesh.vertices[q.v[k]].cast<double>();
       for (const auto& t :
            std::array<std::array<int, 3>, 4>{{{0, 1, 2}, {0, 2, 3}, {0, 1, 3}, {1, 2, 3}}}) {
-        planes.push_back({c[t[0]], (c[t[1]] - c[t[0]]).cross(c[t[2]] - c[t[0]]).normalized()});
+        face.planes.push_back({c[t[0]], (c[t[1]] - c[t[0]]).cross(c[t[2]] - c[t[0]]).normalized()});
       }
     }
-    *start = Chain(u, chain[1]);
-    const double limit = options_.max_cut_fraction * start->Length() - (end ? end->t : 0.0);
-    // The parent's axis segments within reach of the lateral's cut rings.
+    return face;
+  }
+
+  // Whether the lateral's tube, cut at `start`, can be glued to the face:
+  // the lateral stays outside the parent, every face vertex lies behind the
+  // cut ring's plane and every ring vertex in front of the face's planes.
+  bool CutFits(const BranchTube& tube, const Exit& start, const PatchFace& face,
+               const std::vector<AxisSegment>& parent_axis) const {
+    const std::vector<TubeRing> rings = SampleTubeRings(tube);
+    const TubeRing& ring = rings.front();
+    bool ok = LateralOutsideParent(rings, tube.sides, parent_axis);
+    for (const Eigen::Vector3d& v : face.loop) {
+      ok = ok && (v - ring.center).dot(start.direction) < -face.clearance;
+    }
+    for (int j = 0; j < tube.sides && ok; ++j) {
+      const double a = 2 * M_PI * j / tube.sides;
+      const Eigen::Vector3d v = ring.center + ring.radius * (std::cos(a) * ring.frame.normal +
+                                                             std::sin(a) * ring.frame.binormal);
+      for (const auto& pl : face.planes) ok = ok && pl[1].dot(v - pl[0]) > face.clearance;
+    }
+    return ok;
+  }
+
+  // The ring centres and radii of piece `piece` (cached).
+  const std::vector<std::pair<Eigen::Vector3d, double>>& RingAxisOf(
+      int piece, const TriangleMesh& mesh) const {
+    auto cached = ring_axes_.find(piece);
+    if (cached == ring_axes_.end()) {
+      cached = ring_axes_.emplace(piece, RingAxis(pieces_[piece], mesh)).first;
+    }
+    return cached->second;
+  }
+  double WidestRing(int piece, const TriangleMesh& mesh) const {
+    double widest = 0.0;
+    for (const auto& ring : RingAxisOf(piece, mesh)) widest = std::max(widest, ring.second);
+    return widest;
+  }
+
+  // The parent's axis segments within `reach` of junction u, where a
+  // lateral's cut rings may meet them: those of the parent tube `piece`,
+  // and the parent's skeleton axis up and down from the junction (where
+  // the parent's tube ends at a joint nearby, the joint's hull fills about
+  // that volume).
+  std::vector<AxisSegment> ParentAxisNear(int piece, int u, double reach,
+                                          const TriangleMesh& mesh) const {
+    const Eigen::Vector3d origin = Position(u);
     std::vector<AxisSegment> parent_axis;
-    {
-      auto cached = ring_axes_.find(it->second);
-      if (cached == ring_axes_.end()) {
-        cached = ring_axes_.emplace(it->second, RingAxis(p, mesh)).first;
-      }
-      const std::vector<std::pair<Eigen::Vector3d, double>>& axis = cached->second;
-      double widest = 0.0;
-      for (const auto& ring : axis) widest = std::max(widest, ring.second);
-      const double reach = limit + 2 * widest + 4 * RingRadius(skeleton_.nodes[chain[1]].radius);
-      for (size_t i = 0; i + 1 < axis.size(); ++i) {
-        if (SegmentDistance2(origin, axis[i].first, axis[i + 1].first) > reach * reach) continue;
-        parent_axis.push_back(
-            {axis[i].first, axis[i + 1].first, axis[i].second, axis[i + 1].second});
-      }
-      // The parent's skeleton axis too, up and down from the junction: where
-      // the parent's tube ends at a joint nearby, the joint's hull fills
-      // about that volume.
-      for (int down = 0; down < 2; ++down) {
-        int a = u;
-        while (true) {
-          const int b = down ? axis_child_[a] : skeleton_.nodes[a].parent_idx;
-          if (b < 0) break;
-          const double ra = RingRadius(EdgeRadius(a, b)), rb = ra;
-          parent_axis.push_back({Position(a), Position(b), ra, rb});
-          if ((Position(b) - origin).norm() > reach) break;
-          a = b;
-        }
+    const std::vector<std::pair<Eigen::Vector3d, double>>& axis = RingAxisOf(piece, mesh);
+    for (size_t i = 0; i + 1 < axis.size(); ++i) {
+      if (SegmentDistance2(origin, axis[i].first, axis[i + 1].first) > reach * reach) continue;
+      parent_axis.push_back({axis[i].first, axis[i + 1].first, axis[i].second, axis[i + 1].second});
+    }
+    for (int down = 0; down < 2; ++down) {
+      int a = u;
+      while (true) {
+        const int b = down ? axis_child_[a] : skeleton_.nodes[a].parent_idx;
+        if (b < 0) break;
+        const double ra = RingRadius(EdgeRadius(a, b)), rb = ra;
+        parent_axis.push_back({Position(a), Position(b), ra, rb});
+        if ((Position(b) - origin).norm() > reach) break;
+        a = b;
       }
     }
-    for (double t = along + 0.5 * RingRadius(skeleton_.nodes[chain[1]].radius); t <= limit;
-         t *= 1.12) {
-      start->t = t;
-      Place(start);
-      const BranchTube tube = MakeTube(chain, start, end);
-      if (tube.sides == 0) return false;
-      const std::vector<TubeRing> rings = SampleTubeRings(tube);
-      const TubeRing& ring = rings.front();
-      bool ok = LateralOutsideParent(rings, tube.sides, parent_axis);
-      for (const Eigen::Vector3d& v : qv) {
-        ok = ok && (v - ring.center).dot(start->direction) < -clearance;
-      }
-      for (int j = 0; j < tube.sides && ok; ++j) {
-        const double a = 2 * M_PI * j / tube.sides;
-        const Eigen::Vector3d v = ring.center + ring.radius * (std::cos(a) * ring.frame.normal +
-                                                               std::sin(a) * ring.frame.binormal);
-        for (const auto& pl : planes) ok = ok && pl[1].dot(v - pl[0]) > clearance;
-      }
-      if (ok) return true;
-    }
-    return false;
+    return parent_axis;
   }
 
   // True if the circles of rings a and b (b further along the tube) lie
@@ -835,11 +900,6 @@ class WatertightMesher {
     std::reverse(kept.begin(), kept.end());
     return kept;
   }
-
-  struct AxisSegment {
-    Eigen::Vector3d a, b;
-    double radius_a = 0.0, radius_b = 0.0;
-  };
 
   // A tube's ring centres and (circumscribed) radii, from its mesh vertices.
   std::vector<std::pair<Eigen::Vector3d, double>> RingAxis(const PieceInfo& p,
@@ -891,6 +951,14 @@ class WatertightMesher {
     return true;
   }
 
+  struct JointRing {
+    std::vector<int> vertices;  // mesh indices in ring order
+    bool reversed = false;      // the joint uses vertices[j+1] -> vertices[j]
+  };
+
+  // The tube of `chain` (its ends cut where a joint or an attachment takes
+  // it, else capped), with its rings handed to the joints at its ends, or
+  // glued onto the parent's tube if it is an attached lateral (`attach`).
   void MeshPiece(const std::vector<int>& chain, bool attach, TriangleMesh* mesh) {
     const int u = chain.front(), w = chain.back();
     const int last_index = static_cast<int>(chain.size()) - 1;
@@ -902,80 +970,91 @@ class WatertightMesher {
     Patch patch;
     const bool attached = attach && FindAttachment(chain, *mesh, end, &patch, &attach_cut);
     if (attach && !attached) {
-      ++summary_->unattached;
+      ++summary_.unattached;
       if (!overlapping_.count(u)) failed_attach_.push_back(u);
     }
     const Exit* start = start_cut ? &exits_.at({u, chain[1]}) : (attached ? &attach_cut : nullptr);
     const BranchTube tube = MakeTube(chain, start, end);
     if (tube.sides == 0) return;
+    const PieceInfo info = AppendPiece(chain, tube, start != nullptr, end_cut, mesh);
+    // Ring edges the joint must use: the reverse of the tube's.
+    const JointRing start_ring = RingOf(info, 0, /*reversed=*/true);
+    if (start_cut) joint_rings_[Group(u)].push_back(start_ring);
+    if (attached) GlueToParent(chain, patch, start_ring, mesh);
+    if (end_cut) joint_rings_[Group(w)].push_back(RingOf(info, info.rings - 1, false));
+  }
+
+  // Sweeps `tube` (cut at its start and/or end, else capped there) into
+  // the mesh as a piece of `chain`, and makes it the piece that laterals
+  // of the chain's attach junctions attach to.
+  PieceInfo AppendPiece(const std::vector<int>& chain, const BranchTube& tube, bool start_cut,
+                        bool end_cut, TriangleMesh* mesh) {
+    const int u = chain.front();
     PieceInfo info;
     info.first_vertex = mesh->NumVertices();
     info.first_triangle = mesh->NumTriangles();
     info.sides = tube.sides;
     const std::vector<TubeRing> rings_kept =
-        WithoutCrossingRings(SampleTubeRings(tube), start != nullptr, end_cut);
+        WithoutCrossingRings(SampleTubeRings(tube), start_cut, end_cut);
     info.rings = static_cast<int>(rings_kept.size());
-    AppendTube(rings_kept, tube.sides, material_, mesh, start == nullptr, !end_cut);
+    AppendTube(rings_kept, tube.sides, material_, mesh, !start_cut, !end_cut);
     BarkTriangleOrigin origin;
     origin.node = u;
     origin.next = chain[1];
     origins_.resize(mesh->NumTriangles(), origin);
     pieces_.push_back(info);
-    if (u == root_ && continuation_[u] == chain[1])
-      attach_piece_[u] = static_cast<int>(pieces_.size()) - 1;
-    for (int k = 1; k < last_index; ++k) {
-      if (!laterals_[chain[k]].empty())
-        attach_piece_[chain[k]] = static_cast<int>(pieces_.size()) - 1;
+    const int piece = static_cast<int>(pieces_.size()) - 1;
+    if (u == root_ && continuation_[u] == chain[1]) attach_piece_[u] = piece;
+    for (size_t k = 1; k + 1 < chain.size(); ++k) {
+      if (!laterals_[chain[k]].empty()) attach_piece_[chain[k]] = piece;
     }
-    ++summary_->pieces;
-    const int first = info.first_vertex, rings = info.rings;
-    // Ring edges the joint must use: the reverse of the tube's.
-    JointRing start_ring;
-    for (int j = 0; j < tube.sides; ++j) start_ring.vertices.push_back(first + j);
-    start_ring.reversed = true;  // the tube uses j -> j+1; the joint j+1 -> j
-    if (start_cut) joint_rings_[Group(u)].push_back(start_ring);
-    if (attached) {
-      // The quad's two triangles give way to the hull of quad and ring.
-      // The patch and its neighbours: joints of different laterals must not touch.
-      const PieceInfo& parent = pieces_[attach_piece_.at(u)];
-      const int width = static_cast<int>(patch.quads.size());
-      for (int di = -1; di <= 1; ++di) {
-        for (int dj = -1; dj <= width; ++dj) {
-          if (patch.i + di < 0 || patch.i + di + 1 >= parent.rings) continue;
-          taken_.insert(QuadAt(parent, patch.i + di, patch.j + dj).triangle);
-        }
-      }
-      if (removed_.size() < static_cast<size_t>(mesh->NumTriangles())) {
-        removed_.resize(mesh->NumTriangles(), 0);
-      }
-      for (const Quad& q : patch.quads) removed_[q.triangle] = removed_[q.triangle + 1] = 1;
-      JointRing hole;
-      hole.vertices = patch.loop;
-      hole.reversed = false;  // the joint uses the removed triangles' edges
-      BarkTriangleOrigin origin;
-      origin.kind = BarkTriangleOrigin::kAttachment;
-      origin.node = u;
-      origin.next = chain[1];
-      if (BuildHull({hole, start_ring}, origin, mesh)) {
-        ++summary_->attached;
-      } else {
-        ++summary_->failed_joints;
-      }
-    }
-    if (end_cut) {
-      JointRing ring;
-      for (int j = 0; j < tube.sides; ++j) {
-        ring.vertices.push_back(first + (rings - 1) * tube.sides + j);
-      }
-      ring.reversed = false;  // the tube uses j+1 -> j; the joint j -> j+1
-      joint_rings_[Group(w)].push_back(ring);
-    }
+    ++summary_.pieces;
+    return info;
   }
 
-  struct JointRing {
-    std::vector<int> vertices;  // mesh indices in ring order
-    bool reversed = false;      // the joint uses vertices[j+1] -> vertices[j]
-  };
+  // Ring `ring` of a piece as a joint uses it: the tube uses j -> j+1 on
+  // its first ring (the joint j+1 -> j: reversed) and j+1 -> j on its last.
+  static JointRing RingOf(const PieceInfo& info, int ring, bool reversed) {
+    JointRing joint_ring;
+    for (int j = 0; j < info.sides; ++j) {
+      joint_ring.vertices.push_back(info.first_vertex + ring * info.sides + j);
+    }
+    joint_ring.reversed = reversed;
+    return joint_ring;
+  }
+
+  // The attached lateral of `chain` glued onto its parent's tube: the
+  // patch's triangles give way to the hull of patch and `start_ring`; the
+  // patch and its neighbours are taken (joints of different laterals must
+  // not touch).
+  void GlueToParent(const std::vector<int>& chain, const Patch& patch, const JointRing& start_ring,
+                    TriangleMesh* mesh) {
+    const int u = chain.front();
+    const PieceInfo& parent = pieces_[attach_piece_.at(u)];
+    const int width = static_cast<int>(patch.quads.size());
+    for (int di = -1; di <= 1; ++di) {
+      for (int dj = -1; dj <= width; ++dj) {
+        if (patch.i + di < 0 || patch.i + di + 1 >= parent.rings) continue;
+        taken_.insert(QuadAt(parent, patch.i + di, patch.j + dj).triangle);
+      }
+    }
+    if (removed_.size() < static_cast<size_t>(mesh->NumTriangles())) {
+      removed_.resize(mesh->NumTriangles(), 0);
+    }
+    for (const Quad& q : patch.quads) removed_[q.triangle] = removed_[q.triangle + 1] = 1;
+    JointRing hole;
+    hole.vertices = patch.loop;
+    hole.reversed = false;  // the joint uses the removed triangles' edges
+    BarkTriangleOrigin origin;
+    origin.kind = BarkTriangleOrigin::kAttachment;
+    origin.node = u;
+    origin.next = chain[1];
+    if (BuildHull({hole, start_ring}, origin, mesh)) {
+      ++summary_.attached;
+    } else {
+      ++summary_.failed_joints;
+    }
+  }
 
   // The convex hull of the rings' vertices without the ring polygons, by
   // gift wrapping from the ring edges. False if it did not close cleanly.
@@ -1053,37 +1132,153 @@ class WatertightMesher {
     return true;
   }
 
+  // The tree (shared by all attempts).
   const SkeletonGraph& skeleton_;
   const BarkMeshOptions& options_;
-  BarkMeshSummary* summary_;
-  std::vector<std::vector<int>> children_;
-  double max_radius_ = 0.0;
-  int root_ = -1;
+  const std::vector<std::vector<int>>& children_;
+  const double max_radius_;
+  const int root_;
+  const std::vector<int>& axis_child_;  // the child continuing each node's axis
+  // The settings (AttemptSettings).
+  const std::set<int> forced_;
+  const std::set<int> repairs_;
+  const std::set<int> overlapping_;
+  const std::set<std::pair<int, int>> merges_;
+  std::set<int> spread_;  // grows where joints grow too large
+  // The plan.
+  BarkMeshSummary summary_;
   std::vector<int> continuation_;           // axis child of attach junctions, else -1
-  std::vector<int> axis_child_;             // the child continuing each node's axis
   std::vector<std::vector<int>> laterals_;  // attached laterals of attach junctions
+  std::vector<int> group_;                  // union-find parent of joint nodes, -1 elsewhere
+  std::map<std::pair<int, int>, Exit> exits_;
+  std::map<int, int> push_count_;
+  std::map<int, int> exit_count_;
+  bool respread_ = false;
+  std::vector<int> overflow_;  // repairs in a joint that grew too large
+  // The mesh.
   std::vector<PieceInfo> pieces_;
   // Ring centres and radii of pieces (by index) laterals attach to.
   mutable std::map<int, std::vector<std::pair<Eigen::Vector3d, double>>> ring_axes_;
   std::map<int, int> attach_piece_;  // attach junction -> the piece through it
   std::set<int> taken_;              // first triangles of used quads
   std::vector<char> removed_;        // triangles replaced by attachment joints
-  std::set<int> spread_;             // junctions of 3+ children attaching their laterals
-  std::set<int> repairs_;            // junctions made convex joints by repairs
-  std::vector<int> overflow_;        // repairs in a joint that grew too large
-  std::set<int> forced_;             // junctions made joints because a lateral found no quad
-  std::set<int> overlapping_;        // ... whose joint grew too large: laterals left overlapping
-  std::set<std::pair<int, int>> merges_;  // repairs: chains taken into their joint
-  bool respread_ = false;
-  std::vector<int> failed_attach_;  // attach junctions with a lateral left unattached
-  std::vector<int> group_;          // union-find parent of joint nodes, -1 elsewhere
-  std::map<std::pair<int, int>, Exit> exits_;
-  std::map<int, int> push_count_;
-  std::map<int, int> exit_count_;
+  std::vector<int> failed_attach_;   // attach junctions with a lateral left unattached
   std::map<int, std::vector<JointRing>> joint_rings_;
   int material_ = 0;
   std::vector<BarkTriangleOrigin> origins_;  // one per triangle of the mesh
 };
+
+// One attempt: a function of the tree and the settings alone.
+AttemptResult MeshAttempt(const BarkTree& tree, const AttemptSettings& settings) {
+  return BarkAttempt(tree, settings).Run(settings.find_crossings);
+}
+
+// What the retry loop knows between attempts.
+struct RetryState {
+  AttemptSettings settings;       // of the next attempt
+  std::set<int> given_up;         // repairs whose joint grew too large
+  std::vector<int> batch;         // repairs added by the last round
+  std::vector<int> forced_batch;  // junctions forced for the last attempt
+  int overflows_this_round = 0;
+  int rounds = 0;  // repair rounds started
+};
+
+// A repair's joint swallowed more than kMaxRepairJointNodes nodes (the
+// attempt's `overflow`): it costs more than its crossing. The repairs of
+// that joint from the last round's batch (else all of that joint's) are
+// given up; the attempt's spread is not kept. Junctions forced for a
+// lateral that found no quad leave their laterals capped and overlapping the
+// parent instead.
+void GiveUpOverflowing(const std::vector<int>& overflow, int attempt, RetryState* state) {
+  AttemptSettings& settings = state->settings;
+  std::vector<int>& batch = state->batch;
+  std::vector<int> culprits;
+  for (int u : overflow) {
+    if (std::find(batch.begin(), batch.end(), u) != batch.end()) culprits.push_back(u);
+  }
+  if (culprits.empty()) culprits = overflow;
+  // A round whose repairs keep overflowing is given up as a whole.
+  if (++state->overflows_this_round > kMaxOverflowsPerRound) culprits = batch;
+  if (attempt >= kMaxAttempts) {  // out of attempts: no repairs, no forcing
+    culprits.assign(settings.repairs.begin(), settings.repairs.end());
+    culprits.insert(culprits.end(), settings.forced.begin(), settings.forced.end());
+  }
+  // The whole forced batch goes (one by one would mean an attempt for each
+  // of hundreds on dense trees).
+  for (int u : culprits) {
+    if (settings.overlapping.count(u)) continue;
+    if (settings.forced.count(u)) {
+      for (int f : state->forced_batch) {
+        settings.forced.erase(f);
+        settings.overlapping.insert(f);
+      }
+      settings.forced.erase(u);
+      settings.overlapping.insert(u);
+    } else {
+      settings.repairs.erase(u);
+      state->given_up.insert(u);
+    }
+  }
+  state->forced_batch.clear();
+  for (int u : culprits) batch.erase(std::remove(batch.begin(), batch.end(), u), batch.end());
+}
+
+// Junctions whose thin lateral found no quad on the parent tube become
+// convex joints for the next attempt.
+void ForceJunctions(const std::vector<int>& failed_attach, RetryState* state) {
+  state->settings.forced.insert(failed_attach.begin(), failed_attach.end());
+  state->forced_batch.assign(failed_attach.begin(), failed_attach.end());
+}
+
+// A repair round: the junctions next to crossings not tried before become
+// the next batch, and the chains to merge are added. False if the round
+// brings nothing new (the mesh stays).
+bool StartRepairRound(const AttemptResult& result, RetryState* state) {
+  AttemptSettings& settings = state->settings;
+  state->batch.clear();
+  state->overflows_this_round = 0;
+  for (int u : result.crossing_junctions) {
+    if (!state->given_up.count(u) && !settings.forced.count(u) && !settings.repairs.count(u) &&
+        !settings.overlapping.count(u)) {
+      state->batch.push_back(u);
+    }
+  }
+  const size_t merged_before = settings.merges.size();
+  settings.merges.insert(result.crossing_merges.begin(), result.crossing_merges.end());
+  if (state->batch.empty() && settings.merges.size() == merged_before) return false;
+  ++state->rounds;
+  return true;
+}
+
+// Meshes; a junction whose thin lateral found no quad on its parent tube
+// becomes a convex joint and everything is meshed again, and so do
+// junctions next to crossings (repairs, options.repair_rounds rounds), at
+// most kMaxAttempts + 1 attempts in all (one more to undo overflowing
+// repairs after the last). The last attempt's result, `repaired` counted.
+AttemptResult MeshWithRetries(const BarkTree& tree) {
+  RetryState state;
+  for (int attempt = 0;; ++attempt) {
+    const bool last = attempt == kMaxAttempts;
+    state.settings.find_crossings = state.rounds < tree.options.repair_rounds && !last;
+    AttemptResult result = MeshAttempt(tree, state.settings);
+    bool again = true;
+    if (!result.overflow.empty()) {
+      GiveUpOverflowing(result.overflow, attempt, &state);
+    } else {
+      state.settings.spread = result.spread;
+      if (!result.failed_attach.empty() && !last) {
+        ForceJunctions(result.failed_attach, &state);
+      } else {
+        again = state.settings.find_crossings && StartRepairRound(result, &state);
+      }
+    }
+    if (!again) {
+      result.summary.repaired = static_cast<int>(state.settings.repairs.size());
+      return result;
+    }
+    state.settings.repairs.insert(state.batch.begin(), state.batch.end());
+  }
+}
 
 }  // namespace
 
@@ -1130,190 +1325,16 @@ TriangleMesh MeshBarkWatertight(const SkeletonGraph& skeleton, const BarkMeshOpt
   TriangleMesh mesh;
   if (origins != nullptr) origins->clear();
   if (skeleton.NumNodes() >= 2) {
-    WatertightMesher mesher(skeleton, options, summary);
-    mesh = mesher.Run();
-    if (origins != nullptr) *origins = mesher.origins();
+    AttemptResult result = MeshWithRetries(BarkTree(skeleton, options));
+    mesh = std::move(result.mesh);
+    if (origins != nullptr) *origins = std::move(result.origins);
+    *summary = result.summary;
+    summary->radius_source = skeleton.radius_source;
   }
   summary->triangles = mesh.NumTriangles();
   summary->seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return mesh;
-}
-
-}  // namespace sylva
-
-namespace sylva {
-namespace {
-
-// Squared distance between segments [p0, p1] and [q0, q1].
-double SegmentSegmentDistance2(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1,
-                               const Eigen::Vector3d& q0, const Eigen::Vector3d& q1) {
-  const Eigen::Vector3d d1 = p1 - p0, d2 = q1 - q0, r = p0 - q0;
-  const double a = d1.squaredNorm(), e = d2.squaredNorm(), f = d2.dot(r);
-  double s = 0.0, t = 0.0;
-  if (a <= 1e-300 && e <= 1e-300) return r.squaredNorm();
-  if (a <= 1e-300) {
-    t = std::clamp(f / e, 0.0, 1.0);
-  } else {
-    const double c = d1.dot(r);
-    if (e <= 1e-300) {
-      s = std::clamp(-c / a, 0.0, 1.0);
-    } else {
-      const double b = d1.dot(d2), denom = a * e - b * b;
-      s = denom > 1e-300 ? std::clamp((b * f - c * e) / denom, 0.0, 1.0) : 0.0;
-      t = (b * s + f) / e;
-      if (t < 0.0) {
-        t = 0.0;
-        s = std::clamp(-c / a, 0.0, 1.0);
-      } else if (t > 1.0) {
-        t = 1.0;
-        s = std::clamp((b - c) / a, 0.0, 1.0);
-      }
-    }
-  }
-  return ((p0 + s * d1) - (q0 + t * d2)).squaredNorm();
-}
-
-}  // namespace
-
-std::string BarkCrossings::BriefReport() const {
-  std::ostringstream out;
-  out << pairs << " crossing triangle pairs: " << at_junctions << " at junctions, " << within_branch
-      << " within a branch, " << colliding_branches
-      << " where skeleton branches pass through each other, " << other << " other";
-  return out.str();
-}
-
-BarkCrossings ClassifyBarkCrossings(const SkeletonGraph& skeleton, const TriangleMesh& bark,
-                                    const std::vector<BarkTriangleOrigin>& origins) {
-  SYLVA_CHECK(static_cast<int>(origins.size()) == bark.NumTriangles());
-  const std::vector<std::pair<int, int>> pairs = FindSelfIntersections(bark);
-  BarkCrossings result;
-  result.pairs = static_cast<int64_t>(pairs.size());
-  const std::vector<SkeletonNode>& nodes = skeleton.nodes;
-  // Edges are named by their child node.
-  std::vector<int> edges;
-  for (int i = 0; i < skeleton.NumNodes(); ++i) {
-    if (nodes[i].parent_idx >= 0) edges.push_back(i);
-  }
-  // The child continuing each node's branch axis.
-  std::vector<int> axis_child(skeleton.NumNodes(), -1);
-  for (const BranchAxis& axis : skeleton.BranchAxes()) {
-    for (size_t k = 1; k + 1 < axis.size(); ++k) axis_child[axis[k]] = axis[k + 1];
-    if (axis.size() >= 2 && axis_child[axis[0]] < 0) axis_child[axis[0]] = axis[1];
-  }
-  auto nearest_edge = [&](int t) {
-    Eigen::Vector3d c = Eigen::Vector3d::Zero();
-    for (int k = 0; k < 3; ++k) c += bark.vertices[bark.triangles[t][k]].cast<double>() / 3.0;
-    int best = -1;
-    double best_gap = std::numeric_limits<double>::infinity();
-    auto consider = [&](int e) {
-      double s = 0.0;
-      const Eigen::Vector3d& a = nodes[nodes[e].parent_idx].position;
-      const double d = std::sqrt(SegmentDistance2(c, a, nodes[e].position, &s));
-      const double gap =
-          std::abs(d - ((1 - s) * nodes[nodes[e].parent_idx].radius + s * nodes[e].radius));
-      if (gap < best_gap) {
-        best_gap = gap;
-        best = e;
-      }
-    };
-    const BarkTriangleOrigin& o = origins[t];
-    if (o.kind == BarkTriangleOrigin::kAttachment) return o.next;
-    if (o.kind == BarkTriangleOrigin::kTube && o.next >= 0) {
-      // Along the tube's axis, down the axis children or up the parents.
-      if (nodes[o.next].parent_idx == o.node) {
-        for (int e = o.next; e >= 0; e = axis_child[e]) consider(e);
-      } else {
-        for (int e = o.node; nodes[e].parent_idx >= 0; e = nodes[e].parent_idx) consider(e);
-      }
-      return best;
-    }
-    for (int e : edges) consider(e);
-    return best;
-  };
-  // Edges between edge a and edge b: 0 the same, 1 sharing a node, ...
-  auto hops = [&](int a, int b) {
-    std::map<int, int> up;
-    int k = 0;
-    for (int x = a; x >= 0; x = nodes[x].parent_idx) up[x] = k++;
-    int steps = 0;
-    for (int x = b; x >= 0; x = nodes[x].parent_idx, ++steps) {
-      const auto it = up.find(x);
-      if (it != up.end()) return it->second + steps;
-    }
-    return std::numeric_limits<int>::max();
-  };
-  const std::vector<std::vector<int>> children = skeleton.Children();
-  // The tree path between nodes x and y (both included).
-  auto path = [&](int x, int y) {
-    std::vector<int> up_x, up_y;
-    std::set<int> on_x;
-    for (int n = x; n >= 0; n = nodes[n].parent_idx) {
-      up_x.push_back(n);
-      on_x.insert(n);
-    }
-    int meet = y;
-    for (; meet >= 0 && !on_x.count(meet); meet = nodes[meet].parent_idx) up_y.push_back(meet);
-    std::vector<int> p;
-    for (int n : up_x) {
-      p.push_back(n);
-      if (n == meet) break;
-    }
-    p.insert(p.end(), up_y.rbegin(), up_y.rend());
-    return p;
-  };
-  // Do edges a and b meet through a node of 2+ children (a junction), on
-  // the shortest path between their end nodes?
-  auto JunctionBetween = [&](int a, int b) {
-    std::vector<int> best;
-    for (int x : {a, nodes[a].parent_idx}) {
-      for (int y : {b, nodes[b].parent_idx}) {
-        std::vector<int> p = path(x, y);
-        if (best.empty() || p.size() < best.size()) best = std::move(p);
-      }
-    }
-    for (int n : best) {
-      if (children[n].size() >= 2) return true;
-    }
-    return false;
-  };
-  auto around = [&](int e) {  // the edge and the edges sharing a node with it
-    std::set<int> near = {e};
-    const int p = nodes[e].parent_idx;
-    if (nodes[p].parent_idx >= 0) near.insert(p);
-    for (int c : children[p]) near.insert(c);
-    for (int c : children[e]) near.insert(c);
-    return near;
-  };
-  for (const auto& [t1, t2] : pairs) {
-    const int e1 = nearest_edge(t1), e2 = nearest_edge(t2);
-    if (e1 < 0 || e2 < 0) {
-      ++result.other;
-      continue;
-    }
-    const int h = e1 == e2 ? 0 : hops(e1, e2);
-    if (h == 0 || (h <= 3 && !JunctionBetween(e1, e2))) {
-      ++result.within_branch;
-    } else if (h <= 3) {
-      ++result.at_junctions;
-    } else {
-      bool collide = false;
-      for (int a : around(e1)) {
-        for (int b : around(e2)) {
-          const double reach =
-              1.05 * (std::max(nodes[a].radius, nodes[nodes[a].parent_idx].radius) +
-                      std::max(nodes[b].radius, nodes[nodes[b].parent_idx].radius));
-          collide = collide ||
-                    SegmentSegmentDistance2(nodes[nodes[a].parent_idx].position, nodes[a].position,
-                                            nodes[nodes[b].parent_idx].position,
-                                            nodes[b].position) < reach * reach;
-        }
-      }
-      (collide ? result.colliding_branches : result.other)++;
-    }
-  }
-  return result;
 }
 
 }  // namespace sylva

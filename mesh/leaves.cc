@@ -35,6 +35,11 @@ std::vector<Eigen::Vector3d> ThinBranchPoints(const SkeletonGraph& skeleton, dou
 constexpr double kLeafProjection = 0.5;
 // Opacities are capped below 1 before taking -log(1 - alpha).
 constexpr double kMaxOpacity = 0.999;
+// The matte test (SeenInMattes) averages the matte over a square around
+// the leaf's projected centre of half-width this fraction of the leaf's
+// length: the leaf's central half whatever its orientation (its tip may
+// overhang the silhouette's edge).
+constexpr double kFootprintHalfWidth = 0.25;
 
 // Active voxels and the cumulative opacity over them, for drawing ∝ density.
 struct DensitySampler {
@@ -98,7 +103,8 @@ bool SeenInMattes(const Leaf& leaf, double length, const ImageSet& views,
     const Eigen::Vector3d in_cam = view.cam_from_world * leaf.center;
     if (!camera.IsInFront(in_cam)) continue;
     const Eigen::Vector2d pixel = camera.ImgFromCam(in_cam);
-    double half = 0.25 * length * 0.5 * (camera.FocalLengthX() + camera.FocalLengthY());
+    double half =
+        kFootprintHalfWidth * length * 0.5 * (camera.FocalLengthX() + camera.FocalLengthY());
     if (!camera.IsOrthographic()) half /= in_cam.z();
     half = std::max(half, 0.5);
     const double mean =

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 
 #include "core/util/check.h"
 
@@ -10,6 +11,13 @@ namespace {
 
 // Walk step along the image, in pixels.
 constexpr double kStepPixels = 0.25;
+// The trunk's axis in a view is the projection of the segment from a
+// sample point up by this fraction of the tree height: the trunk is taken
+// as vertical near its base, so any short segment gives its direction;
+// 1 % stays within the trunk's base (the samples are at 3-9 %) and is a
+// few pixels long where the tree is a few hundred (only the direction is
+// used).
+constexpr double kAxisProbeFraction = 0.01;
 
 bool IsForeground(const FloatImage& matte, const Eigen::Vector2d& pixel, double threshold) {
   const int x = static_cast<int>(std::floor(pixel.x()));
@@ -49,7 +57,8 @@ TrunkWidth MeasureTrunkWidth(const ImageSet& views, const std::vector<FloatImage
     const Camera& camera = views.CameraOf(view);
     for (double fraction : options.sample_heights) {
       const Eigen::Vector3d point = base + Eigen::Vector3d::UnitZ() * fraction * tree_height;
-      const Eigen::Vector3d above = point + Eigen::Vector3d::UnitZ() * 0.01 * tree_height;
+      const Eigen::Vector3d above =
+          point + Eigen::Vector3d::UnitZ() * kAxisProbeFraction * tree_height;
       const Eigen::Vector3d point_in_cam = view.cam_from_world * point;
       const Eigen::Vector3d above_in_cam = view.cam_from_world * above;
       if (!camera.IsInFront(point_in_cam) || !camera.IsInFront(above_in_cam)) continue;
@@ -69,6 +78,28 @@ TrunkWidth MeasureTrunkWidth(const ImageSet& views, const std::vector<FloatImage
   std::nth_element(widths.begin(), widths.begin() + widths.size() / 2, widths.end());
   result.radius = 0.5 * widths[widths.size() / 2];
   return result;
+}
+
+TrunkRadius ChooseTrunkRadius(const ImageSet& views, const std::vector<FloatImage>& mattes,
+                              const Eigen::Vector3d& base, double tree_height, double given_radius,
+                              double fallback_fraction) {
+  TrunkRadius trunk;
+  if (given_radius > 0) {
+    trunk.radius = given_radius;
+    trunk.how = "given";
+    return trunk;
+  }
+  const TrunkWidth width = MeasureTrunkWidth(views, mattes, base, tree_height);
+  if (width.radius > 0) {
+    trunk.radius = width.radius;
+    trunk.how = "measured in " + std::to_string(width.num_measurements) + " matte sections";
+    return trunk;
+  }
+  std::ostringstream how;
+  how << "not measurable in the mattes; " << fallback_fraction << " x height";
+  trunk.radius = fallback_fraction * tree_height;
+  trunk.how = how.str();
+  return trunk;
 }
 
 }  // namespace sylva

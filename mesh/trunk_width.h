@@ -7,6 +7,7 @@
 #define SYLVA_MESH_TRUNK_WIDTH_H_
 
 #include <Eigen/Core>
+#include <string>
 #include <vector>
 
 #include "core/types/float_image.h"
@@ -35,6 +36,20 @@ struct TrunkWidth {
 TrunkWidth MeasureTrunkWidth(const ImageSet& views, const std::vector<FloatImage>& mattes,
                              const Eigen::Vector3d& base, double tree_height,
                              const TrunkWidthOptions& options = TrunkWidthOptions());
+
+// The trunk radius that scales the allometric radii, and how it was found.
+struct TrunkRadius {
+  double radius = 0.0;  // world units
+  std::string how;      // "given", "measured in N matte sections" or the fallback
+};
+
+// `given_radius` if > 0 (Skeleton.trunk_radius), else measured in the
+// mattes (MeasureTrunkWidth with the default options), else
+// `fallback_fraction` x `tree_height` (Skeleton.trunk_radius_fraction: no
+// mattes, or no trunk visible in them).
+TrunkRadius ChooseTrunkRadius(const ImageSet& views, const std::vector<FloatImage>& mattes,
+                              const Eigen::Vector3d& base, double tree_height, double given_radius,
+                              double fallback_fraction);
 
 }  // namespace sylva
 

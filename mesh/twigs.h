@@ -16,8 +16,9 @@
 //     Select them with `node.order >= summary.twig_order`.
 //
 // Meshing the twigs. Joined (the pipeline's choice for few twigs), the
-// grown skeleton is meshed as one watertight bark: one closed surface, but
-// the twigs multiply the bark's triangles (5.8x with ~800 twigs on a
+// grown skeleton is meshed as one watertight bark (closed; a twig that finds
+// no room on its branch's tube stays a closed solid of its own, counted:
+// mesh/bark_mesh.h), but the twigs multiply the bark's triangles (5.8x with ~800 twigs on a
 // synthetic tree) and their many thin junctions slow the bark mesher down
 // or, on dense trees, make it collapse the tree into one convex hull (see
 // TwigMeshOptions::separate_above). Separate: the bark is

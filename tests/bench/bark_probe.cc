@@ -40,6 +40,7 @@
 #include "core/util/check.h"
 #include "datasets/synthetic/synthetic_qsm.h"
 #include "datasets/synthetic/synthetic_tree.h"
+#include "mesh/bark_crossings.h"
 #include "mesh/bark_mesh.h"
 #include "mesh/mesh_checks.h"
 #include "mesh/mesh_renderer.h"

@@ -129,6 +129,25 @@ bool Contains(const std::string& text, const std::string& part) {
   return text.find(part) != std::string::npos;
 }
 
+// The bark's components that mesh/bark_mesh.h promises, from the summaries
+// a command printed: one per watertight bark meshed (one per root), plus
+// the laterals each counts as "N NOT attached". -1 if none was printed.
+int PromisedBarkComponents(const std::string& out) {
+  const std::string summary = "Watertight bark:", unattached = " NOT attached";
+  int components = 0, barks = 0;
+  for (size_t at = out.find(summary); at != std::string::npos; at = out.find(summary, at + 1)) {
+    ++barks;
+    ++components;
+    const size_t end = out.find(" triangles in ", at);  // the summary's last figures
+    const size_t count_end = out.find(unattached, at);
+    if (count_end < end) {
+      const size_t count_start = out.rfind('(', count_end) + 1;
+      components += std::stoi(out.substr(count_start, count_end - count_start));
+    }
+  }
+  return barks > 0 ? components : -1;
+}
+
 // A preview picture: a size x size PNG, opaque, mostly white background with
 // a darker tree in it that does not touch the border.
 void ExpectTreePicture(const fs::path& path, int size) {
@@ -236,6 +255,7 @@ class CliTest : public ::testing::Test {
     const SubprocessResult init =
         RunSubprocess(InitArgs(dataset, *root_ / "base_project", {"--copy"}));
     const SubprocessResult run = RunSubprocess({kSylva, "run", (*root_ / "base_project").string()});
+    base_run_out_ = run.out;
     if (!Succeeded(init) || !Succeeded(run)) {
       setup_error_ = "init + run of the base project failed: " + init.Describe() + run.Describe();
     }
@@ -331,11 +351,13 @@ class CliTest : public ::testing::Test {
 
   static fs::path* root_;
   static std::string setup_error_;
-  fs::path work_;  // this test's own folder
+  static std::string base_run_out_;  // what `sylva run` printed for the base project
+  fs::path work_;                    // this test's own folder
 };
 
 fs::path* CliTest::root_ = nullptr;
 std::string CliTest::setup_error_;
+std::string CliTest::base_run_out_;
 
 // 1. The real flow, then the stage cache: unchanged inputs skip, --force and a
 //    changed option re-run.
@@ -729,19 +751,18 @@ TEST_F(CliTest, TreeOutputsReloadAndFollowTheSeed) {
   for (const QsmCylinder& cylinder : qsm.cylinders) cylinder_length += cylinder.length;
   EXPECT_NEAR(cylinder_length, skeleton.TotalLength(), 1e-6 * skeleton.TotalLength());
   // The bark alone: closed, 2-manifold, outward solids; leaves instanced in
-  // the .glb. On this particle-flow skeleton (short, dense laterals) about a
-  // quarter of the thin laterals find no room on their parent's tube and
-  // stay capped and overlapping it (measured: 257 components), so the
-  // bark is one solid plus those laterals. It must not collapse into a few
-  // joint hulls either (it once did: 208 triangles).
+  // the .glb. On this particle-flow skeleton (short, dense laterals) some
+  // thin laterals find no room on their parent's tube and stay capped and
+  // overlapping it, so the bark is one solid plus exactly those laterals, as
+  // the mesh stage counts them (mesh/bark_mesh.h; measured: 186
+  // components). It must not collapse into a few joint hulls either (it
+  // once did: 208 triangles).
   const MeshCheck bark = CheckMesh(ReadObj(out / "bark.obj"), "", /*self_intersections=*/false);
   EXPECT_TRUE(bark.IsClosedManifold()) << bark.BriefReport();
-  int junctions = 0, tips = 0;
-  for (const std::vector<int>& c : children) {
-    junctions += c.size() >= 2 ? 1 : 0;
-    tips += c.empty() ? 1 : 0;
-  }
-  EXPECT_LE(bark.components, 1 + junctions / 3) << bark.BriefReport();
+  EXPECT_EQ(bark.components, PromisedBarkComponents(base_run_out_)) << bark.BriefReport() << "\n"
+                                                                    << base_run_out_;
+  int tips = 0;
+  for (const std::vector<int>& c : children) tips += c.empty() ? 1 : 0;
   EXPECT_GE(bark.triangles, 40 * tips) << bark.BriefReport();
   EXPECT_GT(bark.volume, 0);
   int64_t instances = 0;
@@ -895,6 +916,9 @@ TEST_F(CliTest, MeshQsmMakesClosedBarkFromLaserScanCylinders) {
     EXPECT_EQ(bark.boundary_edges, 0) << name;
     EXPECT_EQ(bark.nonmanifold_edges, 0) << name;
     EXPECT_EQ(bark.misoriented_edges, 0) << name;
+    // One solid per part, plus the laterals counted as unattached
+    // (buttressed_tree_1: 2).
+    EXPECT_EQ(bark.components, PromisedBarkComponents(result.out)) << name << "\n" << result.out;
     EXPECT_NEAR(bark.volume / cylinders, 1.0, 0.06) << name;
     // Measured: tree_1 crosses nowhere; the others 40-100 pairs in 10-18k
     // triangles, mostly tight bends of one branch and the buttresses.
@@ -959,7 +983,7 @@ TEST_F(CliTest, MeshQsmBarkOfLargeTablesIsOutwardAndHoldsTheCylinders) {
                 bark.volume / QsmCylinderVolumeSum(qsm));
     EXPECT_EQ(bark.inside_out_components, 0) << seed;
     EXPECT_EQ(bark.boundary_edges + bark.nonmanifold_edges + bark.misoriented_edges, 0) << seed;
-    EXPECT_GE(bark.components, roots) << seed;
+    EXPECT_EQ(bark.components, PromisedBarkComponents(result.out)) << result.out;
     EXPECT_LE(bark.components, roots + 2) << seed;
     EXPECT_NEAR(bark.volume / united, 1.0, 0.03) << seed;
   }
@@ -1000,8 +1024,9 @@ TEST_F(CliTest, BarkSubdivisionKeepsItClosed) {
 TEST_F(CliTest, SeparateTwigsLeaveTheBarkClosed) {
   const fs::path project = CopyBaseProject();
   const fs::path out = project / "out";
-  ASSERT_TRUE(Succeeded(
-      Sylva({"mesh", project.string(), "--Twigs.enabled=true", "--Twigs.mesh=separate"})));
+  const SubprocessResult mesh =
+      Sylva({"mesh", project.string(), "--Twigs.enabled=true", "--Twigs.mesh=separate"});
+  ASSERT_TRUE(Succeeded(mesh));
   const TriangleMesh tree = ReadObj(out / "tree.obj");
   const MeshCheck twigs = CheckMesh(tree, "twigs", false);
   EXPECT_GT(twigs.triangles, 100);
@@ -1012,12 +1037,9 @@ TEST_F(CliTest, SeparateTwigsLeaveTheBarkClosed) {
   const MeshCheck bark = CheckMesh(bark_obj, "", false);
   EXPECT_TRUE(bark.IsClosedManifold()) << bark.BriefReport();
   // As in TreeOutputsReloadAndFollowTheSeed: thin laterals of this
-  // particle-flow skeleton that find no room stay overlapping solids.
-  int junctions = 0;
-  for (const std::vector<int>& c : ReadSkeletonJson(out / "skeleton.json").Children()) {
-    junctions += c.size() >= 2 ? 1 : 0;
-  }
-  EXPECT_LE(bark.components, 1 + junctions / 3) << bark.BriefReport();
+  // particle-flow skeleton that find no room stay overlapping solids, each
+  // counted.
+  EXPECT_EQ(bark.components, PromisedBarkComponents(mesh.out)) << bark.BriefReport() << mesh.out;
   EXPECT_EQ(CheckMesh(bark_obj, "twigs", false).triangles, 0);
   EXPECT_EQ(CheckMesh(tree, "bark", false).triangles, bark.triangles);
 }

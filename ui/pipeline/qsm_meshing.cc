@@ -4,10 +4,10 @@
 
 #include "core/io/mesh_io.h"
 #include "core/util/check.h"
-#include "mesh/bark_mesh.h"
 #include "mesh/gltf_export.h"
 #include "mesh/mesh_checks.h"
 #include "mesh/tree_metrics.h"
+#include "mesh/wood.h"
 #include "ui/pipeline/report.h"
 #include "ui/pipeline/tree_building.h"
 
@@ -26,26 +26,27 @@ QsmMeshing MeshQsm(const QsmModel& qsm, const PipelineOptions& options, double m
   convert.merge_inside_parent = true;
   QsmMeshing meshing;
   meshing.parts = SkeletonsFromQsm(qsm, convert);
-  BarkMeshOptions bark = options.geometry.bark;
-  bark.tube = options.branch_mesh;
+  WoodOptions wood = WoodOptionsOf(options);
+  wood.twigs = false;  // the table is the whole tree
   // Thousands of thin cylinders get 4-6 sided tubes: inscribed polygons
-  // would hold 64-83 % of their volume.
-  bark.tube.circle_area = true;
+  // would hold 64-83 % of their volume. (The watertight bark's; the
+  // overlapping tubes of BranchMesh.watertight=false are meshed, and left
+  // out of the brief, as they always were.)
+  if (wood.watertight_bark) wood.bark.tube.circle_area = true;
   std::ostringstream brief;
   brief << qsm.cylinders.size() << " cylinders in " << meshing.parts.size() << " part(s).";
   for (const QsmSkeleton& part : meshing.parts) {
-    BarkMeshSummary summary;
-    meshing.bark.Append(options.geometry.watertight_bark
-                            ? MeshBarkWatertight(part.skeleton, bark, &summary)
-                            : MeshBranches(part.skeleton, options.branch_mesh, nullptr));
-    if (options.geometry.watertight_bark) brief << " " << summary.BriefReport();
+    const Wood part_wood = MeshWood(part.skeleton, DensityGrid(), wood);
+    meshing.bark.Append(part_wood.bark);
+    if (wood.watertight_bark) brief << " " << part_wood.brief;
   }
   // A safety net for what the mesher still gets wrong on tables unlike the
   // tested ones: a closed piece inside out is turned, and counted.
   meshing.turned_components = TurnInsideOutComponents(&meshing.bark);
   SubdivideBark(options.geometry, &meshing.bark, &brief);
-  // What a closed bark should be: one outward solid per part, enclosing
-  // about the cylinders' union (their sum counts TreeQSM's overlaps twice).
+  // What a closed bark should be: outward solids, one per part plus one per
+  // lateral left unattached (mesh/bark_mesh.h), enclosing about the
+  // cylinders' union (their sum counts TreeQSM's overlaps twice).
   const MeshCheck check = CheckMesh(meshing.bark, "", false);
   meshing.components = check.components;
   meshing.inside_out_components = check.inside_out_components;

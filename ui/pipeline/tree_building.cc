@@ -7,12 +7,10 @@
 #include "core/util/check.h"
 #include "core/util/random.h"
 #include "mesh/allometry.h"
-#include "mesh/bark_mesh.h"
-#include "mesh/branch_mesh.h"
 #include "mesh/leaves.h"
 #include "mesh/subdivision.h"
 #include "mesh/trunk_width.h"
-#include "mesh/twigs.h"
+#include "mesh/wood.h"
 #include "reconstruct/measurement/branch_width.h"
 #include "simulate/attractor_field.h"
 #include "simulate/direction_field.h"
@@ -27,25 +25,6 @@ namespace {
 constexpr uint64_t kParticleSeedStream = 1;
 constexpr uint64_t kLeafSeedStream = 2;
 constexpr uint64_t kTwigSeedStream = 4;  // 3: the attract stage's livewire
-
-// The trunk radius and how it was found.
-double TrunkRadius(const ImageSet& views, const std::vector<FloatImage>& mattes,
-                   const SkeletonOptions& options, const Eigen::Vector3d& base, double height,
-                   std::string* how) {
-  if (options.trunk_radius > 0) {
-    *how = "given";
-    return options.trunk_radius;
-  }
-  const TrunkWidth width = MeasureTrunkWidth(views, mattes, base, height);
-  if (width.radius > 0) {
-    *how = "measured in " + std::to_string(width.num_measurements) + " matte sections";
-    return width.radius;
-  }
-  std::ostringstream fallback;
-  fallback << "not measurable in the mattes; " << options.trunk_radius_fraction << " x height";
-  *how = fallback.str();
-  return options.trunk_radius_fraction * height;
-}
 
 }  // namespace
 
@@ -87,10 +66,11 @@ BuiltSkeleton BuildSkeleton(const DensityGrid& density, const ImageSet& input_vi
   built.skeleton =
       ConsolidateSkeleton(pruned, density, options.skeleton.consolidation, &consolidation);
   const double height = std::max(built.skeleton.Height(), density.voxel_size());
-  std::string how;
+  const TrunkRadius trunk =
+      ChooseTrunkRadius(input_views, mattes, built.base, height, options.skeleton.trunk_radius,
+                        options.skeleton.trunk_radius_fraction);
   AllometryOptions allometry = options.allometry;
-  allometry.trunk_radius =
-      TrunkRadius(input_views, mattes, options.skeleton, built.base, height, &how);
+  allometry.trunk_radius = trunk.radius;
   allometry.min_radius = options.skeleton.min_radius_fraction * allometry.trunk_radius;
   AssignPipeModelRadii(allometry, &built.skeleton);
   std::string widths = "Radii are an allometric prior.";
@@ -106,10 +86,22 @@ BuiltSkeleton BuildSkeleton(const DensityGrid& density, const ImageSet& input_vi
   std::ostringstream brief;
   brief << field_brief << " " << flow_summary.BriefReport() << " " << pruning.BriefReport() << " "
         << consolidation.BriefReport() << " Base (" << built.base.transpose() << "); trunk radius "
-        << allometry.trunk_radius << " (" << how << "; pipe model, Delta "
+        << allometry.trunk_radius << " (" << trunk.how << "; pipe model, Delta "
         << allometry.diameter_exponent << "). " << widths;
   built.brief = brief.str();
   return built;
+}
+
+WoodOptions WoodOptionsOf(const PipelineOptions& options) {
+  WoodOptions wood;
+  wood.watertight_bark = options.geometry.watertight_bark;
+  wood.bark = options.geometry.bark;
+  wood.bark.tube = options.branch_mesh;
+  wood.twigs = options.geometry.twigs;
+  wood.twig = options.geometry.twig;
+  wood.twig.seed = DeriveSeed(options.general.seed, kTwigSeedStream);
+  wood.twig_mesh = options.geometry.twig_mesh;
+  return wood;
 }
 
 TriangleMesh TreeGeometry::Wood() const {
@@ -128,39 +120,12 @@ TreeGeometry BuildTreeGeometry(const SkeletonGraph& skeleton, const DensityGrid&
                                const ImageSet& input_views, const std::vector<FloatImage>& mattes,
                                const PipelineOptions& options, const LeafShape* shape) {
   TreeGeometry geometry;
+  Wood wood = MeshWood(skeleton, density, WoodOptionsOf(options));
+  geometry.bark = std::move(wood.bark);
+  geometry.twigs = std::move(wood.twigs);
+  geometry.bark_summary = wood.bark_summary;
   std::ostringstream brief;
-  SkeletonGraph grown, branches;
-  const SkeletonGraph* tree = &skeleton;  // leaves grow on it (with twigs)
-  const SkeletonGraph* barked = &skeleton;
-  if (options.geometry.twigs) {
-    TwigOptions twig = options.geometry.twig;
-    twig.seed = DeriveSeed(options.general.seed, kTwigSeedStream);
-    TwigSummary twig_summary;
-    grown = GrowTwigs(skeleton, density, twig, &twig_summary);
-    tree = barked = &grown;
-    brief << twig_summary.BriefReport() << " ";
-    const TwigMeshOptions& twig_mesh = options.geometry.twig_mesh;
-    if (twig_mesh.Separate(twig_summary.twigs)) {
-      branches = RemoveTwigs(grown, twig_summary);
-      barked = &branches;
-      TwigTubesSummary tubes;
-      geometry.twigs = MeshTwigTubes(grown, twig_summary, options.branch_mesh, twig_mesh, &tubes);
-      brief << "Twigs meshed apart (Twigs.mesh=" << twig_mesh.mode;
-      if (twig_mesh.mode == "auto") brief << ", more than " << twig_mesh.separate_above;
-      brief << "): " << tubes.BriefReport() << " ";
-    }
-  }
-  if (options.geometry.watertight_bark) {
-    BarkMeshOptions bark = options.geometry.bark;
-    bark.tube = options.branch_mesh;
-    BarkMeshSummary bark_summary;
-    geometry.bark = MeshBarkWatertight(*barked, bark, &bark_summary);
-    brief << bark_summary.BriefReport();
-  } else {
-    BranchMeshSummary branch_summary;
-    geometry.bark = MeshBranches(*barked, options.branch_mesh, &branch_summary);
-    brief << branch_summary.BriefReport();
-  }
+  brief << wood.brief;
   SubdivideBark(options.geometry, &geometry.bark, &brief);
   LeafOptions leaf_options = options.leaves;
   leaf_options.seed = DeriveSeed(options.general.seed, kLeafSeedStream);
@@ -168,8 +133,8 @@ TreeGeometry BuildTreeGeometry(const SkeletonGraph& skeleton, const DensityGrid&
     brief << " No leaves (Leaves.num_leaves=-1).";
   } else {
     LeafSummary leaf_summary;
-    geometry.leaves = GenerateLeafInstances(*tree, density, input_views, mattes, leaf_options,
-                                            &leaf_summary, shape);
+    geometry.leaves = GenerateLeafInstances(wood.skeleton, density, input_views, mattes,
+                                            leaf_options, &leaf_summary, shape);
     brief << " " << leaf_summary.BriefReport();
   }
   geometry.brief = brief.str();

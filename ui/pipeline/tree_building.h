@@ -14,7 +14,9 @@
 #include "core/types/skeleton_graph.h"
 #include "core/types/triangle_mesh.h"
 #include "core/util/progress.h"
+#include "mesh/bark_mesh.h"
 #include "mesh/leaves.h"
+#include "mesh/wood.h"
 #include "ui/pipeline/pipeline_options.h"
 
 namespace sylva {
@@ -37,17 +39,21 @@ BuiltSkeleton BuildSkeleton(const DensityGrid& density, const ImageSet& input_vi
                             const std::vector<AttractorGraph2D>& attractors,
                             const PipelineOptions& options, ProgressReporter* progress);
 
-// The tree's geometry: the bark (watertight or tubes, BranchMesh.*, then
-// BranchMesh.subdivision levels of Loop subdivision), grown
-// twigs (Twigs.*), and the leaves as instances of one leaf shape (`shape`,
-// may be null: Leaves.shape). Twigs are part of the bark (Twigs.mesh=joined)
-// or closed tubes of their own in `twigs` (separate; mesh/twigs.h), whose
-// bases sit inside the bark; either way the leaves grow on the skeleton with
-// its twigs.
+// The tree's geometry: the wood (MeshWood, mesh/wood.h: the bark,
+// watertight or tubes, BranchMesh.*, and grown twigs, Twigs.*), the bark
+// smoothed by BranchMesh.subdivision levels of Loop subdivision, and the
+// leaves as instances of one leaf shape (`shape`, may be null:
+// Leaves.shape). Twigs are part of the bark (Twigs.mesh=joined) or closed
+// tubes of their own in `twigs` (separate; mesh/twigs.h), whose bases sit
+// inside the bark; either way the leaves grow on the skeleton with its
+// twigs.
 struct TreeGeometry {
-  TriangleMesh bark;     // one closed surface when watertight (no separate twigs)
-  TriangleMesh twigs;    // separate twig tubes, material "twigs"; empty if joined or none
-  LeafInstances leaves;  // empty for leafless plants
+  // Watertight: closed, outward solids, one plus one per lateral (or twig)
+  // left unattached (bark_summary.unattached; mesh/bark_mesh.h).
+  TriangleMesh bark;
+  TriangleMesh twigs;            // separate twig tubes, material "twigs"; empty if joined or none
+  LeafInstances leaves;          // empty for leafless plants
+  BarkMeshSummary bark_summary;  // of the watertight bark (BranchMesh.watertight)
   std::string brief;
   // Bark + twigs + baked leaves.
   TriangleMesh Baked() const;
@@ -57,6 +63,11 @@ struct TreeGeometry {
 TreeGeometry BuildTreeGeometry(const SkeletonGraph& skeleton, const DensityGrid& density,
                                const ImageSet& input_views, const std::vector<FloatImage>& mattes,
                                const PipelineOptions& options, const LeafShape* shape = nullptr);
+
+// The wood's options (MeshWood) in the pipeline's: BranchMesh.* (the
+// tubes of bark and separate twigs), Twigs.* with the twigs' seed derived
+// from General.seed.
+WoodOptions WoodOptionsOf(const PipelineOptions& options);
 
 // Smooths `bark` by BranchMesh.subdivision levels of Loop subdivision
 // (mesh/subdivision.h; nothing if 0) and appends its summary to `brief`.
