@@ -222,7 +222,8 @@ int Main(bool quick) {
   const bool closed = bark_check.boundary_edges == 0 && bark_check.nonmanifold_edges == 0 &&
                       bark_check.misoriented_edges == 0 && bark_check.components == 1;
   if (!closed) std::fprintf(stderr, "the watertight bark is not one closed surface\n");
-  return agreement.ok() && closed ? 0 : 1;
+  const int status = agreement.ExitCode();
+  return closed ? status : 1;
 }
 
 }  // namespace
