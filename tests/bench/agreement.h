@@ -8,11 +8,15 @@
 
 #include <cstdio>
 #include <string>
+#include <utility>
 
 namespace sylva {
 
 class Agreement {
  public:
+  // `against` names what the results are compared with, for the messages.
+  explicit Agreement(std::string against = "the reference") : against_(std::move(against)) {}
+
   // Passes when `value` <= `tolerance` (a distance, a difference). NaN fails.
   bool AtMost(const std::string& figure, double value, double tolerance) {
     return Record(figure, value, "<=", tolerance, value <= tolerance);
@@ -27,8 +31,8 @@ class Agreement {
   // 0 when every check passed; otherwise 1, after a count on stderr.
   int ExitCode() const {
     if (failures_ == 0) return 0;
-    std::fprintf(stderr, "%d of %d agreement checks with the reference failed\n", failures_,
-                 checks_);
+    std::fprintf(stderr, "%d of %d agreement checks with %s failed\n", failures_, checks_,
+                 against_.c_str());
     return 1;
   }
 
@@ -41,12 +45,13 @@ class Agreement {
     std::fflush(stdout);
     if (!pass) {
       ++failures_;
-      std::fprintf(stderr, "DISAGREES with the reference: %s is %.6g, tolerance %s %.6g\n",
+      std::fprintf(stderr, "DISAGREES with %s: %s is %.6g, tolerance %s %.6g\n", against_.c_str(),
                    figure.c_str(), value, relation, tolerance);
     }
     return pass;
   }
 
+  std::string against_;
   int checks_ = 0;
   int failures_ = 0;
 };
