@@ -141,8 +141,8 @@ TriangleMesh ReferenceLeaves(const SkeletonGraph& skeleton, const DensityGrid& d
 // leaves from the same distribution: it must keep as many, and the mean
 // position and the spread (RMS distance from the mean) of the leaf vertices
 // agree within the sampling noise. Measured: mean offset 0.24 % (10^4
-// leaves) and 0.12 % (10^5) of the height; spread difference 0.44 % (10^4).
-// TOLERANCES: about 4x the larger.
+// leaves) and 0.12 % (10^5) of the height; spread difference 0.44 % and
+// 0.02 %. TOLERANCES: about 4x the larger.
 constexpr double kMaxMeanOffsetPercent = 1.0;
 constexpr double kMaxSpreadDifferencePercent = 2.0;
 

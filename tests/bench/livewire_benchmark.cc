@@ -7,7 +7,8 @@
 // off-matte, gradient-direction and centre-line terms on the same features).
 // Both include the features and the seed choice; the reference only collects
 // its paths (no graph). "agree" is the mean distance from the reference's path
-// pixels to the traced graph (pixels), which shows both find the same paths.
+// pixels to the traced graph (pixels), which shows both find the same paths;
+// the program fails when it exceeds the run's tolerance.
 //
 // usage: sylva_livewire_benchmark [--quick]   (--quick: one small tree, 2 views)
 #include <algorithm>
