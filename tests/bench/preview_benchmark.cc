@@ -34,6 +34,7 @@
 #include "mesh/bark_mesh.h"
 #include "mesh/leaves.h"
 #include "mesh/tree_preview.h"
+#include "tests/bench/agreement.h"
 #include "tests/bench/probe_main.h"
 
 namespace sylva {
@@ -211,8 +212,15 @@ int Run(bool quick, const std::string& keep, const std::string& qsm_path) {
                            std::filesystem::path(keep) / "qsm_junction.png");
     }
   }
-  // The two ways must draw the same tree.
-  return difference < 2e-3 ? 0 : 1;
+  // The two ways must draw the same tree: the same triangles, transformed
+  // once at bake time or per ray by Embree's instance transform, which
+  // rounds differently and moves a few leaf-edge and shadow-ray hits.
+  // Measured 2.6e-7 (quick) and 1.2e-6 (full); TOLERANCE 1e-4, about 80x
+  // that (one pixel in ~100 of a 160 x 160 picture entirely wrong fails).
+  constexpr double kMaxMeanDifference = 1e-4;
+  Agreement agreement;
+  agreement.AtMost("mean |instanced - baked| per channel", difference, kMaxMeanDifference);
+  return agreement.ExitCode();
 }
 
 }  // namespace
