@@ -266,6 +266,63 @@ std::string DensitySummary::BriefReport() const {
   return out.str();
 }
 
+namespace {
+
+// Step 1: the views whose mattes agree with the others (their indices in
+// `all_views`) and the bounds, the visual hull of those views
+// (summary->bounds, num_views, automatic_bounds).
+std::vector<int> ChooseViewsAndBounds(const ImageSet& all_views,
+                                      const std::vector<FloatImage>& all_mattes,
+                                      const DensityOptions& options, const ProgressTask& progress,
+                                      DensitySummary* summary) {
+  std::vector<FloatImage> masks(all_mattes.size());
+  tbb::parallel_for(size_t{0}, all_mattes.size(), [&](size_t v) {
+    masks[v] = ForegroundMask(all_mattes[v], options.hull_alpha_threshold);
+  });
+  std::vector<int> trusted_views;
+  ChooseTrustedViews(all_views, masks, options, progress.SubTask("density: views", 0.0, 0.03),
+                     &trusted_views, summary);
+  if (trusted_views.size() != masks.size()) masks = Pick(masks, trusted_views);
+  summary->num_views = static_cast<int>(trusted_views.size());
+  summary->automatic_bounds = options.bounds.isEmpty();
+  summary->bounds =
+      summary->automatic_bounds
+          ? WithMargin(
+                VisualHullBounds(SubsetOf(all_views, trusted_views), masks, options.hull_resolution,
+                                 progress.SubTask("density: bounds", 0.03, 0.05)),
+                options)
+          : options.bounds;
+  return trusted_views;
+}
+
+// Step 3: the pixel-ray equations over the kept voxels, from the mattes
+// downsampled so a voxel covers about Density.pixels_per_voxel pixels.
+RaySystem BuildPixelEquations(const ImageSet& image_set, const std::vector<FloatImage>& mattes,
+                              const VoxelBlock& block, const std::vector<int32_t>& column_of_voxel,
+                              int64_t num_columns, const DensityOptions& options,
+                              const ProgressTask& progress, DensitySummary* summary) {
+  const Eigen::Vector3d center =
+      block.lower_corner + 0.5 * block.voxel_size * block.dims.cast<double>();
+  std::vector<ViewSampling> sampling;
+  std::vector<FloatImage> downsampled(image_set.NumViews());
+  for (int v = 0; v < image_set.NumViews(); ++v) {
+    sampling.push_back(MakeViewSampling(image_set, v, center, block.voxel_size,
+                                        options.pixels_per_voxel, options.rays_per_axis));
+    summary->downsample_factors.push_back(sampling.back().factor);
+  }
+  tbb::parallel_for(0, image_set.NumViews(),
+                    [&](int v) { downsampled[v] = DownsampleBox(mattes[v], sampling[v].factor); });
+  RaySystem system = BuildRaySystem(image_set, sampling, downsampled, block, column_of_voxel,
+                                    num_columns, options.max_pixel_opacity,
+                                    options.hull_alpha_threshold, options.min_row_weight, progress);
+  summary->num_rows = system.matrix.NumRows();
+  summary->num_nonzeros = system.matrix.NumNonZeros();
+  summary->num_unexplained_pixels = system.num_unexplained_pixels;
+  return system;
+}
+
+}  // namespace
+
 DensityGrid ReconstructDensity(const ImageSet& all_views, const std::vector<FloatImage>& all_mattes,
                                const DensityOptions& options, ProgressReporter* reporter,
                                DensitySummary* summary) {
@@ -278,31 +335,15 @@ DensityGrid ReconstructDensity(const ImageSet& all_views, const std::vector<Floa
   const Clock::time_point start = Clock::now();
   const ProgressTask progress(reporter, "density");
 
-  // 1. Views whose mattes agree with the others, and the bounds: the visual
-  // hull of those views.
+  // 1. Trusted views, bounds and the grid's resolution.
   Clock::time_point step = Clock::now();
-  std::vector<FloatImage> masks(all_mattes.size());
-  tbb::parallel_for(size_t{0}, all_mattes.size(), [&](size_t v) {
-    masks[v] = ForegroundMask(all_mattes[v], options.hull_alpha_threshold);
-  });
-  std::vector<int> trusted_views;
-  ChooseTrustedViews(all_views, masks, options, progress.SubTask("density: views", 0.0, 0.03),
-                     &trusted_views, summary);
+  const std::vector<int> trusted_views =
+      ChooseViewsAndBounds(all_views, all_mattes, options, progress, summary);
   const ImageSet image_set = SubsetOf(all_views, trusted_views);
   const bool all_trusted = image_set.NumViews() == all_views.NumViews();
   const std::vector<FloatImage> picked_mattes =
       all_trusted ? std::vector<FloatImage>() : Pick(all_mattes, trusted_views);
   const std::vector<FloatImage>& mattes = all_trusted ? all_mattes : picked_mattes;
-  if (!all_trusted) masks = Pick(masks, trusted_views);
-  summary->num_views = image_set.NumViews();
-  summary->automatic_bounds = options.bounds.isEmpty();
-  summary->bounds =
-      summary->automatic_bounds
-          ? WithMargin(VisualHullBounds(image_set, masks, options.hull_resolution,
-                                        progress.SubTask("density: bounds", 0.03, 0.05)),
-                       options)
-          : options.bounds;
-  masks.clear();
   ChooseResolution(image_set, mattes, options, summary);
   const VoxelBlock block = GridBlock(summary->bounds, summary->resolution);
   summary->grid_dims = block.dims;
@@ -326,25 +367,9 @@ DensityGrid ReconstructDensity(const ImageSet& all_views, const std::vector<Floa
 
   // 3. The pixel-ray equations.
   step = Clock::now();
-  const Eigen::Vector3d center =
-      block.lower_corner + 0.5 * block.voxel_size * block.dims.cast<double>();
-  std::vector<ViewSampling> sampling;
-  std::vector<FloatImage> downsampled(image_set.NumViews());
-  for (int v = 0; v < image_set.NumViews(); ++v) {
-    sampling.push_back(MakeViewSampling(image_set, v, center, block.voxel_size,
-                                        options.pixels_per_voxel, options.rays_per_axis));
-    summary->downsample_factors.push_back(sampling.back().factor);
-  }
-  tbb::parallel_for(0, image_set.NumViews(),
-                    [&](int v) { downsampled[v] = DownsampleBox(mattes[v], sampling[v].factor); });
-  const RaySystem system =
-      BuildRaySystem(image_set, sampling, downsampled, block, column_of_voxel,
-                     static_cast<int64_t>(voxel_of_column.size()), options.max_pixel_opacity,
-                     options.hull_alpha_threshold, options.min_row_weight,
-                     progress.SubTask("density: rays", 0.2, 0.4));
-  summary->num_rows = system.matrix.NumRows();
-  summary->num_nonzeros = system.matrix.NumNonZeros();
-  summary->num_unexplained_pixels = system.num_unexplained_pixels;
+  const RaySystem system = BuildPixelEquations(
+      image_set, mattes, block, column_of_voxel, static_cast<int64_t>(voxel_of_column.size()),
+      options, progress.SubTask("density: rays", 0.2, 0.4), summary);
   summary->seconds_system = SecondsSince(step);
 
   // 4. Least squares from the (rescaled) initialisation.

@@ -112,6 +112,90 @@ std::string BranchWidthSummary::BriefReport() const {
   return text.str();
 }
 
+namespace {
+
+// The radius of every edge (node -> parent) measured in the mattes: a low
+// quantile over the views that see it side-on (kUnmeasured where too few
+// do). The views one by one, so that one distance map at a time is held per
+// thread.
+std::vector<double> MeasuredEdgeRadii(const ImageSet& views, const std::vector<FloatImage>& mattes,
+                                      const SkeletonGraph& skeleton,
+                                      const BranchWidthOptions& options) {
+  const int num_nodes = skeleton.NumNodes(), num_views = views.NumViews();
+  std::vector<std::vector<float>> per_view(num_nodes, std::vector<float>(num_views, kUnmeasured));
+  ParallelForFirstError(num_views, [&](int v) {
+    const View& view = views.views[v];
+    const Camera& camera = views.CameraOf(view);
+    SYLVA_CHECK(mattes[v].width() == camera.width() && mattes[v].height() == camera.height())
+        << "matte " << v << " does not match its camera's size";
+    const cv::Mat distance = DistanceToBackground(mattes[v], options.matte_threshold);
+    for (int i = 0; i < num_nodes; ++i) {
+      const int parent = skeleton.nodes[i].parent_idx;
+      if (parent < 0) continue;
+      per_view[i][v] = EdgeRadiusInView(view, camera, distance, skeleton.nodes[parent].position,
+                                        skeleton.nodes[i].position, options);
+    }
+  });
+  std::vector<double> measured(num_nodes, kUnmeasured);
+  for (int i = 0; i < num_nodes; ++i) {
+    measured[i] = Quantile(per_view[i], options.view_quantile, options.min_views);
+  }
+  return measured;
+}
+
+// Each node's scale of its prior radius: per axis, parents' axes first (by
+// branch order), the median of measured / prior where enough of the axis is
+// measured, else the parent's scale; no child thicker than its parent where
+// it leaves it. Fills the summary's axis counts and lengths.
+std::vector<double> AxisScales(const SkeletonGraph& skeleton, const std::vector<double>& measured,
+                               const std::vector<double>& prior, bool keep_trunk,
+                               const BranchWidthOptions& options, BranchWidthSummary* summary) {
+  std::vector<int> orders;
+  const std::vector<BranchAxis> axes = skeleton.BranchAxes(&orders);
+  std::vector<int> by_order(axes.size());
+  std::iota(by_order.begin(), by_order.end(), 0);
+  std::stable_sort(by_order.begin(), by_order.end(),
+                   [&](int a, int b) { return orders[a] < orders[b]; });
+  std::vector<double> scale_of_node(skeleton.NumNodes(), 1.0);
+  summary->num_axes = static_cast<int>(axes.size());
+  for (int k : by_order) {
+    const BranchAxis& axis = axes[k];
+    const bool trunk = orders[k] == 0;
+    double length = 0.0;
+    std::vector<double> ratios;
+    for (size_t j = 1; j < axis.size(); ++j) {
+      const int i = axis[j];
+      length += (skeleton.nodes[i].position - skeleton.nodes[axis[j - 1]].position).norm();
+      if (std::isfinite(measured[i]) && prior[i] > 0) ratios.push_back(measured[i] / prior[i]);
+    }
+    summary->total_length += length;
+    const int edges = static_cast<int>(axis.size()) - 1;
+    const bool own = !(trunk && keep_trunk) && ratios.size() >= 2 &&
+                     ratios.size() >= options.min_measured_share * edges;
+    double scale = trunk ? 1.0 : scale_of_node[axis[0]];
+    if (own) {
+      scale = Median(ratios);
+      ++summary->measured_axes;
+      summary->measured_length += length;
+    }
+    // No thicker than its parent where it leaves it (the pipe model's
+    // bound for one child: d^Delta <= d_parent^Delta).
+    if (!trunk && axis.size() >= 2) {
+      const double parent_radius = prior[axis[0]] * scale_of_node[axis[0]];
+      const double first = prior[axis[1]] * scale;
+      if (first > parent_radius && first > 0) scale *= parent_radius / first;
+    }
+    if (trunk) {
+      summary->trunk_scale = scale;
+      scale_of_node[axis[0]] = scale;  // the root
+    }
+    for (size_t j = 1; j < axis.size(); ++j) scale_of_node[axis[j]] = scale;
+  }
+  return scale_of_node;
+}
+
+}  // namespace
+
 BranchWidthSummary MeasureBranchRadii(const ImageSet& views, const std::vector<FloatImage>& mattes,
                                       bool leafless, bool keep_trunk,
                                       const BranchWidthOptions& options, SkeletonGraph* skeleton) {
@@ -124,74 +208,11 @@ BranchWidthSummary MeasureBranchRadii(const ImageSet& views, const std::vector<F
   const bool enabled = options.mode == "on" || (options.mode == "auto" && leafless);
   if (num_nodes == 0 || !enabled) return summary;
 
-  // Every edge (node -> parent) in every view; the views one by one, so
-  // that one distance map at a time is held per thread.
-  const int num_views = views.NumViews();
-  std::vector<std::vector<float>> per_view(num_nodes, std::vector<float>(num_views, kUnmeasured));
-  ParallelForFirstError(num_views, [&](int v) {
-    const View& view = views.views[v];
-    const Camera& camera = views.CameraOf(view);
-    SYLVA_CHECK(mattes[v].width() == camera.width() && mattes[v].height() == camera.height())
-        << "matte " << v << " does not match its camera's size";
-    const cv::Mat distance = DistanceToBackground(mattes[v], options.matte_threshold);
-    for (int i = 0; i < num_nodes; ++i) {
-      const int parent = skeleton->nodes[i].parent_idx;
-      if (parent < 0) continue;
-      per_view[i][v] = EdgeRadiusInView(view, camera, distance, skeleton->nodes[parent].position,
-                                        skeleton->nodes[i].position, options);
-    }
-  });
-  std::vector<double> measured(num_nodes, kUnmeasured);
-  for (int i = 0; i < num_nodes; ++i) {
-    measured[i] = Quantile(per_view[i], options.view_quantile, options.min_views);
-  }
-
-  // Each axis' scale, parents' axes first (by branch order).
-  std::vector<int> orders;
-  const std::vector<BranchAxis> axes = skeleton->BranchAxes(&orders);
-  std::vector<int> by_order(axes.size());
-  std::iota(by_order.begin(), by_order.end(), 0);
-  std::stable_sort(by_order.begin(), by_order.end(),
-                   [&](int a, int b) { return orders[a] < orders[b]; });
+  const std::vector<double> measured = MeasuredEdgeRadii(views, mattes, *skeleton, options);
   std::vector<double> prior(num_nodes);
   for (int i = 0; i < num_nodes; ++i) prior[i] = skeleton->nodes[i].radius;
-  std::vector<double> scale_of_node(num_nodes, 1.0);
-  summary.num_axes = static_cast<int>(axes.size());
-  for (int k : by_order) {
-    const BranchAxis& axis = axes[k];
-    const bool trunk = orders[k] == 0;
-    double length = 0.0;
-    std::vector<double> ratios;
-    for (size_t j = 1; j < axis.size(); ++j) {
-      const int i = axis[j];
-      const double edge =
-          (skeleton->nodes[i].position - skeleton->nodes[axis[j - 1]].position).norm();
-      length += edge;
-      if (std::isfinite(measured[i]) && prior[i] > 0) ratios.push_back(measured[i] / prior[i]);
-    }
-    summary.total_length += length;
-    const int edges = static_cast<int>(axis.size()) - 1;
-    const bool own = !(trunk && keep_trunk) && ratios.size() >= 2 &&
-                     ratios.size() >= options.min_measured_share * edges;
-    double scale = trunk ? 1.0 : scale_of_node[axis[0]];
-    if (own) {
-      scale = Median(ratios);
-      ++summary.measured_axes;
-      summary.measured_length += length;
-    }
-    // No thicker than its parent where it leaves it (the pipe model's
-    // bound for one child: d^Delta <= d_parent^Delta).
-    if (!trunk && axis.size() >= 2) {
-      const double parent_radius = prior[axis[0]] * scale_of_node[axis[0]];
-      const double first = prior[axis[1]] * scale;
-      if (first > parent_radius && first > 0) scale *= parent_radius / first;
-    }
-    if (trunk) {
-      summary.trunk_scale = scale;
-      scale_of_node[axis[0]] = scale;  // the root
-    }
-    for (size_t j = 1; j < axis.size(); ++j) scale_of_node[axis[j]] = scale;
-  }
+  const std::vector<double> scale_of_node =
+      AxisScales(*skeleton, measured, prior, keep_trunk, options, &summary);
   for (int i = 0; i < num_nodes; ++i) skeleton->nodes[i].radius = prior[i] * scale_of_node[i];
   if (summary.measured_axes > 0) skeleton->radius_source = kMattesMeasured;
   return summary;

@@ -405,9 +405,11 @@ Flags MappingFlags(const RunContext& context, const fs::path& image_list,
 }
 
 // Runs COLMAP's `command` with `args`; throws RegistrationError if it fails.
+// Reports the task done at the end unless `report_done` is false (a step that
+// may be run again, whose progress would then fall back).
 CommandOutcome RunStep(RunContext* context, const std::string& command, Flags flags,
-                       const ColmapOptions& options, const ProgressParser& parse,
-                       ProgressTask task) {
+                       const ColmapOptions& options, const ProgressParser& parse, ProgressTask task,
+                       bool report_done = true) {
   const Flags common = CommonFlags(options);
   flags.insert(flags.end(), common.begin(), common.end());
   std::vector<std::string> argv = {context->executable.string(), command};
@@ -429,7 +431,7 @@ CommandOutcome RunStep(RunContext* context, const std::string& command, Flags fl
     }
     ThrowRegistrationError(*context, message, &outcome);
   }
-  task.Update(1.0);
+  if (report_done) task.Update(1.0);
   return outcome;
 }
 
@@ -569,7 +571,7 @@ CommandOutcome MapWithRetries(RunContext* context, const fs::path& image_list,
     try {
       outcome =
           RunStep(context, "mapper", MappingFlags(*context, image_list, output, seeded, relaxed),
-                  seeded, progress, task);
+                  seeded, progress, task, /*report_done=*/false);
     } catch (const RegistrationError&) {
       if (first) throw;
       result->notes.push_back("COLMAP mapper retry " + std::to_string(first_seed + attempt) +
@@ -596,6 +598,9 @@ CommandOutcome MapWithRetries(RunContext* context, const fs::path& image_list,
     fs::remove_all(retry_dir);
     if (result->cameras.NumViews() == context->num_photos) break;
   }
+  // Done only now: a retry's progress starts again from the photos its model
+  // holds, below a finished attempt's 1.0.
+  ProgressTask(task).Update(1.0);
   return kept;
 }
 
@@ -697,6 +702,53 @@ fs::path FindColmapExecutable(const std::string& executable) {
   return {};
 }
 
+namespace {
+
+// The second pass when too few photos registered: guided matching from the
+// extracted features (the database restored by the caller), then the
+// mapper's attempts again; `mapping` becomes the new outcome if it kept a
+// model.
+void MatchAndMapAgain(RunContext* context, const fs::path& image_list, const fs::path& workspace,
+                      const ColmapOptions& options, const ProgressParser& matching_progress,
+                      const ProgressTask& matching, const ProgressTask& mapping_task,
+                      CommandOutcome* mapping, ColmapResult* result) {
+  result->notes.push_back("COLMAP registered only " + std::to_string(result->cameras.NumViews()) +
+                          " of " + std::to_string(context->num_photos) +
+                          " photos at first; matched again (guided) and mapped again");
+  SYLVA_LOG(kWarning) << result->notes.back();
+  result->matching_seconds += RunStep(context, result->matcher + "_matcher",
+                                      MatchingFlags(*context, result->matcher, options, true),
+                                      options, matching_progress, matching)
+                                  .seconds;
+  ++result->matching_runs;
+  CommandOutcome again = MapWithRetries(context, image_list, workspace, options,
+                                        options.mapper_attempts, mapping_task, result);
+  if (again.exit_code == 0) *mapping = std::move(again);  // a model was kept from it
+}
+
+// Throws the registration error (with COLMAP's log) when no model or fewer
+// than kMinRegisteredPhotos photos came out.
+void CheckEnoughRegistered(const RunContext& context, const ColmapResult& result,
+                           CommandOutcome* mapping) {
+  if (result.cameras.NumViews() == 0) {
+    ThrowRegistrationError(context,
+                           "COLMAP built no model: no pair of the " +
+                               std::to_string(context.num_photos) +
+                               " photos has enough matches to start one (too little overlap "
+                               "or texture?)",
+                           mapping);
+  }
+  if (result.cameras.NumViews() < kMinRegisteredPhotos) {
+    ThrowRegistrationError(context,
+                           "COLMAP registered only " + std::to_string(result.cameras.NumViews()) +
+                               " of " + std::to_string(context.num_photos) +
+                               " photos; at least 2 are needed",
+                           mapping);
+  }
+}
+
+}  // namespace
+
 ColmapResult RunColmap(const fs::path& photos_dir, const std::vector<std::string>& photo_names,
                        const fs::path& masks_dir, const fs::path& workspace,
                        const ColmapOptions& options, ProgressReporter* progress) {
@@ -750,39 +802,14 @@ ColmapResult RunColmap(const fs::path& photos_dir, const std::vector<std::string
   // threads is not seeded) may have come out weak; match again from the
   // features, guided, and map again.
   if (can_rematch && result.cameras.NumViews() < options.rematch_below * context.num_photos) {
-    result.notes.push_back("COLMAP registered only " + std::to_string(result.cameras.NumViews()) +
-                           " of " + std::to_string(context.num_photos) +
-                           " photos at first; matched again (guided) and mapped again");
-    SYLVA_LOG(kWarning) << result.notes.back();
     fs::copy_file(features_database, context.database, fs::copy_options::overwrite_existing);
-    result.matching_seconds += RunStep(&context, result.matcher + "_matcher",
-                                       MatchingFlags(context, result.matcher, options, true),
-                                       options, matching_progress, matching)
-                                   .seconds;
-    ++result.matching_runs;
-    CommandOutcome again = MapWithRetries(&context, image_list, workspace, options,
-                                          options.mapper_attempts, mapping_task, &result);
-    if (again.exit_code == 0) mapping = std::move(again);  // a model was kept from it
+    MatchAndMapAgain(&context, image_list, workspace, options, matching_progress, matching,
+                     mapping_task, &mapping, &result);
   }
   fs::remove(features_database, ec);
   result.colmap_seconds =
       result.extraction_seconds + result.matching_seconds + result.mapping_seconds;
-
-  if (result.cameras.NumViews() == 0) {
-    ThrowRegistrationError(context,
-                           "COLMAP built no model: no pair of the " +
-                               std::to_string(context.num_photos) +
-                               " photos has enough matches to start one (too little overlap "
-                               "or texture?)",
-                           &mapping);
-  }
-  if (result.cameras.NumViews() < kMinRegisteredPhotos) {
-    ThrowRegistrationError(context,
-                           "COLMAP registered only " + std::to_string(result.cameras.NumViews()) +
-                               " of " + std::to_string(context.num_photos) +
-                               " photos; at least 2 are needed",
-                           &mapping);
-  }
+  CheckEnoughRegistered(context, result, &mapping);
   LogPartialSuccess(result);
   result.sylva_seconds = SecondsSince(start) - result.colmap_seconds;
   return result;

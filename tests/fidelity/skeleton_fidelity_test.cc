@@ -22,6 +22,20 @@
 namespace sylva {
 namespace {
 
+// The skeleton the stages build from `data`'s input views (density,
+// livewire graphs, particle flow, pruning, consolidation) against its truth.
+SkeletonComparison ReconstructAndCompare(const SyntheticDataset& data,
+                                         const PipelineOptions& options, BuiltSkeleton* built) {
+  const ImageSet inputs = data.InputImageSet();
+  const std::vector<FloatImage> mattes = data.InputMattes();
+  const DensityGrid density = ReconstructDensity(inputs, mattes, options.density, nullptr, nullptr);
+  *built = BuildSkeleton(density, inputs, mattes,
+                         SyntheticLivewireGraphs(data, inputs, mattes, density, options), options,
+                         nullptr);
+  const SkeletonGraph& truth = data.tree.skeleton;
+  return CompareSkeletons(built->skeleton, truth, truth.Height());
+}
+
 class SkeletonFidelity : public ::testing::TestWithParam<uint64_t> {};
 
 TEST_P(SkeletonFidelity, LeaflessTreeLengthAndPrecision) {
@@ -30,16 +44,9 @@ TEST_P(SkeletonFidelity, LeaflessTreeLengthAndPrecision) {
   synth.num_views = 8;
   synth.num_held_out = 0;
   synth.tree.leaves_per_cluster = 0;
-  const SyntheticDataset data = MakeSyntheticDataset(synth);
-  const ImageSet inputs = data.InputImageSet();
-  const std::vector<FloatImage> mattes = data.InputMattes();
-  PipelineOptions options;
-  const DensityGrid density = ReconstructDensity(inputs, mattes, options.density, nullptr, nullptr);
-  const BuiltSkeleton built = BuildSkeleton(
-      density, inputs, mattes, SyntheticLivewireGraphs(data, inputs, mattes, density, options),
-      options, nullptr);
-  const SkeletonGraph& truth = data.tree.skeleton;
-  const SkeletonComparison c = CompareSkeletons(built.skeleton, truth, truth.Height());
+  BuiltSkeleton built;
+  const SkeletonComparison c =
+      ReconstructAndCompare(MakeSyntheticDataset(synth), PipelineOptions(), &built);
   std::printf("seed %d: %s\n  %s\n", static_cast<int>(GetParam()), c.BriefReport().c_str(),
               built.brief.c_str());
   // Measured (seeds 1, 2): length 1.07 / 1.10 x, precision 0.822 / 0.825,
@@ -65,17 +72,12 @@ TEST_P(ScannedTreeFidelity, LengthAndPrecision) {
   SyntheticDatasetOptions views;
   views.num_views = 8;
   views.num_held_out = 0;
-  PipelineOptions options;
-  const SyntheticDataset data = QsmPhotoDataset(
-      std::string(SYLVA_SOURCE_DIR) + "/datasets/itsme-qsm/" + GetParam(), views, options);
-  const ImageSet inputs = data.InputImageSet();
-  const std::vector<FloatImage> mattes = data.InputMattes();
-  const DensityGrid density = ReconstructDensity(inputs, mattes, options.density, nullptr, nullptr);
-  const BuiltSkeleton built = BuildSkeleton(
-      density, inputs, mattes, SyntheticLivewireGraphs(data, inputs, mattes, density, options),
-      options, nullptr);
-  const SkeletonGraph& truth = data.tree.skeleton;
-  const SkeletonComparison c = CompareSkeletons(built.skeleton, truth, truth.Height());
+  const PipelineOptions options;
+  BuiltSkeleton built;
+  const SkeletonComparison c = ReconstructAndCompare(
+      QsmPhotoDataset(std::string(SYLVA_SOURCE_DIR) + "/datasets/itsme-qsm/" + GetParam(), views,
+                      options),
+      options, &built);
   std::printf("%s: %s\n", GetParam(), c.BriefReport().c_str());
   // Measured: tree_1 length 1.02 x, precision 1.000; tree_2 1.23 x, 0.966.
   EXPECT_NEAR(c.length_ratio, 1.0, 0.3);

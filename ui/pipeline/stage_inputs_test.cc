@@ -13,6 +13,7 @@
 #include "datasets/synthetic/synthetic_dataset.h"
 #include "ui/pipeline/option_registry.h"
 #include "ui/pipeline/pipeline.h"
+#include "ui/pipeline/pipeline_test_util.h"
 
 namespace sylva {
 namespace {
@@ -27,12 +28,7 @@ class StageInputsTest : public ::testing::Test {
   void SetUp() override {
     dir_ = fs::temp_directory_path() / ("sylva_stage_inputs_" + std::to_string(getpid()));
     fs::remove_all(dir_);
-    SyntheticDatasetOptions options;
-    options.num_views = 3;
-    options.num_held_out = 1;
-    options.image_size = 48;
-    options.samples_per_axis = 1;
-    WriteSyntheticDataset(MakeSyntheticDataset(options), options, dir_ / "data");
+    WriteTinySyntheticSet(dir_ / "data");
     // The photos without their alpha: the matte stage computes the mattes.
     fs::create_directories(dir_ / "rgb");
     for (const auto& entry : fs::directory_iterator(dir_ / "data" / "photos")) {

@@ -8,6 +8,7 @@
 
 #include "datasets/synthetic/synthetic_dataset.h"
 #include "ui/pipeline/pipeline.h"
+#include "ui/pipeline/pipeline_test_util.h"
 
 namespace sylva {
 namespace {
@@ -25,12 +26,7 @@ class StageSummaryTest : public ::testing::Test {
   void SetUp() override {
     dir_ = fs::temp_directory_path() / ("sylva_stage_summary_" + std::to_string(getpid()));
     fs::remove_all(dir_);
-    SyntheticDatasetOptions options;
-    options.num_views = 3;
-    options.num_held_out = 1;
-    options.image_size = 48;
-    options.samples_per_axis = 1;
-    WriteSyntheticDataset(MakeSyntheticDataset(options), options, dir_ / "data");
+    WriteTinySyntheticSet(dir_ / "data");
     ProjectSetup setup;
     setup.root = dir_ / "project";
     setup.photos_dir = dir_ / "data" / "photos";
