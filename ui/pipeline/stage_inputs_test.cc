@@ -106,6 +106,24 @@ TEST_F(StageInputsTest, EveryDeclaredFileChangesTheKey) {
   ExpectEveryFileMatters(MakeProject("computed_mattes", false, options), options);
 }
 
+// The case that went stale (issue 13): the backdrop photo of
+// Matting.trimap=difference replaced in place by another picture under the
+// same name re-runs the matte stage.
+TEST_F(StageInputsTest, ABackdropReplacedInPlaceReRunsTheMattes) {
+  PipelineOptions options;
+  const fs::path backdrop = dir_ / "backdrop.png";
+  options.matte_stage.background_photo = backdrop.string();
+  const Project project = MakeProject("backdrop_replaced", false, options);
+  const Pipeline pipeline(project, options, nullptr);
+  const std::string matte = pipeline.StageKey(Stage::kMatte);
+  const auto time = fs::last_write_time(backdrop);
+  FloatImage picture = ReadImage(backdrop);
+  for (int c = 0; c < picture.channels(); ++c) picture.at(0, 0, c) = 1.0f - picture.at(0, 0, c);
+  WriteImage(backdrop, picture, PixelFormat::kUint8);
+  fs::last_write_time(backdrop, time + std::chrono::seconds(1));
+  EXPECT_NE(pipeline.StageKey(Stage::kMatte), matte);
+}
+
 // A value of the same type that differs from `text` (not always valid).
 std::string OtherValue(const OptionRegistry::Entry& entry, const std::string& text) {
   if (entry.type == "bool") return text == "true" ? "false" : "true";
