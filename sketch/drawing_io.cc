@@ -125,7 +125,9 @@ std::optional<Rgb> FunctionalColour(const std::string& text) {
     if (!std::getline(channels, channel, ',')) return std::nullopt;
     const bool percent = channel.find('%') != std::string::npos;
     try {
-      rgb[i] = std::clamp(std::stod(channel) / (percent ? 100.0 : 255.0), 0.0, 1.0);
+      const double v = std::stod(channel);
+      if (!std::isfinite(v)) return std::nullopt;
+      rgb[i] = std::clamp(v / (percent ? 100.0 : 255.0), 0.0, 1.0);
     } catch (const std::exception&) {
       return std::nullopt;
     }
@@ -191,6 +193,7 @@ SvgContext EnterElement(const SvgContext& parent, const XMLElement& element) {
     } catch (const InputError& error) {
       throw InputError("", "stroke-width: " + error.message());
     }
+    if (*context.stroke_width < 0) throw InputError("", "stroke-width is negative: " + *width);
   }
   return context;
 }

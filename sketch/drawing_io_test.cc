@@ -3,10 +3,12 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
 #include <string>
 
 #include "core/util/check.h"
 #include "core/util/file_util.h"
+#include "core/util/random.h"
 
 namespace sylva {
 namespace {
@@ -195,6 +197,10 @@ TEST(ReadSketchSvgTest, BadInputNamesTheFileAndElement) {
                                  "L1 1'/></svg>"),
                        "stroke-width"));
   EXPECT_TRUE(Contains(ReadError("a.svg",
+                                 "<svg viewBox='0 0 10 10'><g style='stroke-width:-2'><path "
+                                 "d='M0 0 L1 1'/></g></svg>"),
+                       "<g> on line 1: stroke-width is negative"));
+  EXPECT_TRUE(Contains(ReadError("a.svg",
                                  "<svg viewBox='0 0 10 10'><path d='M0 0 L1 1'/>"
                                  "<circle id='root'/><circle class='root'/></svg>"),
                        "second root"));
@@ -209,6 +215,48 @@ TEST(ReadSketchTest, UnknownExtensionNamesTheAcceptedOnes) {
   EXPECT_TRUE(Contains(message, "'.png'")) << message;
   EXPECT_TRUE(Contains(message, ".svg")) << message;
   EXPECT_TRUE(Contains(message, ".ndjson")) << message;
+}
+
+// Random edits of a valid file: each damaged file is read into a drawing
+// that passes Check or rejected with an InputError naming it; nothing else.
+void ExpectDamagedFilesRejectedCleanly(const std::string& name, const std::string& valid,
+                                       const std::string& alphabet, uint64_t seed) {
+  RandomEngine random(seed);
+  const fs::path path = WriteTestFile(name, valid);
+  int read = 0, rejected = 0;
+  for (int trial = 0; trial < 300; ++trial) {
+    std::string text = valid;
+    for (int edits = 1 + random.UniformInt(2); edits > 0 && !text.empty(); --edits) {
+      const size_t at = random.UniformInt(static_cast<uint32_t>(text.size()));
+      const uint32_t kind = random.UniformInt(4);
+      if (kind < 2) {
+        text[at] = alphabet[random.UniformInt(static_cast<uint32_t>(alphabet.size()))];
+      } else if (kind < 3) {
+        text.erase(at, 1 + random.UniformInt(8));
+      } else {
+        text.resize(at);
+      }
+    }
+    std::ofstream(path, std::ios::binary) << text;  // faster than an atomic write
+    SketchDrawing drawing;
+    try {
+      drawing = ReadSketch(path);
+    } catch (const InputError& error) {
+      EXPECT_EQ(error.source(), path.string());
+      ++rejected;
+      continue;
+    }
+    EXPECT_NO_THROW(drawing.Check()) << text;
+    ++read;
+  }
+  // Both outcomes occur, so the edits neither always break nor never matter.
+  EXPECT_GT(read, 10);
+  EXPECT_GT(rejected, 10);
+}
+
+TEST(ReadSketchSvgTest, DamagedFilesNeverCrash) {
+  ExpectDamagedFilesRejectedCleanly("damaged.svg", kLayeredSvg,
+                                    "<>/=\"' -+.,e0123456789MmLlHhCcAaZz():;#", 20261202);
 }
 
 // ---------------------------------------------------------------- Quick, Draw!
@@ -264,6 +312,12 @@ TEST(ReadQuickDrawTest, RealTreeDoodles) {
     with_crown += drawing.CountRole(StrokeRole::kCrown) > 0;
   }
   EXPECT_EQ(with_crown, 14);
+}
+
+TEST(ReadQuickDrawTest, DamagedFilesNeverCrash) {
+  const std::string doodle = ReadFileToString(SketchData("quickdraw/tree.ndjson"));
+  ExpectDamagedFilesRejectedCleanly("damaged.ndjson", doodle.substr(0, doodle.find('\n') + 1),
+                                    "[]{}\":,-.e0123456789 ", 20261203);
 }
 
 TEST(ReadQuickDrawTest, BadInputNamesTheFileAndLine) {
