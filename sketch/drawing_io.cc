@@ -198,22 +198,27 @@ SvgContext EnterElement(const SvgContext& parent, const XMLElement& element) {
   return context;
 }
 
+// SVG draws no stroke by default; "none" says so explicitly.
+bool HasStroke(const SvgContext& context) { return context.stroke && *context.stroke != "none"; }
+
 StrokeRole ShapeRole(const SvgContext& context, bool closed) {
   if (context.role) return *context.role;
   if (closed) return StrokeRole::kCrown;
   // The stroke colour, or the fill's for a shape drawn without a stroke.
   std::optional<Rgb> colour;
-  if (context.stroke && *context.stroke != "none") colour = ParseColour(*context.stroke);
-  if (!colour && (!context.stroke || *context.stroke == "none") && context.fill) {
+  if (HasStroke(context)) {
+    colour = ParseColour(*context.stroke);
+  } else if (context.fill) {
     colour = ParseColour(*context.fill);
   }
   if (colour && IsGreenish(*colour)) return StrokeRole::kCrown;
   return StrokeRole::kBranch;
 }
 
-// stroke-width in canvas pixels; 0 = unknown.
+// stroke-width in canvas pixels; 0 = unknown. A hand-written file often
+// gives a width without a stroke colour, so only an explicit "none" drops it.
 double ShapeWidth(const SvgContext& context) {
-  if (!context.stroke_width || context.stroke == std::optional<std::string>("none")) return 0;
+  if (!context.stroke_width || (context.stroke && *context.stroke == "none")) return 0;
   const double scale = std::sqrt(std::abs(context.canvas_from_user.linear().determinant()));
   return *context.stroke_width * scale;
 }
@@ -270,6 +275,7 @@ class SvgDrawingCollector {
     for (const Eigen::Vector2d& p : stroke.points) CheckNearCanvas(p, polyline.what);
     stroke.role = ShapeRole(context, stroke.closed);
     stroke.width = ShapeWidth(context);
+    if (!std::isfinite(stroke.width)) throw InputError("", "the stroke width overflows");
     drawing_->strokes.push_back(std::move(stroke));
   }
 
@@ -325,6 +331,13 @@ double ChordClosedArea(const std::vector<Eigen::Vector2d>& points) {
     twice_area += a.x() * b.y() - b.x() * a.y();
   }
   return std::abs(twice_area) / 2;
+}
+
+// Its end within kNearlyClosedGapFraction of its length of its start.
+bool IsNearlyClosed(const SketchStroke& stroke) {
+  const double gap = (stroke.points.back() - stroke.points.front()).norm();
+  return stroke.points.size() >= 3 &&
+         gap <= kNearlyClosedGapFraction * PolylineLength(stroke.points);
 }
 
 double MinY(const SketchStroke& s) {
@@ -388,8 +401,7 @@ bool IsQuickDrawCrown(const std::vector<SketchStroke>& strokes, size_t k,
   if (ChordClosedArea(stroke.points) < kCrownMinAreaFraction * extent.Area()) return false;
   // A closed shape on the ground under another stroke: a trunk drawn as an outline.
   if (StandsOnGround(stroke, extent) && AnotherStartsHigher(strokes, k)) return false;
-  const double gap = (stroke.points.back() - stroke.points.front()).norm();
-  if (gap <= kNearlyClosedGapFraction * PolylineLength(stroke.points)) return true;
+  if (IsNearlyClosed(stroke)) return true;
   // An open stroke is a crown only above a trunk: without one it may be anything.
   const std::optional<double> ground_top = GroundTop(strokes, k, extent);
   if (!ground_top) return false;
@@ -402,15 +414,14 @@ bool IsQuickDrawCrown(const std::vector<SketchStroke>& strokes, size_t k,
 
 void ClassifyQuickDrawStrokes(std::vector<SketchStroke>* strokes) {
   const DrawingExtent extent = ExtentOf(*strokes);
+  // Decide all before changing any: the rule looks at the other strokes.
   std::vector<bool> crown(strokes->size());
   for (size_t k = 0; k < strokes->size(); ++k) crown[k] = IsQuickDrawCrown(*strokes, k, extent);
   for (size_t k = 0; k < strokes->size(); ++k) {
     if (!crown[k]) continue;
     SketchStroke& stroke = (*strokes)[k];
     stroke.role = StrokeRole::kCrown;
-    const double gap = (stroke.points.back() - stroke.points.front()).norm();
-    stroke.closed = stroke.points.size() >= 3 &&
-                    gap <= kNearlyClosedGapFraction * PolylineLength(stroke.points);
+    stroke.closed = IsNearlyClosed(stroke);
   }
 }
 
@@ -465,10 +476,11 @@ SketchDrawing ReadSketchSvg(const std::filesystem::path& path) {
   const XMLElement& svg = ReadSvgDocument(path, &document);
   SketchDrawing drawing;
   drawing.source = path.string();
-  SvgContext context;
-  context.canvas_from_user = AtSvgElement(drawing.source, svg, [&] {
-    return Eigen::Affine2d(SetCanvas(svg, &drawing) *
-                           ParseSvgAttribute(svg, "transform", ParseSvgTransform));
+  // The root's own transform (SVG 2), style, class and label apply too.
+  const SvgContext context = AtSvgElement(drawing.source, svg, [&] {
+    SvgContext document;
+    document.canvas_from_user = SetCanvas(svg, &drawing);
+    return EnterElement(document, svg);
   });
   SvgDrawingCollector(&drawing).Walk(svg, context);
   SYLVA_CHECK_INPUT(!drawing.strokes.empty(), drawing.source)

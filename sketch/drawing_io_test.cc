@@ -144,6 +144,16 @@ TEST(ReadSketchSvgTest, CanvasFromWidthAndHeightWithoutViewBox) {
   EXPECT_EQ(drawing.strokes[0].points.size(), 3u);
 }
 
+TEST(ReadSketchSvgTest, TheRootElementsStyleAndClassApply) {
+  const SketchDrawing drawing =
+      ReadSketch(WriteTestFile("root_style.svg",
+                               "<svg viewBox='0 0 10 10' class='Crowns' style='stroke-width:0.5'>"
+                               "<line x1='1' x2='9' y1='5' y2='5'/></svg>"));
+  ASSERT_EQ(drawing.strokes.size(), 1u);
+  EXPECT_EQ(drawing.strokes[0].role, StrokeRole::kCrown);
+  EXPECT_EQ(drawing.strokes[0].width, 0.5);
+}
+
 TEST(ReadSketchSvgTest, RealOpenclipartDrawings) {
   // Crown and trunk drawn as solid black areas: 13 closed filled subpaths,
   // all crown outlines by the closed-shape rule (no layers, no colour cue
@@ -200,6 +210,11 @@ TEST(ReadSketchSvgTest, BadInputNamesTheFileAndElement) {
                                  "<svg viewBox='0 0 10 10'><g style='stroke-width:-2'><path "
                                  "d='M0 0 L1 1'/></g></svg>"),
                        "<g> on line 1: stroke-width is negative"));
+  EXPECT_TRUE(Contains(ReadError("a.svg",
+                                 "<svg viewBox='0 0 10 10'><line y2='1' "
+                                 "stroke-width='1e300' transform='matrix(1e20 0 0 1 0 "
+                                 "0)'/></svg>"),
+                       "width overflows"));
   EXPECT_TRUE(Contains(ReadError("a.svg",
                                  "<svg viewBox='0 0 10 10'><path d='M0 0 L1 1'/>"
                                  "<circle id='root'/><circle class='root'/></svg>"),
