@@ -144,6 +144,31 @@ TEST(ReadSketchSvgTest, CanvasFromWidthAndHeightWithoutViewBox) {
   EXPECT_EQ(drawing.strokes[0].points.size(), 3u);
 }
 
+TEST(ReadSketchSvgTest, TheHeadersExample) {
+  const SketchDrawing drawing = ReadSketch(WriteTestFile("example.svg", R"svg(
+<svg xmlns="http://www.w3.org/2000/svg"
+     xmlns:inkscape="http://www.inkscape.org/namespaces/inkscape"
+     width="200mm" height="300mm" viewBox="0 0 200 300">
+  <g inkscape:groupmode="layer" inkscape:label="Crown">
+    <ellipse cx="100" cy="90" rx="80" ry="70"/>
+  </g>
+  <g inkscape:label="branches" style="stroke:#6b4226;stroke-width:4">
+    <path d="M 100 290 C 102 200 98 150 100 120"/>
+  </g>
+  <path d="M 40 60 q 20 -30 50 -20" stroke="green"/>
+  <circle id="root" cx="100" cy="292" r="3"/>
+</svg>)svg"));
+  ASSERT_EQ(drawing.strokes.size(), 3u);
+  EXPECT_EQ(drawing.strokes[0].role, StrokeRole::kCrown);
+  EXPECT_TRUE(drawing.strokes[0].closed);
+  EXPECT_EQ(drawing.strokes[1].role, StrokeRole::kBranch);
+  EXPECT_EQ(drawing.strokes[1].width, 4);
+  EXPECT_EQ(drawing.strokes[2].role, StrokeRole::kCrown);
+  EXPECT_FALSE(drawing.strokes[2].closed);
+  ASSERT_TRUE(drawing.root);
+  ExpectPoint(*drawing.root, 100, 292);
+}
+
 TEST(ReadSketchSvgTest, TheRootElementsStyleAndClassApply) {
   const SketchDrawing drawing =
       ReadSketch(WriteTestFile("root_style.svg",
