@@ -10,6 +10,7 @@
 #include "core/io/json_util.h"
 #include "core/util/check.h"
 #include "core/util/file_util.h"
+#include "sketch/svg_element.h"
 #include "sketch/svg_geometry.h"
 
 namespace sylva {
@@ -32,84 +33,17 @@ Stroke MakeStroke(const std::vector<Eigen::Vector2d>& points) {
 
 // ---------------------------------------------------------------- SVG
 
-// The element name without a namespace prefix ("svg:path" -> "path").
-std::string LocalName(const XMLElement& element) {
-  const std::string name = element.Name();
-  const size_t colon = name.find(':');
-  return colon == std::string::npos ? name : name.substr(colon + 1);
-}
-
-bool IsContainer(const std::string& name) { return name == "g" || name == "a" || name == "svg"; }
 bool IsShape(const std::string& name) {
   return name == "path" || name == "polyline" || name == "polygon" || name == "line" ||
          name == "circle";
 }
 
-bool IsHidden(const XMLElement& element) {
-  const char* display = element.Attribute("display");
-  if (display != nullptr && std::string(display) == "none") return true;
-  const char* style = element.Attribute("style");
-  if (style == nullptr) return false;
-  std::string compact;
-  for (const char* c = style; *c != '\0'; ++c) {
-    if (!std::isspace(static_cast<unsigned char>(*c))) compact += *c;
-  }
-  return compact.find("display:none") != std::string::npos;
-}
-
-bool HasIdOrClass(const XMLElement& element, const std::string& word) {
-  const char* id = element.Attribute("id");
-  if (id != nullptr && word == id) return true;
-  const char* classes = element.Attribute("class");
-  if (classes == nullptr) return false;
-  std::istringstream words(classes);
-  std::string name;
-  while (words >> name) {
-    if (name == word) return true;
-  }
-  return false;
-}
-
-// Parses attribute `name` (an empty string if absent) with `parse`, adding
-// the attribute's name to a syntax error.
-template <typename Parse>
-auto ParseAttribute(const XMLElement& element, const char* name, Parse parse) {
-  const char* value = element.Attribute(name);
-  try {
-    return parse(std::string_view(value == nullptr ? "" : value));
-  } catch (const InputError& error) {
-    throw InputError("", std::string("attribute ") + name + ": " + error.message());
-  }
-}
-
-double LengthAttribute(const XMLElement& element, const char* name) {
-  if (element.Attribute(name) == nullptr) return 0;  // SVG's default for x1, cx, ...
-  return ParseAttribute(element, name, ParseSvgLength);
-}
-
 // The root <svg>'s user space mapped onto the photo (see strokes.h).
 Eigen::Affine2d PixelsFromDocument(const XMLElement& svg, int photo_width, int photo_height) {
-  Eigen::Vector2d origin = Eigen::Vector2d::Zero(), size;
-  if (svg.Attribute("viewBox") != nullptr) {
-    const std::vector<double> box = ParseAttribute(svg, "viewBox", ParseSvgNumbers);
-    if (box.size() != 4 || box[2] <= 0 || box[3] <= 0) {
-      throw InputError("", "viewBox must be 'min-x min-y width height' with a positive size");
-    }
-    origin = Eigen::Vector2d(box[0], box[1]);
-    size = Eigen::Vector2d(box[2], box[3]);
-  } else {
-    const char* width = svg.Attribute("width");
-    const char* height = svg.Attribute("height");
-    if (width == nullptr || height == nullptr ||
-        std::string(width).find('%') != std::string::npos ||
-        std::string(height).find('%') != std::string::npos) {
-      return Eigen::Affine2d::Identity();
-    }
-    size = Eigen::Vector2d(LengthAttribute(svg, "width"), LengthAttribute(svg, "height"));
-    if (size.minCoeff() <= 0) throw InputError("", "width and height must be positive");
-  }
-  return Eigen::Scaling(photo_width / size.x(), photo_height / size.y()) *
-         Eigen::Translation2d(-origin);
+  const std::optional<SvgViewport> viewport = ReadSvgViewport(svg);
+  if (!viewport) return Eigen::Affine2d::Identity();
+  return Eigen::Scaling(photo_width / viewport->size.x(), photo_height / viewport->size.y()) *
+         Eigen::Translation2d(-viewport->origin);
 }
 
 // Walks the element tree, collecting strokes and the root point in photo
@@ -121,13 +55,13 @@ class SvgStrokeCollector {
   void Walk(const XMLElement& parent, const Eigen::Affine2d& pixels_from_parent) {
     for (const XMLElement* child = parent.FirstChildElement(); child != nullptr;
          child = child->NextSiblingElement()) {
-      const std::string name = LocalName(*child);
-      if (!(IsContainer(name) || IsShape(name)) || IsHidden(*child)) continue;
+      const std::string name = SvgLocalName(*child);
+      if (!(IsSvgContainer(name) || IsShape(name)) || IsSvgHidden(*child)) continue;
       const Eigen::Affine2d pixels_from_child = AtElement(*child, [&] {
         return Eigen::Affine2d(pixels_from_parent *
-                               ParseAttribute(*child, "transform", ParseSvgTransform));
+                               ParseSvgAttribute(*child, "transform", ParseSvgTransform));
       });
-      if (IsContainer(name)) {
+      if (IsSvgContainer(name)) {
         Walk(*child, pixels_from_child);
       } else {
         AtElement(*child, [&] { AddShape(*child, name, pixels_from_child); });
@@ -138,50 +72,22 @@ class SvgStrokeCollector {
   // Runs `f`, adding the file and the element to an InputError.
   template <typename F>
   auto AtElement(const XMLElement& element, F f) -> decltype(f()) {
-    try {
-      return f();
-    } catch (const InputError& error) {
-      throw InputError(source_, Describe(element) + ": " + error.message());
-    }
+    return AtSvgElement(source_, element, f);
   }
 
  private:
-  static std::string Describe(const XMLElement& element) {
-    const char* id = element.Attribute("id");
-    return "<" + std::string(element.Name()) +
-           (id == nullptr ? "" : " id=\"" + std::string(id) + "\"") + "> on line " +
-           std::to_string(element.GetLineNum());
-  }
-
   void AddShape(const XMLElement& element, const std::string& name,
                 const Eigen::Affine2d& pixels_from_user) {
-    if (name == "path") {
-      const auto flatten = [&](std::string_view d) {
-        return FlattenSvgPath(d, pixels_from_user, kFlattenTolerancePixels);
-      };
-      const auto subpaths = ParseAttribute(element, "d", flatten);
-      for (size_t k = 0; k < subpaths.size(); ++k) {
-        AddStroke(subpaths[k], "subpath " + std::to_string(k + 1));
-      }
-    } else if (name == "polyline" || name == "polygon") {
-      const std::vector<double> xy = ParseAttribute(element, "points", ParseSvgNumbers);
-      if (xy.size() % 2 != 0) throw InputError("", "points: an odd number of coordinates");
-      std::vector<Eigen::Vector2d> points;
-      for (size_t i = 0; i + 1 < xy.size(); i += 2) {
-        points.push_back(pixels_from_user * Eigen::Vector2d(xy[i], xy[i + 1]));
-      }
-      if (name == "polygon" && !points.empty()) points.push_back(points.front());
-      AddStroke(points, "the points");
-    } else if (name == "line") {
-      AddStroke({pixels_from_user * Eigen::Vector2d(LengthAttribute(element, "x1"),
-                                                    LengthAttribute(element, "y1")),
-                 pixels_from_user * Eigen::Vector2d(LengthAttribute(element, "x2"),
-                                                    LengthAttribute(element, "y2"))},
-                "the line");
-    } else if (name == "circle" && HasIdOrClass(element, "root")) {
+    if (name == "circle") {
+      if (!SvgHasIdOrClass(element, "root")) return;  // other circles are ignored
       if (set_->root) throw InputError("", "a second root circle (there may be only one)");
-      set_->root = pixels_from_user *
-                   Eigen::Vector2d(LengthAttribute(element, "cx"), LengthAttribute(element, "cy"));
+      set_->root = pixels_from_user * Eigen::Vector2d(SvgLengthAttribute(element, "cx"),
+                                                      SvgLengthAttribute(element, "cy"));
+      return;
+    }
+    for (const SvgPolyline& polyline :
+         FlattenSvgShape(element, pixels_from_user, kFlattenTolerancePixels)) {
+      AddStroke(polyline.points, polyline.what);
     }
   }
 
@@ -248,15 +154,8 @@ void StrokeSet::Check(const std::string& source_name) const {
 StrokeSet ReadStrokesSvg(const std::filesystem::path& path, int photo_width, int photo_height) {
   SYLVA_CHECK(photo_width > 0 && photo_height > 0);
   const std::string source = path.string();
-  const std::string text = ReadFileToString(path);
   tinyxml2::XMLDocument document;
-  if (document.Parse(text.data(), text.size()) != tinyxml2::XML_SUCCESS) {
-    SYLVA_INPUT_ERROR(source) << "not valid XML (line " << document.ErrorLineNum()
-                              << "): " << document.ErrorStr();
-  }
-  const XMLElement* svg = document.RootElement();
-  SYLVA_CHECK_INPUT(svg != nullptr && LocalName(*svg) == "svg", source)
-      << "not an SVG file: the root element is not <svg>";
+  const XMLElement* svg = &ReadSvgDocument(path, &document);
   StrokeSet set;
   set.width = photo_width;
   set.height = photo_height;
