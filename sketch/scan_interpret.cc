@@ -202,9 +202,18 @@ cv::Mat RegionMask(const cv::Mat& labels, const std::vector<uchar>& chosen) {
   return mask;
 }
 
-cv::Mat Disc(double radius_px) {
-  const int size = 2 * static_cast<int>(std::ceil(radius_px)) + 1;
-  return cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(size, size));
+// Morphology by a disc of `radius_px` through the distance transform: O(pixels)
+// whatever the radius, where cv::dilate with a disc of 2 line widths costs
+// as many operations per pixel as the disc has pixels.
+cv::Mat Grow(const cv::Mat& mask, double radius_px) {
+  cv::Mat distance;
+  cv::distanceTransform(mask == 0, distance, cv::DIST_L2, cv::DIST_MASK_5);
+  return distance <= radius_px;
+}
+cv::Mat Shrink(const cv::Mat& mask, double radius_px) {
+  cv::Mat distance;
+  cv::distanceTransform(mask, distance, cv::DIST_L2, cv::DIST_MASK_5);
+  return distance > radius_px;
 }
 
 // The crown's inside: the large enclosed regions, with the small ones that
@@ -220,9 +229,8 @@ cv::Mat CrownMask(const cv::Mat& ink, const CrownOptions& options,
   cv::Mat mask = RegionMask(labels, large);
   std::vector<uchar> outside(enclosed.size());
   for (size_t c = 1; c < enclosed.size(); ++c) outside[c] = !enclosed[c];
-  cv::Mat near_crown, near_outside;
-  cv::dilate(mask, near_crown, Disc(2 * options.line_width_px));
-  cv::dilate(RegionMask(labels, outside), near_outside, Disc(2 * options.line_width_px));
+  const cv::Mat near_crown = Grow(mask, 2 * options.line_width_px);
+  const cv::Mat near_outside = Grow(RegionMask(labels, outside), 2 * options.line_width_px);
   std::vector<int> crown_side(enclosed.size(), 0), outside_side(enclosed.size(), 0);
   for (int y = 0; y < labels.rows; ++y) {
     for (int x = 0; x < labels.cols; ++x) {
@@ -235,7 +243,7 @@ cv::Mat CrownMask(const cv::Mat& ink, const CrownOptions& options,
     chosen[c] |= enclosed[c] && crown_side[c] > 0 && crown_side[c] >= outside_side[c];
   }
   mask = RegionMask(labels, chosen);
-  cv::morphologyEx(mask, mask, cv::MORPH_CLOSE, Disc(2 * options.line_width_px));
+  mask = Shrink(Grow(mask, 2 * options.line_width_px), 2 * options.line_width_px);
   for (const TracedStroke& stroke : strokes) {
     if (!stroke.trunk_pair) continue;
     std::vector<cv::Point> line;
@@ -251,7 +259,7 @@ cv::Mat CrownMask(const cv::Mat& ink, const CrownOptions& options,
 std::vector<std::vector<cv::Point>> CrownOutlines(const cv::Mat& ink, const CrownOptions& options,
                                                   const std::vector<TracedStroke>& strokes) {
   cv::Mat mask = CrownMask(ink, options, strokes);
-  cv::dilate(mask, mask, Disc(0.5 * (options.line_width_px - 1)));
+  mask = Grow(mask, 0.5 * (options.line_width_px - 1));
   std::vector<std::vector<cv::Point>> contours;
   cv::findContours(mask, contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_SIMPLE);
   const double min_area = options.min_area_fraction * cv::boundingRect(ink).area();
@@ -261,17 +269,39 @@ std::vector<std::vector<cv::Point>> CrownOutlines(const cv::Mat& ink, const Crow
   return contours;
 }
 
+// Distances (pixels) to one outline over its bounding box grown by
+// `margin_px`: a point near the outline is looked up, not searched for.
+struct OutlineDistance {
+  cv::Rect box;
+  cv::Mat distance;  // CV_32F over `box`
+
+  OutlineDistance(const std::vector<cv::Point>& outline, const cv::Size& page, int margin_px) {
+    box = cv::boundingRect(outline);
+    box -= cv::Point(margin_px, margin_px);
+    box += cv::Size(2 * margin_px, 2 * margin_px);
+    box &= cv::Rect(cv::Point(0, 0), page);
+    cv::Mat shifted(box.size(), CV_8U, cv::Scalar(255));
+    std::vector<cv::Point> local;
+    for (const cv::Point& p : outline) local.push_back(p - box.tl());
+    cv::polylines(shifted, local, true, cv::Scalar(0), 1, cv::LINE_8);
+    cv::distanceTransform(shifted, distance, cv::DIST_L2, cv::DIST_MASK_3);
+  }
+
+  bool Near(const Eigen::Vector2d& p, double near_px) const {
+    const cv::Point q(static_cast<int>(std::lround(p.x())), static_cast<int>(std::lround(p.y())));
+    return box.contains(q) && distance.at<float>(q - box.tl()) <= near_px;
+  }
+};
+
 // The outline most of the stroke lies on, or -1.
-int OutlineOf(const TracedStroke& stroke, const std::vector<std::vector<cv::Point>>& outlines,
+int OutlineOf(const TracedStroke& stroke, const std::vector<OutlineDistance>& outlines,
               const CrownOptions& options) {
   const double near_px = options.line_width_px + 1;
   const std::vector<Eigen::Vector2d>& points = stroke.edge.points;
   for (size_t o = 0; o < outlines.size(); ++o) {
-    int on = 0;
-    for (const Eigen::Vector2d& p : points) {
-      const cv::Point2f q(static_cast<float>(p.x()), static_cast<float>(p.y()));
-      on += std::abs(cv::pointPolygonTest(outlines[o], q, true)) <= near_px;
-    }
+    const auto on = std::count_if(points.begin(), points.end(), [&](const Eigen::Vector2d& p) {
+      return outlines[o].Near(p, near_px);
+    });
     if (on >= options.on_outline_fraction * points.size()) return static_cast<int>(o);
   }
   return -1;
@@ -338,11 +368,14 @@ int MergeTrunkPairs(const cv::Mat& ink, const TrunkPairOptions& options,
 void MarkCrownStrokes(const cv::Mat& ink, const CrownOptions& options,
                       std::vector<TracedStroke>& strokes) {
   const std::vector<std::vector<cv::Point>> outlines = CrownOutlines(ink, options, strokes);
+  std::vector<OutlineDistance> distances;
+  const int margin_px = static_cast<int>(std::ceil(options.line_width_px)) + 3;
+  for (const auto& outline : outlines) distances.emplace_back(outline, ink.size(), margin_px);
   std::vector<double> width_sum(outlines.size(), 0.0);
   std::vector<int> on_outline(outlines.size(), 0);
   std::vector<TracedStroke> result;
   for (TracedStroke& stroke : strokes) {
-    const int outline = stroke.trunk_pair ? -1 : OutlineOf(stroke, outlines, options);
+    const int outline = stroke.trunk_pair ? -1 : OutlineOf(stroke, distances, options);
     if (outline < 0) {
       result.push_back(std::move(stroke));
     } else {

@@ -123,7 +123,8 @@ class SkeletonTracer {
   void FindNodes() {
     std::vector<int> junction_indices;
     std::vector<cv::Point> junction_pixels;
-    for (int index = 0; index < static_cast<int>(padded_.total()); ++index) {
+    const int total = static_cast<int>(padded_.total());
+    for (int index = 0; index < total; ++index) {
       if (!data()[index]) continue;
       const int crossings = CrossingNumber(Code(index));
       if (crossings == 1) {
@@ -222,7 +223,8 @@ class SkeletonTracer {
   // Closed curves with no junction or end (a crown drawn as one loop) are
   // not reached from any node.
   void TraceLeftoverLoops() {
-    for (int index = 0; index < static_cast<int>(padded_.total()); ++index) {
+    const int total = static_cast<int>(padded_.total());
+    for (int index = 0; index < total; ++index) {
       if (!data()[index] || node_of_[index] >= 0 || visited_[index]) continue;
       SkeletonEdge loop{-1, -1, {Position(index)}, true};
       visited_[index] = true;
@@ -338,7 +340,8 @@ cv::Mat ThinZhangSuen(const cv::Mat& ink) {
   };
   std::vector<uchar> listed(image.total(), 0);
   std::vector<int> candidates;
-  for (int index = 0; index < static_cast<int>(image.total()); ++index) {
+  const int total = static_cast<int>(image.total());
+  for (int index = 0; index < total; ++index) {
     if (data[index] && inside(index) && NeighbourCode(data, index, offsets) != 255) {
       candidates.push_back(index);
       listed[index] = 1;
