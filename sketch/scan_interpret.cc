@@ -61,16 +61,12 @@ bool Opposite(const Sample& a, const Sample& b, const TrunkPairOptions& options,
   return true;
 }
 
-// Whether the paper shows between a and b (a trunk's inside is not inked;
-// two branches with a third between them are no trunk).
+// Whether the paper shows midway between a and b (a trunk's inside is not
+// inked; two branches with a third between them are no trunk).
 bool PaperBetween(const cv::Mat& ink, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
-  for (double t : {0.25, 0.5, 0.75}) {
-    const Eigen::Vector2d p = a + t * (b - a);
-    if (ink.at<uchar>(static_cast<int>(std::lround(p.y())), static_cast<int>(std::lround(p.x())))) {
-      return false;
-    }
-  }
-  return true;
+  const Eigen::Vector2d middle = 0.5 * (a + b);
+  return !ink.at<uchar>(static_cast<int>(std::lround(middle.y())),
+                        static_cast<int>(std::lround(middle.x())));
 }
 
 // For each sample, the nearest opposite sample (-1 if none), by a grid of
@@ -109,6 +105,8 @@ std::vector<int> MatchSamples(const cv::Mat& ink, const std::vector<Sample>& sam
   return partner;
 }
 
+constexpr int kMaxRunGap = 3;
+
 // A stretch of one stroke's samples [first, last] matched to one partner
 // stroke.
 struct Run {
@@ -117,7 +115,8 @@ struct Run {
 };
 
 // Maximal runs of matched samples with the same partner stroke along each
-// stroke (samples are in stroke order), bridging single unmatched samples.
+// stroke (samples are in stroke order), bridging up to kMaxRunGap
+// unmatched samples (where a hand-drawn outline wobbles out of parallel).
 std::vector<Run> FindRuns(const std::vector<Sample>& samples, const std::vector<int>& partner) {
   std::vector<Run> runs;
   for (int i = 0; i < static_cast<int>(samples.size()); ++i) {
@@ -125,7 +124,7 @@ std::vector<Run> FindRuns(const std::vector<Sample>& samples, const std::vector<
     const int other = samples[partner[i]].stroke;
     const bool continues = !runs.empty() && runs.back().partner_stroke == other &&
                            samples[runs.back().last].stroke == samples[i].stroke &&
-                           i - runs.back().last <= 2;
+                           i - runs.back().last <= kMaxRunGap + 1;
     if (continues) {
       runs.back().last = i;
     } else {
@@ -343,6 +342,9 @@ int MergeTrunkPairs(const cv::Mat& ink, const TrunkPairOptions& options,
     trunk.width = Median(separations);
     const double length = samples[run.last].arc - samples[run.first].arc;
     if (length < options.min_length_separations * trunk.width) continue;
+    double base_y = -1e300;
+    for (const Eigen::Vector2d& p : trunk.edge.points) base_y = std::max(base_y, p.y());
+    if (base_y < options.min_base_y_px) continue;
     cuts[stroke].push_back({samples[run.first].arc - spacing, samples[run.last].arc + spacing});
     cuts[run.partner_stroke].push_back({partner_min - spacing, partner_max + spacing});
     trunks.push_back(std::move(trunk));

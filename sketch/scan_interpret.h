@@ -26,7 +26,10 @@ struct TrunkPairOptions {
   double min_separation_px = 2.0;
   double max_separation_px = 50.0;
   double max_angle_rad = 0.35;
-  double min_length_separations = 2.5;
+  double min_length_separations = 2.0;
+  // A trunk reaches the ground: the pair's lowest point must lie below
+  // this (pixels, y down).
+  double min_base_y_px = 0.0;
 };
 
 // Replaces outline pairs with paper between them (`ink`: CV_8U, non-zero =

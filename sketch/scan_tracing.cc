@@ -238,6 +238,7 @@ void Interpret(const cv::Mat& ink, const ScanTracingOptions& options, ScanTracin
                options.trunk_max_separation_fraction * std::max(box.width, box.height));
   trunk.max_angle_rad = options.trunk_max_angle_deg * kDegree;
   trunk.min_length_separations = options.trunk_min_length_separations;
+  trunk.min_base_y_px = box.y + box.height * (1 - options.trunk_max_base_height_fraction);
   summary.trunk_pairs = scan::MergeTrunkPairs(ink, trunk, strokes);
   scan::CrownOptions crown;
   crown.line_width_px = w;
@@ -281,6 +282,9 @@ void ScanTracingOptions::Check() const {
   SYLVA_CHECK_INPUT(in_range(trunk_min_length_separations, 0, 1e3),
                     "ScanTracing.trunk_min_length_separations")
       << "must be in [0, 1000] separations, got " << trunk_min_length_separations;
+  SYLVA_CHECK_INPUT(in_range(trunk_max_base_height_fraction, 0, 1),
+                    "ScanTracing.trunk_max_base_height_fraction")
+      << "must be in [0, 1] of the drawing's height, got " << trunk_max_base_height_fraction;
   SYLVA_CHECK_INPUT(in_range(crown_min_area_fraction, 0, 1), "ScanTracing.crown_min_area_fraction")
       << "must be in [0, 1] of the ink's bounding box, got " << crown_min_area_fraction;
   SYLVA_CHECK_INPUT(in_range(crown_on_outline_fraction, 0, 1),

@@ -29,23 +29,29 @@
 //      side -- at each sample of one, a sample of the other lies across it
 //      (within trunk_max_angle_deg of the normal), nearly parallel (the same
 //      angle), trunk_min_separation_widths line widths to
-//      trunk_max_separation_fraction of the drawing's size apart -- for at
-//      least trunk_min_length_separations times their separation, become one
-//      branch stroke along their middle whose width is their distance (centre
-//      line to centre line). What is left of the two outlines beyond the pair
-//      is kept if longer than twice their separation (a U's bottom cap is
-//      not).
+//      trunk_max_separation_fraction of the drawing's size apart, with paper
+//      between them -- for at least trunk_min_length_separations times their
+//      separation, and reaching down to the drawing's base
+//      (trunk_max_base_height_fraction), become one branch stroke along their
+//      middle whose width is their distance (centre line to centre line).
+//      What is left of the two outlines beyond the pair is kept if longer
+//      than twice their separation (a U's bottom cap is not).
 //   6. Crown outline vs branches: the paper regions the ink encloses (not
-//      reaching the page's edge) that are larger than crown_min_area_fraction
-//      of the ink's bounding box are the crown's inside; merged across the
-//      strokes that split them (a closing by two line widths), their outer
-//      boundary is the crown outline. A stroke at least
-//      crown_on_outline_fraction of whose length lies on that boundary
-//      (within a line width and a half of it) is a crown stroke; the crown
-//      strokes of one outline are chained through their shared nodes into one
-//      closed stroke where they close. Everything else is a branch. So a tree
-//      drawn as a closed cloud with branches inside gives a closed crown and
-//      branch strokes; a crown drawn open (never closing) is not a crown.
+//      reaching the page's edge) larger than crown_min_area_fraction of the
+//      ink's bounding box are the crown's inside, with the smaller enclosed
+//      pockets that lie more next to them than next to the open paper (where
+//      a branch touches the outline from inside; not the gap of a fork below
+//      the crown), merged across the strokes between them (a closing by two
+//      line widths), without the inside of trunk pairs. The outer boundary of
+//      each such part, grown by half a line width, runs along the centre of
+//      the drawn outline. A stroke at least crown_on_outline_fraction of
+//      whose points lie within a line width of it is part of it: the strokes
+//      of each outline that has any are replaced by one closed crown stroke
+//      along it (width: theirs). Everything else is a branch. So a tree
+//      drawn as a closed cloud with branches inside gives one closed crown
+//      whatever touches or splits its outline; a crown drawn open (not
+//      enclosing paper) is not a crown, and a tiered crown whose tiers do not
+//      touch gives one crown per tier.
 //   The root is the lowest end of the branch strokes.
 // Coordinates are canvas pixels (drawing.h): pixel centres at +0.5.
 #ifndef SYLVA_SKETCH_SCAN_TRACING_H_
@@ -84,13 +90,18 @@ struct ScanTracingOptions {
   // ... if each end points at the other within this angle (degrees).
   double gap_max_angle_deg = 30.0;
   // Trunk outline pairs: centre lines at least this many line widths apart,
-  double trunk_min_separation_widths = 2.0;
+  double trunk_min_separation_widths = 1.5;
   // at most this fraction of the ink's bounding-box size (the larger side),
   double trunk_max_separation_fraction = 0.08;
   // parallel (and across each other) within this angle (degrees),
   double trunk_max_angle_deg = 20.0;
-  // for at least this many times their separation along the lines.
-  double trunk_min_length_separations = 2.5;
+  // for at least this many times their separation along the lines,
+  double trunk_min_length_separations = 2.0;
+  // reaching down to the drawing's base: their lowest point at most this
+  // fraction of the ink's bounding-box height above the ink's lowest point.
+  // (Branches drawn as outline pairs higher up stay two strokes: parallel
+  // fronds and needles, which hand sketches are full of, look the same.)
+  double trunk_max_base_height_fraction = 0.15;
   // Enclosed paper regions this large (fraction of the ink's bounding-box
   // area) are the inside of a crown.
   double crown_min_area_fraction = 0.02;
