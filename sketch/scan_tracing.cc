@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <optional>
 #include <sstream>
 #include <utility>
 
@@ -163,8 +164,26 @@ std::vector<Eigen::Vector2d> Simplify(const std::vector<Eigen::Vector2d>& points
   return simplified;
 }
 
+// The tree's base: the lowest end of a trunk drawn as two outlines if there
+// is one (the scraps of its bottom cap are lower but no trunk), else of any
+// branch stroke. Pixel coordinates.
+std::optional<Eigen::Vector2d> Root(const std::vector<scan::TracedStroke>& traced) {
+  const bool has_trunk = std::any_of(traced.begin(), traced.end(),
+                                     [](const scan::TracedStroke& t) { return t.trunk_pair; });
+  std::optional<Eigen::Vector2d> root;
+  for (const scan::TracedStroke& t : traced) {
+    if (t.role != StrokeRole::kBranch || t.edge.points.empty() || (has_trunk && !t.trunk_pair)) {
+      continue;
+    }
+    for (const Eigen::Vector2d& end : {t.edge.points.front(), t.edge.points.back()}) {
+      if (!root || end.y() > root->y()) root = end;
+    }
+  }
+  return root;
+}
+
 // Traced strokes -> the drawing: simplified, in canvas coordinates (pixel
-// centres at +0.5), the root at the lowest branch end.
+// centres at +0.5).
 SketchDrawing ToDrawing(const std::vector<scan::TracedStroke>& traced, const cv::Size& size,
                         const std::string& source, double tolerance_px) {
   SketchDrawing drawing;
@@ -181,13 +200,9 @@ SketchDrawing ToDrawing(const std::vector<scan::TracedStroke>& traced, const cv:
     stroke.role = t.role;
     stroke.closed = t.edge.closed;
     stroke.width = t.width;
-    if (stroke.role == StrokeRole::kBranch) {
-      for (const Eigen::Vector2d& end : {stroke.points.front(), stroke.points.back()}) {
-        if (!drawing.root || end.y() > drawing.root->y()) drawing.root = end;
-      }
-    }
     drawing.strokes.push_back(std::move(stroke));
   }
+  if (const std::optional<Eigen::Vector2d> root = Root(traced)) drawing.root = *root + to_canvas;
   return drawing;
 }
 

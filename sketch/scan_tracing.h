@@ -52,7 +52,8 @@
 //      whatever touches or splits its outline; a crown drawn open (not
 //      enclosing paper) is not a crown, and a tiered crown whose tiers do not
 //      touch gives one crown per tier.
-//   The root is the lowest end of the branch strokes.
+//   The root is the lowest end of the trunk drawn as two outlines, if there
+//   is one, else of the branch strokes.
 // Coordinates are canvas pixels (drawing.h): pixel centres at +0.5.
 #ifndef SYLVA_SKETCH_SCAN_TRACING_H_
 #define SYLVA_SKETCH_SCAN_TRACING_H_

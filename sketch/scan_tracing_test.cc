@@ -236,6 +236,10 @@ TEST(ScanTracingTest, RealTreeSketchNetSketch) {
   EXPECT_GE(drawing.CountRole(StrokeRole::kBranch), 20);
   EXPECT_GE(summary.trunk_pairs, 1);
   EXPECT_NEAR(summary.line_width_px, 5, 2);
+  // The trunk's two outlines meet the page's bottom edge at x = 310 and 323.
+  ASSERT_TRUE(drawing.root.has_value());
+  EXPECT_NEAR(drawing.root->x(), 317, 5);
+  EXPECT_GT(drawing.root->y(), 590);
   // The crown encloses most of the drawing.
   const SketchStroke* crown = FindClosedCrown(drawing);
   ASSERT_NE(crown, nullptr);

@@ -47,6 +47,7 @@ int Run(int argc, char** argv) {
     ScanTracingSummary summary;
     const SketchDrawing drawing = TraceScannedDrawing(image, ScanTracingOptions(), &summary);
     std::printf("%s: %s\n", image.filename().c_str(), summary.BriefReport().c_str());
+    if (drawing.root) std::printf("  root (%.1f, %.1f)\n", drawing.root->x(), drawing.root->y());
     if (!out_dir.empty()) {
       WriteOverlay(image, drawing, out_dir / (image.stem().string() + "_strokes.png"));
     }
