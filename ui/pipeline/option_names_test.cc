@@ -30,6 +30,7 @@ const std::map<std::string, std::string> kInternalSections = {
     {"CrownVolume", "set from TreeMetrics.* by the mesh stage"},
     {"Phyllotaxis", "a library struct; the pipeline checks its values as Leaves.* first"},
     {"QsmToSkeleton", "sylva mesh-qsm's --merge flag"},
+    {"ScanTracing", "the scanned-drawing reader; to be registered with sylva sketch (issue 14)"},
 };
 // Single fields of registered sections that no command sets, and why.
 const std::map<std::string, std::string> kInternalOptions = {
