@@ -12,6 +12,7 @@
 #include "core/io/json_util.h"
 #include "core/util/check.h"
 #include "core/util/file_util.h"
+#include "sketch/scan_tracing.h"
 #include "sketch/svg_element.h"
 #include "sketch/svg_geometry.h"
 
@@ -511,9 +512,13 @@ SketchDrawing ReadSketch(const std::filesystem::path& path, int index) {
   const std::string extension = Lower(path.extension().string());
   if (extension == ".svg") return ReadSketchSvg(path);
   if (extension == ".ndjson") return ReadQuickDrawNdjson(path, index);
-  // Scanned drawings (.png, .jpg, .tif) are dispatched here once their reader exists.
-  SYLVA_INPUT_ERROR(path.string()) << "unknown drawing file type '" << extension
-                                   << "': expected .svg (Inkscape) or .ndjson (Quick, Draw!)";
+  for (const char* scan : {".png", ".jpg", ".jpeg", ".tif", ".tiff"}) {
+    if (extension == scan) return TraceScannedDrawing(path, ScanTracingOptions());
+  }
+  SYLVA_INPUT_ERROR(path.string())
+      << "unknown drawing file type '" << extension
+      << "': expected .svg (Inkscape), .ndjson (Quick, Draw!) or a scanned drawing "
+         "(.png, .jpg, .jpeg, .tif, .tiff)";
   return SketchDrawing();
 }
 

@@ -81,9 +81,11 @@ SketchDrawing ReadSketchSvg(const std::filesystem::path& path);
 // out of range or the line is not a valid drawing.
 SketchDrawing ReadQuickDrawNdjson(const std::filesystem::path& path, int index);
 
-// By extension (case-insensitive): .svg (ReadSketchSvg, `index` ignored) or
-// .ndjson (ReadQuickDrawNdjson); any other is an InputError naming the
-// accepted extensions.
+// By extension (case-insensitive): .svg (ReadSketchSvg, `index` ignored),
+// .ndjson (ReadQuickDrawNdjson), or a scanned or photographed drawing .png,
+// .jpg, .jpeg, .tif, .tiff (TraceScannedDrawing with the default
+// ScanTracingOptions); any other is an InputError naming the accepted
+// extensions.
 SketchDrawing ReadSketch(const std::filesystem::path& path, int index = 0);
 
 }  // namespace sylva

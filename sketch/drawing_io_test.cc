@@ -251,10 +251,13 @@ TEST(ReadSketchSvgTest, BadInputNamesTheFileAndElement) {
 }
 
 TEST(ReadSketchTest, UnknownExtensionNamesTheAcceptedOnes) {
-  const std::string message = ReadError("tree.png", "not read");
-  EXPECT_TRUE(Contains(message, "'.png'")) << message;
+  const std::string message = ReadError("tree.txt", "not read");
+  EXPECT_TRUE(Contains(message, "'.txt'")) << message;
   EXPECT_TRUE(Contains(message, ".svg")) << message;
   EXPECT_TRUE(Contains(message, ".ndjson")) << message;
+  EXPECT_TRUE(Contains(message, ".png")) << message;
+  // A corrupt scan is the tracer's InputError naming the file.
+  EXPECT_FALSE(ReadError("tree.png", "not a picture").empty());
 }
 
 // Random edits of a valid file: each damaged file is read into a drawing
@@ -381,6 +384,20 @@ TEST(ReadQuickDrawTest, BadInputNamesTheFileAndLine) {
   EXPECT_TRUE(Contains(ReadError("a.ndjson", R"({"drawing":[]})"), "no strokes"));
   EXPECT_TRUE(Contains(ReadError(SketchData("quickdraw/tree.ndjson"), kQuickDrawTrees),
                        "the file has 15 lines"));
+}
+
+}  // namespace
+}  // namespace sylva
+
+namespace sylva {
+namespace {
+
+// ReadSketch traces a scanned drawing.
+TEST(ReadSketchTest, ScansAreTraced) {
+  const SketchDrawing maple = ReadSketch(SketchData("treesketchnet/2_camera_right.png"));
+  EXPECT_NO_THROW(maple.Check());
+  EXPECT_GE(maple.CountRole(StrokeRole::kCrown), 1);
+  EXPECT_GE(maple.CountRole(StrokeRole::kBranch), 20);
 }
 
 }  // namespace
