@@ -354,7 +354,8 @@ void RegisterLeaves(LeafOptions* o, OptionRegistry* r) {
 // RegisterGeometry's parts, in registration order: bark, twigs, leaf shapes.
 void RegisterBarkGeometry(TreeGeometryOptions* o, OptionRegistry* r) {
   r->AddBool("BranchMesh.watertight", &o->watertight_bark,
-             "one closed 2-manifold bark mesh with joints at junctions (thesis 5.3); false = "
+             "closed, outward 2-manifold bark with joints at junctions (thesis 5.3): one solid "
+             "per root plus one per lateral left unattached (counted in the summary); false = "
              "overlapping tubes");
   r->AddDouble("BranchMesh.sphere_margin", &o->bark.sphere_margin, "",
                "junction spheres (eq. 5.25) enlarged by this fraction");

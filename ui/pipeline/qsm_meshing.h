@@ -36,8 +36,10 @@ struct QsmMeshing {
 // start lies within this fraction of their radius of the parent's axis hang
 // from it directly; avoids sub-millimetre connector edges of float32 tables).
 // Children starting inside their parent cylinder always hang from it
-// (merge_inside_parent), and the tubes' polygons have the circle's area
-// (BranchMeshOptions::circle_area). The brief and the figures below tell
+// (merge_inside_parent), and the watertight bark's polygons have the
+// circle's area (BranchMeshOptions::circle_area; the overlapping tubes of
+// BranchMesh.watertight=false keep inscribed polygons and no bark figures
+// in the brief). The brief and the figures below tell
 // whether the bark is what it should be.
 QsmMeshing MeshQsm(const QsmModel& qsm, const PipelineOptions& options, double merge_fraction);
 
