@@ -93,7 +93,7 @@ void TraceOnPhoto(const Project& project, const ImageSet& views, int v,
   const std::string& name = views.views[v].name;
   const Camera& camera = views.CameraOf(v);
   const FloatImage photo = ReadImage(project.PhotoPath(name));
-  const FloatImage matte = project.LoadMatte(views, v);
+  const FloatImage matte = project.LoadEditedMatte(views, v);
   SYLVA_CHECK_INPUT(photo.width() == camera.width() && photo.height() == camera.height(),
                     project.PhotoPath(name).string())
       << "the photo is " << photo.width() << "x" << photo.height() << " but its camera is "

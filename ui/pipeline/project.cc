@@ -11,6 +11,7 @@
 #include "core/util/check.h"
 #include "core/util/file_util.h"
 #include "core/util/threading.h"
+#include "reconstruct/density/density_edits.h"
 #include "reconstruct/registration/loose_setup_io.h"
 
 namespace sylva {
@@ -332,6 +333,18 @@ FloatImage Project::LoadMatte(const ImageSet& image_set, int view_idx) const {
   const View& view = image_set.views.at(view_idx);
   const Camera& camera = image_set.CameraOf(view);
   return LoadMatte(view.name, camera.width(), camera.height());
+}
+
+fs::path Project::DensityEditPath(const std::string& view_name) const {
+  return FindMatteFile(EditsDir() / "density", view_name);
+}
+
+FloatImage Project::LoadEditedMatte(const ImageSet& image_set, int view_idx) const {
+  FloatImage matte = LoadMatte(image_set, view_idx);
+  const std::string& name = image_set.views.at(view_idx).name;
+  const fs::path edit = DensityEditPath(name);
+  if (!edit.empty() && !IsHeldOut(name)) ApplyDensityEdit(ReadImage(edit), edit.string(), &matte);
+  return matte;
 }
 
 FloatImage Project::LoadMatte(const std::string& view_name, int width, int height) const {

@@ -9,7 +9,8 @@
 //   PROJECT/edits/       what a person made: trimaps/<photo>.png (painted
 //                        matting hints), <photo>.strokes.svg|json (drawn
 //                        attractor strokes), <photo>.attractors.json (a whole
-//                        attractor graph), painted density
+//                        attractor graph), density/<photo>.png (painted
+//                        density, reconstruct/density/density_edits.h)
 //   PROJECT/cache/       stage records keyed by a hash of their inputs; the
 //                        COLMAP workspace (cache/colmap/)
 //   PROJECT/out/         outputs: cameras/ (the registered cameras in sylva's
@@ -130,8 +131,16 @@ class Project {
   // or edits/<name>.strokes.json (SVG first); empty paths if none exist.
   fs::path AttractorEditPath(const std::string& view_name) const;
   fs::path StrokesPath(const std::string& view_name) const;
+  // Density painted on a photo (reconstruct/density/density_edits.h):
+  // edits/density/<name>.png (any image extension, with alpha); empty path
+  // if there is none.
+  fs::path DensityEditPath(const std::string& view_name) const;
   // Reads and validates a view's matte: the camera's size, not empty.
   FloatImage LoadMatte(const ImageSet& image_set, int view_idx) const;
+  // The matte the stages from the density on read: LoadMatte with the
+  // view's density edit mixed in (held-out views are left as they are:
+  // they judge the reconstruction).
+  FloatImage LoadEditedMatte(const ImageSet& image_set, int view_idx) const;
   // Reads and validates the matte of a photo of the given size.
   FloatImage LoadMatte(const std::string& view_name, int width, int height) const;
 

@@ -165,7 +165,7 @@ Registration RegisterGiven(const Project& project) {
 // found from the cameras and the mattes.
 void TakeIntoWorldFrame(const StageContext& context, Registration* registration) {
   const std::vector<FloatImage> mattes =
-      context.LoadMattes(registration->cameras, "register: reading mattes");
+      context.LoadMattes(registration->cameras, "register: reading mattes", /*edited=*/false);
   const WorldFrame frame =
       EstimateWorldFrame(registration->cameras, mattes, context.options.world_frame);
   registration->cameras = TransformCameras(registration->cameras, frame);

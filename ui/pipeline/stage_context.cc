@@ -57,14 +57,14 @@ ImageSet StageContext::InputViews() const {
   return inputs;
 }
 
-std::vector<FloatImage> StageContext::LoadMattes(const ImageSet& image_set,
-                                                 const std::string& task) const {
+std::vector<FloatImage> StageContext::LoadMattes(const ImageSet& image_set, const std::string& task,
+                                                 bool edited) const {
   ProgressTask progress_task(progress, task);
   std::vector<FloatImage> mattes(image_set.NumViews());
   progress_task.Update(0.0);
   ParallelForFirstError(image_set.NumViews(), [&](int v) {
     progress_task.CheckCancelled();
-    mattes[v] = project.LoadMatte(image_set, v);
+    mattes[v] = edited ? project.LoadEditedMatte(image_set, v) : project.LoadMatte(image_set, v);
   });
   progress_task.Update(1.0);
   return mattes;

@@ -67,7 +67,10 @@ struct StageContext {
   // The views used for the reconstruction (all but the held-out ones).
   ImageSet InputViews() const;
   // Every view's matte, decoded in parallel (first view's error thrown).
-  std::vector<FloatImage> LoadMattes(const ImageSet& image_set, const std::string& task) const;
+  // `edited`: with the density edits mixed in (Project::LoadEditedMatte), as
+  // every stage from the density on reads them.
+  std::vector<FloatImage> LoadMattes(const ImageSet& image_set, const std::string& task,
+                                     bool edited = true) const;
   // The world units of the registered cameras: the register stage's (set by
   // WorldFrame.known_height or a loose-camera file's height), else the
   // project's.

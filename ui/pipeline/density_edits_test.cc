@@ -1,0 +1,124 @@
+// Density painted on the photos (edits/density/<photo>.png): painting
+// opacity in where the tree has none grows density there, painting it out of
+// the crown empties it, and only the density stage and what follows re-run.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <string>
+#include <utility>
+
+#include "core/io/image_io.h"
+#include "core/io/vdb_io.h"
+#include "datasets/synthetic/synthetic_dataset.h"
+#include "ui/pipeline/pipeline.h"
+#include "ui/pipeline/project.h"
+
+namespace sylva {
+namespace {
+
+namespace fs = std::filesystem;
+
+// The opacity the grid holds within `radius` of `center` (world).
+double OpacityNear(const DensityGrid& grid, const Eigen::Vector3d& center, double radius) {
+  double sum = 0.0;
+  grid.ForEachActive([&](const Eigen::Vector3i& ijk, float value) {
+    if ((grid.WorldFromIndex(ijk.cast<double>()) - center).norm() <= radius) sum += value;
+  });
+  return sum;
+}
+
+// Paints, in every view of `cameras`, the disc a ball of `radius` at
+// `center` projects to: alpha 1, grey `value` (1 add, 0 remove). Each
+// photo's edit accumulates the balls painted on it.
+class DensityPainter {
+ public:
+  DensityPainter(const Project& project, ImageSet cameras)
+      : project_(project), cameras_(std::move(cameras)) {}
+
+  void PaintBall(const Eigen::Vector3d& center, double radius, float value) {
+    for (int v = 0; v < cameras_.NumViews(); ++v) {
+      const Camera& camera = cameras_.CameraOf(v);
+      const fs::path path = project_.EditsDir() / "density" /
+                            fs::path(cameras_.views[v].name).replace_extension(".png");
+      FloatImage edit =
+          fs::exists(path) ? ReadImage(path) : FloatImage(camera.width(), camera.height(), 4, 0.0f);
+      Eigen::Vector2d middle, top;
+      ASSERT_TRUE(cameras_.Project(v, center, &middle));
+      ASSERT_TRUE(cameras_.Project(v, center + radius * Eigen::Vector3d::UnitZ(), &top));
+      const double pixels = (top - middle).norm();
+      for (int y = 0; y < edit.height(); ++y) {
+        for (int x = 0; x < edit.width(); ++x) {
+          if ((Eigen::Vector2d(x + 0.5, y + 0.5) - middle).norm() > pixels) continue;
+          for (int c = 0; c < 3; ++c) edit.at(x, y, c) = value;
+          edit.at(x, y, 3) = 1.0f;
+        }
+      }
+      fs::create_directories(path.parent_path());
+      WriteImage(path, edit, PixelFormat::kUint8);
+    }
+  }
+
+ private:
+  const Project& project_;
+  const ImageSet cameras_;
+};
+
+TEST(DensityEditsTest, PaintingAddsAndRemovesDensityAndReRunsFromTheDensity) {
+  const fs::path dir =
+      fs::temp_directory_path() / ("sylva_density_edits_" + std::to_string(getpid()));
+  fs::remove_all(dir);
+  SyntheticDatasetOptions synth;
+  synth.num_views = 6;
+  synth.num_held_out = 0;
+  synth.image_size = 128;
+  synth.samples_per_axis = 1;
+  WriteSyntheticDataset(MakeSyntheticDataset(synth), synth, dir / "data");
+  ProjectSetup setup;
+  setup.root = dir / "project";
+  setup.photos_dir = dir / "data" / "photos";
+  setup.colmap_model_dir = dir / "data" / "colmap";
+  setup.mattes_dir = dir / "data" / "mattes";
+  const Project project = Project::Create(setup);
+  PipelineOptions options;
+  options.density.resolution = 48;
+  options.density.max_resolution = 48;
+  Pipeline(project, options, nullptr).Run(Stage::kDensity, false);
+  const DensityGrid before = ReadDensityGrid(project.OutDir() / "density.vdb");
+
+  // A ball low beside the trunk (empty: the crown starts at 30 % of the
+  // height) and one in the middle of the crown, in the world frame.
+  const Box3d box = before.ActiveWorldBounds();
+  const Eigen::Vector3d size = box.sizes();
+  const double radius = 0.08 * size.z();
+  const Eigen::Vector3d empty(box.min().x() + 0.2 * size.x(), box.center().y(),
+                              box.min().z() + 0.12 * size.z());
+  const Eigen::Vector3d crown(box.center().x(), box.center().y(), box.min().z() + 0.65 * size.z());
+  const double empty_before = OpacityNear(before, empty, radius);
+  const double crown_before = OpacityNear(before, crown, radius);
+  ASSERT_GT(crown_before, 0.5) << "the crown holds density";
+
+  const Pipeline pipeline(project, options, nullptr);
+  const std::string register_key = pipeline.StageKey(Stage::kRegister);
+  const std::string density_key = pipeline.StageKey(Stage::kDensity);
+  DensityPainter painter(project, project.LoadCameras());
+  painter.PaintBall(empty, radius, 1.0f);
+  painter.PaintBall(crown, radius, 0.0f);
+  EXPECT_EQ(pipeline.StageKey(Stage::kRegister), register_key) << "nothing before the density";
+  EXPECT_NE(pipeline.StageKey(Stage::kDensity), density_key);
+  EXPECT_NE(pipeline.StageKey(Stage::kSkeleton), density_key);
+
+  Pipeline(project, options, nullptr).Run(Stage::kDensity, false);
+  const DensityGrid after = ReadDensityGrid(project.OutDir() / "density.vdb");
+  const double empty_after = OpacityNear(after, empty, radius);
+  const double crown_after = OpacityNear(after, crown, radius);
+  std::printf("painted in: %.3f -> %.3f; painted out of the crown: %.3f -> %.3f\n", empty_before,
+              empty_after, crown_before, crown_after);
+  EXPECT_GT(empty_after, empty_before + 1.0);
+  EXPECT_LT(crown_after, 0.2 * crown_before);
+  fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace sylva
