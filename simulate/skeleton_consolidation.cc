@@ -94,8 +94,9 @@ double Support(const DensityGrid& density, const Eigen::Vector3d& point,
   return occupied / std::pow(2.0 * r + 1, 3);
 }
 
-// Step 1: trims every axis but the trunk from its tip while its edges lie
-// within `radius` of other wood or the density does not support them;
+// Step 1: trims every axis, the trunk included, from its tip while its edges
+// lie within `radius` of wood on another axis or the density does not
+// support them;
 // returns the removed nodes. The trimmed particles did flow into the wood
 // that stays: where a trimmed stretch left a node that keeps other children,
 // its strands move onto that node's heaviest remaining child and on down
@@ -107,10 +108,9 @@ std::vector<char> TrimTwigs(const SkeletonGraph& skeleton, const DensityGrid& de
                             std::vector<int>* strands) {
   std::vector<char> removed(skeleton.NumNodes(), 0);
   const std::vector<BranchAxis> axes = skeleton.BranchAxes();
-  std::vector<int> axis_of(skeleton.NumNodes(), 0), parent_axis(axes.size(), -1);
+  std::vector<int> axis_of(skeleton.NumNodes(), 0);
   for (size_t a = 1; a < axes.size(); ++a) {
     for (size_t k = 1; k < axes[a].size(); ++k) axis_of[axes[a][k]] = static_cast<int>(a);
-    parent_axis[a] = axis_of[axes[a][0]];
   }
   const WoodSamples wood(skeleton, std::max(radius, spacing), spacing);
   const std::vector<std::vector<int>> children = skeleton.Children();

@@ -102,12 +102,13 @@ TEST(DensityEditsTest, PaintingAddsAndRemovesDensityAndReRunsFromTheDensity) {
   const Pipeline pipeline(project, options, nullptr);
   const std::string register_key = pipeline.StageKey(Stage::kRegister);
   const std::string density_key = pipeline.StageKey(Stage::kDensity);
+  const std::string skeleton_key = pipeline.StageKey(Stage::kSkeleton);
   DensityPainter painter(project, project.LoadCameras());
   painter.PaintBall(empty, radius, 1.0f);
   painter.PaintBall(crown, radius, 0.0f);
   EXPECT_EQ(pipeline.StageKey(Stage::kRegister), register_key) << "nothing before the density";
   EXPECT_NE(pipeline.StageKey(Stage::kDensity), density_key);
-  EXPECT_NE(pipeline.StageKey(Stage::kSkeleton), density_key);
+  EXPECT_NE(pipeline.StageKey(Stage::kSkeleton), skeleton_key) << "what follows re-runs too";
 
   Pipeline(project, options, nullptr).Run(Stage::kDensity, false);
   const DensityGrid after = ReadDensityGrid(project.OutDir() / "density.vdb");
