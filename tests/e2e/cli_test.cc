@@ -952,6 +952,92 @@ TEST_F(CliTest, MeshQsmMakesClosedBarkFromLaserScanCylinders) {
   EXPECT_FALSE(fs::exists(work_ / "x"));
 }
 
+// `sylva sketch` makes a tree from a drawing alone (issue 14): an
+// Openclipart SVG (a black-and-white tree, 180 x 250 pt) at small sizes.
+// The outputs are there, the bark is closed, the crown is not flat, the
+// tree covers the drawing in the drawn view, and the drawing's camera puts
+// the tree's base at the drawn foot.
+TEST_F(CliTest, SketchMakesATreeFromADrawing) {
+  const fs::path sketches = fs::path(SYLVA_SOURCE_DIR) / "datasets" / "sketches";
+  const fs::path drawing = sketches / "openclipart" / "arbre_modern_bw_jean-vic_01.svg";
+  const std::vector<std::string> small = {"--Sketch.image_size=160", "--Density.resolution=64",
+                                          "--Density.max_resolution=64",
+                                          "--Report.preview_size=96"};
+  const fs::path out = work_ / "sketch";
+  std::vector<std::string> args = {"sketch", drawing.string(), out.string()};
+  args.insert(args.end(), small.begin(), small.end());
+  const SubprocessResult result = Sylva(args);
+  ASSERT_TRUE(Succeeded(result));
+  for (const char* name : {"tree.glb", "tree.obj", "bark.obj", "skeleton.json", "qsm.csv",
+                           "metrics.json", "sketch_cameras.json", "preview_0.png"}) {
+    EXPECT_TRUE(fs::is_regular_file(out / name)) << name << "\n" << result.out;
+  }
+  ExpectTreePicture(out / "preview_0.png", 96);
+  const MeshCheck bark = CheckMesh(ReadObj(out / "bark.obj"));
+  EXPECT_EQ(bark.boundary_edges, 0);
+  EXPECT_EQ(bark.nonmanifold_edges, 0);
+  EXPECT_EQ(bark.misoriented_edges, 0);
+
+  // The drawn view's camera at the drawing's canvas (240 x 333 px): the
+  // base (the world origin) at the drawn foot, low on the page, and the
+  // skeleton on the page.
+  const ImageSet cameras = ReadCameraFile(out / "sketch_cameras.json");
+  ASSERT_EQ(cameras.NumViews(), 1);
+  EXPECT_EQ(cameras.views[0].name, "arbre_modern_bw_jean-vic_01.png");
+  EXPECT_EQ(cameras.CameraOf(0).width(), 240);
+  EXPECT_EQ(cameras.CameraOf(0).height(), 333);
+  Eigen::Vector2d foot;
+  ASSERT_TRUE(cameras.Project(0, Eigen::Vector3d::Zero(), &foot));
+  EXPECT_GT(foot.y(), 0.8 * 333);
+  const SkeletonGraph skeleton = ReadSkeletonJson(out / "skeleton.json");
+  int on_page = 0;
+  for (const SkeletonNode& node : skeleton.nodes) {
+    Eigen::Vector2d p;
+    on_page += cameras.Project(0, node.position, &p) && p.x() >= 0 && p.x() <= 240 && p.y() >= 0 &&
+               p.y() <= 333;
+  }
+  EXPECT_GE(on_page, 0.95 * skeleton.NumNodes());
+
+  // The mesh covers the drawing (its silhouette with the enclosed regions
+  // filled) in the drawn view, and the crown is not flat.
+  const Json report = ReadJsonFile(out / "project" / "out" / "report.json");
+  double front_iou = -1;
+  for (const Json& view : report.at("views")) {
+    if (view.at("name") == "arbre_modern_bw_jean-vic_01.png") front_iou = view.at("mesh").at("iou");
+  }
+  const Json metrics = ReadJsonFile(out / "metrics.json");
+  const double depth_ratio =
+      metrics.at("crown_depth").get<double>() / metrics.at("crown_width").get<double>();
+  std::printf("sketch: front mesh IoU %.3f, crown depth / width %.2f\n", front_iou, depth_ratio);
+  EXPECT_GE(front_iou, 0.7);
+  EXPECT_GE(depth_ratio, 0.5);
+
+  // The same drawing as front and side: a project of two drawn views (no
+  // depth prior), which runs like any other.
+  const fs::path side = work_ / "side.svg";
+  fs::copy_file(drawing, side);
+  const fs::path project = work_ / "two_views";
+  args = {"init", project.string(), "--sketch", drawing.string() + "," + side.string()};
+  args.insert(args.end(), small.begin(), small.end());
+  ASSERT_TRUE(Succeeded(Sylva(args)));
+  EXPECT_TRUE(fs::is_regular_file(project / "edits" / "side.strokes.json"));
+  EXPECT_FALSE(fs::exists(project / "photos" / "side.depth.png"));
+  ASSERT_TRUE(Succeeded(Sylva({"run", project.string(), "--until", "skeleton"})));
+  EXPECT_EQ(ReadCameraFile(project / "out" / "cameras" / "cameras.json").NumViews(), 2);
+
+  // Bad drawings: one error naming the file, nothing written.
+  const fs::path empty = work_ / "empty.svg";
+  WriteFile(empty, "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"100\" height=\"100\"></svg>");
+  const fs::path truncated = work_ / "truncated.ndjson";
+  WriteFile(truncated, "{\"word\":\"tree\",\"drawing\":[[[88,64,46],[153,166");
+  for (const fs::path& bad : {empty, truncated}) {
+    const fs::path nowhere = work_ / ("out_" + bad.stem().string());
+    EXPECT_TRUE(FailedNaming(Sylva({"sketch", bad.string(), nowhere.string()}), kExitBadInput,
+                             {bad.filename().string()}));
+    EXPECT_FALSE(fs::exists(nowhere / "project")) << bad;
+  }
+}
+
 // `sylva mesh-qsm` on large laser-scan-like tables (`sylva synth --qsm`:
 // 5.7-5.9k cylinders down to 1 mm radius, 4 detached fragments, noisy
 // TreeQSM-style overlaps): every component of the bark is outward (positive
