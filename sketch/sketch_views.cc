@@ -114,31 +114,37 @@ bool MergeTrunkOutlines(SketchDrawing* drawing, std::vector<Eigen::Vector2d>* gr
 
 DrawnFrame FrameOf(const SketchDrawing& drawing) {
   const bool has_branches = drawing.CountRole(StrokeRole::kBranch) > 0;
+  auto stands = [&](const SketchStroke& stroke) {
+    return !has_branches || stroke.role == StrokeRole::kBranch;
+  };
   double top = drawing.height, bottom = 0.0;
-  std::vector<Eigen::Vector2d> lowest;  // the lowest point of each standing stroke
   for (const SketchStroke& stroke : drawing.strokes) {
-    Eigen::Vector2d low = stroke.points[0];
     for (const Eigen::Vector2d& p : stroke.points) {
       top = std::min(top, p.y());
-      if (p.y() > low.y()) low = p;
-    }
-    if (!has_branches || stroke.role == StrokeRole::kBranch) {
-      bottom = std::max(bottom, low.y());
-      lowest.push_back(low);
+      if (stands(stroke)) bottom = std::max(bottom, p.y());
     }
   }
   DrawnFrame frame;
   if (drawing.root) {
     frame.base = *drawing.root;
   } else {
-    // The mean x of the strokes that reach the ground: a trunk's centre line,
-    // or the middle of a trunk drawn as two outlines.
+    // The mean over the strokes that reach the ground of the middle of
+    // their points there: a trunk's centre line ends there, two outlines
+    // have the trunk between them, an outline closed at its foot has the
+    // trunk above the middle of its foot.
     const double ground = bottom - kGroundShare * (bottom - top);
     double sum_x = 0.0;
     int count = 0;
-    for (const Eigen::Vector2d& p : lowest) {
-      if (p.y() < ground) continue;
-      sum_x += p.x();
+    for (const SketchStroke& stroke : drawing.strokes) {
+      if (!stands(stroke)) continue;
+      double min_x = std::numeric_limits<double>::infinity(), max_x = -min_x;
+      for (const Eigen::Vector2d& p : stroke.points) {
+        if (p.y() < ground) continue;
+        min_x = std::min(min_x, p.x());
+        max_x = std::max(max_x, p.x());
+      }
+      if (min_x > max_x) continue;
+      sum_x += 0.5 * (min_x + max_x);
       ++count;
     }
     frame.base = Eigen::Vector2d(sum_x / count, bottom);

@@ -251,17 +251,12 @@ void ApplyLogLevel(const ParsedArguments& args) {
   if (args.Has("log-level")) SetLogLevel(ParseLogLevel(args.Get("log-level")));
 }
 
-// The registry over `options` with `args`' options, and Attractors.mode=edits
-// unless given: a sketch project's strokes are its attractors.
+// The registry over `options`: a sketch project's defaults, then `args`'
+// options.
 void SketchOptions(const ParsedArguments& args, PipelineOptions* options,
                    OptionRegistry* registry) {
   RegisterPipelineOptions(options, registry);
-  // The drawn strokes are the attractors; the drawn base is the world
-  // origin and the drawings are upright.
-  registry->Set("Attractors.mode", "edits", "sylva sketch");
-  registry->Set("WorldFrame.up", "keep", "sylva sketch");
-  registry->Set("WorldFrame.base", "keep", "sylva sketch");
-  registry->Set("Skeleton.base", "0,0,0", "sylva sketch");
+  SetSketchDefaults(registry);
   for (const auto& [key, value] : args.options) registry->Set(key, value, "--" + key);
   options->Check();
 }

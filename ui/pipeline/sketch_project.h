@@ -31,13 +31,23 @@ struct SketchSetup {
 // The drawn views' camera file of a sketch project.
 fs::path SketchCamerasPath(const Project& project);
 
+// What a sketch project changes from the defaults, set in `registry`
+// before the user's options: the drawn strokes are the attractors
+// (Attractors.mode=edits), the drawn foot is the world origin and the
+// drawings are upright (WorldFrame.*=keep, Skeleton.base=0,0,0), and leaves
+// reach farther from the thin branches (a drawn crown is full).
+void SetSketchDefaults(OptionRegistry* registry);
+
 // Reads the drawings (sketch/drawing_io.h), makes their views and creates
-// the project, saving the options `registry` holds (the caller sets
-// Attractors.mode=edits: the drawn strokes are the attractors). Throws
-// InputError naming the drawing or option at fault; nothing is left behind
-// on error.
+// the project, saving the options `registry` holds. Throws InputError
+// naming the drawing or option at fault; nothing is left behind on error.
 Project CreateSketchProject(const SketchSetup& setup, const SketchViewOptions& options,
                             const OptionRegistry& registry);
+
+// The same for drawings already read (`setup.drawings` are only copied into
+// PROJECT/sketch/, and may be empty).
+Project CreateSketchProject(const SketchSetup& setup, const std::vector<SketchDrawing>& drawings,
+                            const SketchViewOptions& options, const OptionRegistry& registry);
 
 }  // namespace sylva
 
