@@ -4,7 +4,9 @@
 #include <cctype>
 #include <charconv>
 #include <cmath>
+#include <map>
 #include <sstream>
+#include <tuple>
 
 #include "core/util/check.h"
 #include "core/util/file_util.h"
@@ -108,12 +110,18 @@ class AxiomWriter {
     }
   }
 
+  // The branches leaving `node`, each in brackets. A branch starts with
+  // its first node's width, except at the root: there the root is drawn
+  // first by the branch, and the width it starts with is the root's radius.
   void Laterals(int node, const Turtle& turtle) {
     for (int b : laterals_[node]) {
       const Eigen::Vector3d& at = skeleton_.nodes[node].position;
       *out_ += " [";
-      if (form_ == LpyForm::kAbsolute) *out_ += Call("@M", {at.x(), at.y(), at.z()}) + " ";
-      *out_ += Call("_", {skeleton_.nodes[axes_[b][1]].radius});
+      if (form_ == LpyForm::kAbsolute) *out_ += Call("@M", {at.x(), at.y(), at.z()});
+      if (node != axes_[0][0]) {
+        *out_ += (form_ == LpyForm::kAbsolute ? " " : "") +
+                 Call("_", {skeleton_.nodes[axes_[b][1]].radius});
+      }
       Axis(b, turtle);
       *out_ += "]";
     }
@@ -321,21 +329,35 @@ class AxiomInterpreter {
     state_.part = state_.node = -1;
   }
 
-  // A segment to `point`: a new node, the piece's root (of radius
-  // `root_width`, the width the segment starts with) first if needed.
+  // A segment to `point`: a new node. Off the tree, the segment starts at
+  // the node drawn first at the turtle's position (branches written at a
+  // root before its first segment), else at a new root of radius
+  // `root_width` (the width the segment starts with).
   void Draw(const Eigen::Vector3d& point, double root_width, size_t at) {
     Turtle& turtle = state_.turtle;
     SYLVA_CHECK_INPUT(turtle.width >= 0, Where(at)) << "negative width " << turtle.width;
-    const int depth = static_cast<int>(stack_.size());
+    const int order = std::max(static_cast<int>(stack_.size()) - 1, 0);
     if (state_.part < 0) {
-      state_.part = static_cast<int>(tree_.parts.size());
-      tree_.parts.emplace_back();
-      state_.node =
-          tree_.parts.back().AddNode(turtle.position, root_width, -1, std::max(depth - 1, 0));
+      const auto found = node_at_.find(Key(turtle.position));
+      if (found != node_at_.end()) {
+        std::tie(state_.part, state_.node) = found->second;
+      } else {
+        state_.part = static_cast<int>(tree_.parts.size());
+        tree_.parts.emplace_back();
+        Add(turtle.position, root_width, -1, order);
+      }
     }
-    SkeletonGraph& part = tree_.parts[state_.part];
-    state_.node = part.AddNode(point, turtle.width, state_.node, std::max(depth - 1, 0));
+    Add(point, turtle.width, state_.node, order);
     turtle.position = point;
+  }
+
+  void Add(const Eigen::Vector3d& position, double radius, int parent, int order) {
+    state_.node = tree_.parts[state_.part].AddNode(position, radius, parent, order);
+    node_at_.emplace(Key(position), std::make_pair(state_.part, state_.node));
+  }
+
+  static std::string Key(const Eigen::Vector3d& p) {
+    return std::string(reinterpret_cast<const char*>(p.data()), 3 * sizeof(double));
   }
 
   const std::string& text_;
@@ -345,6 +367,8 @@ class AxiomInterpreter {
   State state_;
   std::vector<State> stack_;
   LpyTree tree_;
+  std::map<std::string, std::pair<int, int>>
+      node_at_;  // position -> (part, node) drawn first there
 };
 
 }  // namespace

@@ -14,8 +14,9 @@
 // - absolute: `@M(x,y,z)` (MoveTo) to the start of every branch axis, then
 //   `LineTo(x,y,z,r)` to each node: a cylinder from the turtle to the node,
 //   r the node's radius (LineTo's 4th argument, the top width; `_(r)` sets
-//   the width the first one starts with). LineTo keeps the turtle's
-//   orientation; rotations play no part.
+//   the width the first one starts with: the root's radius, or a branch's
+//   first node's; a branch leaving the root starts with the root's radius).
+//   LineTo keeps the turtle's orientation; rotations play no part.
 // - turtle (relative): `@M(x,y,z)` once per skeleton, to its root, then per
 //   node a roll `/(a)` and a turn `+(b)` (degrees) that point the heading at
 //   the node, and `F(length,r)`. The initial frame is PlantGL's: heading H =
@@ -56,7 +57,9 @@ void WriteLpy(const std::filesystem::path& path, const std::vector<SkeletonGraph
 // What a turtle draws from an axiom.
 struct LpyTree {
   // One per connected piece: a segment starts a new skeleton when the turtle
-  // was moved (@M) away from every drawn node; nodes in drawing order.
+  // was moved (@M) away from every drawn node (a segment drawn from where a
+  // node is continues from the first node drawn there); nodes in drawing
+  // order.
   std::vector<SkeletonGraph> parts;
   int modules = 0;  // modules interpreted
 };
@@ -69,6 +72,7 @@ struct LpyTree {
 // top width, or the width before it) whose parent is the node the turtle
 // stands on; the width at the first segment of a piece is its root's
 // radius; node.order = bracket depth - 1 (each skeleton is in brackets).
+// -0 and +0 coordinates are different points here (exact text round trip).
 // Throws InputError naming `source`, the line and column, for anything
 // else: another module, a bad number, unbalanced brackets, no axiom.
 LpyTree InterpretLpy(const std::string& text, const std::string& source);

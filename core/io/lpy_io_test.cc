@@ -93,6 +93,22 @@ TEST(LpyIoTest, SeveralSkeletonsStaySeparate) {
   }
 }
 
+// The base project's skeleton forks at its root: the branch written there
+// (before the trunk's first segment) and the trunk are one tree.
+TEST(LpyIoTest, BranchesAtTheRootStayAttached) {
+  SkeletonGraph fork;
+  const int root = fork.AddNode({0, 0, 0}, 0.1, -1, 0);
+  fork.AddNode({0, 0, 1}, 0.08, root, 0);
+  fork.AddNode({1, 0, 1}, 0.05, root, 1);
+  for (const LpyForm form : {LpyForm::kAbsolute, LpyForm::kTurtle}) {
+    std::vector<std::vector<int>> order;
+    const std::string text = LpyText({fork}, form, "m", &order);
+    const LpyTree read = InterpretLpy(text, "fork");
+    ASSERT_EQ(read.parts.size(), 1u) << text;
+    EXPECT_LT(MaxNodeError(fork, read.parts[0], order[0]), 1e-12) << text;
+  }
+}
+
 TEST(LpyIoTest, TurtleSymbolsFollowPlantGL) {
   // F up +Z; +(90) turns H towards L = -Y; &(90) pitches H towards -U.
   const LpyTree tree =
