@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <sstream>
 
 #include "core/io/plant_export_test_util.h"
@@ -77,7 +78,10 @@ TEST(LpyIoTest, BundledSkeletonsRoundTripWithin1em6) {
       const LpyTree read = InterpretLpy(text, name);
       ASSERT_EQ(read.parts.size(), 1u) << name;
       const double error = MaxNodeError(skeleton, read.parts[0], order[0]);
-      EXPECT_LT(error, 1e-6) << name << (form == LpyForm::kAbsolute ? " absolute" : " turtle");
+      const char* kind = form == LpyForm::kAbsolute ? "absolute" : "turtle";
+      std::printf("%s (%d nodes), %s: largest position/radius error %.3g\n", name.c_str(),
+                  skeleton.NumNodes(), kind, error);
+      EXPECT_LT(error, 1e-6) << name << " " << kind;
     }
   }
 }

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <sstream>
 
 #include "core/io/plant_export_test_util.h"
@@ -95,7 +96,10 @@ TEST(MtgIoTest, BundledSkeletonsRoundTripWithin1em6) {
     ASSERT_EQ(read.parts.size(), 1u) << name;
     // Zero-length edges are merged on reading; the bundled skeletons have none.
     EXPECT_EQ(read.merged_nodes, 0) << name;
-    EXPECT_LT(MaxNodeError(skeleton, read.parts[0], order[0]), 1e-6) << name;
+    const double error = MaxNodeError(skeleton, read.parts[0], order[0]);
+    std::printf("%s (%d nodes): largest position/radius error %.3g\n", name.c_str(),
+                skeleton.NumNodes(), error);
+    EXPECT_LT(error, 1e-6) << name;
   }
 }
 

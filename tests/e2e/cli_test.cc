@@ -889,6 +889,44 @@ TEST_F(CliTest, AttractorGraphsFromLivewireStrokesAndEdits) {
   EXPECT_TRUE(TempFilesUnder(project).empty());
 }
 
+// The skeleton's exports for plant modellers (tree.lpy, tree_turtle.lpy,
+// tree.mtg) in `out`, read back by sylva's turtle interpreter and MTG reader:
+// `skeletons` within 1e-6 (world units), node for node.
+void ExpectPlantExports(const fs::path& out, const std::vector<SkeletonGraph>& skeletons) {
+  for (const LpyForm form : {LpyForm::kAbsolute, LpyForm::kTurtle}) {
+    const fs::path path = out / (form == LpyForm::kAbsolute ? "tree.lpy" : "tree_turtle.lpy");
+    const std::string text = ReadFileToString(path);
+    EXPECT_TRUE(Contains(text, "derivation length: 0")) << path;
+    std::vector<std::vector<int>> order;
+    LpyText(skeletons, form, "m", &order);
+    const LpyTree read = ReadLpy(path);
+    ASSERT_EQ(read.parts.size(), skeletons.size()) << path;
+    for (size_t p = 0; p < skeletons.size(); ++p) {
+      ASSERT_EQ(read.parts[p].NumNodes(), static_cast<int>(order[p].size())) << path;
+      double error = 0;
+      for (size_t k = 0; k < order[p].size(); ++k) {
+        const SkeletonNode& e = skeletons[p].nodes[order[p][k]];
+        const SkeletonNode& a = read.parts[p].nodes[k];
+        error = std::max({error, (e.position - a.position).norm(), std::abs(e.radius - a.radius)});
+      }
+      EXPECT_LT(error, 1e-6) << path << " part " << p;
+    }
+  }
+  const fs::path mtg = out / "tree.mtg";
+  std::vector<std::vector<int>> order;
+  MtgText(skeletons, "m", &order);
+  const MtgSkeletons read = SkeletonsFromMtg(ReadMtg(mtg), mtg.string());
+  ASSERT_EQ(read.parts.size(), skeletons.size()) << mtg;
+  for (size_t p = 0; p < skeletons.size(); ++p) {
+    ASSERT_EQ(read.parts[p].NumNodes(), static_cast<int>(order[p].size())) << mtg;
+    for (size_t k = 0; k < order[p].size(); ++k) {
+      EXPECT_LT((skeletons[p].nodes[order[p][k]].position - read.parts[p].nodes[k].position).norm(),
+                1e-6)
+          << mtg << " node " << k;
+    }
+  }
+}
+
 // `sylva mesh-qsm` on the four ITSMe TreeQSM tables (laser-scanned trees):
 // the bark is a closed, 2-manifold, outward solid whose volume matches the
 // cylinders'; qsm.csv gives the table back; preview pictures (small here,
@@ -939,6 +977,9 @@ TEST_F(CliTest, MeshQsmMakesClosedBarkFromLaserScanCylinders) {
       EXPECT_NEAR(a.length, b.length, 1e-6 * a.length);
       EXPECT_NEAR(a.radius, b.radius, 1e-6 * a.radius);
     }
+    std::vector<SkeletonGraph> skeletons;
+    for (const QsmSkeleton& part : SkeletonsFromQsm(input)) skeletons.push_back(part.skeleton);
+    ExpectPlantExports(out, skeletons);
     const Json metrics = ReadJsonFile(out / "metrics.json");
     EXPECT_TRUE(metrics.at("dbh").is_number()) << name;
     // ITSMe's tables record no sources: the figures say so.
@@ -952,44 +993,6 @@ TEST_F(CliTest, MeshQsmMakesClosedBarkFromLaserScanCylinders) {
   const SubprocessResult refused = Sylva({"mesh-qsm", broken.string(), (work_ / "x").string()});
   EXPECT_TRUE(FailedNaming(refused, kExitBadInput, {"broken.csv"}));
   EXPECT_FALSE(fs::exists(work_ / "x"));
-}
-
-// The skeleton's exports for plant modellers (tree.lpy, tree_turtle.lpy,
-// tree.mtg) in `out`, read back by sylva's turtle interpreter and MTG reader:
-// `skeletons` within 1e-6 (world units), node for node.
-void ExpectPlantExports(const fs::path& out, const std::vector<SkeletonGraph>& skeletons) {
-  for (const LpyForm form : {LpyForm::kAbsolute, LpyForm::kTurtle}) {
-    const fs::path path = out / (form == LpyForm::kAbsolute ? "tree.lpy" : "tree_turtle.lpy");
-    const std::string text = ReadFileToString(path);
-    EXPECT_TRUE(Contains(text, "derivation length: 0")) << path;
-    std::vector<std::vector<int>> order;
-    LpyText(skeletons, form, "m", &order);
-    const LpyTree read = ReadLpy(path);
-    ASSERT_EQ(read.parts.size(), skeletons.size()) << path;
-    for (size_t p = 0; p < skeletons.size(); ++p) {
-      ASSERT_EQ(read.parts[p].NumNodes(), static_cast<int>(order[p].size())) << path;
-      double error = 0;
-      for (size_t k = 0; k < order[p].size(); ++k) {
-        const SkeletonNode& e = skeletons[p].nodes[order[p][k]];
-        const SkeletonNode& a = read.parts[p].nodes[k];
-        error = std::max({error, (e.position - a.position).norm(), std::abs(e.radius - a.radius)});
-      }
-      EXPECT_LT(error, 1e-6) << path << " part " << p;
-    }
-  }
-  const fs::path mtg = out / "tree.mtg";
-  std::vector<std::vector<int>> order;
-  MtgText(skeletons, "m", &order);
-  const MtgSkeletons read = SkeletonsFromMtg(ReadMtg(mtg), mtg.string());
-  ASSERT_EQ(read.parts.size(), skeletons.size()) << mtg;
-  for (size_t p = 0; p < skeletons.size(); ++p) {
-    ASSERT_EQ(read.parts[p].NumNodes(), static_cast<int>(order[p].size())) << mtg;
-    for (size_t k = 0; k < order[p].size(); ++k) {
-      EXPECT_LT((skeletons[p].nodes[order[p][k]].position - read.parts[p].nodes[k].position).norm(),
-                1e-6)
-          << mtg << " node " << k;
-    }
-  }
 }
 
 TEST_F(CliTest, MeshStageWritesTheSkeletonForPlantModellers) {
