@@ -16,7 +16,7 @@ namespace {
 
 constexpr double kDegree = M_PI / 180.0;
 // PlantGL's defaults: rotations without an argument turn 60 degrees, `_`
-// without one adds 1 to the width, F without one moves 1.
+// (`!`) without one adds (subtracts) 1 to the width, F without one moves 1.
 constexpr double kDefaultAngle = 60.0;
 constexpr double kDefaultWidthIncrement = 1.0;
 constexpr double kDefaultLength = 1.0;
@@ -306,9 +306,10 @@ class AxiomInterpreter {
       const double length = args.empty() ? kDefaultLength : args[0];
       if (args.size() == 2) turtle.width = args[1];
       Draw(turtle.position + length * turtle.heading, width_before, at);
-    } else if (name == "_" || name == "SetWidth") {
-      need(name == "_" ? 0 : 1, 1);
-      turtle.width = args.empty() ? turtle.width + kDefaultWidthIncrement : args[0];
+    } else if (name == "_" || name == "!" || name == "SetWidth") {
+      need(name == "SetWidth" ? 1 : 0, 1);
+      const double step = name == "!" ? -kDefaultWidthIncrement : kDefaultWidthIncrement;
+      turtle.width = args.empty() ? turtle.width + step : args[0];
     } else if (name == "+" || name == "-") {
       turtle.Turn(name == "+" ? angle() : -angle());
     } else if (name == "&" || name == "^") {
@@ -318,7 +319,7 @@ class AxiomInterpreter {
     } else {
       SYLVA_CHECK_INPUT(false, Where(at))
           << "module '" << name << "' is not in the subset sylva interprets "
-          << "([ ] @M MoveTo LineTo F _ SetWidth + - & ^ / \\)";
+          << "([ ] @M MoveTo LineTo F _ ! SetWidth + - & ^ / \\)";
     }
   }
 

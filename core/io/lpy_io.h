@@ -21,7 +21,12 @@
 //   node a roll `/(a)` and a turn `+(b)` (degrees) that point the heading at
 //   the node, and `F(length,r)`. The initial frame is PlantGL's: heading H =
 //   +Z, left L = -Y, up U = +X; `+(a)` turns H towards L about U, `/(a)`
-//   rolls L towards U about H (PlantGL Turtle::left and Turtle::rollR).
+//   rolls L towards U about H. L-Py maps `+` to PlantGL's Turtle::left
+//   (a rotation of +a about U) and `/` to Turtle::rollL (+a about H; L-Py's
+//   predefinedmodules.cpp, PlantGL's turtle.cpp). Caution: old PlantGL
+//   versions (before the turtle's reflection support) rotated rollL by -a,
+//   where this form would draw mirrored branches; the absolute form does not
+//   depend on it.
 //
 // In both, `[` `]` enclose each skeleton and every branch axis
 // (SkeletonGraph::BranchAxes(); a branch is written where it leaves its
@@ -66,8 +71,9 @@ struct LpyTree {
 
 // Interprets the `Axiom:` line of an L-Py file with PlantGL's turtle:
 // `[` `]`, `@M`/`MoveTo(x,y,z)`, `LineTo(x,y,z[,r])`, `F[(length[,r])]`
-// (length 1 by default), `_(r)`/`SetWidth(r)` (PlantGL's `_` without an
-// argument adds 1), `+ - & ^ / \` with an angle in degrees (60 without),
+// (length 1 by default), `_(r)`/`!(r)`/`SetWidth(r)` (without an argument
+// `_` adds 1 and `!` subtracts 1, as PlantGL's IncWidth/DecWidth),
+// `+ - & ^ / \` with an angle in degrees (60 without),
 // and blanks between modules. Every segment drawn adds a node (radius: its
 // top width, or the width before it) whose parent is the node the turtle
 // stands on; the width at the first segment of a piece is its root's
