@@ -568,8 +568,10 @@ namespace {
 
 double FeatureNumber(const MtgEntity& entity, const std::string& name, const std::string& source) {
   const std::string& text = entity.features.at(name);
+  // Python's float(), which OpenAlea uses, also takes a leading '+'.
+  const char* begin = text.data() + (text.size() > 1 && text[0] == '+' ? 1 : 0);
   double value = 0.0;
-  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+  const auto [end, error] = std::from_chars(begin, text.data() + text.size(), value);
   SYLVA_CHECK_INPUT(
       error == std::errc() && end == text.data() + text.size() && std::isfinite(value),
       source + ":" + std::to_string(entity.line))
