@@ -87,7 +87,8 @@ CommandSpec SketchSpec() {
           "flow follows them). One drawing does not say how deep the crown is: a virtual side\n"
           "view assumes a crown of revolution about the trunk (sketch/sketch_views.h). The\n"
           "tree is scaled to Sketch.tree_height. Writes to OUT_DIR: tree.glb, tree.obj,\n"
-          "bark.obj (with their .mtl), skeleton.json, qsm.csv, metrics.json, the previews and\n"
+          "bark.obj (with their .mtl), skeleton.json, qsm.csv, metrics.json, tree.lpy,\n"
+          "tree_turtle.lpy and tree.mtg (L-Py and OpenAlea), the previews and\n"
           "sketch_cameras.json (the drawings' cameras at their canvas sizes, to project the\n"
           "tree back onto them); the report is OUT_DIR/project/out/report.html. Edit and\n"
           "re-run with 'sylva run OUT_DIR/project'.",
@@ -184,7 +185,9 @@ CommandSpec MeshQsmSpec() {
       true};
 }
 
-int CmdMeshQsm(const ParsedArguments& args) {
+// The pipeline options of mesh-qsm and mesh-mtg: --Section.field=value,
+// --subdivide, --no-previews.
+PipelineOptions MeshingOptions(const ParsedArguments& args) {
   PipelineOptions options;
   OptionRegistry registry;
   RegisterPipelineOptions(&options, &registry);
@@ -193,10 +196,18 @@ int CmdMeshQsm(const ParsedArguments& args) {
     options.geometry.bark_subdivision = args.GetInt("subdivide", 0, 0, kMaxLoopLevels);
   }
   options.Check();
+  return options;
+}
+
+double MergeFraction(const ParsedArguments& args) {
   const double merge = args.Has("merge") ? args.GetDouble("merge", 0.1) : 0.1;
   SYLVA_CHECK_INPUT(merge >= 0 && merge < 1, "--merge") << "must be in [0, 1), got " << merge;
-  const QsmModel qsm = ReadQsmCsv(args.positional[0]);
-  const QsmMeshing meshing = MeshQsm(qsm, options, merge);
+  return merge;
+}
+
+// Meshes `qsm` and writes the outputs to OUT_DIR (positional[1]).
+int MeshAndWrite(const ParsedArguments& args, const QsmModel& qsm, PipelineOptions options) {
+  const QsmMeshing meshing = MeshQsm(qsm, options, MergeFraction(args));
   std::cout << meshing.brief << "\n";
   if (args.Has("no-previews")) options.report.previews = false;
   for (const fs::path& path : WriteQsmMeshing(meshing, qsm, args.positional[1], options)) {
@@ -205,12 +216,66 @@ int CmdMeshQsm(const ParsedArguments& args) {
   return kExitOk;
 }
 
+int CmdMeshQsm(const ParsedArguments& args) {
+  const PipelineOptions options = MeshingOptions(args);
+  MergeFraction(args);  // checked before reading
+  return MeshAndWrite(args, ReadQsmCsv(args.positional[0]), options);
+}
+
+CommandSpec MeshMtgSpec() {
+  return {
+      "mesh-mtg",
+      "sylva mesh-mtg TREE.mtg OUT_DIR [--diameter-unit K] [--scale S] [--units U] "
+      "[--trunk-radius R] [--merge F] [--subdivide N] [--no-previews] [--Section.field=value ...]",
+      "Meshes a tree coded in OpenAlea's MTG format (FORM-A, TAB-separated; e.g. a\n"
+      "digitised tree, or sylva's own tree.mtg): the entities of the finest scale with\n"
+      "XX YY ZZ features become skeleton nodes (radii from a 'radius' feature, else\n"
+      "TopDia / TopDiameter, else the pipe model), the skeletons a cylinder table, which is\n"
+      "meshed and written as by 'sylva mesh-qsm' (bark.obj, tree.obj, tree.glb, qsm.csv,\n"
+      "metrics.json, tree.lpy, tree_turtle.lpy, tree.mtg, previews).\n"
+      "Try it: sylva mesh-mtg datasets/openalea-mtg/boutdenoylum2.mtg OUT --diameter-unit 10 "
+      "--scale 0.01 --units m",
+      {{"diameter-unit", "K",
+        "TopDia values are diameters in units K times smaller than the coordinates' "
+        "(OpenAlea's DiameterUnit; default 1)"},
+       {"scale", "S", "multiply positions and radii by S, e.g. 0.01 from cm to m (default 1)"},
+       {"units", "U", "unit of the scaled positions, for the outputs (default 'unknown')"},
+       {"trunk-radius", "R",
+        "trunk radius (scaled units) of the pipe-model radii of files without radii "
+        "(default 1.5 % of the tree's height)"},
+       {"merge", "F", "as for mesh-qsm (default 0.1)"},
+       {"subdivide", "N", "N levels of Loop subdivision of the bark, 0-3 (default 0)"},
+       {"no-previews", "", "do not render the preview pictures"},
+       kLogLevelFlag},
+      2,
+      2,
+      true};
+}
+
+int CmdMeshMtg(const ParsedArguments& args) {
+  const PipelineOptions options = MeshingOptions(args);
+  MergeFraction(args);
+  MtgMeshingOptions mtg_options;
+  if (args.Has("diameter-unit")) {
+    mtg_options.read.diameter_unit = args.GetDouble("diameter-unit", 1.0);
+  }
+  if (args.Has("scale")) mtg_options.scale = args.GetDouble("scale", 1.0);
+  if (args.Has("units")) mtg_options.units = args.Get("units", "unknown");
+  if (args.Has("trunk-radius")) mtg_options.trunk_radius = args.GetDouble("trunk-radius", 0.0);
+  mtg_options.Check();
+  const fs::path path = args.positional[0];
+  const MtgTable table = MtgTableForMeshing(ReadMtg(path), path.string(), mtg_options);
+  std::cout << table.brief << "\n";
+  return MeshAndWrite(args, table.qsm, options);
+}
+
 std::vector<CommandSpec> AllSpecs() {
   std::vector<CommandSpec> specs = {InitSpec(), RunSpec()};
   for (const StageInfo& stage : AllStages()) specs.push_back(StageSpec(stage));
   specs.push_back(SynthSpec());
   specs.push_back(MeshQsmSpec());
   specs.push_back(SketchSpec());
+  specs.push_back(MeshMtgSpec());
   return specs;
 }
 
@@ -388,8 +453,9 @@ int CmdSketch(const ParsedArguments& args) {
   progress.Finish();
   std::cout << summary.BriefReport() << "Outputs in " << out.string() << "/:\n";
   std::vector<fs::path> outputs = {SketchCamerasPath(project)};
-  for (const char* name : {"tree.glb", "tree.obj", "tree.mtl", "bark.obj", "bark.mtl",
-                           "skeleton.json", "qsm.csv", "metrics.json"}) {
+  for (const char* name :
+       {"tree.glb", "tree.obj", "tree.mtl", "bark.obj", "bark.mtl", "skeleton.json", "qsm.csv",
+        "metrics.json", "tree.lpy", "tree_turtle.lpy", "tree.mtg"}) {
     outputs.push_back(project.OutDir() / name);
   }
   for (int k = 0; k < 4; ++k) {
@@ -503,6 +569,7 @@ int Dispatch(int argc, const char* const* argv) {
     if (command == "synth") return CmdSynth(args);
     if (command == "mesh-qsm") return CmdMeshQsm(args);
     if (command == "sketch") return CmdSketch(args);
+    if (command == "mesh-mtg") return CmdMeshMtg(args);
     const Stage stage = ParseStage(command, command);
     return RunPipeline(args, &stage);
   }
