@@ -419,6 +419,24 @@ void AddInferredBranches(const SketchViewOptions& options, SketchView* view) {
 
 }  // namespace
 
+FloatImage OutlinedRegions(const SketchDrawing& drawing, int width, int height) {
+  SYLVA_CHECK(width > 0 && height > 0);
+  cv::Mat inside = cv::Mat::zeros(height, width, CV_8U);
+  const Eigen::Vector2d scale(width / drawing.width, height / drawing.height);
+  for (const SketchStroke& stroke : drawing.strokes) {
+    SketchStroke stretched = stroke;
+    for (Eigen::Vector2d& p : stretched.points) p = p.cwiseProduct(scale);
+    if (stretched.points.size() < 3) continue;
+    cv::fillPoly(inside, std::vector<std::vector<cv::Point>>{CvPoints(stretched, 1.0)},
+                 cv::Scalar(255), cv::LINE_8, kCvShift);
+  }
+  FloatImage regions(width, height, 1);
+  for (int y = 0; y < height; ++y) {
+    for (int x = 0; x < width; ++x) regions.at(x, y) = inside.at<uchar>(y, x) ? 1.0f : 0.0f;
+  }
+  return regions;
+}
+
 void SketchViewOptions::Check() const {
   SYLVA_CHECK_INPUT(image_size >= 32 && image_size <= 8192, "Sketch.image_size")
       << "must be in [32, 8192] pixels, got " << image_size;

@@ -90,6 +90,12 @@ struct SketchViews {
 std::vector<Stroke> InferMajorBranches(const FloatImage& matte, double crown_opacity,
                                        const Eigen::Vector2d& trunk_top);
 
+// The regions the strokes of `drawing` outline (each closed by the chord
+// from its end to its start), drawn onto an image of width x height pixels
+// (the drawing's canvas stretched onto it): 1 inside, 0 outside. For crown
+// outlines drawn over a photo (Project::LoadEditedMatte).
+FloatImage OutlinedRegions(const SketchDrawing& drawing, int width, int height);
+
 // The views of a tree drawn in `drawings` (1 to 4, each Check()ed, with
 // distinct sources). Deterministic. Throws InputError naming the drawing if
 // it has no strokes that cover anything.

@@ -6,7 +6,9 @@
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <memory>
+#include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
@@ -178,6 +180,43 @@ TEST_F(DensityEditsTest, AViewWithALargeEditIsKeptAgainstTheOthers) {
   DensitySummary plain;
   ReconstructDensity(cameras, mattes, options_.density, nullptr, &plain);
   EXPECT_EQ(plain.distrusted_views, std::vector<std::string>{cameras.views[0].name});
+}
+
+// A crown outline drawn over each photo (edits/<photo>.crown.svg, issue 14's
+// editors on photos) where the tree has none fills the matte there: the
+// density grows inside, and the density re-runs.
+TEST_F(DensityEditsTest, CrownOutlinesDrawnOverThePhotosAddDensity) {
+  RunDensity();
+  const DensityGrid before = ReadDensity();
+  const Box3d box = before.ActiveWorldBounds();
+  const Eigen::Vector3d size = box.sizes();
+  const double radius = 0.08 * size.z();
+  const Eigen::Vector3d empty(box.min().x() + 0.2 * size.x(), box.center().y(),
+                              box.min().z() + 0.12 * size.z());
+  const double empty_before = OpacityNear(before, empty, radius);
+  const Pipeline pipeline(*project_, options_, nullptr);
+  const std::string density_key = pipeline.StageKey(Stage::kDensity);
+  const ImageSet cameras = project_->LoadCameras();
+  for (int v = 0; v < cameras.NumViews(); ++v) {
+    Eigen::Vector2d middle, top;
+    ASSERT_TRUE(cameras.Project(v, empty, &middle));
+    ASSERT_TRUE(cameras.Project(v, empty + radius * Eigen::Vector3d::UnitZ(), &top));
+    const Camera& camera = cameras.CameraOf(v);
+    std::ostringstream svg;
+    svg << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << camera.width() << "\" height=\""
+        << camera.height() << "\"><circle cx=\"" << middle.x() << "\" cy=\"" << middle.y()
+        << "\" r=\"" << (top - middle).norm() << "\"/></svg>";
+    const fs::path path =
+        project_->EditsDir() /
+        (fs::path(cameras.views[v].name).replace_extension().string() + ".crown.svg");
+    std::ofstream(path) << svg.str();
+    EXPECT_EQ(project_->CrownEditPath(cameras.views[v].name), path);
+  }
+  EXPECT_NE(pipeline.StageKey(Stage::kDensity), density_key);
+  RunDensity();
+  const double empty_after = OpacityNear(ReadDensity(), empty, radius);
+  std::printf("crown outlined: %.3f -> %.3f\n", empty_before, empty_after);
+  EXPECT_GT(empty_after, empty_before + 1.0);
 }
 
 }  // namespace

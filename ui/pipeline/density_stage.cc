@@ -1,6 +1,4 @@
 // The density stage: mattes of the input views -> out/density.vdb.
-#include <filesystem>
-
 #include "core/io/vdb_io.h"
 #include "reconstruct/density/density_reconstruction.h"
 #include "ui/pipeline/stage_context.h"
@@ -30,7 +28,8 @@ StageRun RunDensityStage(const StageContext& context) {
   const std::vector<FloatImage> mattes = context.LoadMattes(views, "density: reading mattes");
   DensityOptions options = context.options.density;
   for (const View& view : views.views) {
-    if (std::filesystem::exists(context.project.DensityEditPath(view.name))) {
+    if (!context.project.DensityEditPath(view.name).empty() ||
+        !context.project.CrownEditPath(view.name).empty()) {
       options.edited_views.push_back(view.name);
     }
   }

@@ -194,7 +194,10 @@ StageInputs Pipeline::Inputs(Stage stage) const {
       const bool held_out = project_.IsHeldOut(view.name);
       if (held_out && !definition.reads_held_out_mattes) continue;
       files.emplace_back(held_out ? "held-out matte" : "matte", project_.MattePath(view.name));
-      if (!held_out) files.emplace_back("density edit", project_.DensityEditPath(view.name));
+      if (!held_out) {
+        files.emplace_back("density edit", project_.DensityEditPath(view.name));
+        files.emplace_back("crown outline", project_.CrownEditPath(view.name));
+      }
       if (stage == Stage::kAttract && !held_out) {
         // The attract stage also reads the photos and what a person drew.
         files.emplace_back("photo", project_.PhotoPath(view.name));

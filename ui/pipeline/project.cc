@@ -13,6 +13,8 @@
 #include "core/util/threading.h"
 #include "reconstruct/density/density_edits.h"
 #include "reconstruct/registration/loose_setup_io.h"
+#include "sketch/drawing_io.h"
+#include "sketch/sketch_views.h"
 
 namespace sylva {
 namespace {
@@ -339,11 +341,28 @@ fs::path Project::DensityEditPath(const std::string& view_name) const {
   return FindMatteFile(EditsDir() / "density", view_name);
 }
 
+fs::path Project::CrownEditPath(const std::string& view_name) const {
+  const fs::path path =
+      EditsDir() / (fs::path(view_name).replace_extension().string() + ".crown.svg");
+  std::error_code ec;
+  return fs::is_regular_file(path, ec) ? path : fs::path();
+}
+
 FloatImage Project::LoadEditedMatte(const ImageSet& image_set, int view_idx) const {
   FloatImage matte = LoadMatte(image_set, view_idx);
   const std::string& name = image_set.views.at(view_idx).name;
+  if (IsHeldOut(name)) return matte;
   const fs::path edit = DensityEditPath(name);
-  if (!edit.empty() && !IsHeldOut(name)) ApplyDensityEdit(ReadImage(edit), edit.string(), &matte);
+  if (!edit.empty()) ApplyDensityEdit(ReadImage(edit), edit.string(), &matte);
+  const fs::path crown = CrownEditPath(name);
+  if (!crown.empty()) {
+    const FloatImage inside = OutlinedRegions(ReadSketchSvg(crown), matte.width(), matte.height());
+    for (size_t i = 0; i < matte.values().size(); ++i) {
+      if (inside.values()[i] > 0.0f) {
+        matte.values()[i] = std::max(matte.values()[i], static_cast<float>(kCrownOutlineOpacity));
+      }
+    }
+  }
   return matte;
 }
 

@@ -10,7 +10,8 @@
 //                        matting hints), <photo>.strokes.svg|json (drawn
 //                        attractor strokes), <photo>.attractors.json (a whole
 //                        attractor graph), density/<photo>.png (painted
-//                        density, reconstruct/density/density_edits.h)
+//                        density, reconstruct/density/density_edits.h),
+//                        <photo>.crown.svg (crown outlines drawn over it)
 //   PROJECT/cache/       stage records keyed by a hash of their inputs; the
 //                        COLMAP workspace (cache/colmap/)
 //   PROJECT/out/         outputs: cameras/ (the registered cameras in sylva's
@@ -50,6 +51,10 @@
 namespace sylva {
 
 namespace fs = std::filesystem;
+
+// The matte value inside crown outlines drawn over a photo (alpha; as a
+// drawn crown's, Sketch.crown_opacity's default).
+constexpr double kCrownOutlineOpacity = 0.6;
 
 // What `sylva init` is given.
 struct ProjectSetup {
@@ -135,11 +140,17 @@ class Project {
   // edits/density/<name>.png (any image extension, with alpha); empty path
   // if there is none.
   fs::path DensityEditPath(const std::string& view_name) const;
+  // Crown outlines drawn over a photo (issue 14: the sketch editors on
+  // photos): edits/<name>.crown.svg, where every shape (closed by the chord
+  // between its ends if open) outlines crown: the matte is raised to at
+  // least kCrownOutlineOpacity inside. Empty path if there is none.
+  fs::path CrownEditPath(const std::string& view_name) const;
   // Reads and validates a view's matte: the camera's size, not empty.
   FloatImage LoadMatte(const ImageSet& image_set, int view_idx) const;
   // The matte the stages from the density on read: LoadMatte with the
-  // view's density edit mixed in (held-out views are left as they are:
-  // they judge the reconstruction).
+  // view's density edit mixed in, then its crown outlines filled to at
+  // least kCrownOutlineOpacity (held-out views are left as they are: they
+  // judge the reconstruction).
   FloatImage LoadEditedMatte(const ImageSet& image_set, int view_idx) const;
   // Reads and validates the matte of a photo of the given size.
   FloatImage LoadMatte(const std::string& view_name, int width, int height) const;
