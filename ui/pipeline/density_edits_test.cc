@@ -103,6 +103,15 @@ class DensityEditsTest : public ::testing::Test {
   }
   DensityGrid ReadDensity() const { return ReadDensityGrid(project_->OutDir() / "density.vdb"); }
 
+  // A ball low beside the trunk of `grid`'s tree (empty: the crown starts at
+  // 30 % of the height): its centre, and its radius in `radius`.
+  static Eigen::Vector3d EmptyBall(const DensityGrid& grid, double* radius) {
+    const Box3d box = grid.ActiveWorldBounds();
+    const Eigen::Vector3d size = box.sizes();
+    *radius = 0.08 * size.z();
+    return {box.min().x() + 0.2 * size.x(), box.center().y(), box.min().z() + 0.12 * size.z()};
+  }
+
   fs::path dir_;
   std::unique_ptr<Project> project_;
   PipelineOptions options_;
@@ -114,13 +123,12 @@ TEST_F(DensityEditsTest, PaintingAddsAndRemovesDensityAndReRunsFromTheDensity) {
   RunDensity();
   const DensityGrid before = ReadDensity();
 
-  // A ball low beside the trunk (empty: the crown starts at 30 % of the
-  // height) and one in the middle of the crown, in the world frame.
+  // A ball low beside the trunk and one in the middle of the crown, in the
+  // world frame.
+  double radius = 0.0;
+  const Eigen::Vector3d empty = EmptyBall(before, &radius);
   const Box3d box = before.ActiveWorldBounds();
   const Eigen::Vector3d size = box.sizes();
-  const double radius = 0.08 * size.z();
-  const Eigen::Vector3d empty(box.min().x() + 0.2 * size.x(), box.center().y(),
-                              box.min().z() + 0.12 * size.z());
   const Eigen::Vector3d crown(box.center().x(), box.center().y(), box.min().z() + 0.65 * size.z());
   const double empty_before = OpacityNear(before, empty, radius);
   const double crown_before = OpacityNear(before, crown, radius);
@@ -188,11 +196,8 @@ TEST_F(DensityEditsTest, AViewWithALargeEditIsKeptAgainstTheOthers) {
 TEST_F(DensityEditsTest, CrownOutlinesDrawnOverThePhotosAddDensity) {
   RunDensity();
   const DensityGrid before = ReadDensity();
-  const Box3d box = before.ActiveWorldBounds();
-  const Eigen::Vector3d size = box.sizes();
-  const double radius = 0.08 * size.z();
-  const Eigen::Vector3d empty(box.min().x() + 0.2 * size.x(), box.center().y(),
-                              box.min().z() + 0.12 * size.z());
+  double radius = 0.0;
+  const Eigen::Vector3d empty = EmptyBall(before, &radius);
   const double empty_before = OpacityNear(before, empty, radius);
   const Pipeline pipeline(*project_, options_, nullptr);
   const std::string density_key = pipeline.StageKey(Stage::kDensity);
