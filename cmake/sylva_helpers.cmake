@@ -4,6 +4,10 @@
 # comparison (checked when -Wno-sign-compare was dropped), keep it so.
 set(SYLVA_WARNING_FLAGS -Wall -Wextra -Wpedantic)
 set(SYLVA_SANITIZER_FLAGS -fsanitize=address,undefined -fno-omit-frame-pointer)
+if(SYLVA_BUILD_FUZZERS)
+  # Every target instrumented for coverage; the fuzz targets link libFuzzer.
+  list(APPEND SYLVA_SANITIZER_FLAGS -fsanitize=fuzzer-no-link)
+endif()
 
 function(_sylva_common_target_settings target)
   target_compile_options(${target} PRIVATE ${SYLVA_WARNING_FLAGS})
@@ -56,4 +60,12 @@ function(sylva_add_test name)
   if(ARG_LABELS)
     set_tests_properties(${name} PROPERTIES LABELS "${ARG_LABELS}")
   endif()
+endfunction()
+
+# sylva_add_fuzzer(NAME DEPS...): a libFuzzer target (fuzz/NAME.cc).
+function(sylva_add_fuzzer name)
+  add_executable(${name} ${name}.cc)
+  _sylva_common_target_settings(${name})
+  target_link_libraries(${name} PRIVATE ${ARGN})
+  target_link_options(${name} PRIVATE -fsanitize=fuzzer)
 endfunction()

@@ -63,8 +63,10 @@ Eigen::Vector2d AlongFromBottom(const SketchStroke& stroke, double t) {
 // strokes standing on the ground that are closest together halfway up, if
 // closer than kMaxTrunkWidthShare of the drawn height, are replaced by their
 // middle line with their distance as its width. `ground` receives the
-// segment joining their feet, which closes the trunk in the matte.
-bool MergeTrunkOutlines(SketchDrawing* drawing, std::vector<Eigen::Vector2d>* ground) {
+// segment joining their feet, which closes the trunk in the matte, and
+// `trunk` the region between them (the wood, opaque in the matte).
+bool MergeTrunkOutlines(SketchDrawing* drawing, std::vector<Eigen::Vector2d>* ground,
+                        SketchStroke* trunk) {
   double top = drawing->height, bottom = 0.0;
   for (const SketchStroke& stroke : drawing->strokes) {
     for (const Eigen::Vector2d& p : stroke.points) {
@@ -97,13 +99,18 @@ bool MergeTrunkOutlines(SketchDrawing* drawing, std::vector<Eigen::Vector2d>* gr
   if (a < 0) return false;
   SketchStroke middle;
   double width = 0.0;
+  std::vector<Eigen::Vector2d> side_b;
   for (int k = 0; k <= kTrunkSamples; ++k) {
     const double t = static_cast<double>(k) / kTrunkSamples;
     const Eigen::Vector2d pa = AlongFromBottom(drawing->strokes[a], t);
     const Eigen::Vector2d pb = AlongFromBottom(drawing->strokes[b], t);
     middle.points.push_back(0.5 * (pa + pb));
     width += (pa - pb).norm() / (kTrunkSamples + 1);
+    trunk->points.push_back(pa);
+    side_b.push_back(pb);
   }
+  trunk->points.insert(trunk->points.end(), side_b.rbegin(), side_b.rend());
+  trunk->closed = true;
   middle.width = width;
   *ground = {AlongFromBottom(drawing->strokes[a], 0.0), AlongFromBottom(drawing->strokes[b], 0.0)};
   drawing->strokes.erase(drawing->strokes.begin() + std::max(a, b));
@@ -242,6 +249,19 @@ FloatImage MatteFrom(const cv::Mat& lines, const cv::Mat& enclosed, double crown
     }
   }
   return matte;
+}
+
+// Sets the matte to 1 inside the closed polygon of `stroke` (if any).
+void FillOpaque(const SketchStroke& stroke, double scale, FloatImage* matte) {
+  if (stroke.points.size() < 3) return;
+  cv::Mat inside = cv::Mat::zeros(matte->height(), matte->width(), CV_8U);
+  cv::fillPoly(inside, std::vector<std::vector<cv::Point>>{CvPoints(stroke, scale)},
+               cv::Scalar(255), cv::LINE_8, kCvShift);
+  for (int y = 0; y < matte->height(); ++y) {
+    for (int x = 0; x < matte->width(); ++x) {
+      if (inside.at<uchar>(y, x)) matte->at(x, y) = 1.0f;
+    }
+  }
 }
 
 // Black where the matte is opaque, on white.
@@ -467,8 +487,8 @@ SketchViews MakeSketchViews(const std::vector<SketchDrawing>& drawings,
     // drawing covers (the matte): a trunk's outlines are closed at its foot.
     SketchDrawing interpreted = drawing;
     SketchDrawing outlined = drawing;
-    SketchStroke foot;
-    if (MergeTrunkOutlines(&interpreted, &foot.points)) outlined.strokes.push_back(foot);
+    SketchStroke foot, trunk;
+    if (MergeTrunkOutlines(&interpreted, &foot.points, &trunk)) outlined.strokes.push_back(foot);
     const DrawnFrame frame = FrameOf(interpreted);
     const double scale = options.image_size / std::max(drawing.width, drawing.height);
     const cv::Size size(std::max(1, static_cast<int>(std::lround(scale * drawing.width))),
@@ -484,6 +504,7 @@ SketchViews MakeSketchViews(const std::vector<SketchDrawing>& drawings,
     cv::Mat enclosed = EnclosedRegions(lines, gap);
     FillCrownStrokes(outlined, scale, &enclosed);
     view.matte = MatteFrom(lines, enclosed, options.crown_opacity);
+    FillOpaque(trunk, scale, &view.matte);
     view.photo = PhotoFrom(view.matte);
     view.strokes = BranchStrokes(interpreted, scale, size, frame.base);
     AddInferredBranches(options, &view);

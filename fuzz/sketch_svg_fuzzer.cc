@@ -1,0 +1,14 @@
+// Fuzz target: Drawings in SVG (sketch/drawing_io.h, sylva sketch).
+#include <cstddef>
+#include <cstdint>
+#include <filesystem>
+
+#include "sketch/drawing_io.h"
+#include "fuzz/fuzz_util.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  return sylva::fuzz::FuzzFile(data, size, ".svg", [](const std::filesystem::path& path) {
+    using namespace sylva;
+    ReadSketchSvg(path).Check();
+  });
+}

@@ -1,0 +1,47 @@
+#!/usr/bin/env bash
+# Fuzzes every reader (fuzz/, issue 16) with libFuzzer under AddressSanitizer
+# and UndefinedBehaviorSanitizer: installs clang, builds the fuzz targets
+# with clang in build-fuzz/ and runs each for SECONDS (default 60) on its
+# corpus (build-fuzz/corpus/<target>/, seeded from fuzz/seeds.txt and grown
+# by every run). A finding stops the script with the target's report and
+# the input that triggered it in build-fuzz/findings/.
+#   scripts/fuzz.sh [SECONDS] [TARGET...]      e.g. scripts/fuzz.sh 600 mtg
+source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
+SECONDS_EACH="${1:-60}"
+shift || true
+sylva_install_packages
+FUZZ_BUILD="$SYLVA_ROOT/build-fuzz"
+sylva_log "Configuring the fuzz targets (clang) in $FUZZ_BUILD"
+CC=clang CXX=clang++ cmake -S "$SYLVA_ROOT" -B "$FUZZ_BUILD" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+  -DSYLVA_BUILD_TESTS=OFF -DSYLVA_BUILD_FUZZERS=ON ${SYLVA_CMAKE_ARGS:-} >/dev/null
+
+targets=("$@")
+if [ ${#targets[@]} -eq 0 ]; then
+  targets=($(grep -v '^\s*#' "$SYLVA_ROOT/fuzz/seeds.txt" | awk 'NF { print $1 }'))
+fi
+sylva_log "Building ${#targets[@]} fuzz targets with $SYLVA_JOBS jobs"
+cmake --build "$FUZZ_BUILD" -j "$SYLVA_JOBS" --target $(printf '%s_fuzzer ' "${targets[@]}")
+
+mkdir -p "$FUZZ_BUILD/findings"
+export ASAN_OPTIONS="detect_leaks=1:allocator_may_return_null=1"
+export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
+export LSAN_OPTIONS="suppressions=$SYLVA_ROOT/cmake/lsan.supp"
+for target in "${targets[@]}"; do
+  corpus="$FUZZ_BUILD/corpus/$target"
+  mkdir -p "$corpus"
+  for seed in $(awk -v t="$target" '$1 == t { for (i = 2; i <= NF; ++i) print $i }' \
+      "$SYLVA_ROOT/fuzz/seeds.txt"); do
+    if [ -d "$SYLVA_ROOT/$seed" ]; then cp -n "$SYLVA_ROOT/$seed"/* "$corpus/"; else
+      cp -n "$SYLVA_ROOT/$seed" "$corpus/"; fi
+  done
+  sylva_log "Fuzzing $target for $SECONDS_EACH s ($(ls "$corpus" | wc -l) inputs in its corpus)"
+  "$FUZZ_BUILD/fuzz/${target}_fuzzer" "$corpus" -max_total_time="$SECONDS_EACH" \
+    -max_len=65536 -timeout=20 -rss_limit_mb=4096 -print_final_stats=1 \
+    -artifact_prefix="$FUZZ_BUILD/findings/${target}-" 2>&1 | tail -n 25
+  status=${PIPESTATUS[0]}
+  if [ "$status" -ne 0 ]; then
+    sylva_log "FINDING in $target (exit $status): see $FUZZ_BUILD/findings/"
+    exit 1
+  fi
+done
+sylva_log "No finding in ${#targets[@]} targets, $SECONDS_EACH s each"
