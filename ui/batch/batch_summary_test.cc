@@ -69,6 +69,7 @@ class BatchSummaryTest : public ::testing::Test {
                                                       {{{"order", 0}, {"num_branches", 1}},
                                                        {{"order", 1}, {"num_branches", 6}},
                                                        {{"order", 2}, {"num_branches", 9}}}}});
+    fs::create_directories(project / "out" / "report");
     for (const char* file : {"report/preview_0.png", "tree.glb", "report.html"}) {
       std::ofstream(project / "out" / file) << "x";
     }

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <ctime>
+#include <iterator>
 #include <sstream>
 
 #include "ui/batch/batch_summary.h"
@@ -69,6 +70,13 @@ double NiceMax(double value) {
   return 10.0 * power;
 }
 
+// A tick label: whole numbers whole, others with at most 2 decimals.
+std::string Label(double value) {
+  std::string text = Fixed(value, value == std::round(value) ? 0 : 2);
+  if (text.find('.') != std::string::npos && text.back() == '0') text.pop_back();
+  return text;
+}
+
 // The y axis: a line, ticks at 0, half and the maximum, and a label.
 void YAxis(double max, const std::string& label, std::ostringstream* svg) {
   *svg << "<line x1='" << kMarginLeft << "' y1='" << kMarginTop << "' x2='" << kMarginLeft
@@ -77,9 +85,8 @@ void YAxis(double max, const std::string& label, std::ostringstream* svg) {
     const double y = kMarginTop + kPlotHeight * (1.0 - f);
     const double v = max * f;
     *svg << "<text x='" << kMarginLeft - 4 << "' y='" << Fixed(y + 4, 1) << "' text-anchor='end'>"
-         << (v == std::round(v) ? Fixed(v, 0) : Fixed(v, 2)) << "</text><line x1='" << kMarginLeft
-         << "' x2='" << kMarginLeft + 4000 << "' y1='" << Fixed(y, 1) << "' y2='" << Fixed(y, 1)
-         << "' stroke='#eee'/>";
+         << Label(v) << "</text><line x1='" << kMarginLeft << "' x2='" << kMarginLeft + 4000
+         << "' y1='" << Fixed(y, 1) << "' y2='" << Fixed(y, 1) << "' stroke='#eee'/>";
   }
   *svg << "<text x='12' y='" << kMarginTop + kPlotHeight / 2 << "' transform='rotate(-90 12 "
        << kMarginTop + kPlotHeight / 2 << ")' text-anchor='middle'>" << Escape(label) << "</text>";
@@ -113,6 +120,7 @@ std::string BarChart(const std::vector<TreeSummary>& trees,
     double base = kMarginTop + kPlotHeight;
     for (size_t s = 0; s < segments.size(); ++s) {
       const double h = kPlotHeight * segments[s][t] / max;
+      if (h <= 0.0) continue;
       base -= h;
       svg << "<rect x='" << Fixed(x, 1) << "' y='" << Fixed(base, 1) << "' width='" << kBarPitch - 4
           << "' height='" << Fixed(h, 1) << "' fill='" << colors[s] << "'/>";
@@ -146,6 +154,7 @@ std::string IouHistogram(const std::vector<std::vector<double>>& groups,
   for (int b = 0; b < kHistogramBins; ++b) {
     const double x = kMarginLeft + 2 + pitch * b;
     for (size_t g = 0; g < groups.size(); ++g) {
+      if (counts[g][b] == 0) continue;
       const double h = kPlotHeight * counts[g][b] / NiceMax(max);
       svg << "<rect x='" << Fixed(x + bar * g, 1) << "' y='"
           << Fixed(kMarginTop + kPlotHeight - h, 1) << "' width='" << Fixed(bar, 1) << "' height='"

@@ -205,7 +205,7 @@ PipelineOptions TreeOptions(const Project* project, const OptionList& batch_opti
   if (project != nullptr) project->ApplySavedOptions(&registry);
   for (const auto& [key, value] : batch_options) registry.Set(key, value, "--" + key);
   const std::string row = manifest_path.string() + ":" + std::to_string(tree.line);
-  for (const auto& [key, value] : tree.options) registry.Set(key, value, row + ": " + key);
+  for (const auto& [key, value] : tree.options) registry.Set(key, value, row);
   try {
     options.Check();
   } catch (const InputError& error) {
