@@ -404,5 +404,42 @@ TEST_F(BatchTest, ScanWritesAManifestOfTreeFolders) {
   for (const Row& row : rows) EXPECT_EQ(row.at("status"), "not-run");
 }
 
+// The same trees through Snakemake (workflow/Snakefile, local profile) give
+// the same outputs as the built-in runner, and a broken tree fails alone.
+TEST_F(BatchTest, SnakemakeRunsTheSameBatch) {
+  const fs::path broken = CopyDataset(3, "broken");
+  AtomicWriteString(broken / "photos" / "view_02.png", "this is not an image");
+  const fs::path manifest =
+      WriteManifest({ManifestRow("tree_1", Dataset(1)), ManifestRow("tree_2", Dataset(2)),
+                     ManifestRow("broken", broken)});
+  const SubprocessResult engine = RunSubprocess(
+      BatchArgs(manifest, work_ / "snakemake", {"--engine", "snakemake", "--profile", "local"}),
+      900);
+  ASSERT_TRUE(ExitedWith(engine, kExitTreesFailed));
+  std::cout << "[ snakemake batch of 3 trees (1 fails): " << engine.seconds << " s ]\n";
+  const SubprocessResult native = RunSubprocess(BatchArgs(manifest, work_ / "native"), 900);
+  ASSERT_TRUE(ExitedWith(native, kExitTreesFailed));
+  std::cout << "[ sylva batch of the same: " << native.seconds << " s ]\n";
+  const std::vector<Row> by_engine = ReadSummary(work_ / "snakemake");
+  const std::vector<Row> by_sylva = ReadSummary(work_ / "native");
+  ASSERT_EQ(by_engine.size(), 3u);
+  ASSERT_EQ(by_sylva.size(), 3u);
+  for (int t = 0; t < 2; ++t) {
+    EXPECT_EQ(by_engine[t].at("status"), "ok") << by_engine[t].at("error");
+    for (const char* figure :
+         {"input_mean_iou", "held_out_mean_iou", "mesh_input_mean_iou", "height", "crown_width"}) {
+      EXPECT_NEAR(std::stod(by_engine[t].at(figure)), std::stod(by_sylva[t].at(figure)),
+                  0.02 * std::abs(std::stod(by_sylva[t].at(figure))))
+          << by_engine[t].at("name") << " " << figure;
+    }
+    EXPECT_TRUE(fs::is_regular_file(work_ / "snakemake" / by_engine[t].at("tree_glb")));
+  }
+  EXPECT_EQ(by_engine[2].at("status"), "failed");
+  EXPECT_EQ(by_engine[2].at("stage"), "init");
+  EXPECT_EQ(by_engine[2].at("error"), by_sylva[2].at("error"));
+  EXPECT_TRUE(
+      Contains(ReadFileToString(work_ / "snakemake" / "logs" / "broken.log"), "sylva: error:"));
+}
+
 }  // namespace
 }  // namespace sylva

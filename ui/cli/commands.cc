@@ -19,6 +19,7 @@
 #include "ui/batch/batch_summary.h"
 #include "ui/batch/manifest.h"
 #include "ui/batch/tree_run.h"
+#include "ui/batch/workflow_engine.h"
 #include "ui/cli/arguments.h"
 #include "ui/cli/terminal_progress.h"
 #include "ui/pipeline/pipeline.h"
@@ -161,8 +162,8 @@ CommandSpec MeshQsmSpec() {
 
 CommandSpec BatchSpec() {
   return {"batch",
-          "sylva batch MANIFEST OUT_DIR [--jobs N] [--Section.field=value ...] | "
-          "sylva batch --scan DIR [--output MANIFEST]",
+          "sylva batch MANIFEST OUT_DIR [--jobs N | --engine snakemake [--profile P]] "
+          "[--Section.field=value ...] | sylva batch --scan DIR [--output MANIFEST]",
           "Runs many trees, each a row of MANIFEST (CSV: name, photos, and colmap, cameras or\n"
           "register (+ loose_cameras); optional mattes, held_out, units and Section.field option\n"
           "columns; paths relative to the manifest; see ui/batch/manifest.h and the README). Each\n"
@@ -174,6 +175,8 @@ CommandSpec BatchSpec() {
           "sum up every tree. A bad manifest is refused before anything runs.\n"
           "Exit codes: 0 every tree finished, 3 some failed (the others finished), 2 bad\n"
           "manifest or options (nothing run), 130 interrupted, 1 internal error.\n"
+          "With --engine snakemake the same trees run as jobs of Snakemake 7 (workflow/Snakefile;\n"
+          "--profile slurm submits them to a Slurm cluster; see the README).\n"
           "--scan DIR writes a manifest of the tree folders in DIR (each with photos/ or images/,\n"
           "cameras.json, a COLMAP model in colmap/ or sparse/0/, or loose_cameras.json; mattes/\n"
           "and held_out.txt when present).",
@@ -184,6 +187,11 @@ CommandSpec BatchSpec() {
             "run only this tree, in this process (what each child process does; for workflow "
             "engines)"},
            {"summary", "", "only rewrite OUT_DIR/summary.csv and summary.html from what exists"},
+           {"engine", "ENGINE",
+            "sylva (default: child processes here) or snakemake (workflow/Snakefile, one job per "
+            "tree; locally or on Slurm by --profile)"},
+           {"profile", "PROFILE",
+            "with --engine snakemake: local (default), slurm, or a profile folder"},
            kLogLevelFlag},
           0,
           2,
@@ -245,6 +253,18 @@ int CmdBatch(const ParsedArguments& args) {
   options.jobs = args.GetInt("jobs", 1, 1, 1024);
   options.options = args.options;
   options.log_level = args.Get("log-level");
+  const std::string engine = args.Get("engine", "sylva");
+  SYLVA_CHECK_INPUT(engine == "sylva" || engine == "snakemake", "--engine")
+      << "expected sylva or snakemake, got '" << engine << "'";
+  SYLVA_CHECK_INPUT(engine == "snakemake" || !args.Has("profile"), "--profile")
+      << "only with --engine snakemake";
+  if (engine == "snakemake") {
+    const int code =
+        RunSnakemakeBatch(manifest, out_dir, ResolveProfile(args.Get("profile", "local")), options);
+    std::cout << "Summary: " << (out_dir / "summary.csv").string() << ", "
+              << (out_dir / "summary.html").string() << "\n";
+    return code;
+  }
   std::signal(SIGINT, OnBatchInterrupt);
   const BatchResult result = RunBatch(manifest, out_dir, options, &g_batch_interrupted);
   std::cout << result.BriefReport() << "\nSummary: " << (out_dir / "summary.csv").string() << ", "
