@@ -372,6 +372,16 @@ TEST_F(BatchTest, BadManifestsAndOptionsRunNothing) {
     EXPECT_FALSE(fs::exists(out)) << "a refused batch created " << out;
   }
   const fs::path manifest = WriteManifest({ManifestRow("t", Dataset(1))});
+  const SubprocessResult bad_engine = RunSubprocess(BatchArgs(manifest, out, {"--engine", "make"}));
+  EXPECT_TRUE(ExitedWith(bad_engine, kExitBadInput));
+  EXPECT_TRUE(Contains(bad_engine.err, "--engine")) << bad_engine.err;
+  EXPECT_TRUE(ExitedWith(RunSubprocess({kSylva, "batch"}), kExitBadInput));
+  const SubprocessResult help = RunSubprocess({kSylva, "batch", "--help"});
+  ASSERT_TRUE(ExitedWith(help, 0));
+  for (const char* flag : {"--jobs N", "--scan DIR", "--only NAME", "--engine", "--profile",
+                           "--Density.resolution="}) {
+    EXPECT_TRUE(Contains(help.out, flag)) << flag << "\n" << help.out;
+  }
   const SubprocessResult bad_option =
       RunSubprocess(BatchArgs(manifest, out, {"--Density.resolution=abc"}));
   EXPECT_TRUE(ExitedWith(bad_option, kExitBadInput));

@@ -171,8 +171,8 @@ class BatchScheduler {
         ++it;
         continue;
       }
-      Record(*it);
-      run_seconds_.push_back(SecondsSince(it->start));
+      if (Record(*it)) ok_seconds_.push_back(SecondsSince(it->start));
+      all_seconds_.push_back(SecondsSince(it->start));
       it = running_.erase(it);
       WriteBatchSummary(manifest_, out_dir_);
     }
@@ -204,7 +204,8 @@ class BatchScheduler {
     return status;
   }
 
-  void Record(const Running& running) {
+  // Reports how the tree's run ended; true if it finished.
+  bool Record(const Running& running) {
     const TreeStatus status = FinalStatus(running);
     const std::string& name = running.tree->name;
     if (status.Finished()) {
@@ -217,13 +218,16 @@ class BatchScheduler {
       Event(name + ": " + status.status + " in " + status.stage + ": " + status.error +
             " (log: " + TreeLogPath(out_dir_, name).string() + ")");
     }
+    return status.Finished();
   }
 
-  // Remaining wall time from the mean time of the trees run so far.
+  // Remaining wall time from the mean time of the trees that finished so far
+  // (failures are quick: they would make it too short), else of all.
   std::string Eta() const {
-    if (run_seconds_.empty()) return "ETA unknown";
+    const std::vector<double>& times = ok_seconds_.empty() ? all_seconds_ : ok_seconds_;
+    if (times.empty()) return "ETA unknown";
     double mean = 0.0;
-    for (double s : run_seconds_) mean += s / run_seconds_.size();
+    for (double s : times) mean += s / times.size();
     double work = mean * queue_.size();
     for (const Running& running : running_)
       work += std::max(mean - SecondsSince(running.start), 0.0);
@@ -275,7 +279,8 @@ class BatchScheduler {
   std::string last_progress_;
   std::deque<const ManifestTree*> queue_;
   std::vector<Running> running_;
-  std::vector<double> run_seconds_;
+  std::vector<double> ok_seconds_;   // wall times of the trees that finished
+  std::vector<double> all_seconds_;  // of every tree run
   BatchResult result_;
 };
 
