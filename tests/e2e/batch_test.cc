@@ -451,5 +451,25 @@ TEST_F(BatchTest, SnakemakeRunsTheSameBatch) {
       Contains(ReadFileToString(work_ / "snakemake" / "logs" / "broken.log"), "sylva: error:"));
 }
 
+// A Snakemake job whose tree process crashes is recorded as crashed.
+TEST_F(BatchTest, SnakemakeRecordsACrashedJob) {
+  const fs::path manifest = WriteManifest({ManifestRow("tree_1", Dataset(1))});
+  const fs::path out = work_ / "out";
+  Subprocess batch(BatchArgs(manifest, out, {"--engine", "snakemake"}));
+  ASSERT_TRUE(WaitFor(
+      [&] {
+        return HasStatus(out, "tree_1", "running", {"density", "attract"});
+      },
+      300));
+  ASSERT_EQ(kill(ReadStatus(out, "tree_1").at("pid").get<int>(), SIGSEGV), 0);
+  ASSERT_TRUE(ExitedWith(batch.Wait(300), kExitTreesFailed));
+  const std::vector<Row> rows = ReadSummary(out);
+  ASSERT_EQ(rows.size(), 1u);
+  EXPECT_EQ(rows[0].at("status"), "crashed");
+  EXPECT_TRUE(rows[0].at("stage") == "density" || rows[0].at("stage") == "attract" ||
+              rows[0].at("stage") == "skeleton")
+      << rows[0].at("stage");
+}
+
 }  // namespace
 }  // namespace sylva

@@ -36,6 +36,19 @@ int RunAndWait(const std::vector<std::string>& argv) {
   return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
 }
 
+// Once Snakemake has returned no job runs: a tree still "running" had its
+// job die without recording how (killed, crashed, out of memory).
+void MarkDeadJobs(const Manifest& manifest, const std::filesystem::path& out_dir) {
+  for (const ManifestTree& tree : manifest.trees) {
+    const std::filesystem::path path = TreeStatusPath(out_dir, tree.name);
+    std::optional<TreeStatus> status = ReadTreeStatus(path);
+    if (!status || status->status != "running") continue;
+    status->status = "crashed";
+    status->error = "its job ended without recording how (killed or crashed; see its log)";
+    WriteTreeStatus(path, *status);
+  }
+}
+
 }  // namespace
 
 std::filesystem::path WorkflowDir() {
@@ -87,6 +100,7 @@ int RunSnakemakeBatch(const Manifest& manifest, const std::filesystem::path& out
                       const std::filesystem::path& profile, const BatchOptions& options) {
   std::filesystem::create_directories(BatchLogDir(out_dir));
   const int engine_exit = RunAndWait(SnakemakeArguments(manifest, out_dir, profile, options));
+  MarkDeadJobs(manifest, out_dir);
   WriteBatchSummary(manifest, out_dir);
   int failed = 0, unfinished = 0;
   for (const ManifestTree& tree : manifest.trees) {
