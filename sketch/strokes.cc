@@ -197,6 +197,22 @@ StrokeSet ReadStrokesJson(const std::filesystem::path& path, int photo_width, in
   return set;
 }
 
+void WriteStrokesJson(const std::filesystem::path& path, const StrokeSet& strokes) {
+  strokes.Check(path.string());
+  Json json = {{"format", kJsonFormatName},
+               {"version", kJsonFormatVersion},
+               {"width", strokes.width},
+               {"height", strokes.height},
+               {"strokes", Json::array()}};
+  for (const Stroke& stroke : strokes.strokes) {
+    Json points = Json::array();
+    for (const Eigen::Vector2d& p : stroke.points) points.push_back({p.x(), p.y()});
+    json["strokes"].push_back(points);
+  }
+  if (strokes.root) json["root"] = {strokes.root->x(), strokes.root->y()};
+  WriteJsonFile(path, json);
+}
+
 StrokeSet ReadStrokes(const std::filesystem::path& path, int photo_width, int photo_height) {
   std::string extension = path.extension().string();
   std::transform(extension.begin(), extension.end(), extension.begin(),

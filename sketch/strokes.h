@@ -100,6 +100,10 @@ StrokeSet ReadStrokesJson(const std::filesystem::path& path, int photo_width, in
 // By extension (case-insensitive): .svg or .json; anything else is an InputError.
 StrokeSet ReadStrokes(const std::filesystem::path& path, int photo_width, int photo_height);
 
+// Writes the JSON form atomically (what ReadStrokesJson reads back exactly).
+// Throws Error if the set fails Check().
+void WriteStrokesJson(const std::filesystem::path& path, const StrokeSet& strokes);
+
 }  // namespace sylva
 
 #endif  // SYLVA_SKETCH_STROKES_H_

@@ -4,6 +4,7 @@
 #define SYLVA_RECONSTRUCT_DENSITY_DENSITY_OPTIONS_H_
 
 #include <string>
+#include <vector>
 
 #include "core/geometry/box.h"
 
@@ -45,6 +46,11 @@ struct DensityOptions {
   double view_max_carved_share = 0.3;
   // ... and more than this many times the median view's share (> 1).
   double view_carved_share_ratio = 2.5;
+  // Views a person painted density on (edits/density): the edit is the
+  // person's word, so these views are never left out, however much they
+  // disagree with the others (the summary then warns "edited-view-kept").
+  // Set by the density stage, not an option.
+  std::vector<std::string> edited_views;
 
   // Implicit carving (thesis 3.3): a voxel's initial opacity is the minimum
   // over views of the mean matte value over its footprint; voxels below this

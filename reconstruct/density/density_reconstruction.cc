@@ -2,6 +2,7 @@
 
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <iomanip>
@@ -74,8 +75,9 @@ std::vector<T> Pick(const std::vector<T>& items, const std::vector<int>& indices
 }
 
 // The views the reconstruction uses: those whose mattes agree with the
-// others (view_consensus.h); the others are named in the summary. Fills
-// `trusted` with their indices.
+// others (view_consensus.h), and those with painted density whatever they
+// show; the others are named in the summary. Fills `trusted` with their
+// indices.
 void ChooseTrustedViews(const ImageSet& image_set, const std::vector<FloatImage>& masks,
                         const DensityOptions& options, const ProgressTask& progress,
                         std::vector<int>* trusted, DensitySummary* summary) {
@@ -96,14 +98,20 @@ void ChooseTrustedViews(const ImageSet& image_set, const std::vector<FloatImage>
   summary->allowed_dissent = consensus.allowed_dissent;
   summary->median_carved_share = consensus.median_carved_share;
   for (int v = 0; v < image_set.NumViews(); ++v) {
-    if (consensus.trusted[v]) {
-      trusted->push_back(v);
+    const std::string& name = image_set.views[v].name;
+    const std::vector<std::string>& edited = options.edited_views;
+    if (!consensus.trusted[v] && std::count(edited.begin(), edited.end(), name) > 0) {
+      summary->warnings.push_back({"edited-view-kept",
+                                   name + ": kept in the density although " + consensus.reasons[v] +
+                                       ", because density is painted on it",
+                                   name});
+    } else if (!consensus.trusted[v]) {
+      summary->distrusted_views.push_back(name);
+      summary->warnings.push_back(
+          {"distrusted-view", name + ": left out of the density, " + consensus.reasons[v], name});
       continue;
     }
-    const std::string& name = image_set.views[v].name;
-    summary->distrusted_views.push_back(name);
-    summary->warnings.push_back(
-        {"distrusted-view", name + ": left out of the density, " + consensus.reasons[v], name});
+    trusted->push_back(v);
   }
   SYLVA_CHECK_INPUT(!trusted->empty(), "mattes") << "no view agrees with the others";
 }

@@ -6,6 +6,7 @@
 #include <csignal>
 #include <fstream>
 #include <iostream>
+#include <limits>
 #include <memory>
 #include <sstream>
 
@@ -24,6 +25,7 @@
 #include "ui/cli/terminal_progress.h"
 #include "ui/pipeline/pipeline.h"
 #include "ui/pipeline/qsm_meshing.h"
+#include "ui/pipeline/sketch_project.h"
 
 namespace sylva {
 namespace {
@@ -47,7 +49,9 @@ CommandSpec InitSpec() {
       "photos' alpha channels, else the matte stage computes them (painted trimaps in\n"
       "PROJECT/edits/trimaps/<photo>.png override it). Every photo is decoded now, so a\n"
       "corrupt file is reported before any work. Photos and mattes are referenced where\n"
-      "they are, or copied with --copy.",
+      "they are, or copied with --copy.\n"
+      "With --sketch the project is made from drawings instead of photos (see 'sylva\n"
+      "sketch -h'); Sketch.* options then say how.",
       {{"photos", "DIR", "folder of the photos (names as in the camera model)"},
        {"colmap", "MODEL_DIR", "given COLMAP sparse model folder (cameras/images .txt or .bin)"},
        {"cameras", "FILE.json", "given sylva camera file (see core/io/camera_file.h)"},
@@ -68,10 +72,38 @@ CommandSpec InitSpec() {
         "world units of the cameras (default: from the camera file, "
         "else 'arbitrary'; with WorldFrame.known_height, the unit of "
         "that height)"},
+       {"sketch", "DRAWINGS",
+        "make the project from 1-4 drawings instead (comma-separated: front, side, "
+        "back, other side)"},
+       {"index", "N", "with --sketch: the drawing of a Quick, Draw! .ndjson file (default 0)"},
        kLogLevelFlag},
       1,
       1,
-      false};
+      true};
+}
+
+CommandSpec SketchSpec() {
+  return {"sketch",
+          "sylva sketch DRAWING [DRAWING2 ...] OUT_DIR [--index N] [--Section.field=value ...]",
+          "Makes a tree from drawings alone (1-4 views of one tree: front, side, back, other\n"
+          "side): Inkscape SVG (stroke roles from layer labels or classes: crown, branch),\n"
+          "scanned or photographed pencil drawings (.png, .jpg, .tif) and Quick, Draw! .ndjson.\n"
+          "Each drawing becomes a view of an ordinary project, OUT_DIR/project: an orthographic\n"
+          "camera, the drawing's silhouette with its enclosed regions filled as the matte (the\n"
+          "crown becomes density) and its branch strokes as attractor strokes (the particle\n"
+          "flow follows them). One drawing does not say how deep the crown is: a virtual side\n"
+          "view assumes a crown of revolution about the trunk (sketch/sketch_views.h). The\n"
+          "tree is scaled to Sketch.tree_height. Writes to OUT_DIR: tree.glb, tree.obj,\n"
+          "bark.obj (with their .mtl), skeleton.json, qsm.csv, metrics.json, tree.lpy,\n"
+          "tree_turtle.lpy and tree.mtg (L-Py and OpenAlea), the previews and\n"
+          "sketch_cameras.json (the drawings' cameras at their canvas sizes, to project the\n"
+          "tree back onto them); the report is OUT_DIR/project/out/report.html. Edit and\n"
+          "re-run with 'sylva run OUT_DIR/project'.",
+          {{"index", "N", "the drawing of a Quick, Draw! .ndjson file (0-based line, default 0)"},
+           kLogLevelFlag},
+          2,
+          5,
+          true};
 }
 
 CommandSpec RunSpec() {
@@ -272,7 +304,9 @@ int CmdBatch(const ParsedArguments& args) {
   return result.ExitCode();
 }
 
-int CmdMeshQsm(const ParsedArguments& args) {
+// The pipeline options of mesh-qsm and mesh-mtg: --Section.field=value,
+// --subdivide, --no-previews.
+PipelineOptions MeshingOptions(const ParsedArguments& args) {
   PipelineOptions options;
   OptionRegistry registry;
   RegisterPipelineOptions(&options, &registry);
@@ -281,10 +315,18 @@ int CmdMeshQsm(const ParsedArguments& args) {
     options.geometry.bark_subdivision = args.GetInt("subdivide", 0, 0, kMaxLoopLevels);
   }
   options.Check();
+  return options;
+}
+
+double MergeFraction(const ParsedArguments& args) {
   const double merge = args.Has("merge") ? args.GetDouble("merge", 0.1) : 0.1;
   SYLVA_CHECK_INPUT(merge >= 0 && merge < 1, "--merge") << "must be in [0, 1), got " << merge;
-  const QsmModel qsm = ReadQsmCsv(args.positional[0]);
-  const QsmMeshing meshing = MeshQsm(qsm, options, merge);
+  return merge;
+}
+
+// Meshes `qsm` and writes the outputs to OUT_DIR (positional[1]).
+int MeshAndWrite(const ParsedArguments& args, const QsmModel& qsm, PipelineOptions options) {
+  const QsmMeshing meshing = MeshQsm(qsm, options, MergeFraction(args));
   std::cout << meshing.brief << "\n";
   if (args.Has("no-previews")) options.report.previews = false;
   for (const fs::path& path : WriteQsmMeshing(meshing, qsm, args.positional[1], options)) {
@@ -293,12 +335,67 @@ int CmdMeshQsm(const ParsedArguments& args) {
   return kExitOk;
 }
 
+int CmdMeshQsm(const ParsedArguments& args) {
+  const PipelineOptions options = MeshingOptions(args);
+  MergeFraction(args);  // checked before reading
+  return MeshAndWrite(args, ReadQsmCsv(args.positional[0]), options);
+}
+
+CommandSpec MeshMtgSpec() {
+  return {
+      "mesh-mtg",
+      "sylva mesh-mtg TREE.mtg OUT_DIR [--diameter-unit K] [--scale S] [--units U] "
+      "[--trunk-radius R] [--merge F] [--subdivide N] [--no-previews] [--Section.field=value ...]",
+      "Meshes a tree coded in OpenAlea's MTG format (FORM-A, TAB-separated; e.g. a\n"
+      "digitised tree, or sylva's own tree.mtg): the entities of the finest scale with\n"
+      "XX YY ZZ features become skeleton nodes (radii from a 'radius' feature, else\n"
+      "TopDia / TopDiameter, else the pipe model), the skeletons a cylinder table, which is\n"
+      "meshed and written as by 'sylva mesh-qsm' (bark.obj, tree.obj, tree.glb, qsm.csv,\n"
+      "metrics.json, tree.lpy, tree_turtle.lpy, tree.mtg, previews).\n"
+      "Try it: sylva mesh-mtg datasets/openalea-mtg/boutdenoylum2.mtg OUT --diameter-unit 10 "
+      "--scale 0.01 --units m",
+      {{"diameter-unit", "K",
+        "TopDia values are diameters in units K times smaller than the coordinates' "
+        "(OpenAlea's DiameterUnit; default 1)"},
+       {"scale", "S", "multiply positions and radii by S, e.g. 0.01 from cm to m (default 1)"},
+       {"units", "U", "unit of the scaled positions, for the outputs (default 'unknown')"},
+       {"trunk-radius", "R",
+        "trunk radius (scaled units) of the pipe-model radii of files without radii "
+        "(default 1.5 % of the tree's height)"},
+       {"merge", "F", "as for mesh-qsm (default 0.1)"},
+       {"subdivide", "N", "N levels of Loop subdivision of the bark, 0-3 (default 0)"},
+       {"no-previews", "", "do not render the preview pictures"},
+       kLogLevelFlag},
+      2,
+      2,
+      true};
+}
+
+int CmdMeshMtg(const ParsedArguments& args) {
+  const PipelineOptions options = MeshingOptions(args);
+  MergeFraction(args);
+  MtgMeshingOptions mtg_options;
+  if (args.Has("diameter-unit")) {
+    mtg_options.read.diameter_unit = args.GetDouble("diameter-unit", 1.0);
+  }
+  if (args.Has("scale")) mtg_options.scale = args.GetDouble("scale", 1.0);
+  if (args.Has("units")) mtg_options.units = args.Get("units", "unknown");
+  if (args.Has("trunk-radius")) mtg_options.trunk_radius = args.GetDouble("trunk-radius", 0.0);
+  mtg_options.Check();
+  const fs::path path = args.positional[0];
+  const MtgTable table = MtgTableForMeshing(ReadMtg(path), path.string(), mtg_options);
+  std::cout << table.brief << "\n";
+  return MeshAndWrite(args, table.qsm, options);
+}
+
 std::vector<CommandSpec> AllSpecs() {
   std::vector<CommandSpec> specs = {InitSpec(), RunSpec()};
   for (const StageInfo& stage : AllStages()) specs.push_back(StageSpec(stage));
   specs.push_back(SynthSpec());
   specs.push_back(MeshQsmSpec());
   specs.push_back(BatchSpec());
+  specs.push_back(SketchSpec());
+  specs.push_back(MeshMtgSpec());
   return specs;
 }
 
@@ -339,7 +436,47 @@ void ApplyLogLevel(const ParsedArguments& args) {
   if (args.Has("log-level")) SetLogLevel(ParseLogLevel(args.Get("log-level")));
 }
 
+// The registry over `options`: a sketch project's defaults, then `args`'
+// options.
+void SketchOptions(const ParsedArguments& args, PipelineOptions* options,
+                   OptionRegistry* registry) {
+  RegisterPipelineOptions(options, registry);
+  SetSketchDefaults(registry);
+  for (const auto& [key, value] : args.options) registry->Set(key, value, "--" + key);
+  options->Check();
+}
+
+Project InitSketchProject(const fs::path& root, const std::vector<fs::path>& drawings,
+                          const ParsedArguments& args) {
+  SketchSetup setup;
+  setup.root = root;
+  setup.drawings = drawings;
+  setup.ndjson_index = args.GetInt("index", 0, 0, std::numeric_limits<int>::max());
+  PipelineOptions options;
+  OptionRegistry registry;
+  SketchOptions(args, &options, &registry);
+  return CreateSketchProject(setup, options.sketch, registry);
+}
+
+int CmdInitSketch(const ParsedArguments& args) {
+  std::vector<fs::path> drawings;
+  std::stringstream list(args.Get("sketch"));
+  for (std::string item; std::getline(list, item, ',');) {
+    if (!item.empty()) drawings.emplace_back(item);
+  }
+  const Project project = InitSketchProject(args.positional[0], drawings, args);
+  std::cout << "Created project " << project.root().string() << " from " << drawings.size()
+            << " drawing(s): " << project.photo_names().size()
+            << " views; branch strokes in edits/, drawn cameras in "
+            << SketchCamerasPath(project).string() << ".\nNext: sylva run "
+            << project.root().string() << "\n";
+  return kExitOk;
+}
+
 int CmdInit(const ParsedArguments& args) {
+  if (args.Has("sketch")) return CmdInitSketch(args);
+  SYLVA_CHECK_INPUT(args.options.empty(), "--" + args.options.front().first)
+      << "options are given to 'sylva run' (or to 'sylva init --sketch')";
   ProjectSetup setup;
   setup.root = args.positional[0];
   SYLVA_CHECK_INPUT(args.Has("photos"), "sylva init") << "--photos DIR is required";
@@ -412,6 +549,47 @@ int RunPipeline(const ParsedArguments& args, const Stage* single_stage) {
   progress.Finish();
   std::cout << summary.BriefReport();
   PrintOutputs(project);
+  return kExitOk;
+}
+
+// `sylva sketch DRAWING... OUT_DIR`: a project of the drawings in
+// OUT_DIR/project, run, and its main outputs copied to OUT_DIR.
+int CmdSketch(const ParsedArguments& args) {
+  const fs::path out = args.positional.back();
+  std::error_code ec;
+  SYLVA_CHECK_INPUT(!fs::exists(out, ec) || fs::is_empty(out, ec), out.string())
+      << "already exists and is not empty";
+  const std::vector<fs::path> drawings(args.positional.begin(), args.positional.end() - 1);
+  const Project project = InitSketchProject(out / "project", drawings, args);
+  PipelineOptions options;
+  OptionRegistry registry;
+  RegisterPipelineOptions(&options, &registry);
+  project.ApplySavedOptions(&registry);
+  options.Check();
+  TerminalProgress progress;
+  TerminalProgress::InstallInterruptHandler(&progress);
+  const RunSummary summary =
+      Pipeline(project, options, &progress).Run(AllStages().back().stage, false);
+  progress.Finish();
+  std::cout << summary.BriefReport() << "Outputs in " << out.string() << "/:\n";
+  std::vector<fs::path> outputs = {SketchCamerasPath(project)};
+  for (const char* name :
+       {"tree.glb", "tree.obj", "tree.mtl", "bark.obj", "bark.mtl", "skeleton.json", "qsm.csv",
+        "metrics.json", "tree.lpy", "tree_turtle.lpy", "tree.mtg"}) {
+    outputs.push_back(project.OutDir() / name);
+  }
+  for (int k = 0; k < 4; ++k) {
+    outputs.push_back(project.OutDir() / "report" / ("preview_" + std::to_string(k) + ".png"));
+  }
+  for (const fs::path& file : outputs) {
+    if (!fs::is_regular_file(file, ec)) continue;
+    AtomicWriteWith(out / file.filename(), [&](const fs::path& temp) {
+      fs::copy_file(file, temp, fs::copy_options::overwrite_existing);
+    });
+    std::cout << "  " << file.filename().string() << "\n";
+  }
+  std::cout << "Report: " << (project.OutDir() / "report.html").string()
+            << "\nEdit and re-run: sylva run " << project.root().string() << "\n";
   return kExitOk;
 }
 
@@ -511,6 +689,8 @@ int Dispatch(int argc, const char* const* argv) {
     if (command == "synth") return CmdSynth(args);
     if (command == "mesh-qsm") return CmdMeshQsm(args);
     if (command == "batch") return CmdBatch(args);
+    if (command == "sketch") return CmdSketch(args);
+    if (command == "mesh-mtg") return CmdMeshMtg(args);
     const Stage stage = ParseStage(command, command);
     return RunPipeline(args, &stage);
   }

@@ -6,12 +6,16 @@
 
 #include <cmath>
 #include <filesystem>
+#include <memory>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "core/io/image_io.h"
 #include "core/io/vdb_io.h"
+#include "core/util/warning.h"
 #include "datasets/synthetic/synthetic_dataset.h"
+#include "reconstruct/density/density_reconstruction.h"
 #include "ui/pipeline/pipeline.h"
 #include "ui/pipeline/project.h"
 
@@ -37,8 +41,10 @@ class DensityPainter {
   DensityPainter(const Project& project, ImageSet cameras)
       : project_(project), cameras_(std::move(cameras)) {}
 
-  void PaintBall(const Eigen::Vector3d& center, double radius, float value) {
+  // In every view, or in view `only` alone when it is >= 0.
+  void PaintBall(const Eigen::Vector3d& center, double radius, float value, int only = -1) {
     for (int v = 0; v < cameras_.NumViews(); ++v) {
+      if (only >= 0 && v != only) continue;
       const Camera& camera = cameras_.CameraOf(v);
       const fs::path path = project_.EditsDir() / "density" /
                             fs::path(cameras_.views[v].name).replace_extension(".png");
@@ -65,27 +71,46 @@ class DensityPainter {
   const ImageSet cameras_;
 };
 
-TEST(DensityEditsTest, PaintingAddsAndRemovesDensityAndReRunsFromTheDensity) {
-  const fs::path dir =
-      fs::temp_directory_path() / ("sylva_density_edits_" + std::to_string(getpid()));
-  fs::remove_all(dir);
-  SyntheticDatasetOptions synth;
-  synth.num_views = 6;
-  synth.num_held_out = 0;
-  synth.image_size = 128;
-  synth.samples_per_axis = 1;
-  WriteSyntheticDataset(MakeSyntheticDataset(synth), synth, dir / "data");
-  ProjectSetup setup;
-  setup.root = dir / "project";
-  setup.photos_dir = dir / "data" / "photos";
-  setup.colmap_model_dir = dir / "data" / "colmap";
-  setup.mattes_dir = dir / "data" / "mattes";
-  const Project project = Project::Create(setup);
-  PipelineOptions options;
-  options.density.resolution = 48;
-  options.density.max_resolution = 48;
-  Pipeline(project, options, nullptr).Run(Stage::kDensity, false);
-  const DensityGrid before = ReadDensityGrid(project.OutDir() / "density.vdb");
+// A project of 6 synthetic views at 128 px, its density on a 48-voxel grid.
+class DensityEditsTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("sylva_density_edits_" + std::to_string(getpid()));
+    fs::remove_all(dir_);
+    SyntheticDatasetOptions synth;
+    synth.num_views = 6;
+    synth.num_held_out = 0;
+    synth.image_size = 128;
+    synth.samples_per_axis = 1;
+    WriteSyntheticDataset(MakeSyntheticDataset(synth), synth, dir_ / "data");
+    ProjectSetup setup;
+    setup.root = dir_ / "project";
+    setup.photos_dir = dir_ / "data" / "photos";
+    setup.colmap_model_dir = dir_ / "data" / "colmap";
+    setup.mattes_dir = dir_ / "data" / "mattes";
+    project_ = std::make_unique<Project>(Project::Create(setup));
+    options_.density.resolution = 48;
+    options_.density.max_resolution = 48;
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  // Runs the pipeline up to the density; returns the density stage's run.
+  StageRun RunDensity() {
+    const RunSummary summary = Pipeline(*project_, options_, nullptr).Run(Stage::kDensity, false);
+    return summary.stages.back();
+  }
+  DensityGrid ReadDensity() const { return ReadDensityGrid(project_->OutDir() / "density.vdb"); }
+
+  fs::path dir_;
+  std::unique_ptr<Project> project_;
+  PipelineOptions options_;
+};
+
+TEST_F(DensityEditsTest, PaintingAddsAndRemovesDensityAndReRunsFromTheDensity) {
+  const Project& project = *project_;
+  const PipelineOptions& options = options_;
+  RunDensity();
+  const DensityGrid before = ReadDensity();
 
   // A ball low beside the trunk (empty: the crown starts at 30 % of the
   // height) and one in the middle of the crown, in the world frame.
@@ -110,15 +135,49 @@ TEST(DensityEditsTest, PaintingAddsAndRemovesDensityAndReRunsFromTheDensity) {
   EXPECT_NE(pipeline.StageKey(Stage::kDensity), density_key);
   EXPECT_NE(pipeline.StageKey(Stage::kSkeleton), skeleton_key) << "what follows re-runs too";
 
-  Pipeline(project, options, nullptr).Run(Stage::kDensity, false);
-  const DensityGrid after = ReadDensityGrid(project.OutDir() / "density.vdb");
+  RunDensity();
+  const DensityGrid after = ReadDensity();
   const double empty_after = OpacityNear(after, empty, radius);
   const double crown_after = OpacityNear(after, crown, radius);
   std::printf("painted in: %.3f -> %.3f; painted out of the crown: %.3f -> %.3f\n", empty_before,
               empty_after, crown_before, crown_after);
   EXPECT_GT(empty_after, empty_before + 1.0);
   EXPECT_LT(crown_after, 0.2 * crown_before);
-  fs::remove_all(dir);
+}
+
+// A large edit in one view alone disagrees with the other views, but it is
+// the person's word: the view-consensus test keeps that view (and says so)
+// instead of leaving it, and the edit, out of the density.
+TEST_F(DensityEditsTest, AViewWithALargeEditIsKeptAgainstTheOthers) {
+  const StageRun clean = RunDensity();
+  EXPECT_EQ(clean.Figure("distrusted_views"), 0.0);
+  const DensityGrid before = ReadDensity();
+  const Box3d box = before.ActiveWorldBounds();
+  const Eigen::Vector3d crown = box.center() + 0.15 * box.sizes().z() * Eigen::Vector3d::UnitZ();
+  const double radius = 0.25 * box.sizes().z();
+  const double crown_before = OpacityNear(before, crown, 0.3 * radius);
+  ASSERT_GT(crown_before, 0.5) << "the crown holds density";
+
+  const ImageSet cameras = project_->LoadCameras();
+  DensityPainter(*project_, cameras).PaintBall(crown, radius, 0.0f, /*only=*/0);
+  const StageRun edited = RunDensity();
+  const double crown_after = OpacityNear(ReadDensity(), crown, 0.3 * radius);
+  std::printf("crown painted out in one view: %.3f -> %.3f\n", crown_before, crown_after);
+  EXPECT_EQ(edited.Figure("distrusted_views"), 0.0);
+  int kept = 0;
+  for (const Warning& warning : edited.warnings) {
+    if (warning.code == "edited-view-kept" && warning.subject == cameras.views[0].name) ++kept;
+  }
+  EXPECT_EQ(kept, 1) << "the summary says the disagreeing edited view was kept";
+  EXPECT_LT(crown_after, 0.2 * crown_before) << "the edit carves the crown";
+
+  // Without the exemption the painted view would have been left out.
+  std::vector<FloatImage> mattes;
+  for (int v = 0; v < cameras.NumViews(); ++v)
+    mattes.push_back(project_->LoadEditedMatte(cameras, v));
+  DensitySummary plain;
+  ReconstructDensity(cameras, mattes, options_.density, nullptr, &plain);
+  EXPECT_EQ(plain.distrusted_views, std::vector<std::string>{cameras.views[0].name});
 }
 
 }  // namespace

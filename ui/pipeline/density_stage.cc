@@ -1,4 +1,6 @@
 // The density stage: mattes of the input views -> out/density.vdb.
+#include <filesystem>
+
 #include "core/io/vdb_io.h"
 #include "reconstruct/density/density_reconstruction.h"
 #include "ui/pipeline/stage_context.h"
@@ -26,9 +28,14 @@ void AddDensityFigures(const DensitySummary& summary, const std::string& units, 
 StageRun RunDensityStage(const StageContext& context) {
   const ImageSet views = context.InputViews();
   const std::vector<FloatImage> mattes = context.LoadMattes(views, "density: reading mattes");
+  DensityOptions options = context.options.density;
+  for (const View& view : views.views) {
+    if (std::filesystem::exists(context.project.DensityEditPath(view.name))) {
+      options.edited_views.push_back(view.name);
+    }
+  }
   DensitySummary summary;
-  DensityGrid grid =
-      ReconstructDensity(views, mattes, context.options.density, context.progress, &summary);
+  DensityGrid grid = ReconstructDensity(views, mattes, options, context.progress, &summary);
   grid.SetMetadata("units", context.Units());
   StageRun run;
   run.brief = summary.BriefReport();

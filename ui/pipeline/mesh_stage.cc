@@ -4,12 +4,16 @@
 // separately meshed twigs: Twigs.mesh, whose tubes are in tree.*); and the
 // scientific outputs: out/qsm.csv (one cylinder per skeleton edge, TreeQSM's
 // columns; positions marked measured, branching a prior, radii an allometric
-// prior) and out/metrics.json (height, crown, DBH when metric, branches per
-// order; each figure labelled measured or prior).
+// prior), out/metrics.json (height, crown, DBH when metric, branches per
+// order; each figure labelled measured or prior), and the skeleton for plant
+// modellers: out/tree.lpy and out/tree_turtle.lpy (L-Py axioms, absolute
+// @M/LineTo and relative F/+/ forms) and out/tree.mtg (OpenAlea's MTG).
 #include <sstream>
 
 #include "core/io/image_io.h"
+#include "core/io/lpy_io.h"
 #include "core/io/mesh_io.h"
+#include "core/io/mtg_io.h"
 #include "core/io/qsm_io.h"
 #include "core/io/skeleton_io.h"
 #include "core/io/vdb_io.h"
@@ -64,8 +68,10 @@ StageRun RunMeshStage(const StageContext& context) {
   const TreeMetricsReport metrics =
       ComputeTreeMetrics(skeleton, &density, units, context.options.tree_metrics, sources);
   gltf.instance_leaves = geometry_options.instance_leaves;
-  run.outputs = {context.Out("tree.glb"), context.Out("tree.obj"), context.Out("bark.obj"),
-                 context.Out("qsm.csv"), context.Out("metrics.json")};
+  run.outputs = {context.Out("tree.glb"),        context.Out("tree.obj"),
+                 context.Out("bark.obj"),        context.Out("qsm.csv"),
+                 context.Out("metrics.json"),    context.Out("tree.lpy"),
+                 context.Out("tree_turtle.lpy"), context.Out("tree.mtg")};
   WriteGlb(run.outputs[0], geometry.Wood(), geometry.leaves, gltf);
   WriteObj(run.outputs[1], mesh);
   WriteObj(run.outputs[2], geometry.bark);
@@ -74,10 +80,15 @@ StageRun RunMeshStage(const StageContext& context) {
   qsm.branching_source = sources.branching;
   WriteQsmCsv(run.outputs[3], qsm);
   WriteTreeMetricsJson(run.outputs[4], metrics);
+  WriteLpy(run.outputs[5], {skeleton}, LpyForm::kAbsolute, units);
+  WriteLpy(run.outputs[6], {skeleton}, LpyForm::kTurtle, units);
+  WriteMtg(run.outputs[7], {skeleton}, units);
   std::ostringstream brief;
   brief << " Metrics (out/metrics.json): height " << metrics.height << " " << units
         << ", crown base " << metrics.crown_base_height << ", crown width " << metrics.crown_width
-        << " (measured), " << metrics.num_tips << " tips (prior); cylinders in out/qsm.csv.";
+        << " (measured), " << metrics.num_tips
+        << " tips (prior); cylinders in out/qsm.csv; L-Py and MTG in out/tree.lpy, "
+           "tree_turtle.lpy, tree.mtg.";
   run.brief += brief.str();
   AddMeshFigures(geometry, metrics, &run);
   progress.Update(1.0);

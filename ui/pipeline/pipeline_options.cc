@@ -86,6 +86,7 @@ void PipelineOptions::Check() const {
   geometry.Check();
   tree_metrics.Check();
   report.Check();
+  sketch.Check();
 }
 
 namespace {
@@ -629,6 +630,19 @@ void RegisterLoose(LooseInitOptions* init, LooseRefineOptions* refine, OptionReg
             "Ceres iterations");
 }
 
+void RegisterSketch(SketchViewOptions* o, OptionRegistry* r) {
+  r->AddInt("Sketch.image_size", &o->image_size, "pixels",
+            "longest side of a drawing's view (the drawing is scaled to it)");
+  r->AddDouble("Sketch.tree_height", &o->tree_height, "m",
+               "height of a drawn tree (a prior: a drawing has no scale)");
+  r->AddDouble("Sketch.crown_opacity", &o->crown_opacity, "alpha",
+               "matte value of the regions a drawing encloses (the crown)");
+  r->AddDouble("Sketch.line_width", &o->line_width, "fraction of the image size",
+               "width of drawn lines in the matte where the drawing gives none");
+  r->AddDouble("Sketch.gap_closing", &o->gap_closing, "fraction of the image size",
+               "gaps in outlines narrower than this are closed before filling");
+}
+
 }  // namespace
 
 void RegisterPipelineOptions(PipelineOptions* options, OptionRegistry* registry) {
@@ -653,6 +667,7 @@ void RegisterPipelineOptions(PipelineOptions* options, OptionRegistry* registry)
   RegisterLeafGeometry(&options->geometry, &options->leaves, registry);
   RegisterTreeMetrics(&options->tree_metrics, registry);
   RegisterReport(&options->report, registry);
+  RegisterSketch(&options->sketch, registry);
 }
 
 }  // namespace sylva

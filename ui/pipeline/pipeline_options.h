@@ -26,6 +26,7 @@
 #include "simulate/particle_flow.h"
 #include "simulate/skeleton_consolidation.h"
 #include "simulate/skeleton_pruning.h"
+#include "sketch/sketch_views.h"
 #include "sketch/stroke_graph.h"
 #include "ui/pipeline/option_registry.h"
 
@@ -157,6 +158,8 @@ struct PipelineOptions {
   TreeGeometryOptions geometry;
   TreeMetricsOptions tree_metrics;
   ReportOptions report;
+  // How drawings become views (used when a sketch project is made).
+  SketchViewOptions sketch;
 
   // Throws InputError naming the first invalid option.
   void Check() const;

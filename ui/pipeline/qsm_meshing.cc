@@ -1,9 +1,13 @@
 #include "ui/pipeline/qsm_meshing.h"
 
+#include <algorithm>
+#include <cmath>
 #include <sstream>
 
+#include "core/io/lpy_io.h"
 #include "core/io/mesh_io.h"
 #include "core/util/check.h"
+#include "mesh/allometry.h"
 #include "mesh/gltf_export.h"
 #include "mesh/mesh_checks.h"
 #include "mesh/tree_metrics.h"
@@ -87,11 +91,105 @@ std::vector<std::filesystem::path> WriteQsmMeshing(const QsmMeshing& meshing, co
   WriteTreeMetricsJson(paths[4], ComputeTreeMetrics(meshing.parts[largest].skeleton, nullptr,
                                                     qsm.units, options.tree_metrics,
                                                     {qsm.position_source, qsm.branching_source}));
+  // For plant modellers: the table's exact skeletons (no merged connectors).
+  std::vector<SkeletonGraph> skeletons;
+  for (const QsmSkeleton& part : SkeletonsFromQsm(qsm)) skeletons.push_back(part.skeleton);
+  for (const char* name : {"tree.lpy", "tree_turtle.lpy", "tree.mtg"}) {
+    paths.push_back(out_dir / name);
+  }
+  WriteLpy(paths[5], skeletons, LpyForm::kAbsolute, qsm.units);
+  WriteLpy(paths[6], skeletons, LpyForm::kTurtle, qsm.units);
+  WriteMtg(paths[7], skeletons, qsm.units);
   for (const std::filesystem::path& preview :
        WritePreviewPngs(RenderReportPreviews(meshing.bark, nullptr, options.report), out_dir)) {
     paths.push_back(preview);
   }
   return paths;
+}
+
+QsmModel QsmFromSkeletonParts(const std::vector<SkeletonGraph>& parts, const std::string& units) {
+  QsmModel qsm;
+  qsm.units = units;
+  if (!parts.empty()) qsm.radius_source = parts.front().radius_source;
+  for (const SkeletonGraph& part : parts) {
+    const int64_t id_offset = static_cast<int64_t>(qsm.cylinders.size());
+    int64_t branch_offset = 0;
+    for (const QsmCylinder& c : qsm.cylinders) branch_offset = std::max(branch_offset, c.branch);
+    for (QsmCylinder c : QsmFromSkeleton(part, units).cylinders) {
+      c.id += id_offset;
+      if (c.parent_id != 0) c.parent_id += id_offset;
+      c.branch += branch_offset;
+      qsm.cylinders.push_back(c);
+    }
+  }
+  qsm.Check();
+  return qsm;
+}
+
+void MtgMeshingOptions::Check() const {
+  read.Check();
+  SYLVA_CHECK_INPUT(scale > 0 && std::isfinite(scale), "--scale") << "must be > 0, got " << scale;
+  SYLVA_CHECK_INPUT(trunk_radius >= 0 && std::isfinite(trunk_radius), "--trunk-radius")
+      << "must be >= 0, got " << trunk_radius;
+}
+
+namespace {
+
+// Pipe-model radii for a part read without any.
+void AssignRadii(const MtgMeshingOptions& options, SkeletonGraph* part) {
+  AllometryOptions allometry;
+  allometry.trunk_radius = options.trunk_radius > 0
+                               ? options.trunk_radius
+                               : kDefaultTrunkRadiusFraction * std::max(part->Height(), 1e-9);
+  allometry.min_radius = allometry.trunk_radius / 50;
+  AssignPipeModelRadii(allometry, part);
+}
+
+// Raises radius-0 nodes to the part's smallest positive radius; returns how many.
+int RaiseZeroRadii(SkeletonGraph* part) {
+  double smallest = INFINITY;
+  for (const SkeletonNode& node : part->nodes) {
+    if (node.radius > 0) smallest = std::min(smallest, node.radius);
+  }
+  int raised = 0;
+  for (SkeletonNode& node : part->nodes) {
+    if (node.radius <= 0) {
+      node.radius = smallest;
+      ++raised;
+    }
+  }
+  return raised;
+}
+
+}  // namespace
+
+MtgTable MtgTableForMeshing(const Mtg& mtg, const std::string& source,
+                            const MtgMeshingOptions& options) {
+  options.Check();
+  MtgTable table;
+  table.read = SkeletonsFromMtg(mtg, source, options.read);
+  for (SkeletonGraph part : table.read.parts) {
+    for (SkeletonNode& node : part.nodes) {
+      node.position *= options.scale;
+      node.radius *= options.scale;
+    }
+    const bool any_radius = std::any_of(part.nodes.begin(), part.nodes.end(),
+                                        [](const SkeletonNode& n) { return n.radius > 0; });
+    if (table.read.radius_feature.empty() || !any_radius) {
+      AssignRadii(options, &part);
+      ++table.pipe_model_parts;
+    } else {
+      table.raised_radii += RaiseZeroRadii(&part);
+    }
+    table.parts.push_back(std::move(part));
+  }
+  table.qsm = QsmFromSkeletonParts(table.parts, options.units);
+  std::ostringstream brief;
+  brief << "MTG " << source << ": " << table.read.BriefReport() << " " << table.pipe_model_parts
+        << " part(s) given pipe-model radii, " << table.raised_radii
+        << " zero radii raised; scaled by " << options.scale << " to " << options.units << ".";
+  table.brief = brief.str();
+  return table;
 }
 
 }  // namespace sylva

@@ -1,7 +1,8 @@
 // Meshing a QSM cylinder table (e.g. TreeQSM's, from a laser scan) without a
 // project: the table becomes sylva skeletons (one per root cylinder), each is
 // meshed into the watertight bark of the mesh stage, and the outputs are the
-// mesh stage's. `sylva mesh-qsm QSM.csv OUT_DIR` calls this.
+// mesh stage's. `sylva mesh-qsm QSM.csv OUT_DIR` calls this, and `sylva
+// mesh-mtg MTG OUT_DIR` after turning an OpenAlea MTG's skeletons into a table.
 #ifndef SYLVA_UI_PIPELINE_QSM_MESHING_H_
 #define SYLVA_UI_PIPELINE_QSM_MESHING_H_
 
@@ -9,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "core/io/mtg_io.h"
 #include "core/io/qsm_io.h"
 #include "core/types/triangle_mesh.h"
 #include "ui/pipeline/pipeline_options.h"
@@ -45,13 +47,54 @@ QsmMeshing MeshQsm(const QsmModel& qsm, const PipelineOptions& options, double m
 
 // Writes OUT_DIR/bark.obj, tree.obj (+ .mtl), tree.glb, qsm.csv (the table
 // as sylva read it, with its ids), metrics.json (of the largest part,
-// TreeMetrics.*) and, if Report.previews, preview pictures of the bark
+// TreeMetrics.*), the table's exact skeletons (SkeletonsFromQsm) for plant
+// modellers as tree.lpy, tree_turtle.lpy (core/io/lpy_io.h) and tree.mtg
+// (core/io/mtg_io.h) and, if Report.previews, preview pictures of the bark
 // OUT_DIR/preview_<k>.png
 // (RenderReportPreviews), each atomically; creates OUT_DIR. Returns the
 // paths written.
 std::vector<std::filesystem::path> WriteQsmMeshing(const QsmMeshing& meshing, const QsmModel& qsm,
                                                    const std::filesystem::path& out_dir,
                                                    const PipelineOptions& options);
+
+// A table of skeleton parts: QsmFromSkeleton of each, the ids and branch
+// ids of part k numbered after those of parts 0..k-1 (each part its own
+// root). Parts need radii > 0 (QsmModel::Check).
+QsmModel QsmFromSkeletonParts(const std::vector<SkeletonGraph>& parts, const std::string& units);
+
+// How `sylva mesh-mtg` makes a cylinder table of an MTG.
+struct MtgMeshingOptions {
+  MtgToSkeletonOptions read;  // diameter_unit
+  // Positions and radii are multiplied by this (e.g. 0.01 for the cm of
+  // OpenAlea's digitised walnut, to metres). > 0.
+  double scale = 1.0;
+  // The unit of the scaled positions, for the outputs ("m", "cm", ...).
+  std::string units = "unknown";
+  // Files without radii get pipe-model radii (mesh/allometry.h) with this
+  // trunk radius, in scaled units; 0 = kDefaultTrunkRadiusFraction x the
+  // part's height. >= 0.
+  double trunk_radius = 0.0;
+
+  void Check() const;  // throws InputError naming the option
+};
+
+// The trunk radius of radius-less MTGs, as a fraction of the tree's height
+// (a 5 m tree: 7.5 cm), when MtgMeshingOptions::trunk_radius is 0.
+inline constexpr double kDefaultTrunkRadiusFraction = 0.015;
+
+struct MtgTable {
+  MtgSkeletons read;                 // as read (unscaled)
+  std::vector<SkeletonGraph> parts;  // scaled, every radius > 0
+  QsmModel qsm;                      // QsmFromSkeletonParts(parts)
+  int pipe_model_parts = 0;          // parts given pipe-model radii (no radius feature)
+  int raised_radii = 0;              // radius-0 nodes raised to their part's smallest radius
+  std::string brief;
+};
+
+// SkeletonsFromMtg, scaled, radii completed as above, as a cylinder table
+// for MeshQsm. Throws InputError naming `source` for an unreadable tree.
+MtgTable MtgTableForMeshing(const Mtg& mtg, const std::string& source,
+                            const MtgMeshingOptions& options);
 
 }  // namespace sylva
 
