@@ -2,6 +2,8 @@
 
 #include <tbb/global_control.h>
 
+#include <atomic>
+#include <csignal>
 #include <fstream>
 #include <iostream>
 #include <limits>
@@ -14,6 +16,11 @@
 #include "datasets/synthetic/synthetic_dataset.h"
 #include "datasets/synthetic/synthetic_qsm.h"
 #include "mesh/subdivision.h"
+#include "ui/batch/batch_runner.h"
+#include "ui/batch/batch_summary.h"
+#include "ui/batch/manifest.h"
+#include "ui/batch/tree_run.h"
+#include "ui/batch/workflow_engine.h"
 #include "ui/cli/arguments.h"
 #include "ui/cli/terminal_progress.h"
 #include "ui/pipeline/pipeline.h"
@@ -185,6 +192,118 @@ CommandSpec MeshQsmSpec() {
       true};
 }
 
+CommandSpec BatchSpec() {
+  return {"batch",
+          "sylva batch MANIFEST OUT_DIR [--jobs N | --engine snakemake [--profile P]] "
+          "[--Section.field=value ...] | sylva batch --scan DIR [--output MANIFEST]",
+          "Runs many trees, each a row of MANIFEST (CSV: name, photos, and colmap, cameras or\n"
+          "register (+ loose_cameras); optional mattes, held_out, units and Section.field option\n"
+          "columns; paths relative to the manifest; see ui/batch/manifest.h and the README). Each\n"
+          "tree becomes the project OUT_DIR/<name>/, made and run as 'sylva init' and 'sylva run'\n"
+          "would, in a child process of its own: a tree that fails or crashes is recorded with\n"
+          "its stage, message and log (OUT_DIR/logs/<name>.log) and the others go on. Trees that\n"
+          "finished before and are up to date are skipped, and a killed batch resumes where it\n"
+          "stopped (the stage cache). Progress on stderr; OUT_DIR/summary.csv and summary.html\n"
+          "sum up every tree. A bad manifest is refused before anything runs.\n"
+          "Exit codes: 0 every tree finished, 3 some failed (the others finished), 2 bad\n"
+          "manifest or options (nothing run), 130 interrupted, 1 internal error.\n"
+          "With --engine snakemake the same trees run as jobs of Snakemake 7 (workflow/Snakefile;\n"
+          "--profile slurm submits them to a Slurm cluster; see the README).\n"
+          "--scan DIR writes a manifest of the tree folders in DIR (each with photos/ or images/,\n"
+          "cameras.json, a COLMAP model in colmap/ or sparse/0/, or loose_cameras.json; mattes/\n"
+          "and held_out.txt when present).",
+          {{"jobs", "N", "trees run at once (default 1); each gets its share of the cores"},
+           {"scan", "DIR", "write a manifest of the tree folders in DIR (to stdout, or --output)"},
+           {"output", "MANIFEST", "with --scan: write the manifest to this new file"},
+           {"only", "NAME",
+            "run only this tree, in this process (what each child process does; for workflow "
+            "engines)"},
+           {"summary", "", "only rewrite OUT_DIR/summary.csv and summary.html from what exists"},
+           {"engine", "ENGINE",
+            "sylva (default: child processes here) or snakemake (workflow/Snakefile, one job per "
+            "tree; locally or on Slurm by --profile)"},
+           {"profile", "PROFILE",
+            "with --engine snakemake: local (default), slurm, or a profile folder"},
+           kLogLevelFlag},
+          0,
+          2,
+          true};
+}
+
+std::atomic<bool> g_batch_interrupted{false};
+
+void OnBatchInterrupt(int) {
+  g_batch_interrupted.store(true);
+  std::signal(SIGINT, SIG_DFL);  // a second Ctrl-C stops at once
+}
+
+int ScanTrees(const ParsedArguments& args) {
+  SYLVA_CHECK_INPUT(args.positional.empty(), args.positional.empty() ? "" : args.positional[0])
+      << "unexpected argument with --scan; usage: sylva batch --scan DIR [--output MANIFEST]";
+  const std::vector<ManifestTree> trees = ScanTreeFolders(args.Get("scan"));
+  if (!args.Has("output")) {
+    std::cout << ManifestText(trees, fs::current_path());
+    return kExitOk;
+  }
+  const fs::path output = args.Get("output");
+  std::error_code ec;
+  SYLVA_CHECK_INPUT(!fs::exists(output, ec), output.string())
+      << "already exists; choose a new manifest file";
+  AtomicWriteString(output, ManifestText(trees, fs::absolute(output).parent_path()));
+  std::cout << "Wrote a manifest of " << trees.size() << " trees to " << output.string()
+            << "\nUse it: sylva batch " << output.string() << " OUT_DIR\n";
+  return kExitOk;
+}
+
+int RunOneTree(const Manifest& manifest, const fs::path& out_dir, const ParsedArguments& args) {
+  const ManifestTree* tree = manifest.Find(args.Get("only"));
+  SYLVA_CHECK_INPUT(tree != nullptr, "--only")
+      << "no tree named '" << args.Get("only") << "' in " << manifest.path.string();
+  fs::create_directories(BatchLogDir(out_dir));
+  TerminalProgress progress;
+  TerminalProgress::InstallInterruptHandler(&progress);
+  const TreeStatus status = RunTree(manifest, *tree, out_dir, args.options, &progress);
+  progress.Finish();
+  return status.exit_code;
+}
+
+int CmdBatch(const ParsedArguments& args) {
+  if (args.Has("scan")) return ScanTrees(args);
+  SYLVA_CHECK_INPUT(args.positional.size() == 2, "sylva batch")
+      << "expected MANIFEST and OUT_DIR; usage: " << BatchSpec().usage;
+  const Manifest manifest = ReadManifest(args.positional[0]);
+  const fs::path out_dir = fs::absolute(args.positional[1]).lexically_normal();
+  if (args.Has("only")) return RunOneTree(manifest, out_dir, args);
+  CheckBatchOptions(args.options);
+  if (args.Has("summary")) {
+    WriteBatchSummary(manifest, out_dir);
+    std::cout << "Wrote " << (out_dir / "summary.csv").string() << " and "
+              << (out_dir / "summary.html").string() << "\n";
+    return kExitOk;
+  }
+  BatchOptions options;
+  options.jobs = args.GetInt("jobs", 1, 1, 1024);
+  options.options = args.options;
+  options.log_level = args.Get("log-level");
+  const std::string engine = args.Get("engine", "sylva");
+  SYLVA_CHECK_INPUT(engine == "sylva" || engine == "snakemake", "--engine")
+      << "expected sylva or snakemake, got '" << engine << "'";
+  SYLVA_CHECK_INPUT(engine == "snakemake" || !args.Has("profile"), "--profile")
+      << "only with --engine snakemake";
+  if (engine == "snakemake") {
+    const int code =
+        RunSnakemakeBatch(manifest, out_dir, ResolveProfile(args.Get("profile", "local")), options);
+    std::cout << "Summary: " << (out_dir / "summary.csv").string() << ", "
+              << (out_dir / "summary.html").string() << "\n";
+    return code;
+  }
+  std::signal(SIGINT, OnBatchInterrupt);
+  const BatchResult result = RunBatch(manifest, out_dir, options, &g_batch_interrupted);
+  std::cout << result.BriefReport() << "\nSummary: " << (out_dir / "summary.csv").string() << ", "
+            << (out_dir / "summary.html").string() << "\n";
+  return result.ExitCode();
+}
+
 // The pipeline options of mesh-qsm and mesh-mtg: --Section.field=value,
 // --subdivide, --no-previews.
 PipelineOptions MeshingOptions(const ParsedArguments& args) {
@@ -274,6 +393,7 @@ std::vector<CommandSpec> AllSpecs() {
   for (const StageInfo& stage : AllStages()) specs.push_back(StageSpec(stage));
   specs.push_back(SynthSpec());
   specs.push_back(MeshQsmSpec());
+  specs.push_back(BatchSpec());
   specs.push_back(SketchSpec());
   specs.push_back(MeshMtgSpec());
   return specs;
@@ -293,7 +413,7 @@ std::string GeneralHelp() {
   out << "  sylva help [COMMAND | options]\n"
          "\n'sylva COMMAND -h' explains a command; 'sylva help options' lists every option\n"
          "with its default and unit. Exit codes: 0 ok, 1 internal error, 2 bad input,\n"
-         "130 interrupted.\n";
+         "130 interrupted; 'sylva batch': 3 when some trees failed.\n";
   return out.str();
 }
 
@@ -568,6 +688,7 @@ int Dispatch(int argc, const char* const* argv) {
     if (command == "run") return RunPipeline(args, nullptr);
     if (command == "synth") return CmdSynth(args);
     if (command == "mesh-qsm") return CmdMeshQsm(args);
+    if (command == "batch") return CmdBatch(args);
     if (command == "sketch") return CmdSketch(args);
     if (command == "mesh-mtg") return CmdMeshMtg(args);
     const Stage stage = ParseStage(command, command);

@@ -344,6 +344,7 @@ StageRun Pipeline::RunStage(Stage stage) {
 }
 
 StageRun Pipeline::Execute(Stage stage) {
+  if (on_stage_start_) on_stage_start_(stage);
   const auto start = std::chrono::steady_clock::now();
   const StageContext context{project_, options_, progress_};
   StageRun run = Definition(stage).run(context);

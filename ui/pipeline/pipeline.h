@@ -12,7 +12,9 @@
 #define SYLVA_UI_PIPELINE_PIPELINE_H_
 
 #include <filesystem>
+#include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/util/progress.h"
@@ -71,6 +73,12 @@ class Pipeline {
   std::string StageKey(Stage stage) const;
   bool IsUpToDate(Stage stage) const;
 
+  // Called with each stage just before it runs (not for stages that are up
+  // to date), e.g. so that a batch can tell in which stage a tree failed.
+  void SetStageStartCallback(std::function<void(Stage)> callback) {
+    on_stage_start_ = std::move(callback);
+  }
+
  private:
   StageRun Execute(Stage stage);
   // Reads the held-out views' mattes (only the report reads them) so a bad
@@ -82,6 +90,7 @@ class Pipeline {
   const Project& project_;
   PipelineOptions options_;
   ProgressReporter* progress_;
+  std::function<void(Stage)> on_stage_start_;
 };
 
 }  // namespace sylva
