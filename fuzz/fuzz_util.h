@@ -57,7 +57,8 @@ inline std::vector<std::string_view> Parts(const uint8_t* data, size_t size, int
   for (int k = 0; k + 1 < count; ++k) {
     const size_t at = rest.find(kPartSeparator);
     parts.push_back(rest.substr(0, at));
-    rest = at == std::string_view::npos ? std::string_view() : rest.substr(at + kPartSeparator.size());
+    rest =
+        at == std::string_view::npos ? std::string_view() : rest.substr(at + kPartSeparator.size());
   }
   parts.push_back(rest);
   return parts;

@@ -1,4 +1,5 @@
-// Fuzz target: Photos and mattes through the image reader (core/io/image_io.h, OpenImageIO); PNG by extension, any format by content.
+// Fuzz target: Photos and mattes through the image reader (core/io/image_io.h, OpenImageIO); PNG by
+// extension, any format by content.
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>

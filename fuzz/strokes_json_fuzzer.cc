@@ -3,8 +3,8 @@
 #include <cstdint>
 #include <filesystem>
 
-#include "sketch/strokes.h"
 #include "fuzz/fuzz_util.h"
+#include "sketch/strokes.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   return sylva::fuzz::FuzzFile(data, size, ".json", [](const std::filesystem::path& path) {

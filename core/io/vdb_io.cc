@@ -1,5 +1,8 @@
 #include "core/io/vdb_io.h"
 
+#include <exception>
+#include <new>
+
 #include "core/types/density_grid_vdb.h"
 #include "core/util/check.h"
 #include "core/util/file_util.h"
@@ -24,10 +27,18 @@ DensityGrid ReadDensityGrid(const fs::path& path) {
   openvdb::GridPtrVecPtr grids;
   try {
     openvdb::io::File file(path.string());
-    file.open();
+    // Without delayed loading: its metadata, when damaged, fails an
+    // assertion inside OpenVDB (found by fuzz/vdb_fuzzer.cc) instead of
+    // throwing.
+    file.open(/*delayLoad=*/false);
     grids = file.getGrids();
     file.close();
   } catch (const openvdb::Exception& error) {
+    SYLVA_INPUT_ERROR(path.string()) << "cannot read OpenVDB file: " << error.what();
+  } catch (const std::bad_alloc&) {
+    // A damaged size field asks for more memory than there is.
+    SYLVA_INPUT_ERROR(path.string()) << "cannot read OpenVDB file: damaged (impossible sizes)";
+  } catch (const std::exception& error) {
     SYLVA_INPUT_ERROR(path.string()) << "cannot read OpenVDB file: " << error.what();
   }
   openvdb::FloatGrid::Ptr chosen;
