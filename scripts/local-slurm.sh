@@ -62,9 +62,16 @@ print(" ".join(str(s.getsockname()[1]) for s in socks))
 EOF
 }
 
+# Shows the logs, stops what did start, and exits 1 with message $1.
+fail() {
+  show_logs
+  stop_daemons
+  die "$*"
+}
+
 show_logs() {
   local file
-  for file in "$DIR"/log/*.log; do
+  for file in "$DIR"/log/*.log "$DIR"/log/*.out; do
     [ -f "$file" ] || continue
     log "--- $file"
     tail -n 15 "$file" >&2
@@ -78,7 +85,8 @@ start() {
   done
   [ ${#missing[@]} -eq 0 ] || die "not installed: ${missing[*]} (apt-get install slurm-wlm munge)"
   if running; then
-    log "already running (SLURM_CONF=$CONF)"
+    log "already running"
+    echo "export SLURM_CONF=$CONF"
     return 0
   fi
   stop_daemons
@@ -124,6 +132,7 @@ SelectType=select/cons_tres
 SelectTypeParameters=CR_CPU_Memory
 SchedulerType=sched/backfill
 MpiDefault=none
+MailProg=/bin/true
 ReturnToService=2
 MinJobAge=600
 SlurmctldTimeout=30
@@ -136,31 +145,23 @@ EOF
   log "starting munged, slurmctld, slurmd in $DIR (ports $ctld_port, $slurmd_port, $cpus CPUs, ${memory} MB)"
   munged --force --socket="$SOCKET" --key-file="$DIR/munge/munge.key" \
     --log-file="$DIR/log/munged.log" --pid-file="$DIR/munged.pid" \
-    --seed-file="$DIR/munge/munged.seed" || { show_logs; die "munged did not start"; }
+    --seed-file="$DIR/munge/munged.seed" || fail "munged did not start"
   munge -S "$SOCKET" -n | unmunge -S "$SOCKET" >/dev/null \
-    || { show_logs; die "munge cannot encode and decode a credential"; }
+    || fail "munge cannot encode and decode a credential"
   # Both daemons go to the background themselves and write their pid files.
   slurmctld -f "$CONF" </dev/null >>"$DIR/log/slurmctld.out" 2>&1 \
-    || { show_logs; die "slurmctld did not start"; }
+    || fail "slurmctld did not start"
   slurmd -f "$CONF" -N "$NODE" </dev/null >>"$DIR/log/slurmd.out" 2>&1 \
-    || { show_logs; die "slurmd did not start"; }
+    || fail "slurmd did not start"
   local state=""
   for _ in $(seq 300); do
     state="$(sinfo -h -n "$NODE" -o %T 2>/dev/null || true)"
     [ "$state" = idle ] && break
     sleep 0.1
   done
-  if [ "$state" != idle ]; then
-    show_logs
-    stop_daemons
-    die "the node is not idle after 30 s (state '${state:-none}')"
-  fi
+  [ "$state" = idle ] || fail "the node is not idle after 30 s (state '${state:-none}')"
   local answer
-  if ! answer="$(timeout 60 srun -t 1 -n 1 hostname 2>&1)"; then
-    show_logs
-    stop_daemons
-    die "srun hostname failed: $answer"
-  fi
+  answer="$(timeout 60 srun -t 1 -n 1 hostname 2>&1)" || fail "srun hostname failed: $answer"
   log "running: srun ran on $answer"
   echo "export SLURM_CONF=$CONF"
 }
