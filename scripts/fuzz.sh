@@ -25,7 +25,7 @@ cmake --build "$FUZZ_BUILD" -j "$SYLVA_JOBS" --target $(printf '%s_fuzzer ' "${t
 mkdir -p "$FUZZ_BUILD/findings"
 export ASAN_OPTIONS="detect_leaks=1:allocator_may_return_null=1"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
-export LSAN_OPTIONS="suppressions=$SYLVA_ROOT/cmake/lsan.supp"
+export LSAN_OPTIONS="suppressions=$SYLVA_ROOT/cmake/lsan.supp:fast_unwind_on_malloc=0"
 for target in "${targets[@]}"; do
   corpus="$FUZZ_BUILD/corpus/$target"
   mkdir -p "$corpus"
@@ -35,11 +35,15 @@ for target in "${targets[@]}"; do
       cp -n "$SYLVA_ROOT/$seed" "$corpus/"; fi
   done
   sylva_log "Fuzzing $target for $SECONDS_EACH s ($(ls "$corpus" | wc -l) inputs in its corpus)"
+  set +e
   "$FUZZ_BUILD/fuzz/${target}_fuzzer" "$corpus" -max_total_time="$SECONDS_EACH" \
     -max_len=65536 -timeout=20 -rss_limit_mb=4096 -print_final_stats=1 \
-    -artifact_prefix="$FUZZ_BUILD/findings/${target}-" 2>&1 | tail -n 25
-  status=${PIPESTATUS[0]}
+    -artifact_prefix="$FUZZ_BUILD/findings/${target}-" > "$FUZZ_BUILD/findings/${target}.log" 2>&1
+  status=$?
+  set -e
+  tail -n 8 "$FUZZ_BUILD/findings/${target}.log"
   if [ "$status" -ne 0 ]; then
+    grep -A 30 "ERROR\|runtime error\|deadly signal" "$FUZZ_BUILD/findings/${target}.log" | head -n 40
     sylva_log "FINDING in $target (exit $status): see $FUZZ_BUILD/findings/"
     exit 1
   fi
