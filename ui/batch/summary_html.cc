@@ -6,6 +6,7 @@
 #include <iterator>
 #include <sstream>
 
+#include "core/util/html.h"
 #include "ui/batch/batch_summary.h"
 #include "ui/pipeline/pipeline.h"
 
@@ -24,29 +25,6 @@ constexpr int kThumbnailSize = 96;
 
 const char* const kStageColors[] = {"#8c6d31", "#6b6ecf", "#3182bd", "#9c9ede",
                                     "#31a354", "#e6550d", "#969696"};
-
-std::string Escape(const std::string& text) {
-  std::string out;
-  for (char c : text) {
-    switch (c) {
-      case '&':
-        out += "&amp;";
-        break;
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      default:
-        out += c;
-    }
-  }
-  return out;
-}
 
 std::string Fixed(double value, int digits) {
   std::ostringstream text;
@@ -89,7 +67,8 @@ void YAxis(double max, const std::string& label, std::ostringstream* svg) {
          << "' y1='" << Fixed(y, 1) << "' y2='" << Fixed(y, 1) << "' stroke='#eee'/>";
   }
   *svg << "<text x='12' y='" << kMarginTop + kPlotHeight / 2 << "' transform='rotate(-90 12 "
-       << kMarginTop + kPlotHeight / 2 << ")' text-anchor='middle'>" << Escape(label) << "</text>";
+       << kMarginTop + kPlotHeight / 2 << ")' text-anchor='middle'>" << HtmlEscape(label)
+       << "</text>";
 }
 
 std::string SvgOpen(int width) {
@@ -128,7 +107,7 @@ std::string BarChart(const std::vector<TreeSummary>& trees,
     const double label_y = kMarginTop + kPlotHeight + 8;
     svg << "<text x='" << Fixed(x + 6, 1) << "' y='" << Fixed(label_y, 1)
         << "' transform='rotate(60 " << Fixed(x + 6, 1) << " " << Fixed(label_y, 1) << ")'>"
-        << Escape(trees[t].name) << "</text>";
+        << HtmlEscape(trees[t].name) << "</text>";
   }
   svg << "</svg>";
   return svg.str();
@@ -176,7 +155,7 @@ std::string Legend(const std::vector<std::string>& names, const std::vector<std:
   std::ostringstream html;
   html << "<p class='legend'>";
   for (size_t i = 0; i < names.size(); ++i) {
-    html << "<span style='background:" << colors[i] << "'></span>" << Escape(names[i]) << " ";
+    html << "<span style='background:" << colors[i] << "'></span>" << HtmlEscape(names[i]) << " ";
   }
   html << "</p>";
   return html.str();
@@ -225,26 +204,28 @@ std::string TreeRow(const TreeSummary& tree) {
   };
   std::ostringstream html;
   const std::string status = tree.status.status;
-  html << "<tr class='" << Escape(status) << "'><td>";
+  html << "<tr class='" << HtmlEscape(status) << "'><td>";
   if (!output("preview").empty()) {
-    html << "<a href='" << Escape(output("preview")) << "'><img src='" << Escape(output("preview"))
-         << "' width='" << kThumbnailSize << "' height='" << kThumbnailSize << "' alt=''></a>";
+    html << "<a href='" << HtmlEscape(output("preview")) << "'><img src='"
+         << HtmlEscape(output("preview")) << "' width='" << kThumbnailSize << "' height='"
+         << kThumbnailSize << "' alt=''></a>";
   }
   html << "</td><td>";
   if (!output("report_html").empty()) {
-    html << "<a href='" << Escape(output("report_html")) << "'>" << Escape(tree.name) << "</a>";
+    html << "<a href='" << HtmlEscape(output("report_html")) << "'>" << HtmlEscape(tree.name)
+         << "</a>";
   } else {
-    html << Escape(tree.name);
+    html << HtmlEscape(tree.name);
   }
-  html << "</td><td>" << Escape(status) << "</td><td>"
-       << Escape(tree.status.Finished() ? "" : tree.status.stage) << "</td><td class='error'>"
-       << Escape(tree.status.error) << "</td><td>" << Optional(tree.input.mean, 3) << "</td><td>"
-       << Optional(tree.input.min, 3) << "</td><td>" << Optional(tree.held_out.mean, 3)
-       << "</td><td>" << Optional(tree.held_out.min, 3) << "</td><td>" << Optional(tree.height, 3)
-       << "</td><td>" << Optional(tree.crown_width, 3) << "</td><td>"
-       << Optional(tree.crown_volume_hull, 3) << "</td><td>" << Optional(tree.dbh, 3) << "</td><td>"
-       << (tree.branches ? std::to_string(*tree.branches) : "") << "</td><td>"
-       << Fixed(tree.status.seconds, 1) << "</td><td><a href='logs/" << Escape(tree.name)
+  html << "</td><td>" << HtmlEscape(status) << "</td><td>"
+       << HtmlEscape(tree.status.Finished() ? "" : tree.status.stage) << "</td><td class='error'>"
+       << HtmlEscape(tree.status.error) << "</td><td>" << Optional(tree.input.mean, 3)
+       << "</td><td>" << Optional(tree.input.min, 3) << "</td><td>"
+       << Optional(tree.held_out.mean, 3) << "</td><td>" << Optional(tree.held_out.min, 3)
+       << "</td><td>" << Optional(tree.height, 3) << "</td><td>" << Optional(tree.crown_width, 3)
+       << "</td><td>" << Optional(tree.crown_volume_hull, 3) << "</td><td>" << Optional(tree.dbh, 3)
+       << "</td><td>" << (tree.branches ? std::to_string(*tree.branches) : "") << "</td><td>"
+       << Fixed(tree.status.seconds, 1) << "</td><td><a href='logs/" << HtmlEscape(tree.name)
        << ".log'>log</a></td></tr>\n";
   return html.str();
 }
@@ -278,8 +259,8 @@ std::string SummaryHtml(const std::vector<TreeSummary>& trees, const Manifest& m
   html << "<!DOCTYPE html>\n<html><head><meta charset='utf-8'><title>sylva batch: " << trees.size()
        << " trees</title><style>" << kStyle << "</style></head><body>\n"
        << "<h1>sylva batch</h1>\n<p>" << trees.size() << " trees of "
-       << Escape(manifest.path.string()) << ": " << Escape(Counts(trees)) << ". Written " << written
-       << "; the same figures are in <a href='summary.csv'>summary.csv</a>.</p>\n"
+       << HtmlEscape(manifest.path.string()) << ": " << HtmlEscape(Counts(trees)) << ". Written "
+       << written << "; the same figures are in <a href='summary.csv'>summary.csv</a>.</p>\n"
        << Plots(trees) << "\n<h2>Trees</h2>\n<table><tr><th>preview</th><th>name</th>"
        << "<th>status</th><th>stage</th><th>error</th><th>IoU input mean</th><th>min</th>"
        << "<th>IoU held-out mean</th><th>min</th><th>height</th><th>crown width</th>"

@@ -7,6 +7,7 @@
 #include "core/io/image_io.h"
 #include "core/io/json_util.h"
 #include "core/util/file_util.h"
+#include "core/util/html.h"
 #include "mesh/tree_preview.h"
 
 namespace sylva {
@@ -143,29 +144,6 @@ Json ReportJson(const FidelityReport& report, const std::map<std::string, std::s
   json["previews"] = previews;
   json["stage_figures"] = StageFiguresJson(report.stage_figures);
   return json;
-}
-
-std::string HtmlEscape(const std::string& text) {
-  std::string out;
-  for (char c : text) {
-    switch (c) {
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '&':
-        out += "&amp;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      default:
-        out += c;
-    }
-  }
-  return out;
 }
 
 // out/report/<kind>/<view name>.png
