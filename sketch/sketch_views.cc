@@ -227,15 +227,20 @@ cv::Mat EnclosedRegions(const cv::Mat& lines, int gap) {
   return enclosed;
 }
 
-// Adds to `enclosed` the polygon of every crown stroke, closed by the chord
-// from its end to its start: a crown outline left open (where the trunk
-// enters, or a doodle's gap) still covers the crown.
+// Sets `mask` (CV_8U) to 255 inside the polygon of `stroke` at `scale`,
+// closed by the chord from its end to its start; strokes of fewer than 3
+// points enclose nothing.
+void FillPolygon(const SketchStroke& stroke, double scale, cv::Mat* mask) {
+  if (stroke.points.size() < 3) return;
+  cv::fillPoly(*mask, std::vector<std::vector<cv::Point>>{CvPoints(stroke, scale)}, cv::Scalar(255),
+               cv::LINE_8, kCvShift);
+}
+
+// Adds to `enclosed` the polygon of every crown stroke: a crown outline left
+// open (where the trunk enters, or a doodle's gap) still covers the crown.
 void FillCrownStrokes(const SketchDrawing& drawing, double scale, cv::Mat* enclosed) {
   for (const SketchStroke& stroke : drawing.strokes) {
-    if (stroke.role != StrokeRole::kCrown || stroke.points.size() < 3) continue;
-    const std::vector<cv::Point> points = CvPoints(stroke, scale);
-    cv::fillPoly(*enclosed, std::vector<std::vector<cv::Point>>{points}, cv::Scalar(255),
-                 cv::LINE_8, kCvShift);
+    if (stroke.role == StrokeRole::kCrown) FillPolygon(stroke, scale, enclosed);
   }
 }
 
@@ -251,12 +256,10 @@ FloatImage MatteFrom(const cv::Mat& lines, const cv::Mat& enclosed, double crown
   return matte;
 }
 
-// Sets the matte to 1 inside the closed polygon of `stroke` (if any).
+// Sets the matte to 1 inside the polygon of `stroke` (if any).
 void FillOpaque(const SketchStroke& stroke, double scale, FloatImage* matte) {
-  if (stroke.points.size() < 3) return;
   cv::Mat inside = cv::Mat::zeros(matte->height(), matte->width(), CV_8U);
-  cv::fillPoly(inside, std::vector<std::vector<cv::Point>>{CvPoints(stroke, scale)},
-               cv::Scalar(255), cv::LINE_8, kCvShift);
+  FillPolygon(stroke, scale, &inside);
   for (int y = 0; y < matte->height(); ++y) {
     for (int x = 0; x < matte->width(); ++x) {
       if (inside.at<uchar>(y, x)) matte->at(x, y) = 1.0f;
@@ -369,14 +372,18 @@ Stroke HermiteStroke(const Eigen::Vector2d& p0, const Eigen::Vector2d& m0,
 
 }  // namespace
 
-std::vector<Stroke> InferMajorBranches(const FloatImage& matte, double crown_opacity,
+std::vector<Stroke> InferMajorBranches(const FloatImage& matte, const SketchViewOptions& options,
                                        const Eigen::Vector2d& trunk_top) {
-  const std::vector<cv::Point> outline = CrownOutline(matte, crown_opacity);
+  const std::vector<cv::Point> outline = CrownOutline(matte, options.crown_opacity);
   if (outline.size() < 8) return {};
   const cv::Rect box = cv::boundingRect(outline);
-  // Valleys: the outline's concavities deeper than this share of the crown's
-  // size split it into bumps (Wither et al. 2009, section 4.1).
-  constexpr double kValleyDepthShare = 0.04;
+  const double crown_size = std::max(box.width, box.height);
+  // A bump whose apex is nearer the trunk's top than this share of the
+  // crown's size is a ripple of the outline, not a branch's end.
+  constexpr double kMinApexShare = 0.1;
+  // Hermite tangents, in branch lengths: the branch leaves the trunk
+  // upwards and arrives along the direction to the apex.
+  constexpr double kTangentLengths = 0.8;
   std::vector<int> hull;
   cv::convexHull(outline, hull, /*clockwise=*/false, /*returnPoints=*/false);
   std::vector<int> valleys;
@@ -385,7 +392,7 @@ std::vector<Stroke> InferMajorBranches(const FloatImage& matte, double crown_opa
     std::vector<cv::Vec4i> defects;
     cv::convexityDefects(outline, hull, defects);
     for (const cv::Vec4i& defect : defects) {
-      if (defect[3] / 256.0 > kValleyDepthShare * std::max(box.width, box.height)) {
+      if (defect[3] / 256.0 > options.valley_depth * crown_size) {
         valleys.push_back(defect[2]);
       }
     }
@@ -396,7 +403,6 @@ std::vector<Stroke> InferMajorBranches(const FloatImage& matte, double crown_opa
   // Bumps whose apex is not above the trunk's top (the crown's underside,
   // the trunk's own outline) carry no major branch.
   const Eigen::Vector2d top = trunk_top - Eigen::Vector2d(0.5, 0.5);  // OpenCV pixels
-  const double reach = 0.85;  // how far towards the apex a branch goes
   std::vector<Stroke> branches;
   for (size_t k = 0; k < valleys.size(); ++k) {
     const int begin = valleys[k];
@@ -413,11 +419,11 @@ std::vector<Stroke> InferMajorBranches(const FloatImage& matte, double crown_opa
         apex = q;
       }
     }
-    if (farthest < 0.1 * std::max(box.width, box.height)) continue;
-    const Eigen::Vector2d tip = top + reach * (apex - top);
+    if (farthest < kMinApexShare * crown_size) continue;
+    const Eigen::Vector2d tip = top + options.branch_reach * (apex - top);
     const double length = (tip - top).norm();
-    Stroke branch = HermiteStroke(top, Eigen::Vector2d(0, -0.8 * length), tip,
-                                  0.8 * length * (apex - top).normalized());
+    Stroke branch = HermiteStroke(top, Eigen::Vector2d(0, -kTangentLengths * length), tip,
+                                  kTangentLengths * length * (apex - top).normalized());
     for (Eigen::Vector2d& p : branch.points) p += Eigen::Vector2d(0.5, 0.5);
     branches.push_back(std::move(branch));
   }
@@ -432,7 +438,7 @@ void AddInferredBranches(const SketchViewOptions& options, SketchView* view) {
   if (view->strokes.strokes.size() > 1 || !view->strokes.root) return;
   const Eigen::Vector2d top =
       view->strokes.strokes.empty() ? *view->strokes.root : TrunkTop(view->strokes);
-  for (Stroke& branch : InferMajorBranches(view->matte, options.crown_opacity, top)) {
+  for (Stroke& branch : InferMajorBranches(view->matte, options, top)) {
     view->strokes.strokes.push_back(std::move(branch));
   }
 }
@@ -446,9 +452,7 @@ FloatImage OutlinedRegions(const SketchDrawing& drawing, int width, int height) 
   for (const SketchStroke& stroke : drawing.strokes) {
     SketchStroke stretched = stroke;
     for (Eigen::Vector2d& p : stretched.points) p = p.cwiseProduct(scale);
-    if (stretched.points.size() < 3) continue;
-    cv::fillPoly(inside, std::vector<std::vector<cv::Point>>{CvPoints(stretched, 1.0)},
-                 cv::Scalar(255), cv::LINE_8, kCvShift);
+    FillPolygon(stretched, 1.0, &inside);
   }
   FloatImage regions(width, height, 1);
   for (int y = 0; y < height; ++y) {
@@ -468,6 +472,10 @@ void SketchViewOptions::Check() const {
       << "must be in (0, 0.1), got " << line_width;
   SYLVA_CHECK_INPUT(gap_closing >= 0 && gap_closing < 0.2, "Sketch.gap_closing")
       << "must be in [0, 0.2), got " << gap_closing;
+  SYLVA_CHECK_INPUT(valley_depth > 0 && valley_depth < 0.5, "Sketch.valley_depth")
+      << "must be in (0, 0.5), got " << valley_depth;
+  SYLVA_CHECK_INPUT(branch_reach > 0 && branch_reach <= 1, "Sketch.branch_reach")
+      << "must be in (0, 1], got " << branch_reach;
 }
 
 SketchViews MakeSketchViews(const std::vector<SketchDrawing>& drawings,
@@ -543,7 +551,7 @@ SketchViews MakeSketchViews(const std::vector<SketchDrawing>& drawings,
     const Eigen::Vector2d top(
         base.x(), front.strokes.strokes.empty() ? base.y() : TrunkTop(front.strokes).y());
     if (base.y() - top.y() > 1.0) side.strokes.strokes.push_back({{base, top}});
-    for (Stroke& branch : InferMajorBranches(side.matte, options.crown_opacity, top)) {
+    for (Stroke& branch : InferMajorBranches(side.matte, options, top)) {
       side.strokes.strokes.push_back(std::move(branch));
     }
     result.cameras.cameras.emplace(2, camera);

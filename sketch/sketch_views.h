@@ -52,6 +52,12 @@ struct SketchViewOptions {
   // Gaps in outlines narrower than this fraction of the image size are
   // closed before the enclosed regions are filled.
   double gap_closing = 0.03;
+  // Major branches inferred from a crown's silhouette (InferMajorBranches):
+  // concavities of the outline deeper than this fraction of the crown's size
+  // split it into bumps, and a branch reaches this fraction of the way from
+  // the trunk's top to its bump's apex.
+  double valley_depth = 0.04;
+  double branch_reach = 0.85;
 
   // Throws InputError naming the first invalid option.
   void Check() const;
@@ -81,13 +87,15 @@ struct SketchViews {
 
 // Major branches inferred from a crown silhouette (Wither et al. 2009,
 // section 4.1): the outline of the largest region `matte` fills is cut into
-// bumps at its concavities deeper than 4 % of the crown's size; a branch
-// grows from `trunk_top` towards the apex of each bump above it (the bump's
-// point farthest from the trunk top), reaching 85 % of the way, as a cubic
+// bumps at its concavities deeper than options.valley_depth of the crown's
+// size; a branch grows from `trunk_top` towards the apex of each bump above
+// it (the bump's point farthest from the trunk top), reaching
+// options.branch_reach of the way, as a cubic
 // Hermite curve leaving the trunk upwards and arriving along the direction
 // to the apex. Used where a drawing gives no branch but the trunk, and for
 // the depth prior's view. In view pixels.
-std::vector<Stroke> InferMajorBranches(const FloatImage& matte, double crown_opacity,
+// The crown is what the matte fills at options.crown_opacity or more.
+std::vector<Stroke> InferMajorBranches(const FloatImage& matte, const SketchViewOptions& options,
                                        const Eigen::Vector2d& trunk_top);
 
 // The regions the strokes of `drawing` outline (each closed by the chord

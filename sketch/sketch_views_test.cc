@@ -121,7 +121,7 @@ TEST(SketchViewsTest, MajorBranchesGrowIntoTheCrownsBumps) {
       }
     }
   }
-  const std::vector<Stroke> branches = InferMajorBranches(matte, 0.6, {100, 150});
+  const std::vector<Stroke> branches = InferMajorBranches(matte, SketchViewOptions(), {100, 150});
   ASSERT_EQ(branches.size(), 3u);
   for (const Stroke& branch : branches) {
     EXPECT_NEAR((branch.points.front() - Eigen::Vector2d(100, 150)).norm(), 0.0, 1e-9);
@@ -130,7 +130,7 @@ TEST(SketchViewsTest, MajorBranchesGrowIntoTheCrownsBumps) {
     for (const Eigen::Vector2d& c : bumps) nearest = std::min(nearest, (tip - c).norm());
     EXPECT_LT(nearest, 34.0) << "the tip " << tip.transpose() << " lies in a bump";
   }
-  EXPECT_TRUE(InferMajorBranches(FloatImage(50, 50, 1), 0.6, {25, 40}).empty());
+  EXPECT_TRUE(InferMajorBranches(FloatImage(50, 50, 1), SketchViewOptions(), {25, 40}).empty());
 }
 
 TEST(SketchViewsTest, TwoDrawingsAreFrontAndSideWithoutAPrior) {

@@ -1079,7 +1079,7 @@ TEST_F(CliTest, SketchMakesATreeFromADrawing) {
     const fs::path nowhere = work_ / ("out_" + bad.stem().string());
     EXPECT_TRUE(FailedNaming(Sylva({"sketch", bad.string(), nowhere.string()}), kExitBadInput,
                              {bad.filename().string()}));
-    EXPECT_FALSE(fs::exists(nowhere / "project")) << bad;
+    EXPECT_FALSE(fs::exists(nowhere)) << bad;
   }
 }
 

@@ -560,12 +560,8 @@ int CmdSketch(const ParsedArguments& args) {
   SYLVA_CHECK_INPUT(!fs::exists(out, ec) || fs::is_empty(out, ec), out.string())
       << "already exists and is not empty";
   const std::vector<fs::path> drawings(args.positional.begin(), args.positional.end() - 1);
-  const Project project = InitSketchProject(out / "project", drawings, args);
-  PipelineOptions options;
-  OptionRegistry registry;
-  RegisterPipelineOptions(&options, &registry);
-  project.ApplySavedOptions(&registry);
-  options.Check();
+  Project project = InitSketchProject(out / "project", drawings, args);
+  const PipelineOptions options = ResolveOptions(&project, args);
   TerminalProgress progress;
   TerminalProgress::InstallInterruptHandler(&progress);
   const RunSummary summary =

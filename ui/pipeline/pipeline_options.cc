@@ -641,6 +641,11 @@ void RegisterSketch(SketchViewOptions* o, OptionRegistry* r) {
                "width of drawn lines in the matte where the drawing gives none");
   r->AddDouble("Sketch.gap_closing", &o->gap_closing, "fraction of the image size",
                "gaps in outlines narrower than this are closed before filling");
+  r->AddDouble("Sketch.valley_depth", &o->valley_depth, "fraction of the crown's size",
+               "concavities of a crown outline deeper than this split it into bumps, "
+               "one inferred major branch each");
+  r->AddDouble("Sketch.branch_reach", &o->branch_reach, "",
+               "how far an inferred major branch reaches towards its bump's apex");
 }
 
 }  // namespace
