@@ -41,7 +41,7 @@ function(sylva_add_test name)
   if(NOT SYLVA_BUILD_TESTS)
     return()
   endif()
-  cmake_parse_arguments(ARG "" "TIMEOUT" "SRCS;DEPS;LABELS" ${ARGN})
+  cmake_parse_arguments(ARG "" "TIMEOUT;SHARDS" "SRCS;DEPS;LABELS" ${ARGN})
   add_executable(${name} ${ARG_SRCS})
   _sylva_common_target_settings(${name})
   target_link_libraries(${name} PRIVATE ${ARG_DEPS} GTest::gtest GTest::gtest_main GTest::gmock)
@@ -51,15 +51,33 @@ function(sylva_add_test name)
   # Tests find checked-in data and built tools through these definitions.
   target_compile_definitions(${name} PRIVATE
     SYLVA_SOURCE_DIR="${PROJECT_SOURCE_DIR}" SYLVA_BINARY_DIR="${PROJECT_BINARY_DIR}")
-  add_test(NAME ${name} COMMAND ${name})
-  set_tests_properties(${name} PROPERTIES TIMEOUT ${ARG_TIMEOUT})
-  if(SYLVA_ENABLE_ASAN)
-    set_tests_properties(${name} PROPERTIES ENVIRONMENT
-      "LSAN_OPTIONS=suppressions=${PROJECT_SOURCE_DIR}/cmake/lsan.supp:fast_unwind_on_malloc=0;UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1")
+  # SHARDS N: N CTest tests (name_shard_K), each running every N-th test
+  # (GoogleTest's sharding), so that ctest -j spreads a long suite.
+  set(tests ${name})
+  set(environments "")
+  if(ARG_SHARDS)
+    set(tests "")
+    math(EXPR last "${ARG_SHARDS} - 1")
+    foreach(k RANGE ${last})
+      add_test(NAME ${name}_shard_${k} COMMAND ${name})
+      set_tests_properties(${name}_shard_${k} PROPERTIES ENVIRONMENT
+        "GTEST_TOTAL_SHARDS=${ARG_SHARDS};GTEST_SHARD_INDEX=${k}")
+      list(APPEND tests ${name}_shard_${k})
+    endforeach()
+  else()
+    add_test(NAME ${name} COMMAND ${name})
   endif()
-  if(ARG_LABELS)
-    set_tests_properties(${name} PROPERTIES LABELS "${ARG_LABELS}")
-  endif()
+  foreach(test IN LISTS tests)
+    set_tests_properties(${test} PROPERTIES TIMEOUT ${ARG_TIMEOUT})
+    if(SYLVA_ENABLE_ASAN)
+      set_property(TEST ${test} APPEND PROPERTY ENVIRONMENT
+        "LSAN_OPTIONS=suppressions=${PROJECT_SOURCE_DIR}/cmake/lsan.supp:fast_unwind_on_malloc=0"
+        "UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1")
+    endif()
+    if(ARG_LABELS)
+      set_tests_properties(${test} PROPERTIES LABELS "${ARG_LABELS}")
+    endif()
+  endforeach()
 endfunction()
 
 # sylva_add_fuzzer(NAME DEPS...): a fuzz target (fuzz/NAME_fuzzer.cc): a

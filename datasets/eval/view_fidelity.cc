@@ -81,7 +81,7 @@ FidelityGroup SummariseViews(const std::vector<ViewFidelity>& views, bool held_o
   FidelityGroup group;
   double iou = 0.0, min_iou = 1.0, precision = 0.0, recall = 0.0;
   for (const ViewFidelity& view : views) {
-    if (view.held_out != held_out || (mesh && !view.has_mesh)) continue;
+    if (view.prior || view.held_out != held_out || (mesh && !view.has_mesh)) continue;
     const SilhouetteScores& scores = mesh ? view.mesh_scores : view.scores;
     ++group.num_views;
     iou += scores.iou;

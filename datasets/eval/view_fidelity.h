@@ -42,6 +42,11 @@ struct ViewFidelityOptions {
 struct ViewFidelity {
   std::string name;
   bool held_out = false;
+  // A prior, not an observation: a view the reconstruction was given but no
+  // camera took (a single drawing's virtual side view, whose matte is the
+  // drawing's silhouette made up as the crown's depth). Compared and shown,
+  // but in neither group's figures.
+  bool prior = false;
   int downsample_factor = 1;
   int width = 0, height = 0;  // of the compared (downsampled) images
   SilhouetteScores scores;    // the density's projection
@@ -79,7 +84,7 @@ void AddMeshViewFidelity(const TriangleMesh& mesh, const ImageSet& image_set,
                          const ViewFidelityOptions& options, std::vector<ViewFidelity>* views);
 
 // The scores of `views` that are held out (or not), of the density (or of
-// the mesh: views with has_mesh only).
+// the mesh: views with has_mesh only); prior views are in neither group.
 FidelityGroup SummariseViews(const std::vector<ViewFidelity>& views, bool held_out, bool mesh);
 
 }  // namespace sylva

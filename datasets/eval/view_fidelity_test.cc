@@ -41,5 +41,16 @@ TEST(ViewFidelityTest, GroupsAverageTheirOwnViewsAndAreAbsentWhenEmpty) {
                mesh_held_out.mean_recall);
 }
 
+TEST(ViewFidelityTest, PriorViewsAreInNeitherGroup) {
+  std::vector<ViewFidelity> views = {View(false, 0.8, 0.9, 0.7), View(false, 0.2, 0.3, 0.1),
+                                     View(true, 0.5, 0.6, 0.4)};
+  views[1].prior = true;
+  const FidelityGroup input = SummariseViews(views, false, false);
+  EXPECT_EQ(input.num_views, 1);
+  EXPECT_EQ(*input.mean_iou, 0.8);
+  EXPECT_EQ(*input.min_iou, 0.8);
+  EXPECT_EQ(SummariseViews(views, true, false).num_views, 1);
+}
+
 }  // namespace
 }  // namespace sylva

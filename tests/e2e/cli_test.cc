@@ -1056,6 +1056,10 @@ TEST_F(CliTest, SketchMakesATreeFromADrawing) {
   std::printf("sketch: front mesh IoU %.3f, crown depth / width %.2f\n", front_iou, depth_ratio);
   EXPECT_GE(front_iou, 0.7);
   EXPECT_GE(depth_ratio, 0.5);
+  // The made-up side view is shown but not in the input views' figures.
+  EXPECT_EQ(report.at("prior_views"), 1);
+  EXPECT_EQ(report.at("input_views").at("num_views"), 1);
+  EXPECT_EQ(report.at("mesh_input_views").at("mean_iou"), front_iou);
 
   // The same drawing as front and side: a project of two drawn views (no
   // depth prior), which runs like any other.

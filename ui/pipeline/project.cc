@@ -205,6 +205,20 @@ void CheckHeldOut(const std::vector<std::string>& photo_names,
       << "every view is held out; at least one must remain for the reconstruction";
 }
 
+// Each prior view is a photo of the project and not held out.
+void CheckPriorViews(const std::vector<std::string>& photo_names,
+                     const std::vector<std::string>& held_out,
+                     const std::vector<std::string>& prior_views) {
+  for (const std::string& name : prior_views) {
+    SYLVA_CHECK_INPUT(std::binary_search(photo_names.begin(), photo_names.end(), name),
+                      "prior views")
+        << "view '" << name << "' is not one of the project's photos";
+    SYLVA_CHECK_INPUT(std::find(held_out.begin(), held_out.end(), name) == held_out.end(),
+                      "prior views")
+        << "view '" << name << "' is held out; a prior view is an input";
+  }
+}
+
 // The loose-camera file must name photos of the folder.
 void CheckLoosePhotos(const ProjectSetup& setup, const std::vector<std::string>& photo_names) {
   const LooseSetup loose = ReadLooseSetup(setup.loose_cameras_file);
@@ -407,6 +421,7 @@ void Project::Write() const {
   json["cameras"] = {{"type", camera_type_}, {"path", camera_path_}};
   json["units"] = units_;
   json["held_out"] = held_out_;
+  if (!prior_views_.empty()) json["prior_views"] = prior_views_;
   json["options"] = ParseJson(options_json_, SettingsPath().string());
   WriteJsonFile(SettingsPath(), json);
 }
@@ -455,6 +470,12 @@ Project Project::Open(const fs::path& root) {
   project.units_ = root_json["units"].AsString();
   const JsonCursor held_out = root_json["held_out"];
   for (size_t i = 0; i < held_out.Size(); ++i) project.held_out_.push_back(held_out[i].AsString());
+  if (root_json.Has("prior_views")) {
+    const JsonCursor priors = root_json["prior_views"];
+    for (size_t i = 0; i < priors.Size(); ++i) {
+      project.prior_views_.push_back(priors[i].AsString());
+    }
+  }
   if (root_json.Has("options")) {
     if (!root_json["options"].IsObject()) root_json["options"].Fail("expected an object");
     project.options_json_ = root_json["options"].value().dump();
@@ -472,6 +493,7 @@ Project Project::Create(const ProjectSetup& setup) {
     Project project;
     project.root_ = staging;
     project.held_out_ = setup.held_out;
+    project.prior_views_ = setup.prior_views;
     project.photos_ = AbsoluteString(setup.photos_dir);
     project.mattes_ = setup.mattes_dir.empty() ? "" : AbsoluteString(setup.mattes_dir);
     const PhotoList photos = ReadPhotoList(setup);
@@ -484,6 +506,7 @@ Project Project::Create(const ProjectSetup& setup) {
     project.matte_source_ = FindMatteSource(project, setup);
     CheckInputFiles(project, photos.given);
     CheckHeldOut(project.photo_names_, setup.held_out);
+    CheckPriorViews(project.photo_names_, setup.held_out, setup.prior_views);
     if (setup.register_method == "manual") CheckLoosePhotos(setup, project.photo_names_);
     project.camera_path_ = CopyCameraSource(setup, project.camera_type_, staging);
     if (setup.copy_inputs) {

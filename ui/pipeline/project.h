@@ -29,10 +29,14 @@
 //   "matte_source": "given" | "alpha" | "computed",
 //   "cameras": {"type": "colmap" | "sylva" | "sfm" | "manual", "path": "cameras/..."},
 //   "units": "arbitrary", "held_out": ["heldout_00.png"],
+//   "prior_views": ["front.depth.png"],
 //   "options": {"Density": {"resolution": 64}} }
 // Relative paths are relative to the project folder. Camera types: "colmap"
 // and "sylva" are given models; "sfm" registers the photos with COLMAP;
 // "manual" registers them from a loose-camera file (azimuths, correspondences).
+// "prior_views" (optional) are input views no camera took: a single
+// drawing's made-up side view (sketch/sketch_views.h); the report leaves them
+// out of its fidelity figures.
 // Whatever the source, the register stage writes the cameras the later stages
 // use to out/cameras/. Projects written before "photo_list" and
 // "matte_source" existed take the list from the camera model and the source
@@ -71,6 +75,7 @@ struct ProjectSetup {
   // the mattes if every photo has one, else the matte stage computes them.
   fs::path mattes_dir;
   std::vector<std::string> held_out;
+  std::vector<std::string> prior_views;  // Project::IsPriorView
   bool copy_inputs = false;  // copy photos and mattes into the project
   std::string units;         // empty: from the camera file, else "arbitrary"
 };
@@ -92,6 +97,9 @@ class Project {
   const std::string& units() const { return units_; }
   const std::vector<std::string>& held_out() const { return held_out_; }
   bool IsHeldOut(const std::string& view_name) const;
+  // Input views that are priors, not photographs (a drawing's made-up depth
+  // view): used like the others, but not a measure of the reconstruction.
+  const std::vector<std::string>& prior_views() const { return prior_views_; }
   // Every photo of the project (relative names, sorted).
   const std::vector<std::string>& photo_names() const { return photo_names_; }
   const std::string& camera_type() const { return camera_type_; }
@@ -173,6 +181,7 @@ class Project {
   std::string camera_path_;
   std::string units_ = "arbitrary";
   std::vector<std::string> held_out_;
+  std::vector<std::string> prior_views_;
   std::string options_json_ = "{}";
 };
 

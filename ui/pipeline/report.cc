@@ -85,6 +85,7 @@ Json ViewJson(const ViewFidelity& view) {
   if (!view.warnings.empty()) json["warnings"] = WarningsJson(view.warnings);
   json["name"] = view.name;
   json["held_out"] = view.held_out;
+  if (view.prior) json["prior"] = true;
   json["downsample_factor"] = view.downsample_factor;
   json["compared_size"] = {view.width, view.height};
   if (view.has_mesh) json["mesh"] = ScoresJson(view.mesh_scores);
@@ -127,6 +128,7 @@ Json ReportJson(const FidelityReport& report, const std::map<std::string, std::s
                  {"bounds_max", {b.max().x(), b.max().y(), b.max().z()}}}},
                {"input_views", GroupJson(report.input)},
                {"held_out_views", GroupJson(report.held_out)},
+               {"prior_views", report.NumPriorViews()},
                {"stages", briefs},
                {"warnings", WarningsJson(report.warnings)},
                {"views", views}};
@@ -256,7 +258,8 @@ std::string ReportHtml(const FidelityReport& report,
     for (const Warning& warning : view.warnings) {
       html << "<br><span class=\"warning\">" << HtmlEscape(warning.code) << "</span>";
     }
-    html << "</td><td>" << (view.held_out ? "yes" : "") << "</td><td>" << view.scores.iou
+    html << "</td><td>" << (view.held_out ? "yes" : view.prior ? "prior (not a photo)" : "")
+         << "</td><td>" << view.scores.iou
          << "</td><td>";
     if (view.has_mesh) html << view.mesh_scores.iou;
     html << "</td>" << ImageCell("density", view.name);
@@ -287,6 +290,11 @@ std::string FidelityReport::BriefReport() const {
   if (mesh_input.num_views > 0) text += GroupLine("mesh, input views", mesh_input);
   if (mesh_held_out.num_views > 0) text += GroupLine("mesh, held-out views", mesh_held_out);
   if (held_out.num_views == 0) text += "  no held-out views\n";
+  if (const int priors = NumPriorViews(); priors > 0) {
+    text += "  " + std::to_string(priors) +
+            " prior view(s) (made up, not photographed: a drawing's depth prior) are not in "
+            "these figures\n";
+  }
   if (has_metrics) {
     const TreeMetricsReport& m = metrics;
     std::ostringstream out;
@@ -314,6 +322,22 @@ FidelityReport ComputeFidelity(const DensityGrid& grid, const ImageSet& image_se
   report.input = SummariseViews(report.views, false, false);
   report.held_out = SummariseViews(report.views, true, false);
   return report;
+}
+
+int FidelityReport::NumPriorViews() const {
+  return static_cast<int>(
+      std::count_if(views.begin(), views.end(), [](const ViewFidelity& v) { return v.prior; }));
+}
+
+void MarkPriorViews(const std::vector<std::string>& names, FidelityReport* report) {
+  for (ViewFidelity& view : report->views) {
+    view.prior = std::find(names.begin(), names.end(), view.name) != names.end();
+  }
+  report->input = SummariseViews(report->views, false, false);
+  report->held_out = SummariseViews(report->views, true, false);
+  if (!report->has_tree || report->num_mesh_triangles == 0) return;
+  report->mesh_input = SummariseViews(report->views, false, true);
+  report->mesh_held_out = SummariseViews(report->views, true, true);
 }
 
 void AddWarnings(const std::vector<Warning>& warnings, FidelityReport* report) {

@@ -49,6 +49,9 @@ struct FidelityReport {
   Box3d bounds;
   std::string units;
 
+  // Views that are priors, not photographs (ViewFidelity::prior).
+  int NumPriorViews() const;
+
   // Printed at the end of `sylva run`.
   std::string BriefReport() const;
 };
@@ -58,6 +61,10 @@ struct FidelityReport {
 FidelityReport ComputeFidelity(const DensityGrid& grid, const ImageSet& image_set,
                                const std::vector<FloatImage>& mattes,
                                const std::vector<bool>& held_out, const ReportOptions& options);
+
+// Flags the views named `names` as priors (ViewFidelity::prior: a drawing's
+// made-up depth view) and leaves them out of every group's figures.
+void MarkPriorViews(const std::vector<std::string>& names, FidelityReport* report);
 
 // Adds `warnings` to the report, and each one about a view (its subject) to
 // that view too.

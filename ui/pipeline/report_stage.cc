@@ -35,6 +35,7 @@ StageRun RunReportStage(const StageContext& context) {
   for (const View& view : image_set.views) held_out.push_back(context.project.IsHeldOut(view.name));
   FidelityReport report =
       ComputeFidelity(grid, image_set, mattes, held_out, context.options.report);
+  MarkPriorViews(context.project.prior_views(), &report);
   report.units = context.Units();
   std::error_code ec;
   if (fs::is_regular_file(context.Out("tree.glb"), ec)) {

@@ -84,6 +84,28 @@ TEST(ReportTest, NoHeldOutViewsMeansNoHeldOutFiguresNotZeros) {
   EXPECT_FALSE(Contains(html, "held-out views (0)")) << html;
 }
 
+TEST(ReportTest, PriorViewsAreShownButNotInTheFigures) {
+  const Fixture fixture(0);
+  FidelityReport report = fixture.Report();
+  const std::string prior = report.views[1].name;
+  MarkPriorViews({prior}, &report);
+  ASSERT_TRUE(report.views[1].prior);
+  EXPECT_EQ(report.NumPriorViews(), 1);
+  EXPECT_EQ(report.input.num_views, 2);
+  EXPECT_NEAR(*report.input.mean_iou, (report.views[0].scores.iou + report.views[2].scores.iou) / 2,
+              1e-12);
+  EXPECT_TRUE(Contains(report.BriefReport(), "1 prior view(s)")) << report.BriefReport();
+
+  const fs::path out = TestDir("prior");
+  WriteFidelityReport(report, {}, ReportOptions(), out);
+  const nlohmann::json json = nlohmann::json::parse(ReadFileToString(out / "report.json"));
+  EXPECT_EQ(json["prior_views"], 1);
+  EXPECT_EQ(json["input_views"]["num_views"], 2);
+  EXPECT_EQ(json["views"][1]["prior"], true);
+  EXPECT_FALSE(json["views"][0].contains("prior"));
+  EXPECT_TRUE(Contains(ReadFileToString(out / "report.html"), "prior (not a photo)"));
+}
+
 TEST(ReportTest, HeldOutFiguresAreTheHeldOutViewsOwn) {
   const Fixture fixture(1);
   const FidelityReport report = fixture.Report();

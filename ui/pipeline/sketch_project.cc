@@ -85,6 +85,9 @@ Project CreateSketchProject(const SketchSetup& setup, const std::vector<SketchDr
     project_setup.camera_file = staging / "views" / "cameras.json";
     project_setup.copy_inputs = true;
     project_setup.units = "m";
+    for (const SketchView& view : views.views) {
+      if (view.is_virtual) project_setup.prior_views.push_back(view.name);
+    }
     Project staged = Project::Create(project_setup);
     WriteSketchFiles(staged, setup, views);
     staged.SaveOptions(registry);
