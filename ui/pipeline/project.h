@@ -76,8 +76,8 @@ struct ProjectSetup {
   fs::path mattes_dir;
   std::vector<std::string> held_out;
   std::vector<std::string> prior_views;  // Project::IsPriorView
-  bool copy_inputs = false;  // copy photos and mattes into the project
-  std::string units;         // empty: from the camera file, else "arbitrary"
+  bool copy_inputs = false;              // copy photos and mattes into the project
+  std::string units;                     // empty: from the camera file, else "arbitrary"
 };
 
 class Project {

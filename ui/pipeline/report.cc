@@ -258,9 +258,11 @@ std::string ReportHtml(const FidelityReport& report,
     for (const Warning& warning : view.warnings) {
       html << "<br><span class=\"warning\">" << HtmlEscape(warning.code) << "</span>";
     }
-    html << "</td><td>" << (view.held_out ? "yes" : view.prior ? "prior (not a photo)" : "")
-         << "</td><td>" << view.scores.iou
-         << "</td><td>";
+    html << "</td><td>"
+         << (view.held_out ? "yes"
+             : view.prior  ? "prior (not a photo)"
+                           : "")
+         << "</td><td>" << view.scores.iou << "</td><td>";
     if (view.has_mesh) html << view.mesh_scores.iou;
     html << "</td>" << ImageCell("density", view.name);
     if (view.has_mesh) html << ImageCell("mesh", view.name) << ImageCell("render", view.name);
