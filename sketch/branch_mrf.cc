@@ -24,6 +24,9 @@ constexpr double kInterpenetration = 0.01;
 // Propagated segments shorter than this fraction of the tree's size end
 // their axis.
 constexpr double kMinPropagatedLength = 0.004;
+// Drawn segments longer than this fraction of the tree's size get lateral
+// branches along them, this far apart.
+constexpr double kLongSegment = 0.08;
 // With a crown, propagation also stops after this many generations.
 constexpr int kMaxCrownGenerations = 12;
 // Exemplars are seen from this many azimuths.
@@ -564,18 +567,39 @@ void MrfOptions::Check() const {
   SYLVA_CHECK_INPUT(max_segments >= 1, "Sketch.max_segments") << "must be >= 1";
 }
 
-bool CrownOfRevolution::Contains(const Eigen::Vector3d& p) const {
-  const Eigen::Vector3d d = p - origin;
-  const double h = d.dot(up);
-  const int k = static_cast<int>(std::floor((h - bottom) / step));
-  if (k < 0 || k >= static_cast<int>(spans.size())) return false;
-  const auto [lo, hi] = spans[k];
+namespace {
+
+// Where `p` lies against a crown's slice: (across offset from the span's
+// middle, depth, the span's half width); false outside the drawn heights.
+bool SliceOf(const CrownOfRevolution& crown, const Eigen::Vector3d& p, double* x, double* z,
+             double* radius) {
+  const Eigen::Vector3d d = p - crown.origin;
+  const int k = static_cast<int>(std::floor((d.dot(crown.up) - crown.bottom) / crown.step));
+  if (k < 0 || k >= static_cast<int>(crown.spans.size())) return false;
+  const auto [lo, hi] = crown.spans[k];
   if (lo > hi) return false;
-  const double x = d.dot(across);
-  const Eigen::Vector3d depth_axis = up.cross(across);
-  const double z = d.dot(depth_axis);
-  const double center = 0.5 * (lo + hi), radius = 0.5 * (hi - lo);
-  return (x - center) * (x - center) + z * z <= radius * radius;
+  *x = d.dot(crown.across) - 0.5 * (lo + hi);
+  *z = d.dot(crown.up.cross(crown.across));
+  *radius = 0.5 * (hi - lo);
+  return true;
+}
+
+}  // namespace
+
+bool CrownOfRevolution::Contains(const Eigen::Vector3d& p) const {
+  double x, z, radius;
+  if (!SliceOf(*this, p, &x, &z, &radius)) return false;
+  z /= depth_scale;
+  return x * x + z * z <= radius * radius;
+}
+
+void CrownOfRevolution::DeepenToHold(const std::vector<Eigen::Vector3d>& points, double max_scale) {
+  for (const Eigen::Vector3d& p : points) {
+    double x, z, radius;
+    if (!SliceOf(*this, p, &x, &z, &radius) || std::abs(x) >= radius) continue;
+    const double needed = std::abs(z) / std::sqrt(radius * radius - x * x);
+    depth_scale = std::clamp(needed * 1.01, depth_scale, max_scale);
+  }
 }
 
 MrfResult InferBranchDepths(const SegmentTree& drawn, const Eigen::Vector3d& view_direction,
@@ -621,6 +645,39 @@ void PropagateBranches(const SegmentTree& fallback, const CrownTest& crown,
   const std::vector<std::vector<int>> children = tree.Children();
   for (int i = 0; i < tree.Size(); ++i) {
     if (tree.parent[i] >= 0 && children[i].empty()) open.push_back(i);
+  }
+  // New lateral branches along disproportionately long segments (section
+  // 6): each drawn segment longer than kLongSegment x the tree's size gets
+  // laterals at even steps, from a block's children turned onto the piece
+  // below.
+  const double size = (hi - lo).norm();
+  const int drawn = tree.Size();
+  for (int i = 0; i < drawn; ++i) {
+    const int p = tree.parent[i];
+    if (p < 0 || tree.parent[p] < 0) continue;  // not the trunk's first segment
+    const Eigen::Vector3d a = tree.points[p], b = tree.points[i];
+    const int pieces = static_cast<int>((b - a).norm() / (kLongSegment * size));
+    for (int k = 1; k < pieces; ++k) {
+      if (tree.Size() >= options.max_segments) return;
+      const Eigen::Vector3d base = a + (b - a) * (static_cast<double>(k) / pieces);
+      const Eigen::Vector3d v = (b - a) / pieces;
+      const Block& block = blocks[rng.UniformInt(static_cast<uint32_t>(blocks.size()))];
+      const Eigen::Matrix3d frame = FrameAlong(v, rng.Uniform(0.0, 2.0 * kPi));
+      // The block's most lateral child (the largest angle to its axis).
+      const Eigen::Vector3d* lateral = &block.children[0];
+      for (const Eigen::Vector3d& c : block.children) {
+        if (c.normalized().x() < lateral->normalized().x()) lateral = &c;
+      }
+      Eigen::Vector3d end = base + v.norm() * (frame * *lateral);
+      bool clipped = false;
+      if (crown && !crown(base)) continue;
+      if (crown && !crown(end)) end = ClipToCrown(base, end, crown), clipped = true;
+      if ((end - base).norm() < min_length) continue;
+      // The lateral hangs from a point of its own on the segment.
+      const int joint = tree.AddPoint(base, p);
+      const int added = tree.AddPoint(end, joint);
+      if (!clipped) open.push_back(added);
+    }
   }
   const int generations = crown ? kMaxCrownGenerations : options.generations;
   for (int g = 0; g < generations && !open.empty(); ++g) {

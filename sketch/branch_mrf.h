@@ -124,7 +124,7 @@ struct MrfOptions {
   int em_iterations = 10;      // EM rounds over Omega (0: Omega fixed)
   double prior_weight = 10.0;  // exemplar relations Omega's prior counts as
   int generations = 5;         // propagation without a crown
-  int max_segments = 5000;     // propagation stops at this many segments
+  int max_segments = 1500;     // propagation stops at this many segments
   uint64_t seed = 1;
   void Check() const;  // throws InputError naming the option
 };
@@ -143,7 +143,14 @@ struct CrownOfRevolution {
   Eigen::Vector3d across = Eigen::Vector3d::UnitX();
   double bottom = 0.0, step = 1.0;
   std::vector<std::pair<double, double>> spans;  // (lo, hi) across; lo > hi: empty
+  // The crown's depth over its width (1: a surface of revolution).
+  double depth_scale = 1.0;
   bool Contains(const Eigen::Vector3d& p) const;
+  // Deepens the crown (depth_scale, at most `max_scale`) until it holds
+  // every one of `points` that lies within its drawn span: the MRF may put
+  // drawn branches deeper than a crown of revolution, and propagation starts
+  // from their tips.
+  void DeepenToHold(const std::vector<Eigen::Vector3d>& points, double max_scale);
 };
 
 struct MrfResult {

@@ -16,6 +16,7 @@
 #include "datasets/synthetic/synthetic_dataset.h"
 #include "datasets/synthetic/synthetic_qsm.h"
 #include "mesh/subdivision.h"
+#include "sketch/drawing_io.h"
 #include "ui/batch/batch_runner.h"
 #include "ui/batch/batch_summary.h"
 #include "ui/batch/manifest.h"
@@ -25,6 +26,7 @@
 #include "ui/cli/terminal_progress.h"
 #include "ui/pipeline/pipeline.h"
 #include "ui/pipeline/qsm_meshing.h"
+#include "ui/pipeline/sketch_mrf.h"
 #include "ui/pipeline/sketch_project.h"
 
 namespace sylva {
@@ -98,7 +100,12 @@ CommandSpec SketchSpec() {
           "tree_turtle.lpy and tree.mtg (L-Py and OpenAlea), the previews and\n"
           "sketch_cameras.json (the drawings' cameras at their canvas sizes, to project the\n"
           "tree back onto them); the report is OUT_DIR/project/out/report.html. Edit and\n"
-          "re-run with 'sylva run OUT_DIR/project'.",
+          "re-run with 'sylva run OUT_DIR/project'.\n"
+          "With --Sketch.method=mrf the branches come from the first drawing by Chen et al.\n"
+          "2008 instead: the drawn branches' depths by a Markov random field with the tree\n"
+          "parameters of the nearest exemplar (Sketch.exemplars), then self-similar\n"
+          "propagation inside the drawn crown; the tree is meshed directly into OUT_DIR (no\n"
+          "project, no report).",
           {{"index", "N", "the drawing of a Quick, Draw! .ndjson file (0-based line, default 0)"},
            kLogLevelFlag},
           2,
@@ -554,12 +561,48 @@ int RunPipeline(const ParsedArguments& args, const Stage* single_stage) {
 
 // `sylva sketch DRAWING... OUT_DIR`: a project of the drawings in
 // OUT_DIR/project, run, and its main outputs copied to OUT_DIR.
+// `sylva sketch ... --Sketch.method=mrf`: the tree is written to a staging
+// folder beside OUT_DIR, which becomes OUT_DIR only when complete.
+int SketchByMrf(const ParsedArguments& args, const std::vector<fs::path>& paths,
+                const PipelineOptions& options) {
+  const fs::path out = fs::absolute(args.positional.back());
+  std::vector<SketchDrawing> drawings;
+  const int index = args.GetInt("index", 0, 0, std::numeric_limits<int>::max());
+  for (const fs::path& path : paths) drawings.push_back(ReadSketch(path, index));
+  const std::vector<TreeExemplar> exemplars = options.sketch_mrf.exemplars.empty()
+                                                  ? BuiltinExemplars()
+                                                  : LoadExemplars(options.sketch_mrf.exemplars);
+  const MrfSketchTree tree = MakeMrfSketchTree(drawings, options, exemplars);
+  std::cout << tree.brief << "\n";
+  const fs::path staging = TempPathBeside(out);
+  std::vector<fs::path> written;
+  try {
+    written = WriteMrfSketchTree(tree, options, staging);
+    std::error_code ec;
+    fs::remove(out, ec);  // empty, checked before
+    fs::rename(staging, out);
+  } catch (...) {
+    std::error_code ec;
+    fs::remove_all(staging, ec);
+    throw;
+  }
+  std::cout << "Outputs in " << out.string() << "/:\n";
+  for (const fs::path& path : written) std::cout << "  " << path.filename().string() << "\n";
+  return kExitOk;
+}
+
 int CmdSketch(const ParsedArguments& args) {
   const fs::path out = args.positional.back();
   std::error_code ec;
   SYLVA_CHECK_INPUT(!fs::exists(out, ec) || fs::is_empty(out, ec), out.string())
       << "already exists and is not empty";
   const std::vector<fs::path> drawings(args.positional.begin(), args.positional.end() - 1);
+  {
+    PipelineOptions options;
+    OptionRegistry registry;
+    SketchOptions(args, &options, &registry);
+    if (options.sketch_mrf.method == "mrf") return SketchByMrf(args, drawings, options);
+  }
   Project project = InitSketchProject(out / "project", drawings, args);
   const PipelineOptions options = ResolveOptions(&project, args);
   TerminalProgress progress;

@@ -87,6 +87,7 @@ void PipelineOptions::Check() const {
   tree_metrics.Check();
   report.Check();
   sketch.Check();
+  sketch_mrf.Check();
 }
 
 namespace {
@@ -648,6 +649,26 @@ void RegisterSketch(SketchViewOptions* o, OptionRegistry* r) {
                "how far an inferred major branch reaches towards its bump's apex");
 }
 
+void RegisterSketchMrf(SketchMrfOptions* o, OptionRegistry* r) {
+  r->AddString("Sketch.method", &o->method,
+               "how 'sylva sketch' makes the branches: flow (the drawing as views of a project, "
+               "the particle flow) or mrf (Chen 2008: drawn branches' depths by a Markov random "
+               "field, then self-similar propagation)");
+  r->AddString("Sketch.exemplars", &o->exemplars,
+               "mrf: exemplar trees, comma-separated .mtg, QSM .csv or skeleton .json files; "
+               "empty = four built-in species");
+  r->AddDouble("Sketch.mrf_interaction", &o->mrf.interaction, "",
+               "mrf: k_e, how strongly branches seek free space");
+  r->AddInt("Sketch.mrf_em_iterations", &o->mrf.em_iterations, "rounds",
+            "mrf: EM rounds over the tree parameters (0 keeps the template's)");
+  r->AddDouble("Sketch.mrf_prior_weight", &o->mrf.prior_weight, "relations",
+               "mrf: how many relations the template's parameters count as in EM");
+  r->AddInt("Sketch.generations", &o->mrf.generations, "generations",
+            "mrf: propagation generations when the drawing has no crown");
+  r->AddInt("Sketch.max_segments", &o->mrf.max_segments, "segments",
+            "mrf: propagation stops at this many segments");
+}
+
 }  // namespace
 
 void RegisterPipelineOptions(PipelineOptions* options, OptionRegistry* registry) {
@@ -673,6 +694,7 @@ void RegisterPipelineOptions(PipelineOptions* options, OptionRegistry* registry)
   RegisterTreeMetrics(&options->tree_metrics, registry);
   RegisterReport(&options->report, registry);
   RegisterSketch(&options->sketch, registry);
+  RegisterSketchMrf(&options->sketch_mrf, registry);
 }
 
 }  // namespace sylva

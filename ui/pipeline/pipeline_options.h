@@ -28,6 +28,7 @@
 #include "simulate/skeleton_pruning.h"
 #include "sketch/sketch_views.h"
 #include "sketch/stroke_graph.h"
+#include "ui/pipeline/sketch_mrf.h"
 #include "ui/pipeline/option_registry.h"
 
 namespace sylva {
@@ -160,6 +161,8 @@ struct PipelineOptions {
   ReportOptions report;
   // How drawings become views (used when a sketch project is made).
   SketchViewOptions sketch;
+  // Branches of a drawing by MRF (Sketch.method=mrf, sketch_mrf.h).
+  SketchMrfOptions sketch_mrf;
 
   // Throws InputError naming the first invalid option.
   void Check() const;

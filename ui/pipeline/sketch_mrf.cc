@@ -1,0 +1,227 @@
+#include "ui/pipeline/sketch_mrf.h"
+
+#include <algorithm>
+#include <limits>
+#include <queue>
+#include <sstream>
+
+#include "core/io/camera_file.h"
+#include "core/io/mtg_io.h"
+#include "core/io/qsm_io.h"
+#include "core/io/skeleton_io.h"
+#include "core/util/check.h"
+#include "datasets/synthetic/synthetic_tree.h"
+#include "mesh/allometry.h"
+#include "sketch/stroke_graph.h"
+#include "ui/pipeline/pipeline_options.h"
+#include "ui/pipeline/qsm_meshing.h"
+
+namespace sylva {
+namespace {
+
+namespace fs = std::filesystem;
+
+// The drawn graph is simplified to this fraction of the view's size: the
+// MRF's segments are the strokes' straight pieces.
+constexpr double kGraphTolerance = 0.01;
+// Skeleton edges are at most this fraction of the tree's height.
+constexpr double kMaxEdge = 0.02;
+// Pipe-model radii: the trunk's at the base, and the thinnest, as fractions
+// of the tree's height (a 10 m tree: 15 cm and 3 mm).
+constexpr double kTrunkRadius = 0.015;
+constexpr double kMinRadius = 0.0003;
+// A pixel is crown where the matte reaches this fraction of
+// Sketch.crown_opacity.
+constexpr double kCrownMatte = 0.5;
+// A crown is made at most this much deeper than wide to hold the drawn
+// branches.
+constexpr double kMaxCrownDepthScale = 2.0;
+
+// The largest (by length) of `parts`.
+const SkeletonGraph& Largest(const std::vector<SkeletonGraph>& parts, const std::string& source) {
+  SYLVA_CHECK_INPUT(!parts.empty(), source) << "no tree in the file";
+  return *std::max_element(parts.begin(), parts.end(), [](const auto& a, const auto& b) {
+    return a.TotalLength() < b.TotalLength();
+  });
+}
+
+SkeletonGraph ReadExemplarSkeleton(const fs::path& path) {
+  const std::string ext = path.extension().string();
+  if (ext == ".mtg")
+    return Largest(SkeletonsFromMtg(ReadMtg(path), path.string()).parts, path.string());
+  if (ext == ".json") return ReadSkeletonJson(path);
+  SYLVA_CHECK_INPUT(ext == ".csv", path.string())
+      << "an exemplar is an .mtg, a QSM .csv or a skeleton .json";
+  std::vector<SkeletonGraph> parts;
+  for (QsmSkeleton& part : SkeletonsFromQsm(ReadQsmCsv(path))) parts.push_back(part.skeleton);
+  return Largest(parts, path.string());
+}
+
+// The drawn graph's main component as a segment tree on the plane through
+// the world origin across view 0's line of sight; returns that direction.
+Eigen::Vector3d DrawnSegments(const AttractorGraph2D& graph, const ImageSet& cameras,
+                              SegmentTree* tree) {
+  const Eigen::Vector3d view =
+      cameras.RayThroughPixel(0, graph.nodes[graph.root].position).direction;
+  auto on_plane = [&](const Eigen::Vector2d& pixel) {
+    const Eigen::Vector3d o = cameras.RayThroughPixel(0, pixel).origin;
+    return Eigen::Vector3d(o - o.dot(view) * view);
+  };
+  const std::vector<std::vector<int>> children = graph.Children();
+  std::queue<std::pair<int, int>> queue;  // (graph node, tree index)
+  queue.push({graph.root, tree->AddPoint(on_plane(graph.nodes[graph.root].position), -1)});
+  while (!queue.empty()) {
+    const auto [node, idx] = queue.front();
+    queue.pop();
+    for (int child : children[node]) {
+      queue.push({child, tree->AddPoint(on_plane(graph.nodes[child].position), idx)});
+    }
+  }
+  return view;
+}
+
+// The drawing's footprint: positions across the line of sight and up.
+Footprint DrawnFootprint(const SegmentTree& tree, const Eigen::Vector3d& view) {
+  const Eigen::Vector3d across = Eigen::Vector3d::UnitZ().cross(view).normalized();
+  std::vector<Eigen::Vector2d> points;
+  for (const Eigen::Vector3d& p : tree.points) points.emplace_back(across.dot(p), p.z());
+  return FootprintOf(points, tree.parent);
+}
+
+// The crown of local revolution of view 0's matte (rows where the crown
+// covers something), deepened to hold the drawn branches' tips; none if the
+// drawing has no crown.
+CrownTest CrownOf(const SketchDrawing& drawing, const SketchView& front, const ImageSet& cameras,
+                  const Eigen::Vector3d& view, double crown_opacity, const SegmentTree& drawn) {
+  if (drawing.CountRole(StrokeRole::kCrown) == 0) return nullptr;
+  CrownOfRevolution crown;
+  crown.up = Eigen::Vector3d::UnitZ();
+  crown.across = crown.up.cross(view).normalized();
+  const FloatImage& matte = front.matte;
+  auto world = [&](double x, double y) {
+    return cameras.RayThroughPixel(0, Eigen::Vector2d(x, y)).origin;
+  };
+  const double pixel = (world(1.5, 0.5) - world(0.5, 0.5)).norm();
+  crown.step = pixel;
+  crown.bottom = world(0.5, matte.height() - 0.5).dot(crown.up) - 0.5 * pixel;
+  for (int y = matte.height() - 1; y >= 0; --y) {
+    int lo = -1, hi = -1;
+    for (int x = 0; x < matte.width(); ++x) {
+      if (matte.at(x, y) < kCrownMatte * crown_opacity) continue;
+      if (lo < 0) lo = x;
+      hi = x;
+    }
+    if (lo < 0) {
+      crown.spans.push_back({1.0, -1.0});
+      continue;
+    }
+    const double a = world(lo, y + 0.5).dot(crown.across);
+    const double b = world(hi + 1.0, y + 0.5).dot(crown.across);
+    crown.spans.push_back({std::min(a, b), std::max(a, b)});
+  }
+  crown.DeepenToHold(drawn.points, kMaxCrownDepthScale);
+  return [crown](const Eigen::Vector3d& p) { return crown.Contains(p); };
+}
+
+}  // namespace
+
+void SketchMrfOptions::Check() const {
+  SYLVA_CHECK_INPUT(method == "flow" || method == "mrf", "Sketch.method")
+      << "expected flow or mrf, got '" << method << "'";
+  mrf.Check();
+}
+
+std::vector<TreeExemplar> BuiltinExemplars() {
+  struct Species {
+    const char* name;
+    double angle_min, angle_max, crown_base;
+    std::array<int, 3> children;
+    std::array<double, 3> ratio;
+  };
+  const Species species[] = {{"broadleaf", 30, 60, 0.3, {13, 7, 5}, {0.6, 0.45, 0.5}},
+                             {"columnar", 12, 28, 0.2, {14, 6, 4}, {0.45, 0.45, 0.5}},
+                             {"spreading", 55, 80, 0.25, {9, 7, 5}, {0.75, 0.55, 0.5}},
+                             {"excurrent", 70, 90, 0.1, {26, 4, 2}, {0.3, 0.4, 0.4}}};
+  std::vector<TreeExemplar> exemplars;
+  for (const Species& s : species) {
+    SyntheticTreeOptions options;
+    options.branch_angle_min_deg = s.angle_min;
+    options.branch_angle_max_deg = s.angle_max;
+    options.crown_base = s.crown_base;
+    options.num_children = s.children;
+    options.length_ratio = s.ratio;
+    exemplars.push_back(MakeExemplar(s.name, GenerateSyntheticSkeleton(options, 1)));
+  }
+  return exemplars;
+}
+
+std::vector<TreeExemplar> LoadExemplars(const std::string& list) {
+  std::vector<TreeExemplar> exemplars;
+  std::stringstream stream(list);
+  for (std::string item; std::getline(stream, item, ',');) {
+    if (item.empty()) continue;
+    const fs::path path(item);
+    std::error_code ec;
+    SYLVA_CHECK_INPUT(fs::is_regular_file(path, ec), item)
+        << "no such exemplar file (Sketch.exemplars)";
+    exemplars.push_back(MakeExemplar(path.filename().string(), ReadExemplarSkeleton(path)));
+  }
+  return exemplars;
+}
+
+MrfSketchTree MakeMrfSketchTree(const std::vector<SketchDrawing>& drawings,
+                                const PipelineOptions& options,
+                                const std::vector<TreeExemplar>& exemplars) {
+  SYLVA_CHECK(!drawings.empty() && !exemplars.empty()) << "needs a drawing and exemplars";
+  const SketchViews views = MakeSketchViews({drawings[0]}, options.sketch);
+  const SketchView& front = views.views[0];
+  SYLVA_CHECK_INPUT(!front.strokes.strokes.empty(), drawings[0].source)
+      << "no branch strokes, and no crown to infer major branches from";
+  StrokeGraphOptions graph_options;
+  graph_options.resample_spacing = std::numeric_limits<double>::infinity();
+  const AttractorGraph2D graph = GraphFromStrokes(front.strokes, graph_options)
+                                     .Simplified(kGraphTolerance * options.sketch.image_size);
+  MrfSketchTree tree;
+  SegmentTree drawn;
+  const Eigen::Vector3d view = DrawnSegments(graph, views.cameras, &drawn);
+  SYLVA_CHECK_INPUT(drawn.Size() >= 2, drawings[0].source) << "the branch strokes have no length";
+  const int chosen = SelectTemplate(exemplars, DrawnFootprint(drawn, view));
+  const TreeExemplar& exemplar = exemplars[chosen];
+  tree.template_name = exemplar.name;
+  MrfOptions mrf = options.sketch_mrf.mrf;
+  mrf.seed = options.general.seed;
+  tree.result = InferBranchDepths(drawn, view, exemplar.parameters, mrf);
+  PropagateBranches(exemplar.tree,
+                    CrownOf(drawings[0], front, views.cameras, view, options.sketch.crown_opacity,
+                            tree.result.tree),
+                    mrf, &tree.result);
+  const double height = options.sketch.tree_height;
+  tree.skeleton = SkeletonOfSegments(tree.result.tree, kMaxEdge * height);
+  AllometryOptions allometry = options.allometry;
+  allometry.trunk_radius = kTrunkRadius * height;
+  allometry.min_radius = kMinRadius * height;
+  AssignPipeModelRadii(allometry, &tree.skeleton);
+  tree.drawing_cameras = views.drawing_cameras;
+  std::ostringstream brief;
+  brief << "Branches by MRF (Chen 2008): " << tree.result.drawn - 1 << " drawn segments, template '"
+        << exemplar.name << "', " << tree.result.icm_sweeps << " ICM sweeps, "
+        << tree.result.em_iterations << " EM rounds, " << tree.result.interpenetrations
+        << " interpenetrations pushed apart; " << tree.result.tree.Size() - tree.result.drawn
+        << " segments propagated; " << tree.skeleton.NumNodes() << " skeleton nodes.";
+  tree.brief = brief.str();
+  return tree;
+}
+
+std::vector<fs::path> WriteMrfSketchTree(const MrfSketchTree& tree, const PipelineOptions& options,
+                                         const fs::path& out_dir) {
+  const QsmModel qsm = QsmFromSkeletonParts({tree.skeleton}, "m");
+  const QsmMeshing meshing = MeshQsm(qsm, options, 0.1);
+  std::vector<fs::path> paths = WriteQsmMeshing(meshing, qsm, out_dir, options);
+  WriteSkeletonJson(out_dir / "skeleton.json", tree.skeleton, "m");
+  paths.push_back(out_dir / "skeleton.json");
+  WriteCameraFile(out_dir / "sketch_cameras.json", tree.drawing_cameras, "m");
+  paths.push_back(out_dir / "sketch_cameras.json");
+  return paths;
+}
+
+}  // namespace sylva
