@@ -6,6 +6,8 @@
 
 #include <string>
 
+#include "core/util/check.h"
+
 namespace sylva {
 namespace {
 
