@@ -197,38 +197,52 @@ std::vector<Polyline> Chain(const std::vector<std::pair<Eigen::Vector2d, Eigen::
     Polyline line = {segs[i].first, segs[i].second};
     Eigen::Vector2d p;
     while (next(line.back(), &p)) line.push_back(p);
-    Polyline head;
     while (next(line.front(), &p)) line.insert(line.begin(), p);
     lines.push_back(std::move(line));
   }
   return lines;
 }
 
-void DrawOutlines(const TriangleMesh& mesh, const Frame& frame, const ViewRays& rays,
-                  const PenAndInkOptions& options, PenAndInkDrawing* drawing) {
+// Appends the visible runs of segment a-b (world) as picture segments.
+void AddVisibleRuns(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Frame& frame,
+                    const ViewRays& rays, const PenAndInkOptions& options,
+                    PenAndInkDrawing* drawing,
+                    std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>>* segments) {
   const double tolerance = kVisibilityTolerancePx / frame.scale;
+  const Eigen::Vector2d pa = frame.Project(a), pb = frame.Project(b);
+  const int n =
+      std::max(1, static_cast<int>(std::ceil((pb - pa).norm() / options.sample_spacing_px)));
+  int run_start = -1;
+  for (int i = 0; i <= n; ++i) {
+    bool visible = false;
+    if (i < n) {
+      const Eigen::Vector3d q = a + (i + 0.5) / n * (b - a);
+      const Eigen::Vector3d origin = frame.Unproject(frame.Project(q));
+      const double depth = (q - origin).dot(frame.forward);
+      visible = rays.Cast(origin, frame.forward) >= depth - tolerance;
+      ++drawing->outline_samples;
+      drawing->hidden_outline_samples += visible ? 0 : 1;
+    }
+    if (visible && run_start < 0) run_start = i;
+    if (!visible && run_start >= 0) {
+      segments->emplace_back(pa + (pb - pa) * run_start / n, pa + (pb - pa) * i / n);
+      run_start = -1;
+    }
+  }
+}
+
+void DrawOutlines(const TriangleMesh& mesh,
+                  const std::vector<std::vector<Eigen::Vector3d>>& feature_lines,
+                  const Frame& frame, const ViewRays& rays, const PenAndInkOptions& options,
+                  PenAndInkDrawing* drawing) {
   std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>> segments;
   for (const auto& [u, v] : OutlineEdges(mesh, frame, options.crease_deg)) {
-    const Eigen::Vector3d a = mesh.vertices[u].cast<double>(), b = mesh.vertices[v].cast<double>();
-    const Eigen::Vector2d pa = frame.Project(a), pb = frame.Project(b);
-    const int n =
-        std::max(1, static_cast<int>(std::ceil((pb - pa).norm() / options.sample_spacing_px)));
-    int run_start = -1;
-    for (int i = 0; i <= n; ++i) {
-      bool visible = false;
-      if (i < n) {
-        const Eigen::Vector3d q = a + (i + 0.5) / n * (b - a);
-        const Eigen::Vector3d origin = frame.Unproject(frame.Project(q));
-        const double depth = (q - origin).dot(frame.forward);
-        visible = rays.Cast(origin, frame.forward) >= depth - tolerance;
-        ++drawing->outline_samples;
-        drawing->hidden_outline_samples += visible ? 0 : 1;
-      }
-      if (visible && run_start < 0) run_start = i;
-      if (!visible && run_start >= 0) {
-        segments.emplace_back(pa + (pb - pa) * run_start / n, pa + (pb - pa) * i / n);
-        run_start = -1;
-      }
+    AddVisibleRuns(mesh.vertices[u].cast<double>(), mesh.vertices[v].cast<double>(), frame, rays,
+                   options, drawing, &segments);
+  }
+  for (const auto& line : feature_lines) {
+    for (size_t i = 1; i < line.size(); ++i) {
+      AddVisibleRuns(line[i - 1], line[i], frame, rays, options, drawing, &segments);
     }
   }
   drawing->outline = Chain(segments);
@@ -377,6 +391,7 @@ std::string PenAndInkDrawing::BriefReport() const {
 }
 
 PenAndInkDrawing DrawPenAndInk(const TriangleMesh& mesh,
+                               const std::vector<std::vector<Eigen::Vector3d>>& feature_lines,
                                const std::vector<std::vector<Eigen::Vector3d>>& construction,
                                const PenAndInkView& view, const PenAndInkOptions& options) {
   options.Check();
@@ -386,6 +401,7 @@ PenAndInkDrawing DrawPenAndInk(const TriangleMesh& mesh,
   std::vector<Eigen::Vector3d> points;
   for (const Eigen::Vector3f& v : mesh.vertices) points.push_back(v.cast<double>());
   for (const auto& line : construction) points.insert(points.end(), line.begin(), line.end());
+  for (const auto& line : feature_lines) points.insert(points.end(), line.begin(), line.end());
   SYLVA_CHECK(!points.empty()) << "nothing to draw";
   PenAndInkDrawing drawing;
   const Frame frame = MakeFrame(points, view, options, &drawing.width, &drawing.height);
@@ -393,7 +409,7 @@ PenAndInkDrawing DrawPenAndInk(const TriangleMesh& mesh,
   drawing.line_width[1] = options.hatch_width_px;
   drawing.line_width[2] = options.construction_width_px;
   const ViewRays rays(mesh);
-  DrawOutlines(mesh, frame, rays, options, &drawing);
+  DrawOutlines(mesh, feature_lines, frame, rays, options, &drawing);
   Hatch(frame, rays, options, kHatchAngleDeg, options.hatch_tone, &drawing);
   Hatch(frame, rays, options, kCrossHatchAngleDeg, options.cross_hatch_tone, &drawing);
   for (const auto& line : construction) {

@@ -11,6 +11,8 @@
 //     they fall on is darker than a tone (Lambert shading from
 //     light_direction), a second family across the first where it is darker
 //     still; lines break where the surface under them jumps in depth;
+//   - feature lines: given 3D polylines on the surface (e.g. leaf veins),
+//     sampled and kept where visible like the outlines, drawn with them;
 //   - construction: given 3D polylines (e.g. a concept sketch's
 //     construction lines), drawn unoccluded.
 // Written as an SVG with one Inkscape layer per kind (`hatching`, `outline`,
@@ -79,6 +81,7 @@ struct PenAndInkDrawing {
 // Draws `mesh` (may be empty only if `construction` is not) fitted into
 // the picture. Deterministic; throws InputError for bad options.
 PenAndInkDrawing DrawPenAndInk(const TriangleMesh& mesh,
+                               const std::vector<std::vector<Eigen::Vector3d>>& feature_lines,
                                const std::vector<std::vector<Eigen::Vector3d>>& construction,
                                const PenAndInkView& view, const PenAndInkOptions& options);
 

@@ -36,7 +36,7 @@ TEST(PenAndInkTest, HiddenEdgesAreDroppedAndDarkFacesHatched) {
   options.image_size = 200;
   options.light_direction = Eigen::Vector3d(1, -1, 1);  // the front faces half lit
   const PenAndInkDrawing drawing =
-      DrawPenAndInk(mesh, {{Eigen::Vector3d(-1, -1, -1), Eigen::Vector3d(1, -1, 1)}},
+      DrawPenAndInk(mesh, {}, {{Eigen::Vector3d(-1, -1, -1), Eigen::Vector3d(1, -1, 1)}},
                     PenAndInkView::FromAngles(0, 0), options);
   EXPECT_GT(drawing.outline.size(), 0u);
   EXPECT_GT(drawing.hidden_outline_samples, 0);
@@ -45,7 +45,8 @@ TEST(PenAndInkTest, HiddenEdgesAreDroppedAndDarkFacesHatched) {
   // 0.45, no hatching; seen faces all face -y, so none is hatched.
   EXPECT_EQ(drawing.hatching.size(), 0u);
   options.light_direction = Eigen::Vector3d(0, 1, 0);  // from behind: everything dark
-  const PenAndInkDrawing dark = DrawPenAndInk(mesh, {}, PenAndInkView::FromAngles(0, 0), options);
+  const PenAndInkDrawing dark =
+      DrawPenAndInk(mesh, {}, {}, PenAndInkView::FromAngles(0, 0), options);
   EXPECT_GT(dark.hatching.size(), 20u);
   // Every hatching stroke lies over the boxes' silhouette (|x|, |z| <= 1).
   const std::string svg = PenAndInkSvg(drawing);

@@ -129,7 +129,7 @@ class ConceptPlantBuilder {
   double Fit(const ConceptOrgan& organ, const Eigen::Vector3d& e1, const Eigen::Vector3d& e2,
              const Eigen::Vector3d& e3, double length) const;
   void AddBlade(const std::vector<Eigen::Vector3d>& grid, const std::vector<double>& widths);
-  void BuildSkeleton();
+  SkeletonGraph BuildSkeleton(bool blade_axes) const;
   void AddConstruction();
   double StemRadius(double arc) const;
   std::string Brief() const;
@@ -268,6 +268,10 @@ bool ConceptPlantBuilder::PlaceOrgan(double arc_px, double phi_left, double phi_
       OrganPoints(*organ, f1, f2, e3, organ->length, &widths);
   if (organ->blade) {
     AddBlade(points, widths);
+    std::vector<Eigen::Vector3d> vein;
+    for (int k = 0; k < kOrganStations; ++k)
+      vein.push_back(points[k * kBladeColumns + kBladeColumns / 2]);
+    plant_.veins.push_back(vein);
     for (int k = 0; k < kOrganStations; k += (kOrganStations - 1) / 4) {
       const double u = static_cast<double>(k) / (kOrganStations - 1);
       organ->centre.push_back(organ->base +
@@ -334,8 +338,8 @@ double ConceptPlantBuilder::StemRadius(double arc) const {
   return base * (1 - (1 - options_.stem_tip_fraction) * f);
 }
 
-void ConceptPlantBuilder::BuildSkeleton() {
-  SkeletonGraph& skeleton = plant_.skeleton;
+SkeletonGraph ConceptPlantBuilder::BuildSkeleton(bool blade_axes) const {
+  SkeletonGraph skeleton;
   skeleton.radius_source = "drawn (concept sketch construction lines), not a measurement";
   const double length = options_.stem_length;
   std::vector<double> arcs;
@@ -357,7 +361,7 @@ void ConceptPlantBuilder::BuildSkeleton() {
     node_at_arc[s] = previous;
   }
   for (const ConceptOrgan& organ : plant_.organs) {
-    if (organ.blade && !options_.organ_axes) continue;
+    if (organ.blade && !blade_axes) continue;
     const double radius = std::min(options_.organ_axis_radius_fraction * organ.length,
                                    0.5 * StemRadius(organ.stem_arc));
     int parent = node_at_arc.at(organ.stem_arc);
@@ -368,6 +372,7 @@ void ConceptPlantBuilder::BuildSkeleton() {
     }
   }
   skeleton.Check();
+  return skeleton;
 }
 
 void ConceptPlantBuilder::AddConstruction() {
@@ -436,7 +441,8 @@ ConceptPlant ConceptPlantBuilder::Build() {
   SYLVA_CHECK_INPUT(!plant_.organs.empty(), structure_.source)
       << "no organ fits between the stem and the boundary lines (do the boundaries lie beside "
          "the stem?)";
-  BuildSkeleton();
+  plant_.skeleton = BuildSkeleton(options_.organ_axes);
+  plant_.wood_skeleton = BuildSkeleton(false);
   AddConstruction();
   plant_.brief = Brief();
   return std::move(plant_);

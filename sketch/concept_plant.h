@@ -118,8 +118,15 @@ struct ConceptPlant {
   Eigen::Vector2d base_px = Eigen::Vector2d::Zero();  // the stem's base on the canvas
   std::vector<Eigen::Vector3d> stem;                  // world, base first
   std::vector<ConceptOrgan> organs;                   // from the top down
-  TriangleMesh blades;     // the blade organs' surfaces, material "leaves"
-  SkeletonGraph skeleton;  // the stem (order 0) and organ axes (order 1), with radii
+  TriangleMesh blades;  // the blade organs' surfaces, material "leaves"
+  // The stem (order 0) and organ axes (order 1, blades' only with
+  // organ_axes), with radii: what the exports (L-Py, MTG, QSM) carry.
+  SkeletonGraph skeleton;
+  // The stem and line organs (needles, branches): what is meshed as bark
+  // (a blade is its surface; its midrib is drawn as a vein line).
+  SkeletonGraph wood_skeleton;
+  // The blades' midribs (their centre lines on the surface), base to tip.
+  std::vector<std::vector<Eigen::Vector3d>> veins;
   // The construction lines in 3D for drawing: the stem, the boundaries and
   // inclination lines in the drawing plane, and the envelope's cross
   // section (the two half ellipses) at each inclination line.

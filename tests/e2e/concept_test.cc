@@ -77,9 +77,10 @@ TEST(ConceptE2eTest, MakesAPlantWithEveryOutput) {
 
 TEST(ConceptE2eTest, PatternOptionAndDegenerateDrawings) {
   const fs::path out = FreshDir("distichous");
-  const SubprocessResult result = RunSubprocess(
-      {kSylva, "concept", (kDrawings / "spiral.svg").string(), out.string(),
-       "--Concept.phyllotaxis=distichous", "--PenAndInk.image_size=200", "--Report.previews=false"});
+  const SubprocessResult result =
+      RunSubprocess({kSylva, "concept", (kDrawings / "spiral.svg").string(), out.string(),
+                     "--Concept.phyllotaxis=distichous", "--PenAndInk.image_size=200",
+                     "--Report.previews=false"});
   ASSERT_EQ(result.exit_code, 0) << result.Describe();
   const Json organs = Json::parse(ReadFileToString(out / "organs.json"));
   EXPECT_EQ(organs["phyllotaxis"], "distichous");

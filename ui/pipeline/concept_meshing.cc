@@ -73,14 +73,14 @@ ConceptMeshing MeshConceptDrawing(const SketchDrawing& drawing, const PipelineOp
   meshing.plant = BuildConceptPlant(meshing.structure, plant_options);
   WoodOptions wood = WoodOptionsOf(options);
   wood.twigs = false;  // the drawing is the whole plant
-  const Wood meshed = MeshWood(meshing.plant.skeleton, DensityGrid(), wood);
+  const Wood meshed = MeshWood(meshing.plant.wood_skeleton, DensityGrid(), wood);
   meshing.bark = meshed.bark;
   std::ostringstream brief;
   brief << meshing.structure.BriefReport() << "\n" << meshing.plant.brief << "\n" << meshed.brief;
   const TriangleMesh tree = meshing.Tree();
   for (const NamedView& view : kViews) {
     meshing.drawings.push_back(DrawPenAndInk(
-        tree, meshing.plant.construction,
+        tree, meshing.plant.veins, meshing.plant.construction,
         PenAndInkView::FromAngles(view.azimuth_deg, view.elevation_deg), options.pen_and_ink));
     meshing.view_names.push_back(view.name);
     brief << "\nPen and ink, " << view.name << ": " << meshing.drawings.back().BriefReport();

@@ -1,12 +1,11 @@
 // `sylva concept DRAWING OUT_DIR` (issue 17, Anastacio et al. 2006): a
 // concept sketch of a plant (construction lines and organ strokes,
 // sketch/concept_sketch.h) becomes a 3D plant (sketch/concept_plant.h) and
-// goes through the mesh stage's outputs: the stem and organ axes as the
+// goes through the mesh stage's outputs: the stem and line organs as the
 // watertight bark of the skeleton (MeshWood with BranchMesh.*), the blades
-// as leaf surfaces, glTF/OBJ, the skeleton, its QSM table, L-Py and MTG
-// exports, previews, and pen-and-ink drawings of the plant
-// (mesh/pen_and_ink.h) from the front (the drawing's own view), obliquely
-// and from the top.
+// as leaf surfaces (their midribs drawn as veins), glTF/OBJ, the skeleton, its QSM table, L-Py and
+// MTG exports, previews, and pen-and-ink drawings of the plant (mesh/pen_and_ink.h) from the front
+// (the drawing's own view), obliquely and from the top.
 #ifndef SYLVA_UI_PIPELINE_CONCEPT_MESHING_H_
 #define SYLVA_UI_PIPELINE_CONCEPT_MESHING_H_
 
@@ -26,7 +25,7 @@ namespace sylva {
 struct ConceptMeshing {
   ConceptStructure structure;
   ConceptPlant plant;
-  TriangleMesh bark;  // the stem and organ axes (closed solids)
+  TriangleMesh bark;  // the stem and line organs (closed solids)
   // The pen-and-ink views and their names ("front", "oblique", "top").
   std::vector<PenAndInkDrawing> drawings;
   std::vector<std::string> view_names;
