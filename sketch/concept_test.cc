@@ -122,6 +122,39 @@ TEST(ConceptSketchTest, FivePatternsMatchTheirDivergenceAndFitTheBoundaries) {
   }
 }
 
+TEST(ConceptSketchTest, LineOrgansBecomeBranches) {
+  // needles.svg: two open organ strokes (a curved and a straight needle).
+  ConceptPlantOptions options;
+  options.organs_per_layer = 20;
+  const ConceptPlant plant = PlantOf(kDrawings / "needles.svg", options);
+  ASSERT_EQ(plant.organs.size(), 20u);
+  EXPECT_EQ(plant.blades.NumTriangles(), 0);
+  EXPECT_TRUE(plant.veins.empty());
+  EXPECT_LE(MaxDivergenceError(plant, 137.5), 2.0);
+  EXPECT_LE(MaxExcess(plant), 1e-6 * options.stem_length);
+  // Each needle is an order-1 axis of the wood's skeleton, from the stem.
+  int tips = 0;
+  for (int tip : plant.wood_skeleton.Tips()) tips += plant.wood_skeleton.nodes[tip].order == 1;
+  EXPECT_EQ(tips, 20);
+  EXPECT_EQ(plant.skeleton.NumNodes(), plant.wood_skeleton.NumNodes());
+}
+
+TEST(ConceptSketchTest, OrgansFollowTheInclinationLines) {
+  // distichous.svg is symmetric about its straight stem, so organs in the
+  // drawing plane (azimuth 0 and 180) point along the paper's branching
+  // rays: at the interpolated angle phi from the stem's downward direction.
+  const ConceptPlant plant = PlantOf(kDrawings / "distichous.svg");
+  double worst = 0;
+  for (const ConceptOrgan& organ : plant.organs) {
+    const Eigen::Vector3d direction = (organ.tip - organ.base).normalized();
+    const double from_down = std::acos(-direction.z()) * 180.0 / M_PI;
+    worst = std::max(worst, std::abs(from_down - organ.branching_deg));
+    EXPECT_GT(organ.branching_deg, 90.0);  // the drawn V lines rise outwards
+  }
+  std::printf("distichous: max |organ angle - inclination angle| %.4f deg\n", worst);
+  EXPECT_LE(worst, 0.5);
+}
+
 TEST(ConceptSketchTest, OrganTipsReachTheEnvelope) {
   // The organs are sized by the boundary: a typical one reaches it.
   const ConceptPlant plant = PlantOf(kDrawings / "spiral.svg");
