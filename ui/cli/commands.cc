@@ -121,9 +121,10 @@ CommandSpec ConceptSpec() {
           "the boundary lines revolved about the stem, inclined by the inclination lines.\n"
           "Writes to OUT_DIR (made only when everything succeeded): tree.glb, tree.obj,\n"
           "bark.obj (with their .mtl), skeleton.json, qsm.csv, tree.lpy, tree_turtle.lpy,\n"
-          "tree.mtg, organs.json (each organ's node, azimuth and divergence), pen-and-ink\n"
-          "drawings pen_front, pen_oblique, pen_top (.svg with Inkscape layers hatching,\n"
-          "outline, construction; and .png), and preview_0..3.png (Report.previews).",
+          "tree.mtg, organs.json (each organ's node, azimuth and divergence), options.json\n"
+          "(the effective options), pen-and-ink drawings pen_front, pen_oblique, pen_top\n"
+          "(.svg with Inkscape layers hatching, outline, construction; and .png), and\n"
+          "preview_0..3.png (Report.previews).",
           {{"index", "N", "the drawing of a Quick, Draw! .ndjson file (0-based line, default 0)"},
            kLogLevelFlag},
           2,
@@ -626,7 +627,7 @@ int CmdConcept(const ParsedArguments& args) {
   std::vector<fs::path> written;
   const ConceptMeshing meshing =
       RunConcept(args.positional[0], args.GetInt("index", 0, 0, std::numeric_limits<int>::max()),
-                 out, options, &written);
+                 out, options, registry, &written);
   std::cout << meshing.brief << "\nOutputs in " << out.string() << "/:\n";
   for (const fs::path& file : written) std::cout << "  " << file.filename().string() << "\n";
   return kExitOk;

@@ -127,6 +127,7 @@ std::vector<std::filesystem::path> WriteConceptMeshing(const ConceptMeshing& mes
 
 ConceptMeshing RunConcept(const std::filesystem::path& drawing_path, int ndjson_index,
                           const std::filesystem::path& out_dir, const PipelineOptions& options,
+                          const OptionRegistry& registry,
                           std::vector<std::filesystem::path>* written) {
   std::error_code ec;
   SYLVA_CHECK_INPUT(!std::filesystem::exists(out_dir, ec) || std::filesystem::is_empty(out_dir, ec),
@@ -138,6 +139,8 @@ ConceptMeshing RunConcept(const std::filesystem::path& drawing_path, int ndjson_
   const std::filesystem::path staging = TempPathBeside(target);
   try {
     std::vector<std::filesystem::path> paths = WriteConceptMeshing(meshing, staging, options);
+    paths.push_back(staging / "options.json");
+    AtomicWriteString(paths.back(), registry.ToJson(/*only_changed=*/false).dump(2) + "\n");
     if (std::filesystem::exists(target, ec)) std::filesystem::remove(target);
     std::filesystem::rename(staging, target);
     if (written != nullptr) {

@@ -18,6 +18,7 @@
 #include "sketch/concept_plant.h"
 #include "sketch/concept_sketch.h"
 #include "sketch/drawing.h"
+#include "ui/pipeline/option_registry.h"
 #include "ui/pipeline/pipeline_options.h"
 
 namespace sylva {
@@ -51,9 +52,11 @@ std::vector<std::filesystem::path> WriteConceptMeshing(const ConceptMeshing& mes
 // All of it for `sylva concept`: reads the drawing (ReadSketch), meshes it,
 // and writes the outputs to a staging folder beside `out_dir` that becomes
 // `out_dir` only when complete (an empty existing `out_dir` is replaced; a
-// non-empty one is an InputError). Nothing is left behind on error.
+// non-empty one is an InputError). Nothing is left behind on error. The
+// effective options (`registry`, over `options`) go to OUT_DIR/options.json.
 ConceptMeshing RunConcept(const std::filesystem::path& drawing_path, int ndjson_index,
                           const std::filesystem::path& out_dir, const PipelineOptions& options,
+                          const OptionRegistry& registry,
                           std::vector<std::filesystem::path>* written);
 
 }  // namespace sylva
