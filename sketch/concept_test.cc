@@ -190,7 +190,14 @@ TEST(ConceptSketchTest, OptionOverridesTheDrawnPatternAndDecussatePairs) {
 }
 
 TEST(ConceptSketchTest, GeometryTellsTheLinesApartAsTheirNamesDo) {
-  // spiral.svg names its lines; the same drawing without ids is read the same.
+  // spiral.svg names its lines (the element's own words first, then its
+  // layer's) and writes its pattern as a <text>.
+  const SketchDrawing drawing = ReadSketchSvg(kDrawings / "spiral.svg");
+  ASSERT_EQ(drawing.texts.size(), 1u);
+  EXPECT_EQ(drawing.texts[0], "spiral");
+  EXPECT_EQ(drawing.strokes[0].name, "stem construction");
+  EXPECT_EQ(drawing.strokes[0].role, StrokeRole::kConstruction);
+  // The same drawing without ids is read the same.
   const std::string text = ReadFileToString(kDrawings / "spiral.svg");
   std::string stripped = text;
   for (const char* id :

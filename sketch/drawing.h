@@ -42,8 +42,9 @@ struct SketchStroke {
   // unknown. A cue for branch radii, never a measurement.
   double width = 0.0;
   // Lower-case words naming the stroke in an SVG: the element's id and the
-  // inkscape:label and class words of the element and its ancestors,
-  // space-separated ("stem construction"); empty for other inputs. Lets a
+  // inkscape:label and class words of the element and then of its
+  // ancestors, nearest first, space-separated ("stem construction"); empty
+  // for other inputs. Lets a
   // mode tell strokes of one role apart (sketch/concept_sketch.h).
   std::string name;
 };

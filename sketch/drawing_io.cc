@@ -197,7 +197,7 @@ SvgContext EnterElement(const SvgContext& parent, const XMLElement& element) {
       parent.canvas_from_user * ParseSvgAttribute(element, "transform", ParseSvgTransform);
   if (auto role = RoleOfElement(element)) context.role = role;
   const std::string words = NameWordsOf(element);
-  if (!words.empty()) context.name += (context.name.empty() ? "" : " ") + words;
+  if (!words.empty()) context.name = words + (parent.name.empty() ? "" : " " + parent.name);
   if (auto stroke = SvgStyleProperty(element, "stroke"); stroke && *stroke != "inherit") {
     context.stroke = stroke;
   }

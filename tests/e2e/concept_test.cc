@@ -85,7 +85,23 @@ TEST(ConceptE2eTest, PatternOptionAndDegenerateDrawings) {
   const Json organs = Json::parse(ReadFileToString(out / "organs.json"));
   EXPECT_EQ(organs["phyllotaxis"], "distichous");
   EXPECT_FALSE(fs::exists(out / "preview_0.png"));
+  // The same drawing and options again: the same organs.
+  const fs::path again = FreshDir("distichous_again");
+  ASSERT_EQ(RunSubprocess({kSylva, "concept", (kDrawings / "spiral.svg").string(), again.string(),
+                           "--Concept.phyllotaxis=distichous", "--PenAndInk.image_size=200",
+                           "--Report.previews=false"})
+                .exit_code,
+            0);
+  const Json repeated = Json::parse(ReadFileToString(again / "organs.json"));
+  ASSERT_EQ(repeated["organs"].size(), organs["organs"].size());
+  for (size_t k = 0; k < organs["organs"].size(); ++k) {
+    for (int c = 0; c < 3; ++c) {
+      EXPECT_NEAR(repeated["organs"][k]["tip"][c].get<double>(),
+                  organs["organs"][k]["tip"][c].get<double>(), 1e-12);
+    }
+  }
   fs::remove_all(out);
+  fs::remove_all(again);
 
   // A stem without boundary lines, and a one-point stroke.
   const fs::path bad_dir = FreshDir("bad_inputs");
