@@ -41,6 +41,12 @@ struct SketchStroke {
   // trunk drawn as two outline lines the distance between them); 0 =
   // unknown. A cue for branch radii, never a measurement.
   double width = 0.0;
+  // Lower-case words naming the stroke in an SVG: the element's id and the
+  // inkscape:label and class words of the element and then of its
+  // ancestors, nearest first, space-separated ("stem construction"); empty
+  // for other inputs. Lets a
+  // mode tell strokes of one role apart (sketch/concept_sketch.h).
+  std::string name;
 };
 
 struct SketchDrawing {
@@ -52,6 +58,9 @@ struct SketchDrawing {
   std::vector<SketchStroke> strokes;
   // The tree base if the drawing marks one, in canvas pixels.
   std::optional<Eigen::Vector2d> root;
+  // The text of visible SVG <text> elements (annotations such as a
+  // phyllotaxis pattern), one entry per element, trimmed.
+  std::vector<std::string> texts;
 
   int CountRole(StrokeRole role) const;
   // Throws InputError naming `source` if the canvas size is not positive and

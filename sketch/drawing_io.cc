@@ -175,13 +175,29 @@ struct SvgContext {
   std::optional<std::string> fill;
   // In the user units of the shape that is stroked (SVG inherits the number).
   std::optional<double> stroke_width;
+  // Words of the ids, labels and classes on the way down (SketchStroke::name).
+  std::string name;
 };
+
+// The element's id and its inkscape:label and class words, lower-case.
+std::string NameWordsOf(const XMLElement& element) {
+  std::string words;
+  for (const char* attribute : {"id", "inkscape:label", "class"}) {
+    if (const char* value = element.Attribute(attribute)) {
+      if (!words.empty()) words += ' ';
+      words += Lower(value);
+    }
+  }
+  return words;
+}
 
 SvgContext EnterElement(const SvgContext& parent, const XMLElement& element) {
   SvgContext context = parent;
   context.canvas_from_user =
       parent.canvas_from_user * ParseSvgAttribute(element, "transform", ParseSvgTransform);
   if (auto role = RoleOfElement(element)) context.role = role;
+  const std::string words = NameWordsOf(element);
+  if (!words.empty()) context.name = words + (parent.name.empty() ? "" : " " + parent.name);
   if (auto stroke = SvgStyleProperty(element, "stroke"); stroke && *stroke != "inherit") {
     context.stroke = stroke;
   }
@@ -239,6 +255,7 @@ class SvgDrawingCollector {
     for (const XMLElement* child = parent.FirstChildElement(); child != nullptr;
          child = child->NextSiblingElement()) {
       const std::string name = SvgLocalName(*child);
+      if (name == "text" && !IsSvgHidden(*child)) AddText(*child);
       if (!(IsSvgContainer(name) || IsDrawnShape(name)) || IsSvgHidden(*child)) continue;
       const SvgContext context = AtSvgElement(drawing_->source, *child,
                                               [&] { return EnterElement(parent_context, *child); });
@@ -251,6 +268,26 @@ class SvgDrawingCollector {
   }
 
  private:
+  // The text of a <text> element and its <tspan>s.
+  static void CollectText(const XMLElement& element, std::string* text) {
+    for (const tinyxml2::XMLNode* node = element.FirstChild(); node != nullptr;
+         node = node->NextSibling()) {
+      if (const tinyxml2::XMLText* piece = node->ToText()) {
+        *text += std::string(piece->Value()) + " ";
+      } else if (const XMLElement* child = node->ToElement()) {
+        CollectText(*child, text);
+      }
+    }
+  }
+
+  void AddText(const XMLElement& element) {
+    std::string text;
+    CollectText(element, &text);
+    const size_t begin = text.find_first_not_of(" \t\r\n");
+    if (begin == std::string::npos) return;
+    drawing_->texts.push_back(text.substr(begin, text.find_last_not_of(" \t\r\n") - begin + 1));
+  }
+
   void AddShape(const XMLElement& element, const SvgContext& context) {
     if (SvgLocalName(element) == "circle" && SvgHasIdOrClass(element, "root")) {
       if (drawing_->root) throw InputError("", "a second root circle (there may be only one)");
@@ -276,6 +313,7 @@ class SvgDrawingCollector {
     for (const Eigen::Vector2d& p : stroke.points) CheckNearCanvas(p, polyline.what);
     stroke.role = ShapeRole(context, stroke.closed);
     stroke.width = ShapeWidth(context);
+    stroke.name = context.name;
     if (!std::isfinite(stroke.width)) throw InputError("", "the stroke width overflows");
     drawing_->strokes.push_back(std::move(stroke));
   }

@@ -46,6 +46,10 @@
 //     determinant); 0 (unknown) if not given or the stroke is "none".
 //   - Root: a <circle> with id or class "root" gives SketchDrawing::root (its
 //     centre) and is not a stroke. At most one.
+//   - Names and notes: a stroke's id, inkscape:label and class words and its
+//     ancestors' become SketchStroke::name (the concept sketch mode tells
+//     stem, boundary and inclination lines apart by them); the text of each
+//     visible <text> element is one of SketchDrawing::texts.
 //
 // Google's Quick, Draw! simplified ndjson (ReadQuickDrawNdjson)
 // ------------------------------------------------------------

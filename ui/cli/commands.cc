@@ -24,6 +24,7 @@
 #include "ui/batch/workflow_engine.h"
 #include "ui/cli/arguments.h"
 #include "ui/cli/terminal_progress.h"
+#include "ui/pipeline/concept_meshing.h"
 #include "ui/pipeline/pipeline.h"
 #include "ui/pipeline/qsm_meshing.h"
 #include "ui/pipeline/sketch_mrf.h"
@@ -110,6 +111,31 @@ CommandSpec SketchSpec() {
            kLogLevelFlag},
           2,
           5,
+          true};
+}
+
+CommandSpec ConceptSpec() {
+  return {"concept",
+          "sylva concept DRAWING OUT_DIR [--index N] [--Concept.phyllotaxis=spiral|monostichous|"
+          "distichous|tristichous|tetrastichous] [--Section.field=value ...]",
+          "Makes a 3D plant from a concept sketch (Anastacio et al. 2006): construction lines\n"
+          "(role 'construction': the stem, boundary lines beside it giving the organs' extent,\n"
+          "inclination lines across it giving their angle; told apart by their names 'stem',\n"
+          "'boundary', 'inclination' or by their shape, see sketch/concept_sketch.h) and organ\n"
+          "strokes (role 'organ': closed outlines of blades, or lines for needles and\n"
+          "branches). Organs are placed at nodes along the stem in a phyllotactic pattern\n"
+          "(Concept.phyllotaxis, or written in the drawing as a <text>), sized to lie within\n"
+          "the boundary lines revolved about the stem, inclined by the inclination lines.\n"
+          "Writes to OUT_DIR (made only when everything succeeded): tree.glb, tree.obj,\n"
+          "bark.obj (with their .mtl), skeleton.json, qsm.csv, tree.lpy, tree_turtle.lpy,\n"
+          "tree.mtg, organs.json (each organ's node, azimuth and divergence), options.json\n"
+          "(the effective options), pen-and-ink drawings pen_front, pen_oblique, pen_top\n"
+          "(.svg with Inkscape layers hatching, outline, construction; and .png), and\n"
+          "preview_0..3.png (Report.previews).",
+          {{"index", "N", "the drawing of a Quick, Draw! .ndjson file (0-based line, default 0)"},
+           kLogLevelFlag},
+          2,
+          2,
           true};
 }
 
@@ -403,6 +429,7 @@ std::vector<CommandSpec> AllSpecs() {
   specs.push_back(BatchSpec());
   specs.push_back(SketchSpec());
   specs.push_back(MeshMtgSpec());
+  specs.push_back(ConceptSpec());
   return specs;
 }
 
@@ -632,6 +659,23 @@ int CmdSketch(const ParsedArguments& args) {
   return kExitOk;
 }
 
+// `sylva concept DRAWING OUT_DIR`: a concept sketch's plant and its drawings.
+int CmdConcept(const ParsedArguments& args) {
+  PipelineOptions options;
+  OptionRegistry registry;
+  RegisterPipelineOptions(&options, &registry);
+  for (const auto& [key, value] : args.options) registry.Set(key, value, "--" + key);
+  options.Check();
+  const fs::path out = args.positional[1];
+  std::vector<fs::path> written;
+  const ConceptMeshing meshing =
+      RunConcept(args.positional[0], args.GetInt("index", 0, 0, std::numeric_limits<int>::max()),
+                 out, options, registry, &written);
+  std::cout << meshing.brief << "\nOutputs in " << out.string() << "/:\n";
+  for (const fs::path& file : written) std::cout << "  " << file.filename().string() << "\n";
+  return kExitOk;
+}
+
 // `sylva synth OUT --qsm`: the tree of `seed` as a TreeQSM-like table.
 int WriteSynthQsm(const fs::path& out, uint64_t seed) {
   std::error_code ec;
@@ -730,6 +774,7 @@ int Dispatch(int argc, const char* const* argv) {
     if (command == "batch") return CmdBatch(args);
     if (command == "sketch") return CmdSketch(args);
     if (command == "mesh-mtg") return CmdMeshMtg(args);
+    if (command == "concept") return CmdConcept(args);
     const Stage stage = ParseStage(command, command);
     return RunPipeline(args, &stage);
   }

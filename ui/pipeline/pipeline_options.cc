@@ -88,6 +88,8 @@ void PipelineOptions::Check() const {
   report.Check();
   sketch.Check();
   sketch_mrf.Check();
+  concept_plant.Check();
+  pen_and_ink.Check();
 }
 
 namespace {
@@ -667,6 +669,58 @@ void RegisterSketchMrf(SketchMrfOptions* o, OptionRegistry* r) {
             "mrf: propagation generations when the drawing has no crown");
   r->AddInt("Sketch.max_segments", &o->mrf.max_segments, "segments",
             "mrf: propagation stops at this many segments");
+void RegisterConcept(ConceptPlantOptions* o, OptionRegistry* r) {
+  r->AddString("Concept.phyllotaxis", &o->phyllotaxis,
+               "auto (as written in the drawing, else spiral), spiral (137.5 deg), monostichous "
+               "(30), distichous (180), tristichous (120) or tetrastichous (90)");
+  r->AddDouble("Concept.divergence_deg", &o->divergence_deg, "degrees",
+               "angle between successive nodes; < 0 = the pattern's");
+  r->AddInt("Concept.organs_per_layer", &o->organs_per_layer, "nodes",
+            "nodes between two inclination lines (or on the whole stem)");
+  r->AddInt("Concept.organs_per_node", &o->organs_per_node, "organs",
+            "organs per node, evenly spread (2 with tetrastichous: decussate pairs)");
+  r->AddDouble("Concept.first_azimuth_deg", &o->first_azimuth_deg, "degrees",
+               "azimuth of the top organ (0 = the drawing's right, counter-clockwise from above)");
+  r->AddDouble("Concept.default_branching_deg", &o->default_branching_deg, "degrees",
+               "organs' angle from the stem's downward direction without inclination lines");
+  r->AddDouble("Concept.stem_length", &o->stem_length, "m",
+               "the stem's length (a drawing has no scale)");
+  r->AddDouble("Concept.stem_radius_fraction", &o->stem_radius_fraction, "",
+               "stem base radius over its length when the drawing gives no stroke width");
+  r->AddDouble("Concept.stem_tip_fraction", &o->stem_tip_fraction, "",
+               "stem radius at its tip over its base radius");
+  r->AddDouble("Concept.organ_droop", &o->organ_droop, "organ lengths",
+               "how far a blade's tip hangs below its reference line");
+  r->AddDouble("Concept.organ_fold_deg", &o->organ_fold_deg, "degrees",
+               "a blade rises from its midrib to its edges at this angle");
+  r->AddBool("Concept.organ_axes", &o->organ_axes,
+             "every organ is also a skeleton axis (midrib), so L-Py and MTG carry the "
+             "arrangement");
+  r->AddDouble("Concept.organ_axis_radius_fraction", &o->organ_axis_radius_fraction, "",
+               "an organ axis' radius over the organ's length");
+}
+
+void RegisterPenAndInk(PenAndInkOptions* o, OptionRegistry* r) {
+  r->AddInt("PenAndInk.image_size", &o->image_size, "pixels", "longer side of the drawings");
+  r->AddDouble("PenAndInk.margin", &o->margin, "fraction of the image size", "empty border");
+  r->AddDouble("PenAndInk.sample_spacing_px", &o->sample_spacing_px, "pixels",
+               "outline edges are tested for visibility at this spacing");
+  r->AddDouble("PenAndInk.crease_deg", &o->crease_deg, "degrees",
+               "faces meeting at more than this angle draw a crease line");
+  r->AddDouble("PenAndInk.hatch_spacing_px", &o->hatch_spacing_px, "pixels",
+               "distance between hatching lines");
+  r->AddDouble("PenAndInk.hatch_tone", &o->hatch_tone, "",
+               "surfaces darker than this (0 white, 1 black) are hatched");
+  r->AddDouble("PenAndInk.cross_hatch_tone", &o->cross_hatch_tone, "",
+               "surfaces darker than this are cross-hatched");
+  r->AddPoint("PenAndInk.light_direction", &o->light_direction, "",
+              "direction towards the light (x,y,z; +z up, +y away from the drawing's viewer)");
+  r->AddDouble("PenAndInk.outline_width_px", &o->outline_width_px, "pixels", "outline ink width");
+  r->AddDouble("PenAndInk.hatch_width_px", &o->hatch_width_px, "pixels", "hatching ink width");
+  r->AddDouble("PenAndInk.construction_width_px", &o->construction_width_px, "pixels",
+               "construction line width");
+  r->AddBool("PenAndInk.construction", &o->construction,
+             "draw the construction lines (grey, dashed) in their own layer");
 }
 
 }  // namespace
@@ -695,6 +749,8 @@ void RegisterPipelineOptions(PipelineOptions* options, OptionRegistry* registry)
   RegisterReport(&options->report, registry);
   RegisterSketch(&options->sketch, registry);
   RegisterSketchMrf(&options->sketch_mrf, registry);
+  RegisterConcept(&options->concept_plant, registry);
+  RegisterPenAndInk(&options->pen_and_ink, registry);
 }
 
 }  // namespace sylva

@@ -12,6 +12,7 @@
 #include "mesh/bark_mesh.h"
 #include "mesh/branch_mesh.h"
 #include "mesh/leaves.h"
+#include "mesh/pen_and_ink.h"
 #include "mesh/tree_metrics.h"
 #include "mesh/twigs.h"
 #include "reconstruct/attractors/livewire.h"
@@ -26,6 +27,7 @@
 #include "simulate/particle_flow.h"
 #include "simulate/skeleton_consolidation.h"
 #include "simulate/skeleton_pruning.h"
+#include "sketch/concept_plant.h"
 #include "sketch/sketch_views.h"
 #include "sketch/stroke_graph.h"
 #include "ui/pipeline/sketch_mrf.h"
@@ -163,6 +165,10 @@ struct PipelineOptions {
   SketchViewOptions sketch;
   // Branches of a drawing by MRF (Sketch.method=mrf, sketch_mrf.h).
   SketchMrfOptions sketch_mrf;
+  // How a concept sketch becomes a plant (`sylva concept`; its seed is
+  // General.seed) and how it is drawn in pen and ink.
+  ConceptPlantOptions concept_plant;
+  PenAndInkOptions pen_and_ink;
 
   // Throws InputError naming the first invalid option.
   void Check() const;
