@@ -1,0 +1,63 @@
+// sylva-app: the desktop app (ui/desktop/main_window.h).
+//
+//   sylva-app [PROJECT] [--photo NAME] [--screenshot FILE.png]
+//
+// --screenshot renders the main window (photo with overlays, 3D view) for
+// PROJECT into FILE.png and exits; it needs no display
+// (QT_QPA_PLATFORM=offscreen). Exit codes: 0 ok, 2 bad arguments or project.
+#include <QApplication>
+#include <QStringList>
+#include <iostream>
+
+#include "ui/desktop/main_window.h"
+#include "ui/pipeline/project.h"
+
+namespace {
+
+constexpr int kExitOk = 0;
+constexpr int kExitBadInput = 2;
+
+int Usage(const QString& problem) {
+  std::cerr << "sylva-app: " << problem.toStdString()
+            << "\nusage: sylva-app [PROJECT] [--photo NAME] [--screenshot FILE.png]\n";
+  return kExitBadInput;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  QApplication app(argc, argv);
+  QApplication::setApplicationName("sylva-app");
+  QApplication::setOrganizationName("sylva");
+  QString project, screenshot, photo;
+  const QStringList args = QApplication::arguments();
+  for (int i = 1; i < args.size(); ++i) {
+    const QString& arg = args[i];
+    if ((arg == "--screenshot" || arg == "--photo") && i + 1 < args.size()) {
+      (arg == "--screenshot" ? screenshot : photo) = args[++i];
+    } else if (arg.startsWith("--")) {
+      return Usage("unknown or incomplete option " + arg);
+    } else if (project.isEmpty()) {
+      project = arg;
+    } else {
+      return Usage("more than one project given");
+    }
+  }
+  if (!screenshot.isEmpty() && project.isEmpty()) return Usage("--screenshot needs a PROJECT");
+
+  sylva::MainWindow window(/*interactive=*/screenshot.isEmpty());
+  if (!project.isEmpty() && !window.OpenProject(project.toStdString())) {
+    if (!screenshot.isEmpty()) return kExitBadInput;
+  }
+  if (!photo.isEmpty() && window.project() != nullptr) {
+    const auto& names = window.project()->photo_names();
+    const auto it = std::find(names.begin(), names.end(), photo.toStdString());
+    if (it == names.end()) return Usage("no photo " + photo + " in the project");
+    window.SelectPhoto(static_cast<int>(it - names.begin()));
+  }
+  window.show();
+  if (!screenshot.isEmpty()) {
+    return window.SaveScreenshot(screenshot.toStdString()) ? kExitOk : kExitBadInput;
+  }
+  return QApplication::exec();
+}
