@@ -1,12 +1,14 @@
 // sylva-app: the desktop app (ui/desktop/main_window.h).
 //
-//   sylva-app [PROJECT] [--photo NAME] [--screenshot FILE.png]
+//   sylva-app [PROJECT] [--photo NAME] [--panel layers|run|options]
+//             [--screenshot FILE.png]
 //
 // --screenshot renders the main window (photo with overlays, 3D view) for
 // PROJECT into FILE.png and exits; it needs no display
 // (QT_QPA_PLATFORM=offscreen). Exit codes: 0 ok, 2 bad arguments or project.
 #include <QApplication>
 #include <QStringList>
+#include <algorithm>
 #include <iostream>
 
 #include "ui/desktop/main_window.h"
@@ -19,7 +21,8 @@ constexpr int kExitBadInput = 2;
 
 int Usage(const QString& problem) {
   std::cerr << "sylva-app: " << problem.toStdString()
-            << "\nusage: sylva-app [PROJECT] [--photo NAME] [--screenshot FILE.png]\n";
+            << "\nusage: sylva-app [PROJECT] [--photo NAME] [--panel layers|run|options] "
+               "[--screenshot FILE.png]\n";
   return kExitBadInput;
 }
 
@@ -29,12 +32,16 @@ int main(int argc, char** argv) {
   QApplication app(argc, argv);
   QApplication::setApplicationName("sylva-app");
   QApplication::setOrganizationName("sylva");
-  QString project, screenshot, photo;
+  QString project, screenshot, photo, panel;
   const QStringList args = QApplication::arguments();
   for (int i = 1; i < args.size(); ++i) {
     const QString& arg = args[i];
-    if ((arg == "--screenshot" || arg == "--photo") && i + 1 < args.size()) {
-      (arg == "--screenshot" ? screenshot : photo) = args[++i];
+    if (arg == "--screenshot" && i + 1 < args.size()) {
+      screenshot = args[++i];
+    } else if (arg == "--photo" && i + 1 < args.size()) {
+      photo = args[++i];
+    } else if (arg == "--panel" && i + 1 < args.size()) {
+      panel = args[++i];
     } else if (arg.startsWith("--")) {
       return Usage("unknown or incomplete option " + arg);
     } else if (project.isEmpty()) {
@@ -55,6 +62,7 @@ int main(int argc, char** argv) {
     if (it == names.end()) return Usage("no photo " + photo + " in the project");
     window.SelectPhoto(static_cast<int>(it - names.begin()));
   }
+  if (!panel.isEmpty() && !window.ShowPanel(panel)) return Usage("no panel " + panel);
   window.show();
   if (!screenshot.isEmpty()) {
     return window.SaveScreenshot(screenshot.toStdString()) ? kExitOk : kExitBadInput;

@@ -17,6 +17,8 @@
 #include <string>
 
 #include "core/io/image_io.h"
+#include "core/io/vdb_io.h"
+#include "core/types/density_grid.h"
 #include "datasets/synthetic/synthetic_dataset.h"
 #include "reconstruct/matting/trimap_io.h"
 #include "sketch/strokes.h"
@@ -53,6 +55,7 @@ class AppTest : public QObject {
   void optionsPanelRoundTripsEveryOption();
   void screenshotShowsPhotoAndTree();
   void screenshotCommandWritesPng();
+  void paintedDensityGrowsAndEmptiesTheTreeAfterRerun();
   void cancelStopsRunningStageAndLeavesProject();
 
  private:
@@ -299,6 +302,7 @@ void AppTest::screenshotShowsPhotoAndTree() {
       box->setChecked(false);
     }
   }
+  QTest::qWait(200);  // let the layout settle (the photo view refits on resize)
   const fs::path shot_path = fs::path(temp_.path().toStdString()) / "window.png";
   QVERIFY(window.SaveScreenshot(shot_path));
   const QImage shot =
@@ -364,6 +368,86 @@ void AppTest::screenshotCommandWritesPng() {
   QVERIFY(app.waitForFinished(60000));
   QCOMPARE(app.exitCode(), 2);
   QVERIFY(!QFile::exists(temp_.path() + "/bad.png"));
+}
+
+// Whether the report's density projection of view `view_name` covers the
+// photo pixel `point` (out/report/density/<view>.png, a comparison picture
+// at its own scale: predicted pixels have a high red channel).
+bool ProjectionCovers(const fs::path& project_root, const std::string& view_name,
+                      const Eigen::Vector2d& point, int photo_size) {
+  const fs::path path =
+      project_root / "out" / "report" / "density" / fs::path(view_name).replace_extension(".png");
+  const QImage picture(QString::fromStdString(path.string()));
+  if (picture.isNull()) return false;
+  const double scale = double(picture.width()) / photo_size;
+  return qRed(picture.pixel(int(point.x() * scale), int(point.y() * scale))) >= 200;
+}
+
+void AppTest::paintedDensityGrowsAndEmptiesTheTreeAfterRerun() {
+  MainWindow window(false);
+  window.resize(1200, 800);
+  window.show();
+  QVERIFY(QTest::qWaitForWindowExposed(&window));
+  QVERIFY(window.OpenProject(project_));
+  const Project project = Project::Open(project_);
+  const ImageSet cameras = project.LoadCameras();
+  // A ball low beside the trunk, where the tree has no density.
+  const DensityGrid before = ReadDensityGrid(project.OutDir() / "density.vdb");
+  const Box3d box = before.ActiveWorldBounds();
+  const Eigen::Vector3d size = box.sizes();
+  const double radius = 0.1 * size.z();
+  const Eigen::Vector3d ball(box.min().x() + 0.15 * size.x(), box.center().y(),
+                             box.min().z() + 0.15 * size.z());
+  // Its projection in every input view: centre and radius in pixels.
+  std::vector<std::pair<int, std::pair<Eigen::Vector2d, double>>> discs;
+  for (int v = 0; v < cameras.NumViews(); ++v) {
+    if (project.IsHeldOut(cameras.views[v].name)) continue;
+    Eigen::Vector2d middle, top;
+    QVERIFY(cameras.Project(v, ball, &middle));
+    QVERIFY(cameras.Project(v, ball + radius * Eigen::Vector3d::UnitZ(), &top));
+    discs.push_back({v, {middle, std::max(3.0, (top - middle).norm())}});
+    QVERIFY2(!ProjectionCovers(project_, cameras.views[v].name, middle, 96),
+             "the tree already covers the region");
+  }
+  QCOMPARE(discs.size(), size_t(3));
+  const auto paint = [&](Tool tool) {
+    for (const auto& [v, disc] : discs) {
+      const auto& names = project.photo_names();
+      window.SelectPhoto(
+          int(std::find(names.begin(), names.end(), cameras.views[v].name) - names.begin()));
+      window.SetTool(tool);
+      window.photo_view()->brush() = BrushShape{disc.second, 1.0, 1.0};
+      const QPointF c(disc.first.x(), disc.first.y());
+      Drag(&window, {c - QPointF(0.5, 0), c + QPointF(0.5, 0)});
+    }
+  };
+  QSignalSpy finished(window.run_controller(), &RunController::Finished);
+  const auto run = [&] {
+    window.RunAll();
+    QVERIFY(finished.wait(60000));
+    QVERIFY2(finished.last().at(0).toBool(), qPrintable(finished.last().at(2).toString()));
+  };
+  // Painted in: after the re-run the density covers the region in every view.
+  paint(Tool::kDensityAdd);
+  run();
+  for (const auto& [v, disc] : discs) {
+    QVERIFY2(ProjectionCovers(project_, cameras.views[v].name, disc.first, 96),
+             cameras.views[v].name.c_str());
+  }
+  // Only the density and what follows re-ran.
+  const RunSummary& summary = window.run_controller()->last_summary();
+  for (const StageRun& stage : summary.stages) {
+    QCOMPARE(stage.up_to_date, stage.stage == Stage::kMatte || stage.stage == Stage::kRegister);
+  }
+  // Painted out: the region empties again.
+  paint(Tool::kDensityRemove);
+  run();
+  for (const auto& [v, disc] : discs) {
+    QVERIFY2(!ProjectionCovers(project_, cameras.views[v].name, disc.first, 96),
+             cameras.views[v].name.c_str());
+  }
+  // Leave the project without edits for the next test.
+  while (window.document()->undo_stack()->canUndo()) window.document()->undo_stack()->undo();
 }
 
 void AppTest::cancelStopsRunningStageAndLeavesProject() {

@@ -6,6 +6,7 @@
 #include <QCheckBox>
 #include <QDockWidget>
 #include <QDoubleSpinBox>
+#include <QElapsedTimer>
 #include <QFileDialog>
 #include <QGridLayout>
 #include <QLabel>
@@ -40,6 +41,7 @@ namespace sylva {
 namespace {
 
 constexpr int kMaxRecent = 8;
+constexpr int kSettleMilliseconds = 150;
 const char* const kRecentKey = "recent_projects";
 
 // Overlay tints: density projection cyan, mesh silhouette magenta.
@@ -92,8 +94,9 @@ MainWindow::MainWindow(bool interactive, QWidget* parent)
   auto* splitter = new QSplitter;
   splitter->addWidget(photo_pane);
   splitter->addWidget(view_3d_);
-  splitter->setStretchFactor(0, 3);
-  splitter->setStretchFactor(1, 2);
+  splitter->setStretchFactor(0, 1);
+  splitter->setStretchFactor(1, 1);
+  splitter->setSizes({1000, 1000});  // halves of whatever width it gets
   setCentralWidget(splitter);
 
   photo_list_ = new QListWidget;
@@ -104,7 +107,7 @@ MainWindow::MainWindow(bool interactive, QWidget* parent)
   connect(photo_list_, &QListWidget::currentRowChanged, this, &MainWindow::SelectPhoto);
 
   options_panel_ = new OptionsPanel;
-  auto* tabs = new QTabWidget;
+  auto* tabs = panels_ = new QTabWidget;
   tabs->addTab(BuildLayersPanel(), "Layers");
   tabs->addTab(BuildRunPanel(), "Run");
   tabs->addTab(options_panel_, "Options");
@@ -118,6 +121,7 @@ MainWindow::MainWindow(bool interactive, QWidget* parent)
   BuildMenus();
   BuildToolBar();
   connect(run_controller_, &RunController::StageStarted, this, [this](int stage) {
+    ++stages_started_;
     StageRow& row = stage_rows_[static_cast<Stage>(stage)];
     row.state->setText("running");
     row.bar->setValue(0);
@@ -437,6 +441,16 @@ void MainWindow::RefreshStageStates() {
   }
 }
 
+bool MainWindow::ShowPanel(const QString& name) {
+  for (int i = 0; i < panels_->count(); ++i) {
+    if (panels_->tabText(i).compare(name, Qt::CaseInsensitive) == 0) {
+      panels_->setCurrentIndex(i);
+      return true;
+    }
+  }
+  return false;
+}
+
 void MainWindow::SetTool(Tool tool) { photo_view_->SetTool(tool); }
 
 void MainWindow::RunAll() {
@@ -445,6 +459,7 @@ void MainWindow::RunAll() {
   for (auto& [stage, row] : stage_rows_) row.bar->setValue(0), row.bar->setFormat("");
   run_button_->setEnabled(false);
   cancel_button_->setEnabled(true);
+  stages_started_ = 0;
   run_controller_->Start(project_->root(), options_panel_->options(), AllStages().back().stage);
 }
 
@@ -453,6 +468,7 @@ void MainWindow::RunOneStage(Stage stage) {
   summary_text_->clear();
   run_button_->setEnabled(false);
   cancel_button_->setEnabled(true);
+  stages_started_ = 0;
   run_controller_->Start(project_->root(), options_panel_->options(), stage, stage);
 }
 
@@ -476,12 +492,18 @@ void MainWindow::OnRunFinished(bool ok, bool cancelled, const QString& message) 
   } else {
     ShowError(message);
   }
-  ReloadOutputs();
+  // A cancelled or failed stage wrote nothing; stages before it in the run did.
+  if (ok || stages_started_ > 1) ReloadOutputs();
   RefreshStageStates();
 }
 
 bool MainWindow::SaveScreenshot(const std::filesystem::path& path) {
-  QApplication::processEvents();
+  // Let pending layout and resize events settle (the photo view refits).
+  QElapsedTimer settle;
+  settle.start();
+  while (settle.elapsed() < kSettleMilliseconds) {
+    QApplication::processEvents(QEventLoop::AllEvents, kSettleMilliseconds);
+  }
   const QPixmap shot = grab();
   try {
     AtomicWriteWith(path, [&](const fs::path& temp) {

@@ -24,6 +24,7 @@ class QMenu;
 class QPlainTextEdit;
 class QProgressBar;
 class QPushButton;
+class QTabWidget;
 class QToolButton;
 
 namespace sylva {
@@ -53,6 +54,10 @@ class MainWindow : public QMainWindow {
   void RunAll();
   void RunOneStage(Stage stage);
   void CancelRun();
+
+  // Brings the panel "layers", "run" or "options" to the front; false if
+  // there is no such panel.
+  bool ShowPanel(const QString& name);
 
   // Renders the whole window into a PNG (atomically); false on failure.
   bool SaveScreenshot(const std::filesystem::path& path);
@@ -97,6 +102,7 @@ class MainWindow : public QMainWindow {
             *skeleton_box_ = nullptr;
   QPushButton *run_button_ = nullptr, *cancel_button_ = nullptr;
   QPlainTextEdit* summary_text_ = nullptr;
+  QTabWidget* panels_ = nullptr;
   struct StageRow {
     QLabel* state = nullptr;
     QProgressBar* bar = nullptr;
@@ -105,6 +111,7 @@ class MainWindow : public QMainWindow {
   std::map<Stage, StageRow> stage_rows_;
   std::map<QString, QString> photo_titles_;
   QString last_error_;
+  int stages_started_ = 0;  // in the current run
 };
 
 }  // namespace sylva

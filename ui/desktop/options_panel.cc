@@ -51,11 +51,13 @@ void OptionsPanel::Rebuild() {
     page->deleteLater();
   }
   fields_.clear();
-  std::string section;
-  QFormLayout* form = nullptr;
+  // One page per section, in the order sections first appear (a section's
+  // fields need not be registered together).
+  std::map<std::string, QFormLayout*> forms;
   for (const OptionRegistry::Entry& entry : registry_->entries()) {
-    if (SectionOf(entry.key) != section || form == nullptr) {
-      section = SectionOf(entry.key);
+    const std::string section = SectionOf(entry.key);
+    QFormLayout*& form = forms[section];
+    if (form == nullptr) {
       auto* scroll = new QScrollArea;
       auto* page = new QWidget;
       form = new QFormLayout(page);
