@@ -341,6 +341,32 @@ void AppTest::screenshotShowsPhotoAndTree() {
   const double fraction = double(tree) / (rect.width() * (rect.height() - 30));
   qInfo("3D view: %.1f %% tree pixels", 100 * fraction);
   QVERIFY(fraction > 0.02);
+
+  // Blender's navigation: middle drag orbits, Shift+middle pans, the wheel zooms.
+  View3d* view_3d = window.view_3d();
+  const QPoint middle(view_3d->width() / 2, view_3d->height() / 2);
+  const auto drag = [&](Qt::KeyboardModifiers modifiers) {
+    QTest::mousePress(view_3d, Qt::MiddleButton, modifiers, middle);
+    QMouseEvent move(QEvent::MouseMove, middle + QPoint(50, 20),
+                     view_3d->mapToGlobal(middle + QPoint(50, 20)), Qt::NoButton, Qt::MiddleButton,
+                     modifiers);
+    QApplication::sendEvent(view_3d, &move);
+    QTest::mouseRelease(view_3d, Qt::MiddleButton, modifiers, middle + QPoint(50, 20));
+  };
+  const double azimuth = view_3d->azimuth_deg(), elevation = view_3d->elevation_deg();
+  drag(Qt::NoModifier);
+  QCOMPARE(view_3d->azimuth_deg(), azimuth - 20.0);
+  QCOMPARE(view_3d->elevation_deg(), elevation + 8.0);
+  const Eigen::Vector3d center = view_3d->center();
+  drag(Qt::ShiftModifier);
+  QVERIFY((view_3d->center() - center).norm() > 1e-3 * view_3d->radius());
+  const double radius = view_3d->radius();
+  QWheelEvent wheel(QPointF(middle), QPointF(view_3d->mapToGlobal(middle)), QPoint(),
+                    QPoint(0, 120), Qt::NoButton, Qt::NoModifier, Qt::NoScrollPhase, false);
+  QApplication::sendEvent(view_3d, &wheel);
+  QVERIFY(view_3d->radius() < radius);  // zoomed in
+  view_3d->repaint();
+  QCOMPARE(view_3d->picture().size(), view_3d->size());
 }
 
 void AppTest::screenshotCommandWritesPng() {
