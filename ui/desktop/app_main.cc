@@ -1,17 +1,20 @@
 // sylva-app: the desktop app (ui/desktop/main_window.h).
 //
-//   sylva-app [PROJECT] [--photo NAME] [--panel layers|run|options]
+//   sylva-app [PROJECT] [--photo NAME] [--panel layers|run|options] [--run]
 //             [--screenshot FILE.png]
 //
 // --screenshot renders the main window (photo with overlays, 3D view) for
 // PROJECT into FILE.png and exits; it needs no display
-// (QT_QPA_PLATFORM=offscreen). Exit codes: 0 ok, 2 bad arguments or project.
+// (QT_QPA_PLATFORM=offscreen). --run first runs the out-of-date stages, as
+// the Run panel's "Run all" does. Exit codes: 0 ok, 2 bad arguments or project.
 #include <QApplication>
+#include <QEventLoop>
 #include <QStringList>
 #include <algorithm>
 #include <iostream>
 
 #include "ui/desktop/main_window.h"
+#include "ui/desktop/run_controller.h"
 #include "ui/pipeline/project.h"
 
 namespace {
@@ -22,7 +25,7 @@ constexpr int kExitBadInput = 2;
 int Usage(const QString& problem) {
   std::cerr << "sylva-app: " << problem.toStdString()
             << "\nusage: sylva-app [PROJECT] [--photo NAME] [--panel layers|run|options] "
-               "[--screenshot FILE.png]\n";
+               "[--run] [--screenshot FILE.png]\n";
   return kExitBadInput;
 }
 
@@ -33,6 +36,7 @@ int main(int argc, char** argv) {
   QApplication::setApplicationName("sylva-app");
   QApplication::setOrganizationName("sylva");
   QString project, screenshot, photo, panel;
+  bool run = false;
   const QStringList args = QApplication::arguments();
   for (int i = 1; i < args.size(); ++i) {
     const QString& arg = args[i];
@@ -40,6 +44,8 @@ int main(int argc, char** argv) {
       screenshot = args[++i];
     } else if (arg == "--photo" && i + 1 < args.size()) {
       photo = args[++i];
+    } else if (arg == "--run") {
+      run = true;
     } else if (arg == "--panel" && i + 1 < args.size()) {
       panel = args[++i];
     } else if (arg.startsWith("--")) {
@@ -64,6 +70,13 @@ int main(int argc, char** argv) {
   }
   if (!panel.isEmpty() && !window.ShowPanel(panel)) return Usage("no panel " + panel);
   window.show();
+  if (run && window.project() != nullptr) {
+    QEventLoop loop;
+    QObject::connect(window.run_controller(), &sylva::RunController::Finished, &loop,
+                     &QEventLoop::quit, Qt::QueuedConnection);
+    window.RunAll();
+    loop.exec();
+  }
   if (!screenshot.isEmpty()) {
     return window.SaveScreenshot(screenshot.toStdString()) ? kExitOk : kExitBadInput;
   }

@@ -128,6 +128,10 @@ MainWindow::MainWindow(bool interactive, QWidget* parent)
   });
   connect(run_controller_, &RunController::Progress, this,
           [this](int stage, const QString& task, double fraction) {
+            if (stage < 0) {  // before the first stage (checks of the inputs)
+              statusBar()->showMessage(task);
+              return;
+            }
             StageRow& row = stage_rows_[static_cast<Stage>(stage)];
             row.bar->setValue(static_cast<int>(fraction * 1000));
             row.bar->setFormat(task + "  %p%");
@@ -379,7 +383,10 @@ void MainWindow::RefreshPhotoList() {
     photo_titles_[QString::fromStdString(name)] = text;
     photo_list_->addItem(text);
   }
-  if (current >= 0 && current < photo_list_->count()) photo_list_->setCurrentRow(current);
+  if (current >= 0 && current < photo_list_->count()) {
+    photo_list_->setCurrentRow(current);
+    photo_label_->setText(photo_list_->item(current)->text().replace('\n', ' '));
+  }
 }
 
 void MainWindow::SelectPhoto(int index) {
@@ -481,7 +488,9 @@ void MainWindow::OnRunFinished(bool ok, bool cancelled, const QString& message) 
   run_button_->setEnabled(true);
   cancel_button_->setEnabled(false);
   for (auto& [stage, row] : stage_rows_) {
-    if (row.state->text() == "running") row.bar->setFormat(cancelled ? "cancelled" : "failed");
+    if (!ok && row.state->text() == "running") {
+      row.bar->setFormat(cancelled ? "cancelled" : "failed");
+    }
   }
   if (ok) {
     summary_text_->appendPlainText(

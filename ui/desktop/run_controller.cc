@@ -25,7 +25,7 @@ class RunController::Reporter : public ProgressReporter {
 
  private:
   RunController* controller_;
-  int stage_ = 0;  // written and read by the worker thread only
+  int stage_ = -1;  // -1 before the first stage; the worker thread's only
 };
 
 RunController::RunController(QObject* parent) : QObject(parent) {}

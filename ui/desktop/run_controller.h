@@ -42,7 +42,8 @@ class RunController : public QObject {
 
  signals:
   void StageStarted(int stage);
-  // `fraction` of the running stage's current task `task`, in [0, 1].
+  // `fraction` of the running stage's current task `task`, in [0, 1];
+  // stage -1 for checks before the first stage.
   void Progress(int stage, const QString& task, double fraction);
   void StageFinished(int stage, const QString& brief, bool up_to_date);
   // ok: every stage asked for ran or was up to date; `message`: the error
