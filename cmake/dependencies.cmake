@@ -33,6 +33,11 @@ find_package(Ceres 2.1 REQUIRED)
 # CMake config defines the imported target tinyxml2::tinyxml2.
 find_package(tinyxml2 9 CONFIG REQUIRED)
 
+# The desktop app (ui/desktop): Qt 6.4 Widgets, and QTest for its tests
+# (qt6-base-dev). Optional: SYLVA_BUILD_GUI defaults to ON only when found.
+# Only ui/desktop links Qt.
+find_package(Qt6 COMPONENTS Widgets Test QUIET)
+
 if(SYLVA_BUILD_TESTS)
   find_package(GTest REQUIRED)
   find_package(benchmark REQUIRED)

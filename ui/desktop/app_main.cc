@@ -1,0 +1,84 @@
+// sylva-app: the desktop app (ui/desktop/main_window.h).
+//
+//   sylva-app [PROJECT] [--photo NAME] [--panel layers|run|options] [--run]
+//             [--screenshot FILE.png]
+//
+// --screenshot renders the main window (photo with overlays, 3D view) for
+// PROJECT into FILE.png and exits; it needs no display
+// (QT_QPA_PLATFORM=offscreen). --run first runs the out-of-date stages, as
+// the Run panel's "Run all" does. Exit codes: 0 ok, 2 bad arguments or project.
+#include <QApplication>
+#include <QEventLoop>
+#include <QStringList>
+#include <algorithm>
+#include <iostream>
+
+#include "ui/desktop/main_window.h"
+#include "ui/desktop/run_controller.h"
+#include "ui/pipeline/project.h"
+
+namespace {
+
+constexpr int kExitOk = 0;
+constexpr int kExitBadInput = 2;
+
+int Usage(const QString& problem) {
+  std::cerr << "sylva-app: " << problem.toStdString()
+            << "\nusage: sylva-app [PROJECT] [--photo NAME] [--panel layers|run|options] "
+               "[--run] [--screenshot FILE.png]\n";
+  return kExitBadInput;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  QApplication app(argc, argv);
+  QApplication::setApplicationName("sylva-app");
+  QApplication::setOrganizationName("sylva");
+  QString project, screenshot, photo, panel;
+  bool run = false;
+  const QStringList args = QApplication::arguments();
+  for (int i = 1; i < args.size(); ++i) {
+    const QString& arg = args[i];
+    if (arg == "--screenshot" && i + 1 < args.size()) {
+      screenshot = args[++i];
+    } else if (arg == "--photo" && i + 1 < args.size()) {
+      photo = args[++i];
+    } else if (arg == "--run") {
+      run = true;
+    } else if (arg == "--panel" && i + 1 < args.size()) {
+      panel = args[++i];
+    } else if (arg.startsWith("--")) {
+      return Usage("unknown or incomplete option " + arg);
+    } else if (project.isEmpty()) {
+      project = arg;
+    } else {
+      return Usage("more than one project given");
+    }
+  }
+  if (!screenshot.isEmpty() && project.isEmpty()) return Usage("--screenshot needs a PROJECT");
+
+  sylva::MainWindow window(/*interactive=*/screenshot.isEmpty());
+  if (!project.isEmpty() && !window.OpenProject(project.toStdString())) {
+    if (!screenshot.isEmpty()) return kExitBadInput;
+  }
+  if (!photo.isEmpty() && window.project() != nullptr) {
+    const auto& names = window.project()->photo_names();
+    const auto it = std::find(names.begin(), names.end(), photo.toStdString());
+    if (it == names.end()) return Usage("no photo " + photo + " in the project");
+    window.SelectPhoto(static_cast<int>(it - names.begin()));
+  }
+  if (!panel.isEmpty() && !window.ShowPanel(panel)) return Usage("no panel " + panel);
+  window.show();
+  if (run && window.project() != nullptr) {
+    QEventLoop loop;
+    QObject::connect(window.run_controller(), &sylva::RunController::Finished, &loop,
+                     &QEventLoop::quit, Qt::QueuedConnection);
+    window.RunAll();
+    loop.exec();
+  }
+  if (!screenshot.isEmpty()) {
+    return window.SaveScreenshot(screenshot.toStdString()) ? kExitOk : kExitBadInput;
+  }
+  return QApplication::exec();
+}
