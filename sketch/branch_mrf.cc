@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numeric>
 
 #include "core/util/check.h"
@@ -16,6 +17,8 @@ constexpr double kPi = 3.14159265358979323846;
 // not become a spike.
 constexpr double kMinScaleSd = 0.05;
 constexpr double kMinAngleSd = 0.05;  // radians, about 3 degrees
+// The spread of log(length ratio) is at least this (a factor of about 2).
+constexpr double kMinLogScaleSd = 0.7;
 // The trunk leaves the ground about upright: its angle to the vertical is a
 // normal of this spread about 0 (radians).
 constexpr double kTrunkAngleSd = 0.3;
@@ -200,9 +203,22 @@ class DepthField {
     }
     const Eigen::Vector3d vp = Point(p) - Point(parent(p));
     if (vp.norm() <= 0) return 0.0;
-    const RelationStatistics& s = apical_[p] == i ? parameters_.apical : parameters_.lateral;
-    const double ds = (vc.norm() / vp.norm() - s.scale_mean) / s.scale_sd;
-    const double da = (Angle(vp, vc) - s.angle_mean) / s.angle_sd;
+    const bool apical = apical_[p] == i;
+    const RelationStatistics& s = apical ? parameters_.apical : parameters_.lateral;
+    // The length ratio in log space, never sharper than kMinLogScaleSd:
+    // where branches leave an axis close together, the axis' internodes are
+    // short, and a sharp ratio would stretch them in depth to fit it. An
+    // axis' own internodes are as long as its branchings make them: no
+    // ratio for apical relations.
+    const double log_sd = std::max(kMinLogScaleSd, s.scale_sd / std::max(s.scale_mean, 1e-6));
+    const double ds =
+        apical ? 0.0 : std::log(vc.norm() / vp.norm() / std::max(s.scale_mean, 1e-6)) / log_sd;
+    // An axis continues straight as often as it bends: the apical angle is
+    // half-normal about 0 with the learnt root mean square, not a normal
+    // about its mean (which would make a straight continuation improbable
+    // and bend every drawn axis in depth).
+    const double da = apical ? Angle(vp, vc) / std::hypot(s.angle_mean, s.angle_sd)
+                             : (Angle(vp, vc) - s.angle_mean) / s.angle_sd;
     return -0.5 * (ds * ds + da * da);
   }
   // log P_d at segment i's end and middle.
@@ -523,7 +539,7 @@ Footprint FootprintOf(const std::vector<Eigen::Vector2d>& points, const std::vec
 TreeExemplar MakeExemplar(const std::string& name, const SkeletonGraph& skeleton) {
   TreeExemplar exemplar;
   exemplar.name = name;
-  exemplar.tree = SegmentTreeOfSkeleton(skeleton, 0.02 * std::max(skeleton.Height(), 1e-9));
+  exemplar.tree = SegmentTreeOfSkeleton(skeleton, std::numeric_limits<double>::infinity());
   exemplar.parameters = LearnTreeParameters(exemplar.tree);
   for (int a = 0; a < kFootprintAzimuths; ++a) {
     const double angle = 2.0 * kPi * a / kFootprintAzimuths;
@@ -654,10 +670,13 @@ void PropagateBranches(const SegmentTree& fallback, const CrownTest& crown,
   const int drawn = tree.Size();
   for (int i = 0; i < drawn; ++i) {
     const int p = tree.parent[i];
-    if (p < 0 || tree.parent[p] < 0) continue;  // not the trunk's first segment
+    if (p < 0) continue;
     const Eigen::Vector3d a = tree.points[p], b = tree.points[i];
     const int pieces = static_cast<int>((b - a).norm() / (kLongSegment * size));
-    for (int k = 1; k < pieces; ++k) {
+    // The trunk's first segment is bare in its lowest third (a crown, when
+    // drawn, decides instead).
+    const int first = tree.parent[p] < 0 && !crown ? std::max(1, pieces / 3) : 1;
+    for (int k = first; k < pieces; ++k) {
       if (tree.Size() >= options.max_segments) return;
       const Eigen::Vector3d base = a + (b - a) * (static_cast<double>(k) / pieces);
       const Eigen::Vector3d v = (b - a) / pieces;

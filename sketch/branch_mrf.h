@@ -65,7 +65,7 @@ struct SegmentTree {
 
 // One skeleton as a segment tree: the root, the junctions and the tips
 // kept, chains between them simplified (Douglas-Peucker) to within
-// `tolerance`.
+// `tolerance` (infinity: one segment from fork to fork).
 SegmentTree SegmentTreeOfSkeleton(const SkeletonGraph& skeleton, double tolerance);
 
 // A normal distribution of one parent-child relation.
@@ -104,7 +104,9 @@ struct TreeExemplar {
   TreeParameters parameters;
   std::vector<Footprint> footprints;  // seen from 8 azimuths
 };
-// An exemplar of a skeleton (up = +Z), simplified to 2 % of its height.
+// An exemplar of a skeleton (up = +Z): its segments run from fork to fork
+// (or tip), as the MRF's segments of a drawing do (the segments of Chen
+// 2008 are the drawn branches between branchings).
 TreeExemplar MakeExemplar(const std::string& name, const SkeletonGraph& skeleton);
 // The exemplar whose footprint (over its azimuths) is nearest `footprint`;
 // -1 if there are none.

@@ -1087,6 +1087,62 @@ TEST_F(CliTest, SketchMakesATreeFromADrawing) {
   }
 }
 
+// --Sketch.method=mrf (Chen 2008): the drawn branches get depths and the
+// crown fills by propagation; the outputs are a tree's, the bark closed, the
+// tree projects onto the drawing and has depth, the same seed gives the same
+// skeleton, and a bad exemplar file is refused before anything is written.
+TEST_F(CliTest, SketchByMrfMakesATreeFromADrawing) {
+  const fs::path drawing = fs::path(SYLVA_SOURCE_DIR) / "datasets" / "sketches" / "openclipart" /
+                           "arbre_modern_bw_jean-vic_01.svg";
+  auto run = [&](const fs::path& out, const std::string& extra) {
+    std::vector<std::string> args = {"sketch",
+                                     drawing.string(),
+                                     out.string(),
+                                     "--Sketch.method=mrf",
+                                     "--Sketch.max_segments=400",
+                                     "--Report.preview_size=96"};
+    if (!extra.empty()) args.push_back(extra);
+    return Sylva(args);
+  };
+  const fs::path out = work_ / "mrf";
+  const SubprocessResult result = run(out, "");
+  ASSERT_TRUE(Succeeded(result));
+  EXPECT_TRUE(Contains(result.out, "Branches by MRF")) << result.out;
+  for (const char* name : {"tree.glb", "tree.obj", "bark.obj", "skeleton.json", "qsm.csv",
+                           "metrics.json", "sketch_cameras.json", "preview_0.png", "tree.mtg"}) {
+    EXPECT_TRUE(fs::is_regular_file(out / name)) << name << "\n" << result.out;
+  }
+  ExpectTreePicture(out / "preview_0.png", 96);
+  const MeshCheck bark = CheckMesh(ReadObj(out / "bark.obj"), "", /*self_intersections=*/false);
+  EXPECT_TRUE(bark.IsClosedManifold()) << bark.BriefReport();
+
+  const SkeletonGraph skeleton = ReadSkeletonJson(out / "skeleton.json");
+  const ImageSet cameras = ReadCameraFile(out / "sketch_cameras.json");
+  int on_page = 0;
+  Eigen::AlignedBox3d box;
+  for (const SkeletonNode& node : skeleton.nodes) {
+    box.extend(node.position);
+    Eigen::Vector2d pixel;
+    if (cameras.Project(0, node.position, &pixel) && pixel.x() >= 0 && pixel.y() >= 0 &&
+        pixel.x() <= 240 && pixel.y() <= 333) {
+      ++on_page;
+    }
+  }
+  EXPECT_GT(skeleton.NumNodes(), 400);
+  EXPECT_GE(on_page, 0.95 * skeleton.NumNodes());
+  // Depth along the drawn view's line of sight (world y) against the width.
+  EXPECT_GE(box.sizes().y(), 0.4 * box.sizes().x()) << box.sizes().transpose();
+
+  const fs::path again = work_ / "mrf_again";
+  ASSERT_TRUE(Succeeded(run(again, "")));
+  EXPECT_EQ(ReadFileToString(out / "skeleton.json"), ReadFileToString(again / "skeleton.json"));
+
+  const fs::path refused = work_ / "mrf_refused";
+  EXPECT_TRUE(FailedNaming(run(refused, "--Sketch.exemplars=" + (work_ / "nope.mtg").string()),
+                           kExitBadInput, {"nope.mtg"}));
+  EXPECT_FALSE(fs::exists(refused));
+}
+
 TEST_F(CliTest, MeshStageWritesTheSkeletonForPlantModellers) {
   const fs::path out = *root_ / "base_project" / "out";
   ExpectPlantExports(out, {ReadSkeletonJson(out / "skeleton.json")});

@@ -669,6 +669,8 @@ void RegisterSketchMrf(SketchMrfOptions* o, OptionRegistry* r) {
             "mrf: propagation generations when the drawing has no crown");
   r->AddInt("Sketch.max_segments", &o->mrf.max_segments, "segments",
             "mrf: propagation stops at this many segments");
+}
+
 void RegisterConcept(ConceptPlantOptions* o, OptionRegistry* r) {
   r->AddString("Concept.phyllotaxis", &o->phyllotaxis,
                "auto (as written in the drawing, else spiral), spiral (137.5 deg), monostichous "

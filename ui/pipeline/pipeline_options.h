@@ -30,8 +30,8 @@
 #include "sketch/concept_plant.h"
 #include "sketch/sketch_views.h"
 #include "sketch/stroke_graph.h"
-#include "ui/pipeline/sketch_mrf.h"
 #include "ui/pipeline/option_registry.h"
+#include "ui/pipeline/sketch_mrf.h"
 
 namespace sylva {
 

@@ -33,6 +33,7 @@ constexpr double kMinRadius = 0.0003;
 // A pixel is crown where the matte reaches this fraction of
 // Sketch.crown_opacity.
 constexpr double kCrownMatte = 0.5;
+constexpr float kLineMatte = 0.99f;
 // A crown is made at most this much deeper than wide to hold the drawn
 // branches.
 constexpr double kMaxCrownDepthScale = 2.0;
@@ -57,27 +58,68 @@ SkeletonGraph ReadExemplarSkeleton(const fs::path& path) {
   return Largest(parts, path.string());
 }
 
-// The drawn graph's main component as a segment tree on the plane through
-// the world origin across view 0's line of sight; returns that direction.
-Eigen::Vector3d DrawnSegments(const AttractorGraph2D& graph, const ImageSet& cameras,
-                              SegmentTree* tree) {
-  const Eigen::Vector3d view =
-      cameras.RayThroughPixel(0, graph.nodes[graph.root].position).direction;
-  auto on_plane = [&](const Eigen::Vector2d& pixel) {
-    const Eigen::Vector3d o = cameras.RayThroughPixel(0, pixel).origin;
-    return Eigen::Vector3d(o - o.dot(view) * view);
+// The drawn strokes between forks: the MRF's segments run from fork to fork
+// (Chen 2008); the points drawn between them (`chains[i]` for segment i, on
+// the drawing's plane, with their arc-length fraction) come back after the
+// depths are known.
+struct DrawnTree {
+  SegmentTree segments;
+  std::vector<std::vector<std::pair<Eigen::Vector3d, double>>> chains;
+  Eigen::Vector3d view;
+};
+
+// The drawn graph's main component on the plane through the world origin
+// across view 0's line of sight.
+DrawnTree DrawnSegments(const AttractorGraph2D& graph, const ImageSet& cameras) {
+  DrawnTree drawn;
+  drawn.view = cameras.RayThroughPixel(0, graph.nodes[graph.root].position).direction;
+  auto on_plane = [&](int node) {
+    const Eigen::Vector3d o = cameras.RayThroughPixel(0, graph.nodes[node].position).origin;
+    return Eigen::Vector3d(o - o.dot(drawn.view) * drawn.view);
   };
   const std::vector<std::vector<int>> children = graph.Children();
-  std::queue<std::pair<int, int>> queue;  // (graph node, tree index)
-  queue.push({graph.root, tree->AddPoint(on_plane(graph.nodes[graph.root].position), -1)});
+  std::queue<std::pair<int, int>> queue;  // (graph node, segment index)
+  queue.push({graph.root, drawn.segments.AddPoint(on_plane(graph.root), -1)});
+  drawn.chains.emplace_back();
   while (!queue.empty()) {
     const auto [node, idx] = queue.front();
     queue.pop();
     for (int child : children[node]) {
-      queue.push({child, tree->AddPoint(on_plane(graph.nodes[child].position), idx)});
+      std::vector<int> chain = {child};
+      while (children[chain.back()].size() == 1) chain.push_back(children[chain.back()][0]);
+      std::vector<double> arc = {0.0};
+      Eigen::Vector3d last = on_plane(node);
+      for (int c : chain)
+        arc.push_back(arc.back() + (on_plane(c) - last).norm()), last = on_plane(c);
+      std::vector<std::pair<Eigen::Vector3d, double>> inner;
+      for (size_t k = 0; k + 1 < chain.size(); ++k) {
+        inner.emplace_back(on_plane(chain[k]), arc[k + 1] / std::max(arc.back(), 1e-12));
+      }
+      queue.push({chain.back(), drawn.segments.AddPoint(on_plane(chain.back()), idx)});
+      drawn.chains.push_back(std::move(inner));
     }
   }
-  return view;
+  return drawn;
+}
+
+// `result.tree` with the drawn points between forks put back, each at the
+// depth interpolated along its segment; propagated points keep theirs.
+void PutBackChains(const DrawnTree& drawn, MrfResult* result) {
+  const SegmentTree& tree = result->tree;
+  auto depth = [&](int i) { return (tree.points[i] - drawn.segments.points[i]).dot(drawn.view); };
+  SegmentTree full;
+  std::vector<int> index(tree.points.size(), -1);
+  for (int i = 0; i < tree.Size(); ++i) {
+    int parent = tree.parent[i] >= 0 ? index[tree.parent[i]] : -1;
+    if (i < result->drawn && tree.parent[i] >= 0) {
+      const double a = depth(tree.parent[i]), b = depth(i);
+      for (const auto& [point, t] : drawn.chains[i]) {
+        parent = full.AddPoint(point + ((1 - t) * a + t * b) * drawn.view, parent);
+      }
+    }
+    index[i] = full.AddPoint(tree.points[i], parent);
+  }
+  result->tree = std::move(full);
 }
 
 // The drawing's footprint: positions across the line of sight and up.
@@ -107,7 +149,9 @@ CrownTest CrownOf(const SketchDrawing& drawing, const SketchView& front, const I
   for (int y = matte.height() - 1; y >= 0; --y) {
     int lo = -1, hi = -1;
     for (int x = 0; x < matte.width(); ++x) {
-      if (matte.at(x, y) < kCrownMatte * crown_opacity) continue;
+      // The crown's fill, not the drawn lines (opaque: trunk, ground).
+      const float value = matte.at(x, y);
+      if (value < kCrownMatte * crown_opacity || value >= kLineMatte) continue;
       if (lo < 0) lo = x;
       hi = x;
     }
@@ -182,8 +226,9 @@ MrfSketchTree MakeMrfSketchTree(const std::vector<SketchDrawing>& drawings,
   const AttractorGraph2D graph = GraphFromStrokes(front.strokes, graph_options)
                                      .Simplified(kGraphTolerance * options.sketch.image_size);
   MrfSketchTree tree;
-  SegmentTree drawn;
-  const Eigen::Vector3d view = DrawnSegments(graph, views.cameras, &drawn);
+  const DrawnTree drawn_tree = DrawnSegments(graph, views.cameras);
+  const SegmentTree& drawn = drawn_tree.segments;
+  const Eigen::Vector3d& view = drawn_tree.view;
   SYLVA_CHECK_INPUT(drawn.Size() >= 2, drawings[0].source) << "the branch strokes have no length";
   const int chosen = SelectTemplate(exemplars, DrawnFootprint(drawn, view));
   const TreeExemplar& exemplar = exemplars[chosen];
@@ -195,6 +240,9 @@ MrfSketchTree MakeMrfSketchTree(const std::vector<SketchDrawing>& drawings,
                     CrownOf(drawings[0], front, views.cameras, view, options.sketch.crown_opacity,
                             tree.result.tree),
                     mrf, &tree.result);
+  const int drawn_segments = tree.result.drawn - 1;
+  const int propagated = tree.result.tree.Size() - tree.result.drawn;
+  PutBackChains(drawn_tree, &tree.result);
   const double height = options.sketch.tree_height;
   tree.skeleton = SkeletonOfSegments(tree.result.tree, kMaxEdge * height);
   AllometryOptions allometry = options.allometry;
@@ -203,11 +251,11 @@ MrfSketchTree MakeMrfSketchTree(const std::vector<SketchDrawing>& drawings,
   AssignPipeModelRadii(allometry, &tree.skeleton);
   tree.drawing_cameras = views.drawing_cameras;
   std::ostringstream brief;
-  brief << "Branches by MRF (Chen 2008): " << tree.result.drawn - 1 << " drawn segments, template '"
+  brief << "Branches by MRF (Chen 2008): " << drawn_segments << " drawn segments, template '"
         << exemplar.name << "', " << tree.result.icm_sweeps << " ICM sweeps, "
         << tree.result.em_iterations << " EM rounds, " << tree.result.interpenetrations
-        << " interpenetrations pushed apart; " << tree.result.tree.Size() - tree.result.drawn
-        << " segments propagated; " << tree.skeleton.NumNodes() << " skeleton nodes.";
+        << " interpenetrations pushed apart; " << propagated << " segments propagated; "
+        << tree.skeleton.NumNodes() << " skeleton nodes.";
   tree.brief = brief.str();
   return tree;
 }
