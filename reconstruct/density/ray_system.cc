@@ -95,6 +95,15 @@ RaySystem BuildRaySystem(const ImageSet& image_set, const std::vector<ViewSampli
   });
   RaySystem system;
   system.matrix.num_cols = num_columns;
+  size_t num_rows = 0, num_nonzeros = 0;
+  for (const RowChunk& chunk : chunks) {
+    num_rows += chunk.rhs.size();
+    num_nonzeros += chunk.cols.size();
+  }
+  system.matrix.row_offsets.reserve(system.matrix.row_offsets.size() + num_rows);
+  system.matrix.cols.reserve(num_nonzeros);
+  system.matrix.values.reserve(num_nonzeros);
+  system.rhs.reserve(num_rows);
   for (RowChunk& chunk : chunks) {
     for (int64_t length : chunk.lengths) {
       system.matrix.row_offsets.push_back(system.matrix.row_offsets.back() + length);
