@@ -31,33 +31,51 @@ int Find(std::vector<int>* parent, int i) {
   return i;
 }
 
-// Does the closed segment pq cross triangle t's interior? `eps` is an
-// absolute tolerance on signed volumes (length^3) and barycentric margins.
-bool SegmentCrossesTriangle(const Eigen::Vector3d& p, const Eigen::Vector3d& q, const Tri& t,
-                            double scale) {
+// A triangle's (unnormalised) normal and its length, computed once per
+// triangle for all its pair tests.
+struct TriPlane {
+  Eigen::Vector3d n;
+  double nn;
+};
+
+TriPlane PlaneOf(const Tri& t) {
   const Eigen::Vector3d n = (t[1] - t[0]).cross(t[2] - t[0]);
-  const double nn = n.norm();
-  if (nn <= 0) return false;
-  const double dp = n.dot(p - t[0]) / nn, dq = n.dot(q - t[0]) / nn;
-  const double eps = kEpsilon * scale;
-  if ((dp > -eps && dq > -eps) || (dp < eps && dq < eps)) return false;  // same side or coplanar
-  const Eigen::Vector3d x = p + (dp / (dp - dq)) * (q - p);
-  // x inside t with a margin: barycentric coordinates by sub-areas.
-  for (int k = 0; k < 3; ++k) {
-    const Eigen::Vector3d& a = t[k];
-    const Eigen::Vector3d& b = t[(k + 1) % 3];
-    const double side = n.dot((b - a).cross(x - a)) / nn;  // > 0 inside
-    if (side <= eps * (b - a).norm()) return false;
-  }
-  return true;
+  return {n, n.norm()};
 }
 
-bool TrianglesCross(const Tri& a, const Tri& b, double scale) {
-  for (int k = 0; k < 3; ++k) {
-    if (SegmentCrossesTriangle(a[k], a[(k + 1) % 3], b, scale)) return true;
-    if (SegmentCrossesTriangle(b[k], b[(k + 1) % 3], a, scale)) return true;
+// Does an edge of triangle `a` cross triangle t's interior (closed edges)?
+// `eps` is an absolute tolerance on signed distances and barycentric
+// margins. Each vertex's signed distance to t's plane is computed once and
+// shared by its two edges.
+bool EdgesCrossTriangle(const Tri& a, const Tri& t, const TriPlane& plane, double scale) {
+  const Eigen::Vector3d& n = plane.n;
+  const double nn = plane.nn;
+  if (nn <= 0) return false;
+  const double eps = kEpsilon * scale;
+  double d[3];
+  for (int k = 0; k < 3; ++k) d[k] = n.dot(a[k] - t[0]) / nn;
+  for (int e = 0; e < 3; ++e) {
+    const double dp = d[e], dq = d[(e + 1) % 3];
+    if ((dp > -eps && dq > -eps) || (dp < eps && dq < eps)) continue;  // same side or coplanar
+    const Eigen::Vector3d& p = a[e];
+    const Eigen::Vector3d& q = a[(e + 1) % 3];
+    const Eigen::Vector3d x = p + (dp / (dp - dq)) * (q - p);
+    // x inside t with a margin: barycentric coordinates by sub-areas.
+    bool inside = true;
+    for (int k = 0; k < 3 && inside; ++k) {
+      const Eigen::Vector3d& u = t[k];
+      const Eigen::Vector3d& v = t[(k + 1) % 3];
+      const double side = n.dot((v - u).cross(x - u)) / nn;  // > 0 inside
+      inside = !(side <= eps * (v - u).norm());              // a NaN side does not reject
+    }
+    if (inside) return true;
   }
   return false;
+}
+
+bool TrianglesCross(const Tri& a, const TriPlane& plane_a, const Tri& b, const TriPlane& plane_b,
+                    double scale) {
+  return EdgesCrossTriangle(a, b, plane_b, scale) || EdgesCrossTriangle(b, a, plane_a, scale);
 }
 
 // A grid cell's integer coordinates (each < 2^21) packed into one key.
@@ -76,6 +94,7 @@ int64_t SelfIntersections(const TriangleMesh& mesh, const std::vector<int>& sele
   if (selected.size() < 2) return 0;
   const int n = static_cast<int>(selected.size());
   std::vector<Tri> tris(n);
+  std::vector<TriPlane> planes(n);
   std::vector<Eigen::AlignedBox3d> boxes(n);
   Eigen::AlignedBox3d all;
   double extent_sum = 0.0;
@@ -85,6 +104,7 @@ int64_t SelfIntersections(const TriangleMesh& mesh, const std::vector<int>& sele
       tris[i][k] = mesh.vertices[f[k]].cast<double>();
       boxes[i].extend(tris[i][k]);
     }
+    planes[i] = PlaneOf(tris[i]);
     all.extend(boxes[i]);
     extent_sum += boxes[i].sizes().maxCoeff();
   }
@@ -131,7 +151,7 @@ int64_t SelfIntersections(const TriangleMesh& mesh, const std::vector<int>& sele
       for (int a = 0; a < 3; ++a)
         for (int b = 0; b < 3; ++b) shared = shared || fi[a] == fj[b];
       if (shared) continue;
-      if (TrianglesCross(tris[i], tris[j], scale)) found->push_back(j);
+      if (TrianglesCross(tris[i], planes[i], tris[j], planes[j], scale)) found->push_back(j);
     }
   };
   int64_t count = 0;
