@@ -1,5 +1,9 @@
 #include "mesh/mesh_checks.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
+
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <array>
@@ -27,65 +31,93 @@ int Find(std::vector<int>* parent, int i) {
   return i;
 }
 
-// Does the closed segment pq cross triangle t's interior? `eps` is an
-// absolute tolerance on signed volumes (length^3) and barycentric margins.
-bool SegmentCrossesTriangle(const Eigen::Vector3d& p, const Eigen::Vector3d& q, const Tri& t,
-                            double scale) {
+// A triangle's (unnormalised) normal and its length, computed once per
+// triangle for all its pair tests.
+struct TriPlane {
+  Eigen::Vector3d n;
+  double nn;
+};
+
+TriPlane PlaneOf(const Tri& t) {
   const Eigen::Vector3d n = (t[1] - t[0]).cross(t[2] - t[0]);
-  const double nn = n.norm();
-  if (nn <= 0) return false;
-  const double dp = n.dot(p - t[0]) / nn, dq = n.dot(q - t[0]) / nn;
-  const double eps = kEpsilon * scale;
-  if ((dp > -eps && dq > -eps) || (dp < eps && dq < eps)) return false;  // same side or coplanar
-  const Eigen::Vector3d x = p + (dp / (dp - dq)) * (q - p);
-  // x inside t with a margin: barycentric coordinates by sub-areas.
-  for (int k = 0; k < 3; ++k) {
-    const Eigen::Vector3d& a = t[k];
-    const Eigen::Vector3d& b = t[(k + 1) % 3];
-    const double side = n.dot((b - a).cross(x - a)) / nn;  // > 0 inside
-    if (side <= eps * (b - a).norm()) return false;
-  }
-  return true;
+  return {n, n.norm()};
 }
 
-bool TrianglesCross(const Tri& a, const Tri& b, double scale) {
-  for (int k = 0; k < 3; ++k) {
-    if (SegmentCrossesTriangle(a[k], a[(k + 1) % 3], b, scale)) return true;
-    if (SegmentCrossesTriangle(b[k], b[(k + 1) % 3], a, scale)) return true;
+// Does an edge of triangle `a` cross triangle t's interior (closed edges)?
+// `eps` is an absolute tolerance on signed distances and barycentric
+// margins. Each vertex's signed distance to t's plane is computed once and
+// shared by its two edges.
+bool EdgesCrossTriangle(const Tri& a, const Tri& t, const TriPlane& plane, double scale) {
+  const Eigen::Vector3d& n = plane.n;
+  const double nn = plane.nn;
+  if (nn <= 0) return false;
+  const double eps = kEpsilon * scale;
+  double d[3];
+  for (int k = 0; k < 3; ++k) d[k] = n.dot(a[k] - t[0]) / nn;
+  for (int e = 0; e < 3; ++e) {
+    const double dp = d[e], dq = d[(e + 1) % 3];
+    if ((dp > -eps && dq > -eps) || (dp < eps && dq < eps)) continue;  // same side or coplanar
+    const Eigen::Vector3d& p = a[e];
+    const Eigen::Vector3d& q = a[(e + 1) % 3];
+    const Eigen::Vector3d x = p + (dp / (dp - dq)) * (q - p);
+    // x inside t with a margin: barycentric coordinates by sub-areas.
+    bool inside = true;
+    for (int k = 0; k < 3 && inside; ++k) {
+      const Eigen::Vector3d& u = t[k];
+      const Eigen::Vector3d& v = t[(k + 1) % 3];
+      const double side = n.dot((v - u).cross(x - u)) / nn;  // > 0 inside
+      inside = !(side <= eps * (v - u).norm());              // a NaN side does not reject
+    }
+    if (inside) return true;
   }
   return false;
 }
 
+bool TrianglesCross(const Tri& a, const TriPlane& plane_a, const Tri& b, const TriPlane& plane_b,
+                    double scale) {
+  return EdgesCrossTriangle(a, b, plane_b, scale) || EdgesCrossTriangle(b, a, plane_a, scale);
+}
+
+// A grid cell's integer coordinates (each < 2^21) packed into one key.
+uint64_t CellKey(int64_t x, int64_t y, int64_t z) {
+  return static_cast<uint64_t>(x) | static_cast<uint64_t>(y) << 21 | static_cast<uint64_t>(z) << 42;
+}
+
 // Crossing pairs (indices into mesh.triangles, first < second by position in
-// `selected`); stops after max_pairs (< 0: all). Returns the count found.
+// `selected`), ordered by first then second; stops after max_pairs (< 0:
+// all). Returns the count found. Triangles are bucketed in a uniform grid
+// (sorted (cell, triangle) entries); the triangles are tested in parallel
+// when every pair is wanted, each one's pairs kept in order, so the result
+// does not depend on scheduling.
 int64_t SelfIntersections(const TriangleMesh& mesh, const std::vector<int>& selected,
                           int64_t max_pairs, std::vector<std::pair<int, int>>* pairs) {
   if (selected.size() < 2) return 0;
-  std::vector<Tri> tris(selected.size());
-  std::vector<Eigen::AlignedBox3d> boxes(selected.size());
+  const int n = static_cast<int>(selected.size());
+  std::vector<Tri> tris(n);
+  std::vector<TriPlane> planes(n);
+  std::vector<Eigen::AlignedBox3d> boxes(n);
   Eigen::AlignedBox3d all;
   double extent_sum = 0.0;
-  for (size_t i = 0; i < selected.size(); ++i) {
+  for (int i = 0; i < n; ++i) {
     const Eigen::Vector3i& f = mesh.triangles[selected[i]];
     for (int k = 0; k < 3; ++k) {
       tris[i][k] = mesh.vertices[f[k]].cast<double>();
       boxes[i].extend(tris[i][k]);
     }
+    planes[i] = PlaneOf(tris[i]);
     all.extend(boxes[i]);
     extent_sum += boxes[i].sizes().maxCoeff();
   }
   const double scale = std::max(all.sizes().maxCoeff(), 1e-30);
-  double cell = std::max(2.0 * extent_sum / selected.size(), scale / kMaxCellsPerAxis);
+  double cell = std::max(2.0 * extent_sum / n, scale / kMaxCellsPerAxis);
   if (cell <= 0) cell = scale;
   auto cell_of = [&](double v, int axis) {
-    return static_cast<int64_t>(std::floor((v - all.min()[axis]) / cell));
+    return std::clamp<int64_t>(static_cast<int64_t>(std::floor((v - all.min()[axis]) / cell)), 0,
+                               2 * kMaxCellsPerAxis - 1);
   };
-  auto key = [](int64_t x, int64_t y, int64_t z) {
-    return (x * 73856093) ^ (y * 19349663) ^ (z * 83492791);
-  };
-  std::unordered_map<int64_t, std::vector<int>> grid;
-  std::vector<std::array<int64_t, 6>> ranges(selected.size());
-  for (size_t i = 0; i < selected.size(); ++i) {
+  std::vector<std::array<int64_t, 6>> ranges(n);
+  std::vector<std::pair<uint64_t, int>> entries;  // (cell, triangle), sorted
+  for (int i = 0; i < n; ++i) {
     for (int a = 0; a < 3; ++a) {
       ranges[i][a] = cell_of(boxes[i].min()[a], a);
       ranges[i][a + 3] = cell_of(boxes[i].max()[a], a);
@@ -93,34 +125,58 @@ int64_t SelfIntersections(const TriangleMesh& mesh, const std::vector<int>& sele
     for (int64_t x = ranges[i][0]; x <= ranges[i][3]; ++x)
       for (int64_t y = ranges[i][1]; y <= ranges[i][4]; ++y)
         for (int64_t z = ranges[i][2]; z <= ranges[i][5]; ++z)
-          grid[key(x, y, z)].push_back(static_cast<int>(i));
+          entries.emplace_back(CellKey(x, y, z), i);
   }
-  int64_t count = 0;
-  for (size_t i = 0; i < selected.size(); ++i) {
+  tbb::parallel_sort(entries.begin(), entries.end());
+  // The pairs (i, j > i) of triangle i, j ascending.
+  const auto pairs_of = [&](int i, std::vector<int>* candidates, std::vector<int>* found) {
     const Eigen::Vector3i& fi = mesh.triangles[selected[i]];
-    std::vector<int> candidates;
+    candidates->clear();
     for (int64_t x = ranges[i][0]; x <= ranges[i][3]; ++x)
       for (int64_t y = ranges[i][1]; y <= ranges[i][4]; ++y)
         for (int64_t z = ranges[i][2]; z <= ranges[i][5]; ++z) {
-          const auto it = grid.find(key(x, y, z));
-          for (int j : it->second) {
-            if (j > static_cast<int>(i)) candidates.push_back(j);
+          // Entries of the cell past (cell, i): the cell's triangles j > i.
+          auto it =
+              std::upper_bound(entries.begin(), entries.end(), std::make_pair(CellKey(x, y, z), i));
+          for (; it != entries.end() && it->first == CellKey(x, y, z); ++it) {
+            candidates->push_back(it->second);
           }
         }
-    std::sort(candidates.begin(), candidates.end());
-    candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
-    for (int j : candidates) {
+    std::sort(candidates->begin(), candidates->end());
+    candidates->erase(std::unique(candidates->begin(), candidates->end()), candidates->end());
+    for (int j : *candidates) {
       if (!boxes[i].intersects(boxes[j])) continue;
       const Eigen::Vector3i& fj = mesh.triangles[selected[j]];
       bool shared = false;
       for (int a = 0; a < 3; ++a)
         for (int b = 0; b < 3; ++b) shared = shared || fi[a] == fj[b];
       if (shared) continue;
-      if (!TrianglesCross(tris[i], tris[j], scale)) continue;
-      ++count;
-      if (pairs != nullptr) pairs->emplace_back(selected[i], selected[j]);
-      if (max_pairs >= 0 && count >= max_pairs) return count;
+      if (TrianglesCross(tris[i], planes[i], tris[j], planes[j], scale)) found->push_back(j);
     }
+  };
+  int64_t count = 0;
+  if (max_pairs >= 0) {  // few pairs wanted: in order, stopping early
+    std::vector<int> candidates, found;
+    for (int i = 0; i < n; ++i) {
+      found.clear();
+      pairs_of(i, &candidates, &found);
+      for (int j : found) {
+        ++count;
+        if (pairs != nullptr) pairs->emplace_back(selected[i], selected[j]);
+        if (count >= max_pairs) return count;
+      }
+    }
+    return count;
+  }
+  std::vector<std::vector<int>> found(n);
+  tbb::parallel_for(tbb::blocked_range<int>(0, n, 256), [&](const tbb::blocked_range<int>& range) {
+    std::vector<int> candidates;
+    for (int i = range.begin(); i < range.end(); ++i) pairs_of(i, &candidates, &found[i]);
+  });
+  for (int i = 0; i < n; ++i) {
+    count += static_cast<int64_t>(found[i].size());
+    if (pairs == nullptr) continue;
+    for (int j : found[i]) pairs->emplace_back(selected[i], selected[j]);
   }
   return count;
 }

@@ -19,6 +19,10 @@ constexpr int kMaxBuckets = 64;
 // Below this fraction of the eigenvalue sum, the second smallest eigenvalue
 // of the plane normals' scatter means the planes do not pin a line down.
 constexpr double kDegenerateEigenFraction = 1e-3;
+// The 3D field is filled lazily in bricks of kBrickSize^3 samples, under
+// kBrickLocks striped locks.
+constexpr int kBrickSize = 8;
+constexpr int kBrickLocks = 64;
 
 int LongerSide(int width, int height) { return std::max(width, height); }
 
@@ -225,20 +229,45 @@ AttractorDirectionField::AttractorDirectionField(const ImageSet& image_set,
   origin_ = bounds.min().array() - spacing_;
   dims_ = ((extent.array() / spacing_).ceil() + 3).cast<int>().max(2);
   samples_.assign(static_cast<size_t>(dims_.x()) * dims_.y() * dims_.z(), Eigen::Vector3f::Zero());
-  if (views_.empty()) return;
-  const int layers = dims_.z();
-  tbb::parallel_for(tbb::blocked_range<int>(0, layers), [&](const tbb::blocked_range<int>& range) {
-    for (int k = range.begin(); k < range.end(); ++k) {
-      for (int j = 0; j < dims_.y(); ++j) {
-        for (int i = 0; i < dims_.x(); ++i) {
-          const Eigen::Vector3d point = origin_ + spacing_ * Eigen::Vector3d(i, j, k);
-          samples_[(static_cast<size_t>(k) * dims_.y() + j) * dims_.x() + i] =
-              Lifted(point).cast<float>();
-        }
+  brick_dims_ = (dims_.array() + kBrickSize - 1) / kBrickSize;
+  brick_filled_ = std::make_unique<std::atomic<bool>[]>(NumBricks());
+  for (int b = 0; b < NumBricks(); ++b) brick_filled_[b].store(false, std::memory_order_relaxed);
+  brick_locks_ = std::make_unique<std::mutex[]>(kBrickLocks);
+  task.Update(1.0);
+}
+
+AttractorDirectionField::~AttractorDirectionField() = default;
+
+int AttractorDirectionField::FilledBricks() const {
+  int filled = 0;
+  for (int b = 0; b < NumBricks(); ++b) filled += brick_filled_[b].load(std::memory_order_acquire);
+  return filled;
+}
+
+void AttractorDirectionField::FillBrick(int brick) const {
+  std::lock_guard<std::mutex> lock(brick_locks_[brick % kBrickLocks]);
+  if (brick_filled_[brick].load(std::memory_order_acquire)) return;
+  const Eigen::Vector3i b(brick % brick_dims_.x(), (brick / brick_dims_.x()) % brick_dims_.y(),
+                          brick / (brick_dims_.x() * brick_dims_.y()));
+  const Eigen::Vector3i begin = b * kBrickSize;
+  const Eigen::Vector3i end = (begin.array() + kBrickSize).min(dims_.array());
+  for (int k = begin.z(); k < end.z(); ++k) {
+    for (int j = begin.y(); j < end.y(); ++j) {
+      for (int i = begin.x(); i < end.x(); ++i) {
+        const Eigen::Vector3d point = origin_ + spacing_ * Eigen::Vector3d(i, j, k);
+        samples_[(static_cast<size_t>(k) * dims_.y() + j) * dims_.x() + i] =
+            Lifted(point).cast<float>();
       }
     }
-  });
-  task.Update(1.0);
+  }
+  brick_filled_[brick].store(true, std::memory_order_release);
+}
+
+const Eigen::Vector3f& AttractorDirectionField::Sample(int i, int j, int k) const {
+  const int brick =
+      (k / kBrickSize * brick_dims_.y() + j / kBrickSize) * brick_dims_.x() + i / kBrickSize;
+  if (!brick_filled_[brick].load(std::memory_order_acquire)) FillBrick(brick);
+  return samples_[(static_cast<size_t>(k) * dims_.y() + j) * dims_.x() + i];
 }
 
 const DirectionField2D* AttractorDirectionField::Field2D(int view_idx) const {
@@ -311,9 +340,7 @@ Eigen::Vector3d AttractorDirectionField::Direction(const Eigen::Vector3d& point_
   const Eigen::Vector3i i0 = g.cast<int>().cwiseMin(dims_ - Eigen::Vector3i::Constant(2));
   const Eigen::Vector3d t = g - i0.cast<double>();
   const auto at = [&](int dx, int dy, int dz) {
-    return samples_[(static_cast<size_t>(i0.z() + dz) * dims_.y() + i0.y() + dy) * dims_.x() +
-                    i0.x() + dx]
-        .cast<double>();
+    return Sample(i0.x() + dx, i0.y() + dy, i0.z() + dz).cast<double>();
   };
   const Eigen::Vector3d x00 = (1 - t.x()) * at(0, 0, 0) + t.x() * at(1, 0, 0);
   const Eigen::Vector3d x10 = (1 - t.x()) * at(0, 1, 0) + t.x() * at(1, 1, 0);

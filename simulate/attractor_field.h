@@ -46,14 +46,21 @@
 // do not take part; where no view does, the direction is zero.
 //
 // The flow evaluates the field about ten times per particle and step, so the
-// 3D field is sampled once on a regular grid over the tree's bounds and
+// 3D field is sampled on a regular grid over the tree's bounds and
 // interpolated trilinearly: its cost per particle step is a constant,
-// independent of the number of views and particles.
+// independent of the number of views and particles. The grid is filled
+// lazily, one brick of 8^3 samples the first time a particle needs it
+// (particles visit the crown and the paths to the base, a fraction of the
+// box); a sample's value does not depend on when it is filled, so the field
+// is the same as one sampled whole.
 #ifndef SYLVA_SIMULATE_ATTRACTOR_FIELD_H_
 #define SYLVA_SIMULATE_ATTRACTOR_FIELD_H_
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <atomic>
+#include <memory>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -147,7 +154,10 @@ class AttractorDirectionField : public DirectionField {
                           const Eigen::AlignedBox3d& bounds, const AttractorFieldOptions& options,
                           ProgressReporter* progress = nullptr);
 
-  // Trilinear interpolation of the sampled field.
+  ~AttractorDirectionField() override;
+
+  // Trilinear interpolation of the sampled field (filling the bricks it
+  // reads). Thread-safe.
   Eigen::Vector3d Direction(const Eigen::Vector3d& point_in_world) const override;
   // The lifted and combined direction computed exactly at a point (no 3D
   // grid, but the views' 2D grids): for tests and the benchmark's reference.
@@ -155,6 +165,9 @@ class AttractorDirectionField : public DirectionField {
 
   int NumViewsWithGraphs() const { return static_cast<int>(views_.size()); }
   Eigen::Vector3i SampleDims() const { return dims_; }
+  // Bricks of samples filled so far, and in all (for tests and profiles).
+  int FilledBricks() const;
+  int NumBricks() const { return brick_dims_.prod(); }
   // The 2D field of view `view_idx`, or null if it has no graph.
   const DirectionField2D* Field2D(int view_idx) const;
 
@@ -175,7 +188,17 @@ class AttractorDirectionField : public DirectionField {
   Eigen::Vector3d origin_ = Eigen::Vector3d::Zero();  // centre of sample (0, 0, 0)
   double spacing_ = 1.0;
   Eigen::Vector3i dims_ = Eigen::Vector3i::Ones();
-  std::vector<Eigen::Vector3f> samples_;  // x fastest
+  // The sample (i, j, k), filling its brick first if needed.
+  const Eigen::Vector3f& Sample(int i, int j, int k) const;
+  void FillBrick(int brick) const;
+
+  // Lazily filled samples, x fastest; a brick's samples are written once,
+  // under its lock, before its flag is set (release), and read after the
+  // flag is seen (acquire).
+  mutable std::vector<Eigen::Vector3f> samples_;
+  Eigen::Vector3i brick_dims_ = Eigen::Vector3i::Ones();
+  std::unique_ptr<std::atomic<bool>[]> brick_filled_;
+  mutable std::unique_ptr<std::mutex[]> brick_locks_;  // striped: brick % kBrickLocks
 };
 
 }  // namespace sylva

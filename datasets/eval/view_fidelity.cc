@@ -9,8 +9,9 @@
 namespace sylva {
 namespace {
 
-// Shaded pictures of the mesh are made at most this many pixels across.
-constexpr int kRenderSize = 512;
+// Shaded pictures of the mesh are made at most this many pixels across:
+// report.html shows them 256 px wide (they enter no score).
+constexpr int kRenderSize = 256;
 // Rays per pixel along each axis of the shaded pictures (2 x 2): enough to
 // smooth their edges for the eye; they enter no score (the coverage uses
 // ViewFidelityOptions::mesh_samples_per_axis).

@@ -387,7 +387,7 @@ TEST_F(CliTest, InitRunAndCachedReruns) {
   EXPECT_TRUE(Contains(html, "<h2>Tree</h2>") && Contains(html, "crown volume")) << html;
   for (const auto& preview : report.at("previews")) {
     EXPECT_TRUE(Contains(html, preview.get<std::string>()));
-    ExpectTreePicture(out / preview.get<std::string>(), 640);
+    ExpectTreePicture(out / preview.get<std::string>(), 320);
   }
   EXPECT_TRUE(TempFilesUnder(project).empty());
   const FileFacts first = Facts(out / "density.vdb");

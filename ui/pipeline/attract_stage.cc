@@ -201,17 +201,24 @@ void SummariseAttract(const std::string& mode, int num_views,
 StageRun RunAttractStage(const StageContext& context) {
   AttractStageOptions options = context.options.attract;
   options.livewire.seed = DeriveSeed(context.options.general.seed, kLivewireSeedStream);
+  StageRun run;
+  StepClock clock(&run.profile);
   const ImageSet views = context.InputViews();
   std::vector<ViewAttractors> results(views.NumViews());
   if (options.mode != "off") {
     const Eigen::Vector3d base_in_world = TreeBaseInWorld(context);
+    clock.Lap("tree_base");
     ProgressTask task(context.progress, "attract: attractor graphs");
     results = AttractViews(context.project, views, base_in_world, options, &task);
-    if (options.write_overlays) WriteOverlays(context.project, views, results, task);
+    clock.Lap("graphs");
+    if (options.write_overlays) {
+      WriteOverlays(context.project, views, results, task);
+      clock.Lap("write_overlays");
+    }
   }
-  StageRun run;
   const std::map<std::string, int> counts =
       WriteGraphsAndIndex(context.project, views, results, options, &run);
+  clock.Lap("write");
   SummariseAttract(options.mode, views.NumViews(), counts, &run);
   return run;
 }

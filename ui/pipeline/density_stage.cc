@@ -21,11 +21,22 @@ void AddDensityFigures(const DensitySummary& summary, const std::string& units, 
   run->AddFigure("solve_seconds", summary.seconds_solve, "s");
 }
 
+// The reconstruction's own steps as sub-steps.
+void AddDensitySteps(const DensitySummary& summary, StageStep* step) {
+  step->Add("views_and_bounds", summary.seconds_bounds)
+      .Add("init", summary.seconds_init)
+      .Add("system", summary.seconds_system)
+      .Add("solve", summary.seconds_solve);
+}
+
 }  // namespace
 
 StageRun RunDensityStage(const StageContext& context) {
+  StageRun run;
+  StepClock clock(&run.profile);
   const ImageSet views = context.InputViews();
   const std::vector<FloatImage> mattes = context.LoadMattes(views, "density: reading mattes");
+  clock.Lap("read_mattes");
   DensityOptions options = context.options.density;
   for (const View& view : views.views) {
     if (!context.project.DensityEditPath(view.name).empty() ||
@@ -35,13 +46,14 @@ StageRun RunDensityStage(const StageContext& context) {
   }
   DensitySummary summary;
   DensityGrid grid = ReconstructDensity(views, mattes, options, context.progress, &summary);
+  AddDensitySteps(summary, &clock.Lap("reconstruct"));
   grid.SetMetadata("units", context.Units());
-  StageRun run;
   run.brief = summary.BriefReport();
   AddDensityFigures(summary, context.Units(), &run);
   run.warnings = summary.warnings;
   run.outputs = {context.Out("density.vdb")};
   WriteDensityGrid(run.outputs[0], grid);
+  clock.Lap("write");
   return run;
 }
 

@@ -37,6 +37,8 @@ void AddMeshFigures(const TreeGeometry& geometry, const TreeMetricsReport& metri
 }  // namespace
 
 StageRun RunMeshStage(const StageContext& context) {
+  StageRun run;
+  StepClock clock(&run.profile);
   const SkeletonGraph skeleton =
       ReadSkeletonJson(context.RequireOutput("skeleton.json", "skeleton"));
   const DensityGrid density = ReadDensityGrid(context.RequireOutput("density.vdb", "density"));
@@ -44,7 +46,6 @@ StageRun RunMeshStage(const StageContext& context) {
   const std::vector<FloatImage> mattes = context.LoadMattes(views, "mesh: reading mattes");
   ProgressTask progress(context.progress, "mesh: branches and leaves");
   progress.Update(0.0);
-  StageRun run;
   const TreeGeometryOptions& geometry_options = context.options.geometry;
   LeafShape image_leaf;
   if (!geometry_options.leaf_image.empty()) {
@@ -52,11 +53,14 @@ StageRun RunMeshStage(const StageContext& context) {
     if (path.is_relative()) path = context.project.root() / path;
     image_leaf = LeafShapeFromImage(ReadImage(path), path.string());
   }
-  const TreeGeometry geometry =
+  clock.Lap("read");
+  TreeGeometry geometry =
       BuildTreeGeometry(skeleton, density, views, mattes, context.options,
                         geometry_options.leaf_image.empty() ? nullptr : &image_leaf);
+  clock.Lap("geometry").steps = std::move(geometry.profile);
   run.brief = geometry.brief;
   const TriangleMesh mesh = geometry.Baked();
+  clock.Lap("bake");
   progress.Update(0.8);
   GltfExportOptions gltf;
   gltf.extras["units"] = context.Units();
@@ -67,14 +71,18 @@ StageRun RunMeshStage(const StageContext& context) {
   const SkeletonSources sources = SkeletonSources::Reconstruction();
   const TreeMetricsReport metrics =
       ComputeTreeMetrics(skeleton, &density, units, context.options.tree_metrics, sources);
+  clock.Lap("metrics");
   gltf.instance_leaves = geometry_options.instance_leaves;
   run.outputs = {context.Out("tree.glb"),        context.Out("tree.obj"),
                  context.Out("bark.obj"),        context.Out("qsm.csv"),
                  context.Out("metrics.json"),    context.Out("tree.lpy"),
                  context.Out("tree_turtle.lpy"), context.Out("tree.mtg")};
   WriteGlb(run.outputs[0], geometry.Wood(), geometry.leaves, gltf);
+  clock.Lap("write_glb");
   WriteObj(run.outputs[1], mesh);
+  clock.Lap("write_obj");
   WriteObj(run.outputs[2], geometry.bark);
+  clock.Lap("write_bark_obj");
   QsmModel qsm = QsmFromSkeleton(skeleton, units);
   qsm.position_source = sources.positions;
   qsm.branching_source = sources.branching;
@@ -83,6 +91,7 @@ StageRun RunMeshStage(const StageContext& context) {
   WriteLpy(run.outputs[5], {skeleton}, LpyForm::kAbsolute, units);
   WriteLpy(run.outputs[6], {skeleton}, LpyForm::kTurtle, units);
   WriteMtg(run.outputs[7], {skeleton}, units);
+  clock.Lap("write_skeleton_formats");
   std::ostringstream brief;
   brief << " Metrics (out/metrics.json): height " << metrics.height << " " << units
         << ", crown base " << metrics.crown_base_height << ", crown width " << metrics.crown_width

@@ -114,6 +114,32 @@ double SecondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
+// [{"name", "seconds", "steps": [...]}, ...] (steps only where there are some).
+Json ProfileJson(const std::vector<StageStep>& steps) {
+  Json json = Json::array();
+  for (const StageStep& step : steps) {
+    Json entry = {{"name", step.name}, {"seconds", step.seconds}};
+    if (!step.steps.empty()) entry["steps"] = ProfileJson(step.steps);
+    json.push_back(entry);
+  }
+  return json;
+}
+
+// The run's profile for out/run.json: every stage of the run, its wall time
+// (0 for one that was up to date) and its steps.
+Json RunProfileJson(const RunSummary& summary) {
+  Json stages = Json::array();
+  double total = 0.0;
+  for (const StageRun& run : summary.stages) {
+    total += run.up_to_date ? 0.0 : run.seconds;
+    stages.push_back({{"stage", GetStageInfo(run.stage).name},
+                      {"up_to_date", run.up_to_date},
+                      {"seconds", run.up_to_date ? 0.0 : run.seconds},
+                      {"steps", run.up_to_date ? Json::array() : ProfileJson(run.profile)}});
+  }
+  return {{"seconds", total}, {"stages", stages}};
+}
+
 std::string LocalTime() {
   const std::time_t now = std::time(nullptr);
   char buffer[64];
@@ -147,6 +173,9 @@ std::string RunSummary::BriefReport() const {
     out << GetStageInfo(run.stage).name << ": "
         << (run.up_to_date ? "up to date (inputs unchanged)" : run.brief) << "\n";
     if (!run.figures.empty()) out << "  figures: " << FiguresText(run.figures) << "\n";
+    if (!run.up_to_date && !run.profile.empty()) {
+      out << "  time: " << ProfileText(run.profile) << "\n";
+    }
     for (const Warning& warning : run.warnings) out << "  warning " << warning.ToString() << "\n";
   }
   return out.str();
@@ -260,14 +289,18 @@ void Pipeline::Record(const StageRun& run) const {
   for (const StageFigure& figure : run.figures) {
     figures.push_back({{"key", figure.key}, {"value", figure.value}, {"unit", figure.unit}});
   }
-  records[GetStageInfo(run.stage).name] = {{"key", StageKey(run.stage)}, {"outputs", outputs},
-                                           {"seconds", run.seconds},     {"summary", run.brief},
-                                           {"figures", figures},         {"warnings", warnings},
+  records[GetStageInfo(run.stage).name] = {{"key", StageKey(run.stage)},
+                                           {"outputs", outputs},
+                                           {"seconds", run.seconds},
+                                           {"summary", run.brief},
+                                           {"figures", figures},
+                                           {"warnings", warnings},
+                                           {"profile", ProfileJson(run.profile)},
                                            {"finished", LocalTime()}};
   WriteJsonFile(project_.CacheDir() / "stages.json", records);
 }
 
-void Pipeline::WriteRunRecord() const {
+void Pipeline::WriteRunRecord(const RunSummary& summary) const {
   PipelineOptions copy = options_;
   OptionRegistry registry;
   RegisterPipelineOptions(&copy, &registry);
@@ -275,6 +308,7 @@ void Pipeline::WriteRunRecord() const {
                        {"finished", LocalTime()},
                        {"units", StageContext{project_, options_, progress_}.Units()},
                        {"held_out", project_.held_out()},
+                       {"profile", RunProfileJson(summary)},
                        {"options", registry.ToJson(/*only_changed=*/false)}};
   WriteJsonFile(project_.OutDir() / "run.json", record);
 }
@@ -316,7 +350,7 @@ RunSummary Pipeline::Run(Stage until, bool force) {
     }
     if (stage == until) break;
   }
-  WriteRunRecord();
+  WriteRunRecord(summary);
   return summary;
 }
 
@@ -339,7 +373,9 @@ StageRun Pipeline::RunStage(Stage stage) {
     return run;
   }
   StageRun run = Execute(stage);
-  WriteRunRecord();
+  RunSummary summary;
+  summary.stages.push_back(run);
+  WriteRunRecord(summary);
   return run;
 }
 

@@ -7,7 +7,8 @@
 // (its options, the photo, camera and matte files it reads, the keys of the stages it
 // builds on) are hashed into a key recorded in PROJECT/cache/stages.json with
 // the stage's outputs; a stage is up to date when its key matches and its
-// outputs exist. Every run writes the effective options to PROJECT/out/run.json.
+// outputs exist. Every run writes the effective options and its profile (each
+// stage's time, step by step: StageRun::profile) to PROJECT/out/run.json.
 #ifndef SYLVA_UI_PIPELINE_PIPELINE_H_
 #define SYLVA_UI_PIPELINE_PIPELINE_H_
 
@@ -85,7 +86,9 @@ class Pipeline {
   // one fails the run before any stage writes.
   void CheckHeldOutMattes() const;
   void Record(const StageRun& run) const;
-  void WriteRunRecord() const;
+  // out/run.json: the effective options and the run's profile (the stages'
+  // times, step by step).
+  void WriteRunRecord(const RunSummary& summary) const;
 
   const Project& project_;
   PipelineOptions options_;

@@ -240,13 +240,19 @@ std::vector<fs::path> WriteRegistration(const Registration& registration, const 
 
 StageRun RunRegisterStage(const StageContext& context) {
   const Project& project = context.project;
+  StageRun run;
+  StepClock clock(&run.profile);
   Registration registration = project.RegistersWithColmap() ? RegisterWithColmap(context)
                               : project.RegistersManually() ? RegisterManually(context)
                                                             : RegisterGiven(project);
-  if (!registration.in_world_frame) TakeIntoWorldFrame(context, &registration);
+  clock.Lap("register");
+  if (!registration.in_world_frame) {
+    TakeIntoWorldFrame(context, &registration);
+    clock.Lap("world_frame");
+  }
   const int num_photos = static_cast<int>(project.photo_names().size());
-  StageRun run;
   run.outputs = WriteRegistration(registration, project.RegisteredCamerasDir());
+  clock.Lap("write");
   run.warnings = registration.warnings;
   for (const Warning& warning :
        UnregisteredWarnings(registration.unregistered, project.held_out(), num_photos)) {

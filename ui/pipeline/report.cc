@@ -8,6 +8,7 @@
 #include "core/io/json_util.h"
 #include "core/util/file_util.h"
 #include "core/util/html.h"
+#include "core/util/threading.h"
 #include "mesh/tree_preview.h"
 
 namespace sylva {
@@ -272,6 +273,21 @@ std::string ReportHtml(const FidelityReport& report,
   return html.str();
 }
 
+// out/report/{density,mesh,render}/<view>.png (those the view has); returns
+// the paths written.
+std::vector<fs::path> WriteViewPictures(const ViewFidelity& view, const ReportOptions& options,
+                                        const fs::path& out_dir) {
+  std::vector<fs::path> written = {out_dir / PicturePath("density", view.name)};
+  WriteImage(written.back(), ComparisonPicture(view.predicted, view.observed, options));
+  if (!view.has_mesh) return written;
+  written.push_back(out_dir / PicturePath("mesh", view.name));
+  WriteImage(written.back(), ComparisonPicture(view.mesh_coverage, view.observed, options));
+  if (view.mesh_render.empty()) return written;
+  written.push_back(out_dir / PicturePath("render", view.name));
+  WriteImage(written.back(), view.mesh_render);
+  return written;
+}
+
 // The comparison settings of the Report options.
 ViewFidelityOptions FidelityOptions(const ReportOptions& options) {
   ViewFidelityOptions fidelity;
@@ -376,10 +392,9 @@ std::vector<FloatImage> RenderReportPreviews(const TriangleMesh& bark, const Lea
 std::vector<fs::path> WritePreviewPngs(const std::vector<FloatImage>& previews,
                                        const fs::path& dir) {
   std::vector<fs::path> written;
-  for (size_t k = 0; k < previews.size(); ++k) {
-    written.push_back(dir / PreviewPath(k).filename());
-    WriteImage(written.back(), previews[k]);
-  }
+  for (size_t k = 0; k < previews.size(); ++k) written.push_back(dir / PreviewPath(k).filename());
+  ParallelForFirstError(static_cast<int>(previews.size()),
+                        [&](int k) { WriteImage(written[k], previews[k]); });
   return written;
 }
 
@@ -388,18 +403,13 @@ std::vector<fs::path> WriteFidelityReport(const FidelityReport& report,
                                           const ReportOptions& options, const fs::path& out_dir) {
   std::vector<fs::path> written = WritePreviewPngs(report.previews, out_dir / "report");
   if (options.write_images) {
-    for (const ViewFidelity& view : report.views) {
-      const fs::path density = out_dir / PicturePath("density", view.name);
-      WriteImage(density, ComparisonPicture(view.predicted, view.observed, options));
-      written.push_back(density);
-      if (!view.has_mesh) continue;
-      const fs::path mesh = out_dir / PicturePath("mesh", view.name);
-      WriteImage(mesh, ComparisonPicture(view.mesh_coverage, view.observed, options));
-      written.push_back(mesh);
-      if (view.mesh_render.empty()) continue;
-      const fs::path render = out_dir / PicturePath("render", view.name);
-      WriteImage(render, view.mesh_render);
-      written.push_back(render);
+    // Each view's pictures are encoded in parallel; the list keeps view order.
+    std::vector<std::vector<fs::path>> pictures(report.views.size());
+    ParallelForFirstError(static_cast<int>(report.views.size()), [&](int v) {
+      pictures[v] = WriteViewPictures(report.views[v], options, out_dir);
+    });
+    for (const std::vector<fs::path>& paths : pictures) {
+      written.insert(written.end(), paths.begin(), paths.end());
     }
     AtomicWriteString(out_dir / "report.html", ReportHtml(report, stage_briefs));
     written.push_back(out_dir / "report.html");

@@ -28,14 +28,18 @@ void AddReportFigures(const FidelityReport& report, StageRun* run) {
 }  // namespace
 
 StageRun RunReportStage(const StageContext& context) {
+  StageRun run;
+  StepClock clock(&run.profile);
   const DensityGrid grid = ReadDensityGrid(context.RequireOutput("density.vdb", "density"));
   const ImageSet image_set = context.project.LoadCameras();
   const std::vector<FloatImage> mattes = context.LoadMattes(image_set, "report: reading mattes");
   std::vector<bool> held_out;
   for (const View& view : image_set.views) held_out.push_back(context.project.IsHeldOut(view.name));
+  clock.Lap("read");
   FidelityReport report =
       ComputeFidelity(grid, image_set, mattes, held_out, context.options.report);
   MarkPriorViews(context.project.prior_views(), &report);
+  clock.Lap("density_fidelity");
   report.units = context.Units();
   std::error_code ec;
   if (fs::is_regular_file(context.Out("tree.glb"), ec)) {
@@ -43,7 +47,9 @@ StageRun RunReportStage(const StageContext& context) {
     const TriangleMesh bark = ReadGlbKeepingLeafInstances(context.Out("tree.glb"), &leaves);
     TriangleMesh mesh = bark;
     mesh.Append(leaves.Bake());
+    clock.Lap("read_tree");
     AddMeshFidelity(mesh, image_set, context.options.report, &report);
+    clock.Lap("mesh_fidelity");
     // The tree's figures are the mesh stage's: one definition of each.
     report.metrics = ReadTreeMetricsJson(context.RequireOutput("metrics.json", "mesh"));
     report.has_metrics = true;
@@ -51,6 +57,7 @@ StageRun RunReportStage(const StageContext& context) {
     progress.Update(0.0);
     report.previews = RenderReportPreviews(bark, &leaves, context.options.report);
     progress.Update(1.0);
+    clock.Lap("previews");
   }
   std::map<std::string, std::string> briefs;
   for (const char* stage : {"density", "skeleton", "mesh"}) {
@@ -62,11 +69,11 @@ StageRun RunReportStage(const StageContext& context) {
     std::vector<StageFigure> figures = context.RecordedFigures(stage);
     if (!figures.empty()) report.stage_figures.emplace_back(stage, std::move(figures));
   }
-  StageRun run;
   run.brief = report.BriefReport();
   AddReportFigures(report, &run);
   run.outputs =
       WriteFidelityReport(report, briefs, context.options.report, context.project.OutDir());
+  clock.Lap("write");
   return run;
 }
 

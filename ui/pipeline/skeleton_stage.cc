@@ -11,14 +11,17 @@
 namespace sylva {
 
 StageRun RunSkeletonStage(const StageContext& context) {
+  StageRun run;
+  StepClock clock(&run.profile);
   const DensityGrid density = ReadDensityGrid(context.RequireOutput("density.vdb", "density"));
   const ImageSet views = context.InputViews();
   const std::vector<FloatImage> mattes = context.LoadMattes(views, "skeleton: reading mattes");
-  const BuiltSkeleton built =
-      BuildSkeleton(density, views, mattes, LoadAttractorGraphs(context.project, views),
-                    context.options, context.progress);
+  const std::vector<AttractorGraph2D> attractors = LoadAttractorGraphs(context.project, views);
+  clock.Lap("read");
+  BuiltSkeleton built =
+      BuildSkeleton(density, views, mattes, attractors, context.options, context.progress);
+  clock.Lap("build").steps = std::move(built.profile);
   const std::string units = context.Units();
-  StageRun run;
   run.brief = built.brief;
   run.AddFigure("nodes", built.skeleton.NumNodes(), "nodes");
   run.AddFigure("tips", built.skeleton.Tips().size(), "tips");
@@ -29,6 +32,7 @@ StageRun RunSkeletonStage(const StageContext& context) {
   WriteSkeletonJson(run.outputs[0], built.skeleton, units);
   WriteSkeletonPly(run.outputs[1], built.skeleton, units);
   WriteSkeletonJson(run.outputs[2], built.raw, units);
+  clock.Lap("write");
   return run;
 }
 

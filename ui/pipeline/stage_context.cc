@@ -39,6 +39,36 @@ std::string FiguresText(const std::vector<StageFigure>& figures) {
   return text.str();
 }
 
+StageStep& StageStep::Add(const std::string& step_name, double step_seconds) {
+  steps.push_back({step_name, step_seconds, {}});
+  return *this;
+}
+
+std::string ProfileText(const std::vector<StageStep>& steps) {
+  std::ostringstream text;
+  text << std::setprecision(3);
+  for (size_t i = 0; i < steps.size(); ++i) {
+    text << (i > 0 ? ", " : "") << steps[i].name << " " << steps[i].seconds << " s";
+    if (steps[i].steps.empty()) continue;
+    text << " (";
+    for (size_t k = 0; k < steps[i].steps.size(); ++k) {
+      text << (k > 0 ? ", " : "") << steps[i].steps[k].name << " " << steps[i].steps[k].seconds;
+    }
+    text << ")";
+  }
+  return text.str();
+}
+
+StepClock::StepClock(std::vector<StageStep>* steps)
+    : steps_(steps), start_(std::chrono::steady_clock::now()) {}
+
+StageStep& StepClock::Lap(const std::string& name) {
+  const auto now = std::chrono::steady_clock::now();
+  steps_->push_back({name, std::chrono::duration<double>(now - start_).count(), {}});
+  start_ = now;
+  return steps_->back();
+}
+
 fs::path StageContext::RequireOutput(const std::string& name, const char* stage) const {
   const fs::path path = Out(name);
   std::error_code ec;

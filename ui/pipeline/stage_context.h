@@ -7,6 +7,7 @@
 #ifndef SYLVA_UI_PIPELINE_STAGE_CONTEXT_H_
 #define SYLVA_UI_PIPELINE_STAGE_CONTEXT_H_
 
+#include <chrono>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -33,6 +34,37 @@ struct StageFigure {
   std::string unit;
 };
 
+// One timed step of a stage's profile (reading inputs, the solve, writing
+// outputs, ...), with the sub-steps its algorithm reports. Sub-steps are
+// timed inside their step; what is left (setup between them) is not listed,
+// so they may sum to less than the step.
+struct StageStep {
+  std::string name;      // snake_case: "read_mattes", "solve"
+  double seconds = 0.0;  // wall time
+  std::vector<StageStep> steps;
+
+  // Appends a sub-step and returns this step (to chain).
+  StageStep& Add(const std::string& step_name, double step_seconds);
+};
+
+// "read_mattes 0.12 s, reconstruct 2.1 s (bounds 0.5, solve 1.0), write
+// 0.05 s"; "" without steps.
+std::string ProfileText(const std::vector<StageStep>& steps);
+
+// Times the consecutive steps of a stage: each Lap() ends the step that
+// began at the previous Lap() (or at construction) and appends it to
+// `steps`. Not thread-safe; one per stage run.
+class StepClock {
+ public:
+  explicit StepClock(std::vector<StageStep>* steps);
+  // Ends the current step as `name`; returns it, to add its sub-steps.
+  StageStep& Lap(const std::string& name);
+
+ private:
+  std::vector<StageStep>* steps_;
+  std::chrono::steady_clock::time_point start_;
+};
+
 struct StageRun {
   Stage stage = Stage::kDensity;
   bool up_to_date = false;  // skipped: inputs unchanged since the last run
@@ -46,6 +78,9 @@ struct StageRun {
   // cache/stages.json, so an up-to-date stage still reports them.
   std::vector<Warning> warnings;
   std::vector<std::filesystem::path> outputs;
+  // Where the stage's time went, step by step (StepClock); kept in
+  // cache/stages.json and written to out/run.json with every run.
+  std::vector<StageStep> profile;
 
   void AddFigure(const std::string& key, double value, const std::string& unit = "");
   // The value of the figure under `key`; nullopt if there is none.

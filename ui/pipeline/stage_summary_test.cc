@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <string>
 
+#include "core/io/json_util.h"
 #include "datasets/synthetic/synthetic_dataset.h"
 #include "ui/pipeline/pipeline.h"
 #include "ui/pipeline/pipeline_test_util.h"
@@ -71,6 +72,51 @@ TEST_F(StageSummaryTest, StagesReportFiguresThatUpToDateRunsKeep) {
   }
 }
 
+// The first step named `name` in a profile's JSON list (null if none).
+Json FindStep(const Json& steps, const std::string& name) {
+  for (const Json& step : steps) {
+    if (step.value("name", "") == name) return step;
+  }
+  return nullptr;
+}
+
+TEST_F(StageSummaryTest, EveryRunWritesItsProfileStepByStep) {
+  PipelineOptions options;
+  options.density.resolution = 24;
+  const RunSummary first = Pipeline(*project_, options, nullptr).Run(Stage::kDensity, false);
+  ASSERT_EQ(first.stages.size(), 2u);
+  const StageRun& density = first.stages[1];
+  ASSERT_FALSE(density.profile.empty());
+  double sum = 0.0;
+  for (const StageStep& step : density.profile) sum += step.seconds;
+  EXPECT_LE(sum, density.seconds + 1e-6);  // the steps are inside the stage's time
+  EXPECT_GT(sum, 0.5 * density.seconds);   // and account for most of it
+  EXPECT_TRUE(Contains(first.BriefReport(), "  time: read_mattes ")) << first.BriefReport();
+
+  // out/run.json: every stage with its steps, and the reconstruction's own
+  // steps inside its step; cache/stages.json keeps the steps per stage.
+  const Json run = ReadJsonFile(project_->OutDir() / "run.json");
+  ASSERT_TRUE(run.contains("profile"));
+  const Json& stages = run["profile"]["stages"];
+  ASSERT_EQ(stages.size(), 2u);
+  EXPECT_EQ(stages[1]["stage"], "density");
+  EXPECT_EQ(stages[1]["up_to_date"], false);
+  const Json reconstruct = FindStep(stages[1]["steps"], "reconstruct");
+  ASSERT_TRUE(reconstruct.is_object());
+  EXPECT_TRUE(FindStep(reconstruct["steps"], "solve").is_object());
+  EXPECT_NEAR(run["profile"]["seconds"].get<double>(), first.stages[0].seconds + density.seconds,
+              1e-9);
+  const Json records = ReadJsonFile(project_->CacheDir() / "stages.json");
+  EXPECT_TRUE(FindStep(records["density"]["profile"], "write").is_object());
+
+  // Up to date: no time spent, no steps.
+  Pipeline(*project_, options, nullptr).Run(Stage::kDensity, false);
+  const Json again = ReadJsonFile(project_->OutDir() / "run.json");
+  EXPECT_EQ(again["profile"]["seconds"].get<double>(), 0.0);
+  EXPECT_EQ(again["profile"]["stages"][1]["up_to_date"], true);
+  EXPECT_TRUE(again["profile"]["stages"][1]["steps"].empty());
+}
+
 TEST(StageFiguresTest, TextShowsCountsWholeAndOtherValuesShort) {
   StageRun run;
   EXPECT_EQ(FiguresText(run.figures), "");
@@ -78,6 +124,15 @@ TEST(StageFiguresTest, TextShowsCountsWholeAndOtherValuesShort) {
   run.AddFigure("mean_iou", 0.95123456);
   run.AddFigure("seconds", 12.3456, "s");
   EXPECT_EQ(FiguresText(run.figures), "voxels=5094241 voxels, mean_iou=0.9512, seconds=12.35 s");
+}
+
+TEST(StageProfileTest, TextListsStepsWithTheirSubSteps) {
+  std::vector<StageStep> profile;
+  EXPECT_EQ(ProfileText(profile), "");
+  profile.push_back({"read", 0.125, {}});
+  profile.push_back({"solve", 2.0, {}});
+  profile.back().Add("init", 0.5).Add("iterate", 1.25);
+  EXPECT_EQ(ProfileText(profile), "read 0.125 s, solve 2 s (init 0.5, iterate 1.25)");
 }
 
 }  // namespace

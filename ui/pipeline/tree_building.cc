@@ -33,8 +33,10 @@ BuiltSkeleton BuildSkeleton(const DensityGrid& density, const ImageSet& input_vi
                             const std::vector<AttractorGraph2D>& attractors,
                             const PipelineOptions& options, ProgressReporter* progress) {
   BuiltSkeleton built;
+  StepClock clock(&built.profile);
   built.base = options.skeleton.base.allFinite() ? options.skeleton.base
                                                  : EstimateTreeBase(density, options.tree_base);
+  clock.Lap("base");
   ParticleFlowOptions flow = options.particle_flow;
   flow.seed = DeriveSeed(options.general.seed, kParticleSeedStream);
   const bool steered = std::any_of(attractors.begin(), attractors.end(),
@@ -56,15 +58,24 @@ BuiltSkeleton BuildSkeleton(const DensityGrid& density, const ImageSet& input_vi
   } else {
     field = std::make_unique<ConstantDirectionField>();
   }
+  clock.Lap("direction_field");
   ParticleFlowSummary flow_summary;
   const SkeletonGraph flowed =
       SimulateParticleFlow(density, built.base, *field, flow, progress, &flow_summary, &built.raw);
+  clock.Lap("particle_flow")
+      .Add("seed", flow_summary.seconds_seed)
+      .Add("neighbors", flow_summary.seconds_neighbors)
+      .Add("join", flow_summary.seconds_join)
+      .Add("integrate", flow_summary.seconds_integrate)
+      .Add("skeleton", flow_summary.seconds_skeleton);
   MattePruningSummary pruning;
   const SkeletonGraph pruned =
       PruneBranchesOutsideMattes(flowed, input_views, mattes, options.skeleton.pruning, &pruning);
+  clock.Lap("prune");
   ConsolidationSummary consolidation;
   built.skeleton =
       ConsolidateSkeleton(pruned, density, options.skeleton.consolidation, &consolidation);
+  clock.Lap("consolidate");
   const double height = std::max(built.skeleton.Height(), density.voxel_size());
   const TrunkRadius trunk =
       ChooseTrunkRadius(input_views, mattes, built.base, height, options.skeleton.trunk_radius,
@@ -80,6 +91,7 @@ BuiltSkeleton BuildSkeleton(const DensityGrid& density, const ImageSet& input_vi
         options.branch_width, &built.skeleton);
     if (summary.measured_axes > 0) widths = summary.BriefReport();
   }
+  clock.Lap("radii");
   built.trunk_radius = built.skeleton.nodes.empty()
                            ? allometry.trunk_radius
                            : built.skeleton.nodes[built.skeleton.RootIdx()].radius;
@@ -120,13 +132,16 @@ TreeGeometry BuildTreeGeometry(const SkeletonGraph& skeleton, const DensityGrid&
                                const ImageSet& input_views, const std::vector<FloatImage>& mattes,
                                const PipelineOptions& options, const LeafShape* shape) {
   TreeGeometry geometry;
+  StepClock clock(&geometry.profile);
   Wood wood = MeshWood(skeleton, density, WoodOptionsOf(options));
+  clock.Lap("wood");
   geometry.bark = std::move(wood.bark);
   geometry.twigs = std::move(wood.twigs);
   geometry.bark_summary = wood.bark_summary;
   std::ostringstream brief;
   brief << wood.brief;
   SubdivideBark(options.geometry, &geometry.bark, &brief);
+  if (options.geometry.bark_subdivision > 0) clock.Lap("subdivide");
   LeafOptions leaf_options = options.leaves;
   leaf_options.seed = DeriveSeed(options.general.seed, kLeafSeedStream);
   if (leaf_options.num_leaves < 0) {  // a leafless plant
@@ -136,6 +151,7 @@ TreeGeometry BuildTreeGeometry(const SkeletonGraph& skeleton, const DensityGrid&
     geometry.leaves = GenerateLeafInstances(wood.skeleton, density, input_views, mattes,
                                             leaf_options, &leaf_summary, shape);
     brief << " " << leaf_summary.BriefReport();
+    clock.Lap("leaves");
   }
   geometry.brief = brief.str();
   return geometry;

@@ -18,6 +18,7 @@
 #include "mesh/leaves.h"
 #include "mesh/wood.h"
 #include "ui/pipeline/pipeline_options.h"
+#include "ui/pipeline/stage_context.h"
 
 namespace sylva {
 
@@ -27,6 +28,8 @@ struct BuiltSkeleton {
   Eigen::Vector3d base = Eigen::Vector3d::Zero();
   double trunk_radius = 0;
   std::string brief;
+  // The steps' times (base, field, flow with its own steps, pruning, ...).
+  std::vector<StageStep> profile;
 };
 
 // Base (Skeleton.base or estimated), particle flow steered by the direction
@@ -55,6 +58,8 @@ struct TreeGeometry {
   LeafInstances leaves;          // empty for leafless plants
   BarkMeshSummary bark_summary;  // of the watertight bark (BranchMesh.watertight)
   std::string brief;
+  // The steps' times (wood, subdivision, leaves).
+  std::vector<StageStep> profile;
   // Bark + twigs + baked leaves.
   TriangleMesh Baked() const;
   // Bark + twigs (the wood, without leaves).
