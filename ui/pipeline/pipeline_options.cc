@@ -665,6 +665,15 @@ void RegisterSketchMrf(SketchMrfOptions* o, OptionRegistry* r) {
             "mrf: EM rounds over the tree parameters (0 keeps the template's)");
   r->AddDouble("Sketch.mrf_prior_weight", &o->mrf.prior_weight, "relations",
                "mrf: how many relations the template's parameters count as in EM");
+  r->AddInt("Sketch.mrf_grid", &o->mrf.density_grid, "voxels",
+            "mrf: cells per side of the branch density grid (paper: 25)");
+  r->AddInt("Sketch.mrf_reach", &o->mrf.crowding_reach, "voxels",
+            "mrf: the interaction is summed this many voxels around a point (0 = the whole grid)");
+  r->AddInt("Sketch.mrf_candidates", &o->mrf.depth_candidates, "depths",
+            "mrf: depths tried per segment and step");
+  r->AddInt("Sketch.mrf_sweeps", &o->mrf.max_icm_sweeps, "sweeps", "mrf: most ICM sweeps");
+  r->AddDouble("Sketch.mrf_epsilon", &o->mrf.icm_epsilon, "fraction of the tree's size",
+               "mrf: ICM stops when the depths move less than this in a sweep");
   r->AddInt("Sketch.generations", &o->mrf.generations, "generations",
             "mrf: propagation generations when the drawing has no crown");
   r->AddInt("Sketch.max_segments", &o->mrf.max_segments, "segments",
