@@ -478,6 +478,34 @@ void SketchViewOptions::Check() const {
       << "must be in (0, 1], got " << branch_reach;
 }
 
+// The depth prior of a single drawing: a crown of revolution seen from the
+// side, a virtual view at right angles whose tree base is `base` (view
+// pixels).
+void AddDepthPrior(const SketchViewOptions& options, const Eigen::Vector2d& base, double distance,
+                   SketchViews* result) {
+  const SketchView& front = result->views[0];
+  const Camera& camera = result->cameras.cameras.at(1);
+  SketchView side;
+  side.name = std::filesystem::path(front.name).stem().string() + ".depth.png";
+  side.matte = SymmetricAbout(front.matte, base.x());
+  side.photo = PhotoFrom(side.matte);
+  side.is_virtual = true;
+  // The trunk up the axis to the front's trunk top, then the major
+  // branches of the symmetric crown.
+  side.strokes.width = front.strokes.width;
+  side.strokes.height = front.strokes.height;
+  side.strokes.root = base;
+  const Eigen::Vector2d top(base.x(),
+                            front.strokes.strokes.empty() ? base.y() : TrunkTop(front.strokes).y());
+  if (base.y() - top.y() > 1.0) side.strokes.strokes.push_back({{base, top}});
+  for (Stroke& branch : InferMajorBranches(side.matte, options, top)) {
+    side.strokes.strokes.push_back(std::move(branch));
+  }
+  result->cameras.cameras.emplace(2, camera);
+  result->cameras.views.push_back({2, side.name, 2, PoseAt(90.0, camera, base, distance)});
+  result->views.push_back(std::move(side));
+}
+
 SketchViews MakeSketchViews(const std::vector<SketchDrawing>& drawings,
                             const SketchViewOptions& options) {
   options.Check();
@@ -533,31 +561,7 @@ SketchViews MakeSketchViews(const std::vector<SketchDrawing>& drawings,
     if (i == 0) first_base = scale * frame.base;
     result.views.push_back(std::move(view));
   }
-  if (drawings.size() == 1) {
-    // The depth prior: a crown of revolution seen from the side.
-    const SketchView& front = result.views[0];
-    const Camera& camera = result.cameras.cameras.at(1);
-    const Eigen::Vector2d& base = first_base;
-    SketchView side;
-    side.name = std::filesystem::path(front.name).stem().string() + ".depth.png";
-    side.matte = SymmetricAbout(front.matte, base.x());
-    side.photo = PhotoFrom(side.matte);
-    side.is_virtual = true;
-    // The trunk up the axis to the front's trunk top, then the major
-    // branches of the symmetric crown.
-    side.strokes.width = front.strokes.width;
-    side.strokes.height = front.strokes.height;
-    side.strokes.root = base;
-    const Eigen::Vector2d top(
-        base.x(), front.strokes.strokes.empty() ? base.y() : TrunkTop(front.strokes).y());
-    if (base.y() - top.y() > 1.0) side.strokes.strokes.push_back({{base, top}});
-    for (Stroke& branch : InferMajorBranches(side.matte, options, top)) {
-      side.strokes.strokes.push_back(std::move(branch));
-    }
-    result.cameras.cameras.emplace(2, camera);
-    result.cameras.views.push_back({2, side.name, 2, PoseAt(90.0, camera, base, distance)});
-    result.views.push_back(std::move(side));
-  }
+  if (drawings.size() == 1) AddDepthPrior(options, first_base, distance, &result);
   return result;
 }
 
