@@ -83,54 +83,54 @@ uint64_t CellKey(int64_t x, int64_t y, int64_t z) {
   return static_cast<uint64_t>(x) | static_cast<uint64_t>(y) << 21 | static_cast<uint64_t>(z) << 42;
 }
 
-// Crossing pairs (indices into mesh.triangles, first < second by position in
-// `selected`), ordered by first then second; stops after max_pairs (< 0:
-// all). Returns the count found. Triangles are bucketed in a uniform grid
-// (sorted (cell, triangle) entries); the triangles are tested in parallel
-// when every pair is wanted, each one's pairs kept in order, so the result
-// does not depend on scheduling.
-int64_t SelfIntersections(const TriangleMesh& mesh, const std::vector<int>& selected,
-                          int64_t max_pairs, std::vector<std::pair<int, int>>* pairs) {
-  if (selected.size() < 2) return 0;
-  const int n = static_cast<int>(selected.size());
-  std::vector<Tri> tris(n);
-  std::vector<TriPlane> planes(n);
-  std::vector<Eigen::AlignedBox3d> boxes(n);
-  Eigen::AlignedBox3d all;
-  double extent_sum = 0.0;
-  for (int i = 0; i < n; ++i) {
-    const Eigen::Vector3i& f = mesh.triangles[selected[i]];
-    for (int k = 0; k < 3; ++k) {
-      tris[i][k] = mesh.vertices[f[k]].cast<double>();
-      boxes[i].extend(tris[i][k]);
-    }
-    planes[i] = PlaneOf(tris[i]);
-    all.extend(boxes[i]);
-    extent_sum += boxes[i].sizes().maxCoeff();
-  }
-  const double scale = std::max(all.sizes().maxCoeff(), 1e-30);
-  double cell = std::max(2.0 * extent_sum / n, scale / kMaxCellsPerAxis);
-  if (cell <= 0) cell = scale;
-  auto cell_of = [&](double v, int axis) {
-    return std::clamp<int64_t>(static_cast<int64_t>(std::floor((v - all.min()[axis]) / cell)), 0,
-                               2 * kMaxCellsPerAxis - 1);
-  };
-  std::vector<std::array<int64_t, 6>> ranges(n);
+// The selected triangles bucketed in a uniform grid: sorted (cell, triangle)
+// entries, each triangle's plane and box computed once.
+struct TriangleGrid {
+  std::vector<Tri> tris;
+  std::vector<TriPlane> planes;
+  std::vector<Eigen::AlignedBox3d> boxes;
+  std::vector<std::array<int64_t, 6>> ranges;     // cells: min x y z, max x y z
   std::vector<std::pair<uint64_t, int>> entries;  // (cell, triangle), sorted
-  for (int i = 0; i < n; ++i) {
-    for (int a = 0; a < 3; ++a) {
-      ranges[i][a] = cell_of(boxes[i].min()[a], a);
-      ranges[i][a + 3] = cell_of(boxes[i].max()[a], a);
+  double scale = 1.0;
+
+  TriangleGrid(const TriangleMesh& mesh, const std::vector<int>& selected) {
+    const int n = static_cast<int>(selected.size());
+    tris.resize(n), planes.resize(n), boxes.resize(n), ranges.resize(n);
+    Eigen::AlignedBox3d all;
+    double extent_sum = 0.0;
+    for (int i = 0; i < n; ++i) {
+      const Eigen::Vector3i& f = mesh.triangles[selected[i]];
+      for (int k = 0; k < 3; ++k) {
+        tris[i][k] = mesh.vertices[f[k]].cast<double>();
+        boxes[i].extend(tris[i][k]);
+      }
+      planes[i] = PlaneOf(tris[i]);
+      all.extend(boxes[i]);
+      extent_sum += boxes[i].sizes().maxCoeff();
     }
-    for (int64_t x = ranges[i][0]; x <= ranges[i][3]; ++x)
-      for (int64_t y = ranges[i][1]; y <= ranges[i][4]; ++y)
-        for (int64_t z = ranges[i][2]; z <= ranges[i][5]; ++z)
-          entries.emplace_back(CellKey(x, y, z), i);
+    scale = std::max(all.sizes().maxCoeff(), 1e-30);
+    double cell = std::max(2.0 * extent_sum / n, scale / kMaxCellsPerAxis);
+    if (cell <= 0) cell = scale;
+    auto cell_of = [&](double v, int axis) {
+      return std::clamp<int64_t>(static_cast<int64_t>(std::floor((v - all.min()[axis]) / cell)), 0,
+                                 2 * kMaxCellsPerAxis - 1);
+    };
+    for (int i = 0; i < n; ++i) {
+      for (int a = 0; a < 3; ++a) {
+        ranges[i][a] = cell_of(boxes[i].min()[a], a);
+        ranges[i][a + 3] = cell_of(boxes[i].max()[a], a);
+      }
+      for (int64_t x = ranges[i][0]; x <= ranges[i][3]; ++x)
+        for (int64_t y = ranges[i][1]; y <= ranges[i][4]; ++y)
+          for (int64_t z = ranges[i][2]; z <= ranges[i][5]; ++z)
+            entries.emplace_back(CellKey(x, y, z), i);
+    }
+    tbb::parallel_sort(entries.begin(), entries.end());
   }
-  tbb::parallel_sort(entries.begin(), entries.end());
-  // The pairs (i, j > i) of triangle i, j ascending.
-  const auto pairs_of = [&](int i, std::vector<int>* candidates, std::vector<int>* found) {
-    const Eigen::Vector3i& fi = mesh.triangles[selected[i]];
+
+  // The triangles j > i (positions in `selected`) that share a cell with
+  // triangle i, ascending.
+  void Neighbours(int i, std::vector<int>* candidates) const {
     candidates->clear();
     for (int64_t x = ranges[i][0]; x <= ranges[i][3]; ++x)
       for (int64_t y = ranges[i][1]; y <= ranges[i][4]; ++y)
@@ -144,14 +144,34 @@ int64_t SelfIntersections(const TriangleMesh& mesh, const std::vector<int>& sele
         }
     std::sort(candidates->begin(), candidates->end());
     candidates->erase(std::unique(candidates->begin(), candidates->end()), candidates->end());
+  }
+};
+
+// Crossing pairs (indices into mesh.triangles, first < second by position in
+// `selected`), ordered by first then second; stops after max_pairs (< 0:
+// all). Returns the count found. Triangles are bucketed in a uniform grid
+// (TriangleGrid); the triangles are tested in parallel when every pair is
+// wanted, each one's pairs kept in order, so the result does not depend on
+// scheduling.
+int64_t SelfIntersections(const TriangleMesh& mesh, const std::vector<int>& selected,
+                          int64_t max_pairs, std::vector<std::pair<int, int>>* pairs) {
+  if (selected.size() < 2) return 0;
+  const int n = static_cast<int>(selected.size());
+  const TriangleGrid grid(mesh, selected);
+  // The pairs (i, j > i) of triangle i, j ascending.
+  const auto pairs_of = [&](int i, std::vector<int>* candidates, std::vector<int>* found) {
+    const Eigen::Vector3i& fi = mesh.triangles[selected[i]];
+    grid.Neighbours(i, candidates);
     for (int j : *candidates) {
-      if (!boxes[i].intersects(boxes[j])) continue;
+      if (!grid.boxes[i].intersects(grid.boxes[j])) continue;
       const Eigen::Vector3i& fj = mesh.triangles[selected[j]];
       bool shared = false;
       for (int a = 0; a < 3; ++a)
         for (int b = 0; b < 3; ++b) shared = shared || fi[a] == fj[b];
       if (shared) continue;
-      if (TrianglesCross(tris[i], planes[i], tris[j], planes[j], scale)) found->push_back(j);
+      if (TrianglesCross(grid.tris[i], grid.planes[i], grid.tris[j], grid.planes[j], grid.scale)) {
+        found->push_back(j);
+      }
     }
   };
   int64_t count = 0;
