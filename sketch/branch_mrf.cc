@@ -6,6 +6,7 @@
 #include <limits>
 #include <numeric>
 
+#include "core/geometry/polyline.h"
 #include "core/util/check.h"
 #include "core/util/random.h"
 
@@ -37,26 +38,6 @@ constexpr int kFootprintAzimuths = 8;
 
 double Angle(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
   return std::atan2(a.cross(b).norm(), a.dot(b));
-}
-
-// Keeps the points of `chain` (indices into `points`) that Douglas-Peucker
-// keeps within `tolerance`; the ends always.
-void DouglasPeucker(const std::vector<Eigen::Vector3d>& points, int first, int last,
-                    double tolerance, std::vector<bool>* keep) {
-  if (last - first < 2) return;
-  const Eigen::Vector3d a = points[first], ab = points[last] - a;
-  const double len2 = ab.squaredNorm();
-  double worst = -1.0;
-  int worst_idx = -1;
-  for (int i = first + 1; i < last; ++i) {
-    const double t = len2 > 0 ? std::clamp((points[i] - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
-    const double d = (points[i] - a - t * ab).norm();
-    if (d > worst) worst = d, worst_idx = i;
-  }
-  if (worst <= tolerance) return;
-  (*keep)[worst_idx] = true;
-  DouglasPeucker(points, first, worst_idx, tolerance, keep);
-  DouglasPeucker(points, worst_idx, last, tolerance, keep);
 }
 
 struct Accumulator {
@@ -493,9 +474,9 @@ SegmentTree SegmentTreeOfSkeleton(const SkeletonGraph& skeleton, double toleranc
       while (children[chain.back()].size() == 1) chain.push_back(children[chain.back()][0]);
       std::vector<Eigen::Vector3d> points;
       for (int c : chain) points.push_back(skeleton.nodes[c].position);
-      std::vector<bool> keep(points.size(), false);
-      keep.back() = true;
-      DouglasPeucker(points, 0, static_cast<int>(points.size()) - 1, tolerance, &keep);
+      std::vector<char> keep(points.size(), 0);
+      DouglasPeucker(
+          static_cast<int>(points.size()), [&](int k) { return points[k]; }, tolerance, &keep);
       int last = kept;
       for (size_t k = 1; k < points.size(); ++k) {
         if (keep[k]) last = tree.AddPoint(points[k], last);

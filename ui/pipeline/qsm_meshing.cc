@@ -141,7 +141,7 @@ void AssignRadii(const MtgMeshingOptions& options, SkeletonGraph* part) {
   allometry.trunk_radius = options.trunk_radius > 0
                                ? options.trunk_radius
                                : kDefaultTrunkRadiusFraction * std::max(part->Height(), 1e-9);
-  allometry.min_radius = allometry.trunk_radius / 50;
+  allometry.min_radius = allometry.trunk_radius * kMinRadiusOfTrunk;
   AssignPipeModelRadii(allometry, part);
 }
 

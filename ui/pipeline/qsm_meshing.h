@@ -81,6 +81,8 @@ struct MtgMeshingOptions {
 // The trunk radius of radius-less MTGs, as a fraction of the tree's height
 // (a 5 m tree: 7.5 cm), when MtgMeshingOptions::trunk_radius is 0.
 inline constexpr double kDefaultTrunkRadiusFraction = 0.015;
+// The thinnest pipe-model radius given, as a fraction of the trunk's.
+inline constexpr double kMinRadiusOfTrunk = 1.0 / 50;
 
 struct MtgTable {
   MtgSkeletons read;                 // as read (unscaled)

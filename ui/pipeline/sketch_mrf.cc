@@ -21,15 +21,11 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// The drawn graph is simplified to this fraction of the view's size: the
-// MRF's segments are the strokes' straight pieces.
+// The drawn graph is simplified to this fraction of the view's size before
+// its chains between forks are set aside (they keep the strokes' shape).
 constexpr double kGraphTolerance = 0.01;
 // Skeleton edges are at most this fraction of the tree's height.
 constexpr double kMaxEdge = 0.02;
-// Pipe-model radii: the trunk's at the base, and the thinnest, as fractions
-// of the tree's height (a 10 m tree: 15 cm and 3 mm).
-constexpr double kTrunkRadius = 0.015;
-constexpr double kMinRadius = 0.0003;
 // A pixel is crown where the matte reaches this fraction of
 // Sketch.crown_opacity.
 constexpr double kCrownMatte = 0.5;
@@ -246,8 +242,9 @@ MrfSketchTree MakeMrfSketchTree(const std::vector<SketchDrawing>& drawings,
   const double height = options.sketch.tree_height;
   tree.skeleton = SkeletonOfSegments(tree.result.tree, kMaxEdge * height);
   AllometryOptions allometry = options.allometry;
-  allometry.trunk_radius = kTrunkRadius * height;
-  allometry.min_radius = kMinRadius * height;
+  // Pipe-model radii scaled as for radius-less MTGs (qsm_meshing.h).
+  allometry.trunk_radius = kDefaultTrunkRadiusFraction * height;
+  allometry.min_radius = allometry.trunk_radius * kMinRadiusOfTrunk;
   AssignPipeModelRadii(allometry, &tree.skeleton);
   tree.drawing_cameras = views.drawing_cameras;
   std::ostringstream brief;
