@@ -8,7 +8,6 @@
 #include "reconstruct/registration/loose_setup_io.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
-  return sylva::fuzz::FuzzFile(data, size, ".json", [](const std::filesystem::path& path) {
-    sylva::ReadLooseSetup(path);
-  });
+  return sylva::fuzz::FuzzFile(
+      data, size, ".json", [](const std::filesystem::path& path) { sylva::ReadLooseSetup(path); });
 }
