@@ -16,6 +16,15 @@ namespace {
 // Two 8-bit levels: tolerance for "R = G = B" in mattes saved as RGB.
 constexpr float kGrayTolerance = 2.0f / 255.0f;
 
+// OpenImageIO's messages may hold several lines (one per decoder complaint);
+// an error is one line: "first; second".
+std::string OneLine(std::string reason) {
+  while (!reason.empty() && reason.back() == '\n') reason.pop_back();
+  for (size_t at = reason.find('\n'); at != std::string::npos; at = reason.find('\n', at))
+    reason.replace(at, 1, "; ");
+  return reason;
+}
+
 std::unique_ptr<OIIO::ImageInput> OpenImage(const fs::path& path) {
   std::error_code ec;
   SYLVA_CHECK_INPUT(fs::is_regular_file(path, ec), path.string()) << "image file not found";
@@ -25,7 +34,7 @@ std::unique_ptr<OIIO::ImageInput> OpenImage(const fs::path& path) {
   config.attribute("oiio:UnassociatedAlpha", 1);
   auto input = OIIO::ImageInput::open(path.string(), &config);
   if (!input) {
-    std::string reason = OIIO::geterror();
+    std::string reason = OneLine(OIIO::geterror());
     if (reason.empty()) reason = "unknown format";
     SYLVA_INPUT_ERROR(path.string()) << "cannot read image: " << reason;
   }
@@ -64,7 +73,7 @@ FloatImage ReadImage(const fs::path& path) {
   // Some decoders succeed on damaged data and only leave a message: libjpeg
   // fills a truncated JPEG with grey ("Premature end of JPEG file"). A photo
   // with such a message is refused too.
-  const std::string reason = input->geterror();
+  const std::string reason = OneLine(input->geterror());
   input->close();
   SYLVA_CHECK_INPUT(ok && reason.empty(), path.string())
       << "cannot decode image: " << (reason.empty() ? "read failed" : reason);

@@ -112,7 +112,13 @@ TEST(ImageIoTest, MissingAndCorruptFilesAreInputErrors) {
   WriteImage(TestDir() / "whole.png", image);
   const std::string bytes = ReadFileToString(TestDir() / "whole.png");
   AtomicWriteString(TestDir() / "half.png", bytes.substr(0, bytes.size() / 2));
-  EXPECT_THROW(ReadImage(TestDir() / "half.png"), InputError);
+  try {
+    ReadImage(TestDir() / "half.png");
+    FAIL() << "a truncated PNG was read";
+  } catch (const InputError& error) {
+    // OpenImageIO complains in several lines; the error is one line.
+    EXPECT_EQ(std::string(error.what()).find('\n'), std::string::npos) << error.what();
+  }
 }
 
 TEST(ImageIoTest, TruncatedJpegIsRefused) {
