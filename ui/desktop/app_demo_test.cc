@@ -167,8 +167,8 @@ void AppDemoTest::Paint(MainWindow* window, const std::vector<Disc>& discs, Tool
     const QPoint from = view->mapFromScene(disc.center - QPointF(0.5, 0));
     const QPoint to = view->mapFromScene(disc.center + QPointF(0.5, 0));
     QTest::mousePress(viewport, Qt::LeftButton, {}, from);
-    QMouseEvent move(QEvent::MouseMove, to, viewport->mapToGlobal(to), Qt::NoButton,
-                     Qt::LeftButton, Qt::NoModifier);
+    QMouseEvent move(QEvent::MouseMove, to, viewport->mapToGlobal(to), Qt::NoButton, Qt::LeftButton,
+                     Qt::NoModifier);
     QApplication::sendEvent(viewport, &move);
     QTest::mouseRelease(viewport, Qt::LeftButton, {}, to);
   }
