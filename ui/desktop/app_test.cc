@@ -8,6 +8,7 @@
 #include <QLineEdit>
 #include <QProcess>
 #include <QProgressBar>
+#include <QPushButton>
 #include <QSignalSpy>
 #include <QTemporaryDir>
 #include <QtTest>
@@ -19,11 +20,13 @@
 #include "core/io/image_io.h"
 #include "core/io/vdb_io.h"
 #include "core/types/density_grid.h"
+#include "core/util/file_util.h"
 #include "datasets/synthetic/synthetic_dataset.h"
 #include "reconstruct/matting/trimap_io.h"
 #include "sketch/strokes.h"
 #include "ui/desktop/edit_document.h"
 #include "ui/desktop/main_window.h"
+#include "ui/desktop/new_project_wizard.h"
 #include "ui/desktop/options_panel.h"
 #include "ui/desktop/photo_view.h"
 #include "ui/desktop/run_controller.h"
@@ -52,6 +55,8 @@ class AppTest : public QObject {
   void initTestCase();
   void densityBrushWritesEditAndUndoRedoRestoreIt();
   void trimapStrokesCrownAndEraserWriteTheirFiles();
+  void polylineStrokesAreOneUndoStepEach();
+  void newProjectWizardMakesWhatSylvaInitMakes();
   void optionsPanelRoundTripsEveryOption();
   void screenshotShowsPhotoAndTree();
   void screenshotCommandWritesPng();
@@ -241,6 +246,134 @@ void AppTest::trimapStrokesCrownAndEraserWriteTheirFiles() {
   QVERIFY(!fs::exists(trimap_file));
   QVERIFY(!fs::exists(strokes_file));
   QVERIFY(project.CrownEditPath("view_00.png").empty());
+}
+
+void AppTest::polylineStrokesAreOneUndoStepEach() {
+  MainWindow window(false);
+  window.resize(1200, 800);
+  window.show();
+  QVERIFY(QTest::qWaitForWindowExposed(&window));
+  QVERIFY(window.OpenProject(project_));
+  window.SetTool(Tool::kPolyline);
+  PhotoView* view = window.photo_view();
+  QWidget* viewport = view->viewport();
+  const auto at = [&](double x, double y) { return view->mapFromScene(QPointF(x, y)); };
+  const fs::path strokes_file = project_ / "edits" / "view_00.strokes.json";
+  QUndoStack* stack = window.document()->undo_stack();
+  // Three clicks and Enter: one stroke of three points, one undo step.
+  QTest::mouseClick(viewport, Qt::LeftButton, {}, at(48, 90));
+  QTest::mouseClick(viewport, Qt::LeftButton, {}, at(50, 60));
+  QVERIFY(!fs::exists(strokes_file));  // nothing saved while drawing
+  QTest::mouseClick(viewport, Qt::LeftButton, {}, at(65, 40));
+  view->setFocus();
+  QTest::keyClick(view, Qt::Key_Return);
+  QCOMPARE(stack->count(), 1);
+  StrokeSet strokes = ReadStrokes(strokes_file, 96, 96);
+  QCOMPARE(strokes.strokes.size(), size_t(1));
+  QCOMPARE(strokes.strokes[0].points.size(), size_t(3));
+  QVERIFY((strokes.strokes[0].points[1] - Eigen::Vector2d(50, 60)).norm() < 1.0);
+  // Two clicks, the second a double click: a second stroke of two points.
+  QTest::mouseClick(viewport, Qt::LeftButton, {}, at(50, 60));
+  QTest::mouseDClick(viewport, Qt::LeftButton, {}, at(30, 45));
+  QCOMPARE(stack->count(), 2);
+  strokes = ReadStrokes(strokes_file, 96, 96);
+  QCOMPARE(strokes.strokes.size(), size_t(2));
+  QCOMPARE(strokes.strokes[1].points.size(), size_t(2));
+  QVERIFY((strokes.strokes[1].points[1] - Eigen::Vector2d(30, 45)).norm() < 1.0);
+  // Backspace removes the last point; Escape drops a stroke unsaved.
+  QTest::mouseClick(viewport, Qt::LeftButton, {}, at(20, 20));
+  QTest::mouseClick(viewport, Qt::LeftButton, {}, at(25, 30));
+  QTest::mouseClick(viewport, Qt::LeftButton, {}, at(90, 90));
+  QTest::keyClick(view, Qt::Key_Backspace);
+  QTest::keyClick(view, Qt::Key_Enter);
+  QCOMPARE(stack->count(), 3);
+  strokes = ReadStrokes(strokes_file, 96, 96);
+  QCOMPARE(strokes.strokes.size(), size_t(3));
+  QVERIFY((strokes.strokes[2].points.back() - Eigen::Vector2d(25, 30)).norm() < 1.0);
+  QTest::mouseClick(viewport, Qt::LeftButton, {}, at(10, 10));
+  QTest::mouseClick(viewport, Qt::LeftButton, {}, at(20, 10));
+  QTest::keyClick(view, Qt::Key_Escape);
+  QCOMPARE(stack->count(), 3);
+  QCOMPARE(ReadStrokes(strokes_file, 96, 96).strokes.size(), size_t(3));
+  // Freehand and polyline strokes share the file and the undo stack.
+  window.SetTool(Tool::kStrokes);
+  Drag(&window, {{70, 90}, {70, 70}, {75, 55}});
+  QCOMPARE(ReadStrokes(strokes_file, 96, 96).strokes.size(), size_t(4));
+  stack->undo();
+  stack->undo();
+  QCOMPARE(ReadStrokes(strokes_file, 96, 96).strokes.size(), size_t(2));
+  stack->redo();
+  QCOMPARE(ReadStrokes(strokes_file, 96, 96).strokes.size(), size_t(3));
+  while (stack->canUndo()) stack->undo();
+  QVERIFY(!fs::exists(strokes_file));
+}
+
+// Drives the wizard through its pages with `fields` typed in and compares
+// the project's sylva.json with `sylva init`'s for the same choices.
+void CompareWizardWithInit(const std::map<QString, QString>& fields, CameraSource source, bool copy,
+                           const QStringList& init_args, const fs::path& cli_root) {
+  NewProjectWizard wizard;
+  wizard.show();
+  QVERIFY(QTest::qWaitForWindowExposed(&wizard));
+  for (const auto& [name, text] : fields) {
+    QVERIFY(wizard.Field(name) != nullptr);
+    QTest::keyClicks(wizard.Field(name), text);
+  }
+  wizard.SetCameraSource(source);
+  wizard.SetCopyInputs(copy);
+  QTest::mouseClick(wizard.button(QWizard::NextButton), Qt::LeftButton);
+  QTest::mouseClick(wizard.button(QWizard::NextButton), Qt::LeftButton);
+  QTest::mouseClick(wizard.button(QWizard::FinishButton), Qt::LeftButton);
+  QVERIFY2(wizard.last_error().isEmpty(), qPrintable(wizard.last_error()));
+  QCOMPARE(wizard.result(), int(QDialog::Accepted));
+  const fs::path wizard_root = fields.at("project").toStdString();
+  QCOMPARE(wizard.created_root(), wizard_root);
+
+  QProcess init;
+  init.start(SYLVA_BINARY_DIR "/bin/sylva",
+             QStringList{"init", QString::fromStdString(cli_root.string())} + init_args);
+  QVERIFY(init.waitForFinished(60000));
+  QVERIFY2(init.exitCode() == 0, init.readAllStandardError().constData());
+  const std::string wizard_json = ReadFileToString(wizard_root / "sylva.json");
+  QCOMPARE(wizard_json, ReadFileToString(cli_root / "sylva.json"));
+  QVERIFY(wizard_json.size() > 100);
+}
+
+void AppTest::newProjectWizardMakesWhatSylvaInitMakes() {
+  const QString data = QString::fromStdString(data_.string());
+  const QString temp = temp_.path();
+  // A COLMAP model with mattes, a held-out view and units.
+  CompareWizardWithInit({{"photos", data + "/photos"},
+                         {"mattes", data + "/mattes"},
+                         {"held_out", "heldout_00.png"},
+                         {"camera_path", data + "/colmap"},
+                         {"units", "m"},
+                         {"project", temp + "/wizard-colmap"}},
+                        CameraSource::kColmapModel, false,
+                        {"--photos", data + "/photos", "--mattes", data + "/mattes", "--held-out",
+                         "heldout_00.png", "--colmap", data + "/colmap", "--units", "m"},
+                        fs::path(temp.toStdString()) / "init-colmap");
+  // A sylva camera file, the inputs copied.
+  CompareWizardWithInit({{"photos", data + "/photos"},
+                         {"mattes", data + "/mattes"},
+                         {"camera_path", data + "/cameras.json"},
+                         {"project", temp + "/wizard-file"}},
+                        CameraSource::kCameraFile, true,
+                        {"--photos", data + "/photos", "--mattes", data + "/mattes", "--cameras",
+                         data + "/cameras.json", "--copy"},
+                        fs::path(temp.toStdString()) / "init-file");
+  // A bad choice: the error shows on the last page and nothing is written.
+  NewProjectWizard wizard;
+  wizard.show();
+  QTest::keyClicks(wizard.Field("photos"), data + "/no-such-folder");
+  QTest::keyClicks(wizard.Field("camera_path"), data + "/colmap");
+  QTest::keyClicks(wizard.Field("project"), temp + "/wizard-bad");
+  QTest::mouseClick(wizard.button(QWizard::NextButton), Qt::LeftButton);
+  QTest::mouseClick(wizard.button(QWizard::NextButton), Qt::LeftButton);
+  QTest::mouseClick(wizard.button(QWizard::FinishButton), Qt::LeftButton);
+  QVERIFY(wizard.isVisible());
+  QVERIFY2(wizard.last_error().contains("no-such-folder"), qPrintable(wizard.last_error()));
+  QVERIFY(!fs::exists(temp.toStdString() + "/wizard-bad"));
 }
 
 void AppTest::optionsPanelRoundTripsEveryOption() {

@@ -29,6 +29,7 @@
 #include "core/util/check.h"
 #include "core/util/file_util.h"
 #include "ui/desktop/edit_document.h"
+#include "ui/desktop/new_project_wizard.h"
 #include "ui/desktop/options_panel.h"
 #include "ui/desktop/overlays.h"
 #include "ui/desktop/photo_view.h"
@@ -66,6 +67,9 @@ const std::vector<ToolInfo>& Tools() {
        "Matting hint: unknown = unpainted (the automatic trimap decides)"},
       {Tool::kStrokes, "Branch", "S",
        "Draw a branch stroke (edits/<photo>.strokes.json); Shift+click marks the tree base"},
+      {Tool::kPolyline, "Polyline", "P",
+       "Click a branch stroke point by point; double-click or Enter finishes, Backspace "
+       "removes the last point, Escape drops it"},
       {Tool::kCrown, "Crown", "C", "Draw a crown outline (edits/<photo>.crown.svg)"},
       {Tool::kEraser, "Eraser", "E", "Erase painted density and hints; removes strokes it touches"},
   };
@@ -154,6 +158,7 @@ MainWindow::~MainWindow() = default;
 
 void MainWindow::BuildMenus() {
   QMenu* file = menuBar()->addMenu("&File");
+  file->addAction("&New project…", QKeySequence::New, this, &MainWindow::NewProject);
   file->addAction("&Open project…", QKeySequence::Open, [this] {
     const QString dir = QFileDialog::getExistingDirectory(this, "Open a sylva project");
     if (!dir.isEmpty()) OpenProject(dir.toStdString());
@@ -315,6 +320,11 @@ void MainWindow::ShowError(const QString& message) {
   } else {
     std::cerr << "sylva-app: " << message.toStdString() << "\n";
   }
+}
+
+void MainWindow::NewProject() {
+  NewProjectWizard wizard(this);
+  if (wizard.exec() == QDialog::Accepted) OpenProject(wizard.created_root());
 }
 
 bool MainWindow::OpenProject(const std::filesystem::path& root) {

@@ -45,6 +45,8 @@ class MainWindow : public QMainWindow {
   explicit MainWindow(bool interactive = true, QWidget* parent = nullptr);
   ~MainWindow() override;
 
+  // Runs the new-project wizard and opens the project it makes.
+  void NewProject();
   // Opens a project folder; false (with the error shown) if it is invalid.
   bool OpenProject(const std::filesystem::path& root);
   void SelectPhoto(int index);
