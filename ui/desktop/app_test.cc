@@ -23,6 +23,7 @@
 #include "core/util/file_util.h"
 #include "datasets/synthetic/synthetic_dataset.h"
 #include "reconstruct/matting/trimap_io.h"
+#include "sketch/drawing_io.h"
 #include "sketch/strokes.h"
 #include "ui/desktop/edit_document.h"
 #include "ui/desktop/main_window.h"
@@ -30,6 +31,7 @@
 #include "ui/desktop/options_panel.h"
 #include "ui/desktop/photo_view.h"
 #include "ui/desktop/run_controller.h"
+#include "ui/desktop/sketch_canvas.h"
 #include "ui/desktop/view_3d.h"
 #include "ui/pipeline/pipeline.h"
 #include "ui/pipeline/project.h"
@@ -57,6 +59,7 @@ class AppTest : public QObject {
   void trimapStrokesCrownAndEraserWriteTheirFiles();
   void polylineStrokesAreOneUndoStepEach();
   void newProjectWizardMakesWhatSylvaInitMakes();
+  void sketchCanvasSavesTheSvgSylvaSketchReads();
   void optionsPanelRoundTripsEveryOption();
   void screenshotShowsPhotoAndTree();
   void screenshotCommandWritesPng();
@@ -374,6 +377,75 @@ void AppTest::newProjectWizardMakesWhatSylvaInitMakes() {
   QVERIFY(wizard.isVisible());
   QVERIFY2(wizard.last_error().contains("no-such-folder"), qPrintable(wizard.last_error()));
   QVERIFY(!fs::exists(temp.toStdString() + "/wizard-bad"));
+}
+
+// Drags the left button along canvas points on the sketch canvas.
+void DrawOnCanvas(SketchCanvas* canvas, const std::vector<QPointF>& points,
+                  Qt::KeyboardModifiers modifiers = {}) {
+  const auto at = [&](const QPointF& p) { return canvas->ToWidget(p).toPoint(); };
+  QTest::mousePress(canvas, Qt::LeftButton, modifiers, at(points.front()));
+  for (size_t i = 1; i < points.size(); ++i) {
+    QMouseEvent move(QEvent::MouseMove, at(points[i]), canvas->mapToGlobal(at(points[i])),
+                     Qt::NoButton, Qt::LeftButton, modifiers);
+    QApplication::sendEvent(canvas, &move);
+  }
+  QTest::mouseRelease(canvas, Qt::LeftButton, modifiers, at(points.back()));
+}
+
+void AppTest::sketchCanvasSavesTheSvgSylvaSketchReads() {
+  MainWindow window(false);
+  window.resize(1200, 800);
+  window.show();
+  QVERIFY(QTest::qWaitForWindowExposed(&window));
+  QVERIFY(window.ShowPanel("sketch"));
+  SketchCanvas* canvas = window.sketch_canvas();
+  QTest::qWait(50);
+  // A trunk and two branches, a closed crown outline, an open crown stroke,
+  // the base.
+  canvas->SetRole(StrokeRole::kBranch);
+  DrawOnCanvas(canvas, {{200, 580}, {200, 450}, {202, 300}});
+  DrawOnCanvas(canvas, {{201, 400}, {150, 330}, {120, 280}});
+  DrawOnCanvas(canvas, {{201, 380}, {260, 320}, {290, 260}});
+  canvas->SetRole(StrokeRole::kCrown);
+  std::vector<QPointF> outline;
+  for (int k = 0; k <= 24; ++k) {
+    const double a = 2 * M_PI * k / 24;
+    outline.emplace_back(200 + 150 * std::cos(a), 250 + 130 * std::sin(a));
+  }
+  DrawOnCanvas(canvas, outline);
+  DrawOnCanvas(canvas, {{100, 150}, {140, 110}, {190, 100}});
+  DrawOnCanvas(canvas, {{200, 590}}, Qt::ShiftModifier);
+  const SketchDrawing& drawn = canvas->drawing();
+  QCOMPARE(drawn.strokes.size(), size_t(5));
+  QVERIFY(drawn.strokes[3].closed && !drawn.strokes[4].closed);
+  QVERIFY(drawn.root && (*drawn.root - Eigen::Vector2d(200, 590)).norm() < 2.0);
+  QVERIFY(std::abs(drawn.strokes[0].points.front().y() - 580) < 2.0);
+  // Saved and read back by sylva sketch's reader: the same strokes.
+  const fs::path svg = fs::path(temp_.path().toStdString()) / "canvas.svg";
+  canvas->SaveSvg(svg);
+  const SketchDrawing read = ReadSketch(svg);
+  QCOMPARE(read.width, drawn.width);
+  QCOMPARE(read.height, drawn.height);
+  QCOMPARE(read.CountRole(StrokeRole::kBranch), 3);
+  QCOMPARE(read.CountRole(StrokeRole::kCrown), 2);
+  QVERIFY(read.root && (*read.root - *drawn.root).norm() < 1e-6);
+  for (const SketchStroke& stroke : read.strokes) {
+    // Its twin on the canvas: same role, closure and points.
+    const auto twin = std::find_if(drawn.strokes.begin(), drawn.strokes.end(), [&](auto& s) {
+      return s.role == stroke.role && s.points.size() == stroke.points.size() &&
+             (s.points[0] - stroke.points[0]).norm() < 1e-6;
+    });
+    QVERIFY(twin != drawn.strokes.end());
+    QCOMPARE(twin->closed, stroke.closed);
+    for (size_t k = 0; k < stroke.points.size(); ++k) {
+      QVERIFY((twin->points[k] - stroke.points[k]).norm() < 1e-6);
+    }
+  }
+  // Undo the last stroke, open the saved drawing back.
+  canvas->UndoLastStroke();
+  QCOMPARE(canvas->drawing().strokes.size(), size_t(4));
+  canvas->OpenSvg(svg);
+  QCOMPARE(canvas->drawing().strokes.size(), size_t(5));
 }
 
 void AppTest::optionsPanelRoundTripsEveryOption() {
