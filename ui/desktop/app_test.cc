@@ -403,7 +403,7 @@ void AppTest::sketchCanvasSavesTheSvgSylvaSketchReads() {
   // A trunk and two branches, a closed crown outline, an open crown stroke,
   // the base.
   canvas->SetRole(StrokeRole::kBranch);
-  DrawOnCanvas(canvas, {{200, 580}, {200, 450}, {202, 300}});
+  DrawOnCanvas(canvas, {{200, 590}, {200, 450}, {202, 300}});
   DrawOnCanvas(canvas, {{201, 400}, {150, 330}, {120, 280}});
   DrawOnCanvas(canvas, {{201, 380}, {260, 320}, {290, 260}});
   canvas->SetRole(StrokeRole::kCrown);
@@ -419,7 +419,7 @@ void AppTest::sketchCanvasSavesTheSvgSylvaSketchReads() {
   QCOMPARE(drawn.strokes.size(), size_t(5));
   QVERIFY(drawn.strokes[3].closed && !drawn.strokes[4].closed);
   QVERIFY(drawn.root && (*drawn.root - Eigen::Vector2d(200, 590)).norm() < 2.0);
-  QVERIFY(std::abs(drawn.strokes[0].points.front().y() - 580) < 2.0);
+  QVERIFY(std::abs(drawn.strokes[0].points.front().y() - 590) < 2.0);
   // Saved and read back by sylva sketch's reader: the same strokes.
   const fs::path svg = fs::path(temp_.path().toStdString()) / "canvas.svg";
   canvas->SaveSvg(svg);
@@ -446,6 +446,25 @@ void AppTest::sketchCanvasSavesTheSvgSylvaSketchReads() {
   QCOMPARE(canvas->drawing().strokes.size(), size_t(4));
   canvas->OpenSvg(svg);
   QCOMPARE(canvas->drawing().strokes.size(), size_t(5));
+
+  // Make tree: sylva sketch's work in the worker; the project then opens.
+  const fs::path out = fs::path(temp_.path().toStdString()) / "sketch-tree";
+  QSignalSpy finished(window.run_controller(), &RunController::Finished);
+  QElapsedTimer timer;
+  timer.start();
+  QVERIFY(window.MakeTreeFromSketch(out));
+  QVERIFY(window.run_controller()->IsRunning());
+  QVERIFY(finished.wait(120000));
+  QVERIFY2(finished.last().at(0).toBool(), qPrintable(finished.last().at(2).toString()));
+  qInfo("tree from the canvas: %.2f s", timer.elapsed() / 1000.0);
+  QVERIFY(fs::is_regular_file(out / "drawing.svg"));
+  QVERIFY(fs::is_regular_file(out / "project" / "out" / "tree.obj"));
+  QVERIFY(window.project() != nullptr);
+  QCOMPARE(window.project()->root(), out / "project");
+  QVERIFY(window.view_3d()->HasScene());
+  // A second time into the same, now full, folder is refused.
+  QVERIFY(!window.MakeTreeFromSketch(out));
+  QVERIFY(window.last_error().contains("not empty"));
 }
 
 void AppTest::optionsPanelRoundTripsEveryOption() {
