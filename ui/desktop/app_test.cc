@@ -268,6 +268,8 @@ void AppTest::polylineStrokesAreOneUndoStepEach() {
   QTest::mouseClick(viewport, Qt::LeftButton, {}, at(50, 60));
   QVERIFY(!fs::exists(strokes_file));  // nothing saved while drawing
   QTest::mouseClick(viewport, Qt::LeftButton, {}, at(65, 40));
+  const QString shots = qEnvironmentVariable("SYLVA_APP_SHOT_DIR");  // for the notes
+  if (!shots.isEmpty()) window.grab().save(shots + "/polyline-in-progress.png");
   view->setFocus();
   QTest::keyClick(view, Qt::Key_Return);
   QCOMPARE(stack->count(), 1);
@@ -324,9 +326,13 @@ void CompareWizardWithInit(const std::map<QString, QString>& fields, CameraSourc
   }
   wizard.SetCameraSource(source);
   wizard.SetCopyInputs(copy);
-  QTest::mouseClick(wizard.button(QWizard::NextButton), Qt::LeftButton);
-  QTest::mouseClick(wizard.button(QWizard::NextButton), Qt::LeftButton);
-  QTest::mouseClick(wizard.button(QWizard::FinishButton), Qt::LeftButton);
+  // SYLVA_APP_SHOT_DIR=DIR saves each page's picture there (for the notes).
+  const QString shots = qEnvironmentVariable("SYLVA_APP_SHOT_DIR");
+  for (int page = 0; page < 3; ++page) {
+    if (!shots.isEmpty()) wizard.grab().save(shots + QString("/wizard-%1.png").arg(page));
+    QTest::mouseClick(wizard.button(page < 2 ? QWizard::NextButton : QWizard::FinishButton),
+                      Qt::LeftButton);
+  }
   QVERIFY2(wizard.last_error().isEmpty(), qPrintable(wizard.last_error()));
   QCOMPARE(wizard.result(), int(QDialog::Accepted));
   const fs::path wizard_root = fields.at("project").toStdString();
