@@ -23,9 +23,11 @@
 #include "core/util/file_util.h"
 #include "datasets/synthetic/synthetic_dataset.h"
 #include "reconstruct/matting/trimap_io.h"
+#include "reconstruct/registration/loose_setup_io.h"
 #include "sketch/drawing_io.h"
 #include "sketch/strokes.h"
 #include "ui/desktop/edit_document.h"
+#include "ui/desktop/loose_cameras_page.h"
 #include "ui/desktop/main_window.h"
 #include "ui/desktop/new_project_wizard.h"
 #include "ui/desktop/options_panel.h"
@@ -59,6 +61,7 @@ class AppTest : public QObject {
   void trimapStrokesCrownAndEraserWriteTheirFiles();
   void polylineStrokesAreOneUndoStepEach();
   void newProjectWizardMakesWhatSylvaInitMakes();
+  void wizardManualCamerasPageWritesTheLooseCamerasFile();
   void sketchCanvasSavesTheSvgSylvaSketchReads();
   void optionsPanelRoundTripsEveryOption();
   void screenshotShowsPhotoAndTree();
@@ -383,6 +386,74 @@ void AppTest::newProjectWizardMakesWhatSylvaInitMakes() {
   QVERIFY(wizard.isVisible());
   QVERIFY2(wizard.last_error().contains("no-such-folder"), qPrintable(wizard.last_error()));
   QVERIFY(!fs::exists(temp.toStdString() + "/wizard-bad"));
+}
+
+void AppTest::wizardManualCamerasPageWritesTheLooseCamerasFile() {
+  const QString data = QString::fromStdString(data_.string());
+  const fs::path root = fs::path(temp_.path().toStdString()) / "wizard-manual";
+  NewProjectWizard wizard;
+  wizard.show();
+  QVERIFY(QTest::qWaitForWindowExposed(&wizard));
+  QTest::keyClicks(wizard.Field("photos"), data + "/photos");
+  QTest::keyClicks(wizard.Field("mattes"), data + "/mattes");
+  QTest::keyClicks(wizard.Field("project"), QString::fromStdString(root.string()));
+  wizard.SetCameraSource(CameraSource::kRegisterManual);  // no file: the page makes it
+  QTest::mouseClick(wizard.button(QWizard::NextButton), Qt::LeftButton);
+  QTest::mouseClick(wizard.button(QWizard::NextButton), Qt::LeftButton);
+  QCOMPARE(wizard.currentId(), int(NewProjectWizard::kLoosePage));
+  LooseCamerasPage* page = wizard.loose_page();
+  // Photos in name order: heldout_00, view_00, view_01, view_02.
+  page->UsePhoto(1, 90);
+  page->UsePhoto(2, 200, true);
+  const std::map<std::string, std::vector<QPointF>> clicks = {
+      {"base", {{48.5, 90.5}, {47.5, 91.5}, {50.5, 89.5}}},
+      {"top", {{48.5, 10.5}, {46.5, 12.5}, {49.5, 9.5}}}};
+  for (int row = 0; row < 3; ++row) {
+    page->ShowPhoto(row);
+    for (const auto& [name, points] : clicks) {
+      page->SetCurrentPoint(QString::fromStdString(name));
+      QTest::mouseClick(page->photo_view()->viewport(), Qt::LeftButton, {},
+                        page->photo_view()->mapFromScene(points[row]));
+    }
+  }
+  const QString shots = qEnvironmentVariable("SYLVA_APP_SHOT_DIR");  // for the notes
+  if (!shots.isEmpty()) wizard.grab().save(shots + "/wizard-manual-cameras.png");
+  QTest::mouseClick(wizard.button(QWizard::NextButton), Qt::LeftButton);
+  QCOMPARE(wizard.currentId(), int(NewProjectWizard::kProjectPage));
+  QTest::mouseClick(wizard.button(QWizard::FinishButton), Qt::LeftButton);
+  QVERIFY2(wizard.last_error().isEmpty(), qPrintable(wizard.last_error()));
+  QCOMPARE(wizard.result(), int(QDialog::Accepted));
+
+  // The file the project keeps: three photos, base and top clicked on each.
+  const fs::path loose_file = root / "cameras" / "loose.json";
+  const LooseSetup loose = ReadLooseSetup(loose_file);
+  QCOMPARE(loose.photos.size(), size_t(3));
+  QCOMPARE(loose.photos[1].azimuth_deg, 90.0);
+  QCOMPARE(loose.photos[2].projection, LooseProjection::kOrthographic);
+  for (const auto& [name, points] : clicks) {
+    const int point = loose.FindPoint(name);
+    QVERIFY(point >= 0);
+    QCOMPARE(loose.points[point].observations.size(), size_t(3));
+    for (const LooseObservation& seen : loose.points[point].observations) {
+      const QPointF& clicked = points[seen.photo_idx];
+      // A click lands on a view pixel: within one view pixel of the aim.
+      const double view_pixel = 1.0 / page->photo_view()->transform().m11();
+      QVERIFY((seen.point_in_image - Eigen::Vector2d(clicked.x(), clicked.y())).norm() <=
+              1.5 * view_pixel);
+    }
+  }
+  // `sylva init` with that file makes the same sylva.json.
+  const fs::path cli_root = fs::path(temp_.path().toStdString()) / "init-manual";
+  QProcess init;
+  init.start(SYLVA_BINARY_DIR "/bin/sylva",
+             {"init", QString::fromStdString(cli_root.string()), "--photos", data + "/photos",
+              "--mattes", data + "/mattes", "--register", "manual", "--loose-cameras",
+              QString::fromStdString(loose_file.string())});
+  QVERIFY(init.waitForFinished(60000));
+  QVERIFY2(init.exitCode() == 0, init.readAllStandardError().constData());
+  QCOMPARE(ReadFileToString(root / "sylva.json"), ReadFileToString(cli_root / "sylva.json"));
+  QCOMPARE(ReadFileToString(root / "cameras" / "loose.json"),
+           ReadFileToString(cli_root / "cameras" / "loose.json"));
 }
 
 // Drags the left button along canvas points on the sketch canvas.

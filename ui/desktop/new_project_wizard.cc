@@ -13,6 +13,8 @@
 #include <exception>
 #include <vector>
 
+#include "ui/desktop/loose_cameras_page.h"
+
 namespace sylva {
 namespace {
 
@@ -31,7 +33,8 @@ const std::vector<SourceInfo>& Sources() {
       {CameraSource::kRegisterColmap, "Register with COLMAP (structure from motion on the photos)",
        ""},
       {CameraSource::kRegisterManual,
-       "Manual: 2-4 loose cameras (azimuths and clicked correspondences, a loose cameras file)",
+       "Manual: 2-4 loose cameras (azimuths and clicked points: a loose cameras file, or "
+       "leave it empty to click them on the next page)",
        "loose cameras file"},
   };
   return sources;
@@ -42,9 +45,11 @@ const std::vector<SourceInfo>& Sources() {
 NewProjectWizard::NewProjectWizard(QWidget* parent) : QWizard(parent) {
   setWindowTitle("New sylva project");
   setOption(QWizard::NoBackButtonOnStartPage);
-  addPage(BuildPhotosPage());
-  addPage(BuildCamerasPage());
-  addPage(BuildProjectPage());
+  setPage(kPhotosPage, BuildPhotosPage());
+  setPage(kCamerasPage, BuildCamerasPage());
+  loose_page_ = new LooseCamerasPage([this] { return Setup().photos_dir; });
+  setPage(kLoosePage, loose_page_);
+  setPage(kProjectPage, BuildProjectPage());
 }
 
 QWidget* NewProjectWizard::PathRow(QLineEdit* edit, bool file, const QString& title) {
@@ -165,6 +170,7 @@ ProjectSetup NewProjectWizard::Setup() const {
     case CameraSource::kRegisterManual:
       setup.register_method = "manual";
       setup.loose_cameras_file = path(camera_path_);
+      if (setup.loose_cameras_file.empty()) setup.loose_cameras_file = loose_page_->written_file();
       break;
   }
   return setup;
@@ -181,6 +187,22 @@ bool NewProjectWizard::CreateProject() {
     last_error_ = QString::fromStdString(error.what());
     error_label_->setText(last_error_);
     return false;
+  }
+}
+
+int NewProjectWizard::nextId() const {
+  switch (currentId()) {
+    case kPhotosPage:
+      return kCamerasPage;
+    case kCamerasPage:
+      return sources_->checkedId() == static_cast<int>(CameraSource::kRegisterManual) &&
+                     camera_path_->text().trimmed().isEmpty()
+                 ? kLoosePage
+                 : kProjectPage;
+    case kLoosePage:
+      return kProjectPage;
+    default:
+      return -1;
   }
 }
 

@@ -8,7 +8,8 @@
 // Cameras: a COLMAP sparse model folder, a sylva camera file, registration
 // by COLMAP's structure from motion, or manual registration from a loose
 // cameras file (azimuths and clicked correspondences,
-// reconstruct/registration/loose_setup_io.h).
+// reconstruct/registration/loose_setup_io.h) -- given, or made on the
+// manual cameras page (loose_cameras_page.h) when none is given.
 #ifndef SYLVA_UI_DESKTOP_NEW_PROJECT_WIZARD_H_
 #define SYLVA_UI_DESKTOP_NEW_PROJECT_WIZARD_H_
 
@@ -24,6 +25,8 @@ class QLabel;
 class QLineEdit;
 
 namespace sylva {
+
+class LooseCamerasPage;
 
 // How the wizard's project gets its cameras (ProjectSetup's sources).
 enum class CameraSource { kColmapModel, kCameraFile, kRegisterColmap, kRegisterManual };
@@ -53,6 +56,13 @@ class NewProjectWizard : public QWizard {
 
   // On the last page: CreateProject().
   bool validateCurrentPage() override;
+  // The manual cameras page comes after the cameras page only for manual
+  // registration without a loose cameras file.
+  int nextId() const override;
+
+  LooseCamerasPage* loose_page() const { return loose_page_; }
+
+  enum PageId { kPhotosPage, kCamerasPage, kLoosePage, kProjectPage };
 
  private:
   QWizardPage* BuildPhotosPage();
@@ -65,6 +75,7 @@ class NewProjectWizard : public QWizard {
   QLineEdit *camera_path_ = nullptr, *units_ = nullptr, *project_ = nullptr;
   QCheckBox* copy_ = nullptr;
   QButtonGroup* sources_ = nullptr;
+  LooseCamerasPage* loose_page_ = nullptr;
   QLabel* error_label_ = nullptr;
   std::filesystem::path created_root_;
   QString last_error_;
