@@ -38,7 +38,9 @@ LooseCamerasPage::LooseCamerasPage(std::function<std::filesystem::path()> photos
       "it.");
   photos_ = new QTableWidget(0, 4);
   photos_->setHorizontalHeaderLabels({"Use", "Photo", "Azimuth °", "Projection"});
-  photos_->horizontalHeader()->setSectionResizeMode(kNameColumn, QHeaderView::Stretch);
+  photos_->horizontalHeader()->setSectionResizeMode(QHeaderView::ResizeToContents);
+  photos_->verticalHeader()->hide();
+  photos_->setMinimumWidth(380);
   photos_->setSelectionBehavior(QAbstractItemView::SelectRows);
   connect(photos_, &QTableWidget::currentCellChanged, this, [this](int row) { ShowPhoto(row); });
   points_ = new QComboBox;
@@ -66,11 +68,11 @@ LooseCamerasPage::LooseCamerasPage(std::function<std::filesystem::path()> photos
   left->addWidget(photos_, 1);
   left->addLayout(form);
   auto* layout = new QHBoxLayout(this);
-  layout->addLayout(left, 1);
+  layout->addLayout(left, 0);
   auto* right = new QVBoxLayout;
   right->addWidget(view_, 1);
   right->addWidget(error_);
-  layout->addLayout(right, 2);
+  layout->addLayout(right, 1);
 }
 
 void LooseCamerasPage::initializePage() {
