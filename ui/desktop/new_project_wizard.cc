@@ -47,7 +47,8 @@ NewProjectWizard::NewProjectWizard(QWidget* parent) : QWizard(parent) {
   setOption(QWizard::NoBackButtonOnStartPage);
   setPage(kPhotosPage, BuildPhotosPage());
   setPage(kCamerasPage, BuildCamerasPage());
-  loose_page_ = new LooseCamerasPage([this] { return Setup().photos_dir; });
+  loose_page_ = new LooseCamerasPage(
+      [this] { return std::filesystem::path(photos_->text().trimmed().toStdString()); });
   setPage(kLoosePage, loose_page_);
   setPage(kProjectPage, BuildProjectPage());
 }
