@@ -560,4 +560,57 @@ SketchDrawing ReadSketch(const std::filesystem::path& path, int index) {
   return SketchDrawing();
 }
 
+namespace {
+
+// A layer's colour by role: green crowns, brown branches, grey others.
+const char* RoleColor(StrokeRole role) {
+  switch (role) {
+    case StrokeRole::kCrown:
+      return "#2e8b3a";
+    case StrokeRole::kBranch:
+      return "#6b4226";
+    default:
+      return "#808080";
+  }
+}
+
+void WriteStrokeElement(const SketchStroke& stroke, std::ostream* out) {
+  *out << "    <" << (stroke.closed ? "polygon" : "polyline") << " points=\"";
+  for (size_t i = 0; i < stroke.points.size(); ++i) {
+    *out << (i ? " " : "") << stroke.points[i].x() << "," << stroke.points[i].y();
+  }
+  *out << "\"";
+  if (stroke.width > 0) *out << " stroke-width=\"" << stroke.width << "\"";
+  *out << "/>\n";
+}
+
+}  // namespace
+
+void WriteSketchSvg(const std::filesystem::path& path, const SketchDrawing& drawing) {
+  drawing.Check();
+  std::ostringstream out;
+  out.precision(9);
+  out << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
+      << "<svg xmlns=\"http://www.w3.org/2000/svg\"\n"
+      << "     xmlns:inkscape=\"http://www.inkscape.org/namespaces/inkscape\"\n"
+      << "     width=\"" << drawing.width << "\" height=\"" << drawing.height << "\" viewBox=\"0 0 "
+      << drawing.width << " " << drawing.height << "\">\n";
+  for (StrokeRole role :
+       {StrokeRole::kCrown, StrokeRole::kBranch, StrokeRole::kConstruction, StrokeRole::kOrgan}) {
+    if (drawing.CountRole(role) == 0) continue;
+    out << "  <g inkscape:groupmode=\"layer\" inkscape:label=\"" << StrokeRoleName(role)
+        << "\" style=\"fill:none;stroke:" << RoleColor(role) << ";stroke-linecap:round\">\n";
+    for (const SketchStroke& stroke : drawing.strokes) {
+      if (stroke.role == role) WriteStrokeElement(stroke, &out);
+    }
+    out << "  </g>\n";
+  }
+  if (drawing.root) {
+    out << "  <circle id=\"root\" cx=\"" << drawing.root->x() << "\" cy=\"" << drawing.root->y()
+        << "\" r=\"3\" fill=\"#c03030\"/>\n";
+  }
+  out << "</svg>\n";
+  AtomicWriteString(path, out.str());
+}
+
 }  // namespace sylva

@@ -85,6 +85,14 @@ SketchDrawing ReadSketchSvg(const std::filesystem::path& path);
 // out of range or the line is not a valid drawing.
 SketchDrawing ReadQuickDrawNdjson(const std::filesystem::path& path, int index);
 
+// Writes `drawing` (which must pass Check()) as an SVG that ReadSketchSvg
+// reads back with the same strokes: the canvas as the viewBox, one layer
+// per role (inkscape:label "crown", "branch", ...), each stroke a
+// <polyline> (or a <polygon> if closed) with its width as stroke-width,
+// the root as <circle id="root">. Coordinates are written with 9
+// significant digits. Atomic.
+void WriteSketchSvg(const std::filesystem::path& path, const SketchDrawing& drawing);
+
 // By extension (case-insensitive): .svg (ReadSketchSvg, `index` ignored),
 // .ndjson (ReadQuickDrawNdjson), or a scanned or photographed drawing .png,
 // .jpg, .jpeg, .tif, .tiff (TraceScannedDrawing with the default

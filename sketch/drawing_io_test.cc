@@ -133,6 +133,55 @@ TEST(ReadSketchSvgTest, RolesWidthsAndClosedShapes) {
   EXPECT_EQ(drawing.strokes[13].points.size(), 3u);
 }
 
+// What the app's sketch canvas saves is read back with the same strokes.
+TEST(WriteSketchSvgTest, ReadSketchSvgReadsBackTheSameDrawing) {
+  SketchDrawing drawing;
+  drawing.width = 400;
+  drawing.height = 600.5;
+  RandomEngine random(7);
+  const auto stroke = [&](StrokeRole role, bool closed, int n, double width) {
+    SketchStroke s;
+    s.role = role;
+    s.closed = closed;
+    s.width = width;
+    for (int i = 0; i < n; ++i) {
+      s.points.emplace_back(random.Uniform(0, 400), random.Uniform(0, 600) + 1.0 / 3);
+    }
+    drawing.strokes.push_back(s);
+  };
+  stroke(StrokeRole::kBranch, false, 12, 4.5);
+  stroke(StrokeRole::kCrown, true, 30, 2);
+  stroke(StrokeRole::kBranch, false, 2, 0);
+  stroke(StrokeRole::kCrown, false, 5, 1);  // an open crown stroke keeps its role by its layer
+  drawing.root = Eigen::Vector2d(200.25, 590);
+  const fs::path path = WriteTestFile("written.svg", "");
+  WriteSketchSvg(path, drawing);
+  const SketchDrawing read = ReadSketchSvg(path);
+  EXPECT_DOUBLE_EQ(read.width, 400);
+  EXPECT_DOUBLE_EQ(read.height, 600.5);
+  ASSERT_TRUE(read.root);
+  EXPECT_NEAR((*read.root - *drawing.root).norm(), 0, 1e-6);
+  ASSERT_EQ(read.strokes.size(), drawing.strokes.size());
+  // Written layer by layer: crowns first, then branches, each in order.
+  std::vector<const SketchStroke*> expected;
+  for (StrokeRole role : {StrokeRole::kCrown, StrokeRole::kBranch}) {
+    for (const SketchStroke& s : drawing.strokes) {
+      if (s.role == role) expected.push_back(&s);
+    }
+  }
+  for (size_t i = 0; i < read.strokes.size(); ++i) {
+    const SketchStroke& a = read.strokes[i];
+    const SketchStroke& b = *expected[i];
+    EXPECT_EQ(a.role, b.role) << i;
+    EXPECT_EQ(a.closed, b.closed) << i;
+    EXPECT_NEAR(a.width, b.width, 1e-6) << i;
+    ASSERT_EQ(a.points.size(), b.points.size()) << i;
+    for (size_t k = 0; k < a.points.size(); ++k) {
+      EXPECT_NEAR((a.points[k] - b.points[k]).norm(), 0, 1e-5) << i << " " << k;
+    }
+  }
+}
+
 TEST(ReadSketchSvgTest, CanvasFromWidthAndHeightWithoutViewBox) {
   const SketchDrawing drawing = ReadSketch(WriteTestFile(
       "pt.svg", "<svg width='90pt' height='1in'><polygon points='1,1 50,1 20,40'/></svg>"));

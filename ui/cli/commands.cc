@@ -451,21 +451,6 @@ std::string GeneralHelp() {
   return out.str();
 }
 
-std::vector<std::string> ParseHeldOut(const std::string& value) {
-  std::vector<std::string> names;
-  std::string text = value;
-  if (!value.empty() && value[0] == '@') text = ReadFileToString(value.substr(1));
-  std::string name;
-  std::istringstream stream(text);
-  const char separator = (!value.empty() && value[0] == '@') ? '\n' : ',';
-  while (std::getline(stream, name, separator)) {
-    const size_t begin = name.find_first_not_of(" \t\r");
-    if (begin == std::string::npos) continue;
-    names.push_back(name.substr(begin, name.find_last_not_of(" \t\r") - begin + 1));
-  }
-  return names;
-}
-
 void ApplyLogLevel(const ParsedArguments& args) {
   if (args.Has("log-level")) SetLogLevel(ParseLogLevel(args.Get("log-level")));
 }
@@ -522,7 +507,7 @@ int CmdInit(const ParsedArguments& args) {
   SYLVA_CHECK_INPUT(!args.Has("register") || !setup.register_method.empty(), "--register")
       << "expected 'colmap' or 'manual'";
   setup.mattes_dir = args.Get("mattes");
-  if (args.Has("held-out")) setup.held_out = ParseHeldOut(args.Get("held-out"));
+  if (args.Has("held-out")) setup.held_out = ParseViewNames(args.Get("held-out"));
   setup.copy_inputs = args.Has("copy");
   setup.units = args.Get("units");
   const Project project = Project::Create(setup);

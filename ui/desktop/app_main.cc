@@ -1,20 +1,23 @@
 // sylva-app: the desktop app (ui/desktop/main_window.h).
 //
-//   sylva-app [PROJECT] [--photo NAME] [--panel layers|run|options] [--run]
-//             [--screenshot FILE.png]
+//   sylva-app [PROJECT] [--photo NAME] [--panel layers|run|options|photos|sketch]
+//             [--sketch DRAWING.svg] [--run] [--screenshot FILE.png]
 //
 // --screenshot renders the main window (photo with overlays, 3D view) for
 // PROJECT into FILE.png and exits; it needs no display
 // (QT_QPA_PLATFORM=offscreen). --run first runs the out-of-date stages, as
-// the Run panel's "Run all" does. Exit codes: 0 ok, 2 bad arguments or project.
+// the Run panel's "Run all" does. --sketch opens a drawing on the sketch
+// canvas (and shows it). Exit codes: 0 ok, 2 bad arguments or project.
 #include <QApplication>
 #include <QEventLoop>
 #include <QStringList>
 #include <algorithm>
+#include <exception>
 #include <iostream>
 
 #include "ui/desktop/main_window.h"
 #include "ui/desktop/run_controller.h"
+#include "ui/desktop/sketch_canvas.h"
 #include "ui/pipeline/project.h"
 
 namespace {
@@ -24,8 +27,9 @@ constexpr int kExitBadInput = 2;
 
 int Usage(const QString& problem) {
   std::cerr << "sylva-app: " << problem.toStdString()
-            << "\nusage: sylva-app [PROJECT] [--photo NAME] [--panel layers|run|options] "
-               "[--run] [--screenshot FILE.png]\n";
+            << "\nusage: sylva-app [PROJECT] [--photo NAME] "
+               "[--panel layers|run|options|photos|sketch] [--sketch DRAWING.svg] [--run] "
+               "[--screenshot FILE.png]\n";
   return kExitBadInput;
 }
 
@@ -35,7 +39,7 @@ int main(int argc, char** argv) {
   QApplication app(argc, argv);
   QApplication::setApplicationName("sylva-app");
   QApplication::setOrganizationName("sylva");
-  QString project, screenshot, photo, panel;
+  QString project, screenshot, photo, panel, sketch;
   bool run = false;
   const QStringList args = QApplication::arguments();
   for (int i = 1; i < args.size(); ++i) {
@@ -44,6 +48,8 @@ int main(int argc, char** argv) {
       screenshot = args[++i];
     } else if (arg == "--photo" && i + 1 < args.size()) {
       photo = args[++i];
+    } else if (arg == "--sketch" && i + 1 < args.size()) {
+      sketch = args[++i];
     } else if (arg == "--run") {
       run = true;
     } else if (arg == "--panel" && i + 1 < args.size()) {
@@ -67,6 +73,14 @@ int main(int argc, char** argv) {
     const auto it = std::find(names.begin(), names.end(), photo.toStdString());
     if (it == names.end()) return Usage("no photo " + photo + " in the project");
     window.SelectPhoto(static_cast<int>(it - names.begin()));
+  }
+  if (!sketch.isEmpty()) {
+    try {
+      window.sketch_canvas()->OpenSvg(sketch.toStdString());
+    } catch (const std::exception& error) {
+      return Usage(QString::fromStdString(error.what()));
+    }
+    window.ShowPanel("sketch");
   }
   if (!panel.isEmpty() && !window.ShowPanel(panel)) return Usage("no panel " + panel);
   window.show();

@@ -8,6 +8,7 @@
 #include <QLineEdit>
 #include <QProcess>
 #include <QProgressBar>
+#include <QPushButton>
 #include <QSignalSpy>
 #include <QTemporaryDir>
 #include <QtTest>
@@ -19,14 +20,20 @@
 #include "core/io/image_io.h"
 #include "core/io/vdb_io.h"
 #include "core/types/density_grid.h"
+#include "core/util/file_util.h"
 #include "datasets/synthetic/synthetic_dataset.h"
 #include "reconstruct/matting/trimap_io.h"
+#include "reconstruct/registration/loose_setup_io.h"
+#include "sketch/drawing_io.h"
 #include "sketch/strokes.h"
 #include "ui/desktop/edit_document.h"
+#include "ui/desktop/loose_cameras_page.h"
 #include "ui/desktop/main_window.h"
+#include "ui/desktop/new_project_wizard.h"
 #include "ui/desktop/options_panel.h"
 #include "ui/desktop/photo_view.h"
 #include "ui/desktop/run_controller.h"
+#include "ui/desktop/sketch_canvas.h"
 #include "ui/desktop/view_3d.h"
 #include "ui/pipeline/pipeline.h"
 #include "ui/pipeline/project.h"
@@ -52,6 +59,10 @@ class AppTest : public QObject {
   void initTestCase();
   void densityBrushWritesEditAndUndoRedoRestoreIt();
   void trimapStrokesCrownAndEraserWriteTheirFiles();
+  void polylineStrokesAreOneUndoStepEach();
+  void newProjectWizardMakesWhatSylvaInitMakes();
+  void wizardManualCamerasPageWritesTheLooseCamerasFile();
+  void sketchCanvasSavesTheSvgSylvaSketchReads();
   void optionsPanelRoundTripsEveryOption();
   void screenshotShowsPhotoAndTree();
   void screenshotCommandWritesPng();
@@ -241,6 +252,296 @@ void AppTest::trimapStrokesCrownAndEraserWriteTheirFiles() {
   QVERIFY(!fs::exists(trimap_file));
   QVERIFY(!fs::exists(strokes_file));
   QVERIFY(project.CrownEditPath("view_00.png").empty());
+}
+
+void AppTest::polylineStrokesAreOneUndoStepEach() {
+  MainWindow window(false);
+  window.resize(1200, 800);
+  window.show();
+  QVERIFY(QTest::qWaitForWindowExposed(&window));
+  QVERIFY(window.OpenProject(project_));
+  window.SetTool(Tool::kPolyline);
+  PhotoView* view = window.photo_view();
+  QWidget* viewport = view->viewport();
+  const auto at = [&](double x, double y) { return view->mapFromScene(QPointF(x, y)); };
+  const fs::path strokes_file = project_ / "edits" / "view_00.strokes.json";
+  QUndoStack* stack = window.document()->undo_stack();
+  // Three clicks and Enter: one stroke of three points, one undo step.
+  QTest::mouseClick(viewport, Qt::LeftButton, {}, at(48, 90));
+  QTest::mouseClick(viewport, Qt::LeftButton, {}, at(50, 60));
+  QVERIFY(!fs::exists(strokes_file));  // nothing saved while drawing
+  QTest::mouseClick(viewport, Qt::LeftButton, {}, at(65, 40));
+  const QString shots = qEnvironmentVariable("SYLVA_APP_SHOT_DIR");  // for the notes
+  if (!shots.isEmpty()) window.grab().save(shots + "/polyline-in-progress.png");
+  QVERIFY(view->hasFocus());  // the clicks gave it the keyboard (Enter, Backspace, Escape)
+  QTest::keyClick(view, Qt::Key_Return);
+  QCOMPARE(stack->count(), 1);
+  StrokeSet strokes = ReadStrokes(strokes_file, 96, 96);
+  QCOMPARE(strokes.strokes.size(), size_t(1));
+  QCOMPARE(strokes.strokes[0].points.size(), size_t(3));
+  QVERIFY((strokes.strokes[0].points[1] - Eigen::Vector2d(50, 60)).norm() < 1.0);
+  // Two clicks, the second a double click: a second stroke of two points.
+  QTest::mouseClick(viewport, Qt::LeftButton, {}, at(50, 60));
+  QTest::mouseDClick(viewport, Qt::LeftButton, {}, at(30, 45));
+  QCOMPARE(stack->count(), 2);
+  strokes = ReadStrokes(strokes_file, 96, 96);
+  QCOMPARE(strokes.strokes.size(), size_t(2));
+  QCOMPARE(strokes.strokes[1].points.size(), size_t(2));
+  QVERIFY((strokes.strokes[1].points[1] - Eigen::Vector2d(30, 45)).norm() < 1.0);
+  // Backspace removes the last point; Escape drops a stroke unsaved.
+  QTest::mouseClick(viewport, Qt::LeftButton, {}, at(20, 20));
+  QTest::mouseClick(viewport, Qt::LeftButton, {}, at(25, 30));
+  QTest::mouseClick(viewport, Qt::LeftButton, {}, at(90, 90));
+  QTest::keyClick(view, Qt::Key_Backspace);
+  QTest::keyClick(view, Qt::Key_Enter);
+  QCOMPARE(stack->count(), 3);
+  strokes = ReadStrokes(strokes_file, 96, 96);
+  QCOMPARE(strokes.strokes.size(), size_t(3));
+  QVERIFY((strokes.strokes[2].points.back() - Eigen::Vector2d(25, 30)).norm() < 1.0);
+  QTest::mouseClick(viewport, Qt::LeftButton, {}, at(10, 10));
+  QTest::mouseClick(viewport, Qt::LeftButton, {}, at(20, 10));
+  QTest::keyClick(view, Qt::Key_Escape);
+  QCOMPARE(stack->count(), 3);
+  QCOMPARE(ReadStrokes(strokes_file, 96, 96).strokes.size(), size_t(3));
+  // Freehand and polyline strokes share the file and the undo stack.
+  window.SetTool(Tool::kStrokes);
+  Drag(&window, {{70, 90}, {70, 70}, {75, 55}});
+  QCOMPARE(ReadStrokes(strokes_file, 96, 96).strokes.size(), size_t(4));
+  stack->undo();
+  stack->undo();
+  QCOMPARE(ReadStrokes(strokes_file, 96, 96).strokes.size(), size_t(2));
+  stack->redo();
+  QCOMPARE(ReadStrokes(strokes_file, 96, 96).strokes.size(), size_t(3));
+  while (stack->canUndo()) stack->undo();
+  QVERIFY(!fs::exists(strokes_file));
+}
+
+// Drives the wizard through its pages with `fields` typed in and compares
+// the project's sylva.json with `sylva init`'s for the same choices.
+void CompareWizardWithInit(const std::map<QString, QString>& fields, CameraSource source, bool copy,
+                           const QStringList& init_args, const fs::path& cli_root) {
+  NewProjectWizard wizard;
+  wizard.show();
+  QVERIFY(QTest::qWaitForWindowExposed(&wizard));
+  for (const auto& [name, text] : fields) {
+    QVERIFY(wizard.Field(name) != nullptr);
+    QTest::keyClicks(wizard.Field(name), text);
+  }
+  wizard.SetCameraSource(source);
+  wizard.SetCopyInputs(copy);
+  // SYLVA_APP_SHOT_DIR=DIR saves each page's picture there (for the notes).
+  const QString shots = qEnvironmentVariable("SYLVA_APP_SHOT_DIR");
+  for (int page = 0; page < 3; ++page) {
+    if (!shots.isEmpty()) wizard.grab().save(shots + QString("/wizard-%1.png").arg(page));
+    QTest::mouseClick(wizard.button(page < 2 ? QWizard::NextButton : QWizard::FinishButton),
+                      Qt::LeftButton);
+  }
+  QVERIFY2(wizard.last_error().isEmpty(), qPrintable(wizard.last_error()));
+  QCOMPARE(wizard.result(), int(QDialog::Accepted));
+  const fs::path wizard_root = fields.at("project").toStdString();
+  QCOMPARE(wizard.created_root(), wizard_root);
+
+  QProcess init;
+  init.start(SYLVA_BINARY_DIR "/bin/sylva",
+             QStringList{"init", QString::fromStdString(cli_root.string())} + init_args);
+  QVERIFY(init.waitForFinished(60000));
+  QVERIFY2(init.exitCode() == 0, init.readAllStandardError().constData());
+  const std::string wizard_json = ReadFileToString(wizard_root / "sylva.json");
+  QCOMPARE(wizard_json, ReadFileToString(cli_root / "sylva.json"));
+  QVERIFY(wizard_json.size() > 100);
+}
+
+void AppTest::newProjectWizardMakesWhatSylvaInitMakes() {
+  const QString data = QString::fromStdString(data_.string());
+  const QString temp = temp_.path();
+  // A COLMAP model with mattes, a held-out view and units.
+  CompareWizardWithInit({{"photos", data + "/photos"},
+                         {"mattes", data + "/mattes"},
+                         {"held_out", "heldout_00.png"},
+                         {"camera_path", data + "/colmap"},
+                         {"units", "m"},
+                         {"project", temp + "/wizard-colmap"}},
+                        CameraSource::kColmapModel, false,
+                        {"--photos", data + "/photos", "--mattes", data + "/mattes", "--held-out",
+                         "heldout_00.png", "--colmap", data + "/colmap", "--units", "m"},
+                        fs::path(temp.toStdString()) / "init-colmap");
+  // A sylva camera file, the inputs copied.
+  CompareWizardWithInit({{"photos", data + "/photos"},
+                         {"mattes", data + "/mattes"},
+                         {"camera_path", data + "/cameras.json"},
+                         {"project", temp + "/wizard-file"}},
+                        CameraSource::kCameraFile, true,
+                        {"--photos", data + "/photos", "--mattes", data + "/mattes", "--cameras",
+                         data + "/cameras.json", "--copy"},
+                        fs::path(temp.toStdString()) / "init-file");
+  // A bad choice: the error shows on the last page and nothing is written.
+  NewProjectWizard wizard;
+  wizard.show();
+  QTest::keyClicks(wizard.Field("photos"), data + "/no-such-folder");
+  QTest::keyClicks(wizard.Field("camera_path"), data + "/colmap");
+  QTest::keyClicks(wizard.Field("project"), temp + "/wizard-bad");
+  QTest::mouseClick(wizard.button(QWizard::NextButton), Qt::LeftButton);
+  QTest::mouseClick(wizard.button(QWizard::NextButton), Qt::LeftButton);
+  QTest::mouseClick(wizard.button(QWizard::FinishButton), Qt::LeftButton);
+  QVERIFY(wizard.isVisible());
+  QVERIFY2(wizard.last_error().contains("no-such-folder"), qPrintable(wizard.last_error()));
+  QVERIFY(!fs::exists(temp.toStdString() + "/wizard-bad"));
+}
+
+void AppTest::wizardManualCamerasPageWritesTheLooseCamerasFile() {
+  const QString data = QString::fromStdString(data_.string());
+  const fs::path root = fs::path(temp_.path().toStdString()) / "wizard-manual";
+  NewProjectWizard wizard;
+  wizard.show();
+  QVERIFY(QTest::qWaitForWindowExposed(&wizard));
+  QTest::keyClicks(wizard.Field("photos"), data + "/photos");
+  QTest::keyClicks(wizard.Field("mattes"), data + "/mattes");
+  QTest::keyClicks(wizard.Field("project"), QString::fromStdString(root.string()));
+  wizard.SetCameraSource(CameraSource::kRegisterManual);  // no file: the page makes it
+  QTest::mouseClick(wizard.button(QWizard::NextButton), Qt::LeftButton);
+  QTest::mouseClick(wizard.button(QWizard::NextButton), Qt::LeftButton);
+  QCOMPARE(wizard.currentId(), int(NewProjectWizard::kLoosePage));
+  LooseCamerasPage* page = wizard.loose_page();
+  // Photos in name order: heldout_00, view_00, view_01, view_02.
+  page->UsePhoto(1, 90);
+  page->UsePhoto(2, 200, true);
+  const std::map<std::string, std::vector<QPointF>> clicks = {
+      {"base", {{48.5, 90.5}, {47.5, 91.5}, {50.5, 89.5}}},
+      {"top", {{48.5, 10.5}, {46.5, 12.5}, {49.5, 9.5}}}};
+  for (int row = 0; row < 3; ++row) {
+    page->ShowPhoto(row);
+    for (const auto& [name, points] : clicks) {
+      page->SetCurrentPoint(QString::fromStdString(name));
+      QTest::mouseClick(page->photo_view()->viewport(), Qt::LeftButton, {},
+                        page->photo_view()->mapFromScene(points[row]));
+    }
+  }
+  const QString shots = qEnvironmentVariable("SYLVA_APP_SHOT_DIR");  // for the notes
+  if (!shots.isEmpty()) wizard.grab().save(shots + "/wizard-manual-cameras.png");
+  QTest::mouseClick(wizard.button(QWizard::NextButton), Qt::LeftButton);
+  QCOMPARE(wizard.currentId(), int(NewProjectWizard::kProjectPage));
+  QTest::mouseClick(wizard.button(QWizard::FinishButton), Qt::LeftButton);
+  QVERIFY2(wizard.last_error().isEmpty(), qPrintable(wizard.last_error()));
+  QCOMPARE(wizard.result(), int(QDialog::Accepted));
+
+  // The file the project keeps: three photos, base and top clicked on each.
+  const fs::path loose_file = root / "cameras" / "loose.json";
+  const LooseSetup loose = ReadLooseSetup(loose_file);
+  QCOMPARE(loose.photos.size(), size_t(3));
+  QCOMPARE(loose.photos[1].azimuth_deg, 90.0);
+  QCOMPARE(loose.photos[2].projection, LooseProjection::kOrthographic);
+  for (const auto& [name, points] : clicks) {
+    const int point = loose.FindPoint(name);
+    QVERIFY(point >= 0);
+    QCOMPARE(loose.points[point].observations.size(), size_t(3));
+    for (const LooseObservation& seen : loose.points[point].observations) {
+      const QPointF& clicked = points[seen.photo_idx];
+      // A click lands on a view pixel: within one view pixel of the aim.
+      const double view_pixel = 1.0 / page->photo_view()->transform().m11();
+      QVERIFY((seen.point_in_image - Eigen::Vector2d(clicked.x(), clicked.y())).norm() <=
+              1.5 * view_pixel);
+    }
+  }
+  // `sylva init` with that file makes the same sylva.json.
+  const fs::path cli_root = fs::path(temp_.path().toStdString()) / "init-manual";
+  QProcess init;
+  init.start(SYLVA_BINARY_DIR "/bin/sylva",
+             {"init", QString::fromStdString(cli_root.string()), "--photos", data + "/photos",
+              "--mattes", data + "/mattes", "--register", "manual", "--loose-cameras",
+              QString::fromStdString(loose_file.string())});
+  QVERIFY(init.waitForFinished(60000));
+  QVERIFY2(init.exitCode() == 0, init.readAllStandardError().constData());
+  QCOMPARE(ReadFileToString(root / "sylva.json"), ReadFileToString(cli_root / "sylva.json"));
+  QCOMPARE(ReadFileToString(root / "cameras" / "loose.json"),
+           ReadFileToString(cli_root / "cameras" / "loose.json"));
+}
+
+// Drags the left button along canvas points on the sketch canvas.
+void DrawOnCanvas(SketchCanvas* canvas, const std::vector<QPointF>& points,
+                  Qt::KeyboardModifiers modifiers = {}) {
+  const auto at = [&](const QPointF& p) { return canvas->ToWidget(p).toPoint(); };
+  QTest::mousePress(canvas, Qt::LeftButton, modifiers, at(points.front()));
+  for (size_t i = 1; i < points.size(); ++i) {
+    QMouseEvent move(QEvent::MouseMove, at(points[i]), canvas->mapToGlobal(at(points[i])),
+                     Qt::NoButton, Qt::LeftButton, modifiers);
+    QApplication::sendEvent(canvas, &move);
+  }
+  QTest::mouseRelease(canvas, Qt::LeftButton, modifiers, at(points.back()));
+}
+
+void AppTest::sketchCanvasSavesTheSvgSylvaSketchReads() {
+  MainWindow window(false);
+  window.resize(1200, 800);
+  window.show();
+  QVERIFY(QTest::qWaitForWindowExposed(&window));
+  QVERIFY(window.ShowPanel("sketch"));
+  SketchCanvas* canvas = window.sketch_canvas();
+  QTest::qWait(50);
+  // A trunk and two branches, a closed crown outline, an open crown stroke,
+  // the base.
+  canvas->SetRole(StrokeRole::kBranch);
+  DrawOnCanvas(canvas, {{200, 590}, {200, 450}, {202, 300}});
+  DrawOnCanvas(canvas, {{201, 400}, {150, 330}, {120, 280}});
+  DrawOnCanvas(canvas, {{201, 380}, {260, 320}, {290, 260}});
+  canvas->SetRole(StrokeRole::kCrown);
+  std::vector<QPointF> outline;
+  for (int k = 0; k <= 24; ++k) {
+    const double a = 2 * M_PI * k / 24;
+    outline.emplace_back(200 + 150 * std::cos(a), 250 + 130 * std::sin(a));
+  }
+  DrawOnCanvas(canvas, outline);
+  DrawOnCanvas(canvas, {{100, 150}, {140, 110}, {190, 100}});
+  DrawOnCanvas(canvas, {{200, 590}}, Qt::ShiftModifier);
+  const SketchDrawing& drawn = canvas->drawing();
+  QCOMPARE(drawn.strokes.size(), size_t(5));
+  QVERIFY(drawn.strokes[3].closed && !drawn.strokes[4].closed);
+  QVERIFY(drawn.root && (*drawn.root - Eigen::Vector2d(200, 590)).norm() < 2.0);
+  QVERIFY(std::abs(drawn.strokes[0].points.front().y() - 590) < 2.0);
+  // Saved and read back by sylva sketch's reader: the same strokes.
+  const fs::path svg = fs::path(temp_.path().toStdString()) / "canvas.svg";
+  canvas->SaveSvg(svg);
+  const SketchDrawing read = ReadSketch(svg);
+  QCOMPARE(read.width, drawn.width);
+  QCOMPARE(read.height, drawn.height);
+  QCOMPARE(read.CountRole(StrokeRole::kBranch), 3);
+  QCOMPARE(read.CountRole(StrokeRole::kCrown), 2);
+  QVERIFY(read.root && (*read.root - *drawn.root).norm() < 1e-6);
+  for (const SketchStroke& stroke : read.strokes) {
+    // Its twin on the canvas: same role, closure and points.
+    const auto twin = std::find_if(drawn.strokes.begin(), drawn.strokes.end(), [&](auto& s) {
+      return s.role == stroke.role && s.points.size() == stroke.points.size() &&
+             (s.points[0] - stroke.points[0]).norm() < 1e-6;
+    });
+    QVERIFY(twin != drawn.strokes.end());
+    QCOMPARE(twin->closed, stroke.closed);
+    for (size_t k = 0; k < stroke.points.size(); ++k) {
+      QVERIFY((twin->points[k] - stroke.points[k]).norm() < 1e-6);
+    }
+  }
+  // Undo the last stroke, open the saved drawing back.
+  canvas->UndoLastStroke();
+  QCOMPARE(canvas->drawing().strokes.size(), size_t(4));
+  canvas->OpenSvg(svg);
+  QCOMPARE(canvas->drawing().strokes.size(), size_t(5));
+
+  // Make tree: sylva sketch's work in the worker; the project then opens.
+  const fs::path out = fs::path(temp_.path().toStdString()) / "sketch-tree";
+  QSignalSpy finished(window.run_controller(), &RunController::Finished);
+  QElapsedTimer timer;
+  timer.start();
+  QVERIFY(window.MakeTreeFromSketch(out));
+  QVERIFY(window.run_controller()->IsRunning());
+  QVERIFY(finished.wait(120000));
+  QVERIFY2(finished.last().at(0).toBool(), qPrintable(finished.last().at(2).toString()));
+  qInfo("tree from the canvas: %.2f s", timer.elapsed() / 1000.0);
+  QVERIFY(fs::is_regular_file(out / "drawing.svg"));
+  QVERIFY(fs::is_regular_file(out / "project" / "out" / "tree.obj"));
+  QVERIFY(window.project() != nullptr);
+  QCOMPARE(window.project()->root(), out / "project");
+  QVERIFY(window.view_3d()->HasScene());
+  // A second time into the same, now full, folder is refused.
+  QVERIFY(!window.MakeTreeFromSketch(out));
+  QVERIFY(window.last_error().contains("not empty"));
 }
 
 void AppTest::optionsPanelRoundTripsEveryOption() {

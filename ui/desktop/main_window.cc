@@ -29,10 +29,12 @@
 #include "core/util/check.h"
 #include "core/util/file_util.h"
 #include "ui/desktop/edit_document.h"
+#include "ui/desktop/new_project_wizard.h"
 #include "ui/desktop/options_panel.h"
 #include "ui/desktop/overlays.h"
 #include "ui/desktop/photo_view.h"
 #include "ui/desktop/run_controller.h"
+#include "ui/desktop/sketch_canvas.h"
 #include "ui/desktop/view_3d.h"
 #include "ui/pipeline/pipeline.h"
 #include "ui/pipeline/project.h"
@@ -66,6 +68,9 @@ const std::vector<ToolInfo>& Tools() {
        "Matting hint: unknown = unpainted (the automatic trimap decides)"},
       {Tool::kStrokes, "Branch", "S",
        "Draw a branch stroke (edits/<photo>.strokes.json); Shift+click marks the tree base"},
+      {Tool::kPolyline, "Polyline", "P",
+       "Click a branch stroke point by point; double-click or Enter finishes, Backspace "
+       "removes the last point, Escape drops it"},
       {Tool::kCrown, "Crown", "C", "Draw a crown outline (edits/<photo>.crown.svg)"},
       {Tool::kEraser, "Eraser", "E", "Erase painted density and hints; removes strokes it touches"},
   };
@@ -97,7 +102,10 @@ MainWindow::MainWindow(bool interactive, QWidget* parent)
   splitter->setStretchFactor(0, 1);
   splitter->setStretchFactor(1, 1);
   splitter->setSizes({1000, 1000});  // halves of whatever width it gets
-  setCentralWidget(splitter);
+  pages_ = new QTabWidget;
+  pages_->addTab(splitter, "Photos");
+  pages_->addTab(BuildSketchPage(), "Sketch");
+  setCentralWidget(pages_);
 
   photo_list_ = new QListWidget;
   auto* photos_dock = new QDockWidget("Photos", this);
@@ -154,6 +162,7 @@ MainWindow::~MainWindow() = default;
 
 void MainWindow::BuildMenus() {
   QMenu* file = menuBar()->addMenu("&File");
+  file->addAction("&New project…", QKeySequence::New, this, &MainWindow::NewProject);
   file->addAction("&Open project…", QKeySequence::Open, [this] {
     const QString dir = QFileDialog::getExistingDirectory(this, "Open a sylva project");
     if (!dir.isEmpty()) OpenProject(dir.toStdString());
@@ -307,6 +316,79 @@ QWidget* MainWindow::BuildRunPanel() {
   return panel;
 }
 
+QWidget* MainWindow::BuildSketchPage() {
+  auto* page = new QWidget;
+  auto* layout = new QVBoxLayout(page);
+  auto* bar = new QToolBar;
+  sketch_canvas_ = new SketchCanvas;
+  auto* roles = new QActionGroup(page);
+  for (const auto& [role, name] :
+       {std::pair{StrokeRole::kBranch, "Branch"}, std::pair{StrokeRole::kCrown, "Crown"}}) {
+    QAction* action = bar->addAction(name, [this, role = role] { sketch_canvas_->SetRole(role); });
+    action->setCheckable(true);
+    action->setChecked(role == StrokeRole::kBranch);
+    roles->addAction(action);
+  }
+  bar->addSeparator();
+  bar->addAction("Undo stroke", [this] { sketch_canvas_->UndoLastStroke(); });
+  bar->addAction("Clear", [this] { sketch_canvas_->Clear(); });
+  bar->addAction("Open SVG…", [this] {
+    const QString path = QFileDialog::getOpenFileName(this, "Open a drawing", {}, "SVG (*.svg)");
+    if (path.isEmpty()) return;
+    try {
+      sketch_canvas_->OpenSvg(path.toStdString());
+    } catch (const std::exception& error) {
+      ShowError(QString::fromStdString(error.what()));
+    }
+  });
+  bar->addAction("Save SVG…", [this] {
+    const QString path = QFileDialog::getSaveFileName(this, "Save the drawing", {}, "SVG (*.svg)");
+    if (path.isEmpty()) return;
+    try {
+      sketch_canvas_->SaveSvg(path.toStdString());
+    } catch (const std::exception& error) {
+      ShowError(QString::fromStdString(error.what()));
+    }
+  });
+  bar->addSeparator();
+  bar->addAction("Make tree…", [this] {
+    const QString dir = QFileDialog::getExistingDirectory(this, "An empty folder for the tree");
+    if (!dir.isEmpty()) MakeTreeFromSketch(dir.toStdString());
+  });
+  layout->addWidget(bar);
+  layout->addWidget(new QLabel(
+      "Draw the tree: branch strokes from the base up, crown outlines (a crown stroke ending "
+      "near its start closes); Shift+click marks the base. Make tree runs sylva sketch."));
+  layout->addWidget(sketch_canvas_, 1);
+  return page;
+}
+
+bool MainWindow::MakeTreeFromSketch(const fs::path& out_dir) {
+  if (run_controller_->IsRunning()) {
+    ShowError("A run is in progress; cancel it before making a tree from the drawing.");
+    return false;
+  }
+  SketchSetup setup;
+  setup.root = out_dir / "project";
+  setup.drawings = {out_dir / "drawing.svg"};
+  try {
+    std::error_code ec;
+    SYLVA_CHECK_INPUT(!fs::exists(out_dir, ec) || fs::is_empty(out_dir, ec), out_dir.string())
+        << "already exists and is not empty";
+    fs::create_directories(out_dir);
+    sketch_canvas_->SaveSvg(setup.drawings[0]);
+  } catch (const std::exception& error) {
+    ShowError(QString::fromStdString(error.what()));
+    return false;
+  }
+  BeginRun();
+  pending_sketch_root_ = setup.root;
+  statusBar()->showMessage("Making the tree of the drawing in " +
+                           QString::fromStdString(out_dir.string()));
+  run_controller_->StartSketch(setup);
+  return true;
+}
+
 void MainWindow::ShowError(const QString& message) {
   last_error_ = message;
   statusBar()->showMessage(message);
@@ -315,6 +397,11 @@ void MainWindow::ShowError(const QString& message) {
   } else {
     std::cerr << "sylva-app: " << message.toStdString() << "\n";
   }
+}
+
+void MainWindow::NewProject() {
+  NewProjectWizard wizard(this);
+  if (wizard.exec() == QDialog::Accepted) OpenProject(wizard.created_root());
 }
 
 bool MainWindow::OpenProject(const std::filesystem::path& root) {
@@ -449,10 +536,12 @@ void MainWindow::RefreshStageStates() {
 }
 
 bool MainWindow::ShowPanel(const QString& name) {
-  for (int i = 0; i < panels_->count(); ++i) {
-    if (panels_->tabText(i).compare(name, Qt::CaseInsensitive) == 0) {
-      panels_->setCurrentIndex(i);
-      return true;
+  for (QTabWidget* tabs : {panels_, pages_}) {
+    for (int i = 0; i < tabs->count(); ++i) {
+      if (tabs->tabText(i).compare(name, Qt::CaseInsensitive) == 0) {
+        tabs->setCurrentIndex(i);
+        return true;
+      }
     }
   }
   return false;
@@ -460,22 +549,23 @@ bool MainWindow::ShowPanel(const QString& name) {
 
 void MainWindow::SetTool(Tool tool) { photo_view_->SetTool(tool); }
 
-void MainWindow::RunAll() {
-  if (!project_ || run_controller_->IsRunning()) return;
+void MainWindow::BeginRun() {
   summary_text_->clear();
   for (auto& [stage, row] : stage_rows_) row.bar->setValue(0), row.bar->setFormat("");
   run_button_->setEnabled(false);
   cancel_button_->setEnabled(true);
   stages_started_ = 0;
+}
+
+void MainWindow::RunAll() {
+  if (!project_ || run_controller_->IsRunning()) return;
+  BeginRun();
   run_controller_->Start(project_->root(), options_panel_->options(), AllStages().back().stage);
 }
 
 void MainWindow::RunOneStage(Stage stage) {
   if (!project_ || run_controller_->IsRunning()) return;
-  summary_text_->clear();
-  run_button_->setEnabled(false);
-  cancel_button_->setEnabled(true);
-  stages_started_ = 0;
+  BeginRun();
   run_controller_->Start(project_->root(), options_panel_->options(), stage, stage);
 }
 
@@ -504,6 +594,12 @@ void MainWindow::OnRunFinished(bool ok, bool cancelled, const QString& message) 
   // A cancelled or failed stage wrote nothing; stages before it in the run did.
   if (ok || stages_started_ > 1) ReloadOutputs();
   RefreshStageStates();
+  const fs::path sketch_root = pending_sketch_root_;
+  pending_sketch_root_.clear();
+  if (!sketch_root.empty() && fs::is_regular_file(sketch_root / "sylva.json")) {
+    OpenProject(sketch_root);  // the drawing's project, with what the run made
+    pages_->setCurrentIndex(0);
+  }
 }
 
 bool MainWindow::SaveScreenshot(const std::filesystem::path& path) {

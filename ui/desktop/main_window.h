@@ -34,6 +34,7 @@ class OptionsPanel;
 class PhotoView;
 class Project;
 class RunController;
+class SketchCanvas;
 class View3d;
 enum class Tool;
 
@@ -45,6 +46,8 @@ class MainWindow : public QMainWindow {
   explicit MainWindow(bool interactive = true, QWidget* parent = nullptr);
   ~MainWindow() override;
 
+  // Runs the new-project wizard and opens the project it makes.
+  void NewProject();
   // Opens a project folder; false (with the error shown) if it is invalid.
   bool OpenProject(const std::filesystem::path& root);
   void SelectPhoto(int index);
@@ -55,8 +58,15 @@ class MainWindow : public QMainWindow {
   void RunOneStage(Stage stage);
   void CancelRun();
 
-  // Brings the panel "layers", "run" or "options" to the front; false if
-  // there is no such panel.
+  // `sylva sketch`'s work on the sketch canvas' drawing, in the worker:
+  // saves it as OUT_DIR/drawing.svg, creates the sketch project
+  // OUT_DIR/project and runs it; the project opens when the run ends.
+  // False (with the error shown) if OUT_DIR is not new or empty, the
+  // drawing is invalid, or a run is in progress.
+  bool MakeTreeFromSketch(const std::filesystem::path& out_dir);
+
+  // Brings the panel "layers", "run", "options" or the page "photos",
+  // "sketch" to the front; false if there is no such panel.
   bool ShowPanel(const QString& name);
 
   // Renders the whole window into a PNG (atomically); false on failure.
@@ -65,6 +75,7 @@ class MainWindow : public QMainWindow {
   PhotoView* photo_view() const { return photo_view_; }
   View3d* view_3d() const { return view_3d_; }
   OptionsPanel* options_panel() const { return options_panel_; }
+  SketchCanvas* sketch_canvas() const { return sketch_canvas_; }
   RunController* run_controller() const { return run_controller_; }
   EditDocument* document() const { return document_.get(); }
   Project* project() const { return project_.get(); }
@@ -76,6 +87,9 @@ class MainWindow : public QMainWindow {
   void BuildToolBar();
   QWidget* BuildLayersPanel();
   QWidget* BuildRunPanel();
+  QWidget* BuildSketchPage();
+  // Resets the Run panel for a run that starts now.
+  void BeginRun();
   void ShowError(const QString& message);
   void ReloadOutputs();
   void ShowPhotoOverlays();
@@ -91,6 +105,9 @@ class MainWindow : public QMainWindow {
   PhotoView* photo_view_ = nullptr;
   View3d* view_3d_ = nullptr;
   OptionsPanel* options_panel_ = nullptr;
+  SketchCanvas* sketch_canvas_ = nullptr;
+  QTabWidget* pages_ = nullptr;                // photos, sketch
+  std::filesystem::path pending_sketch_root_;  // opened when its run ends
   RunController* run_controller_ = nullptr;
   QListWidget* photo_list_ = nullptr;
   QLabel* photo_label_ = nullptr;

@@ -4,6 +4,7 @@
 #include <QGraphicsPathItem>
 #include <QGraphicsPixmapItem>
 #include <QGraphicsScene>
+#include <QKeyEvent>
 #include <QMouseEvent>
 #include <QPen>
 #include <QScrollBar>
@@ -69,6 +70,7 @@ PhotoView::PhotoView(QWidget* parent) : QGraphicsView(parent) {
   setBackgroundBrush(QColor(48, 48, 52));
   setTransformationAnchor(QGraphicsView::AnchorUnderMouse);
   setMouseTracking(true);
+  setFocusPolicy(Qt::StrongFocus);  // Enter, Backspace and Escape for polylines
   photo_item_ = scene()->addPixmap(QPixmap());
   for (auto& item : overlay_items_) {
     item = scene()->addPixmap(QPixmap());
@@ -96,9 +98,9 @@ PhotoView::~PhotoView() = default;
 
 void PhotoView::SetPhoto(EditDocument* document, const std::string& photo_name,
                          const QImage& photo) {
+  DropStroke();
   document_ = document;
   photo_name_ = photo_name;
-  stroking_ = false;
   photo_item_->setPixmap(QPixmap::fromImage(photo));
   scene()->setSceneRect(QRectF(0, 0, photo.width(), photo.height()));
   for (auto* item : overlay_items_) item->setPixmap(QPixmap());
@@ -135,6 +137,7 @@ void PhotoView::SetEditsVisible(bool visible) {
 }
 
 void PhotoView::SetTool(Tool tool) {
+  if (tool != tool_) DropStroke();
   tool_ = tool;
   cursor_item_->setVisible(false);
   setCursor(tool == Tool::kNavigate ? Qt::OpenHandCursor : Qt::CrossCursor);
@@ -180,7 +183,8 @@ void PhotoView::UpdateShapes() {
 }
 
 bool PhotoView::IsBrush() const {
-  return tool_ != Tool::kNavigate && tool_ != Tool::kStrokes && tool_ != Tool::kCrown;
+  return tool_ != Tool::kNavigate && tool_ != Tool::kStrokes && tool_ != Tool::kPolyline &&
+         tool_ != Tool::kCrown;
 }
 
 void PhotoView::UpdateCursor(const QPointF& point) {
@@ -249,6 +253,7 @@ void PhotoView::EndStroke() {
       text = "Erase";
       break;
     case Tool::kStrokes:
+    case Tool::kPolyline:
     case Tool::kCrown: {
       std::vector<QPointF> points = live_points_;
       live_points_.clear();
@@ -262,7 +267,7 @@ void PhotoView::EndStroke() {
         for (const QPointF& p : points) stroke.points.emplace_back(p.x(), p.y());
         working_.strokes.push_back(stroke);
         layers = kStrokesLayer;
-        text = "Draw branch stroke";
+        text = tool_ == Tool::kPolyline ? "Draw branch polyline" : "Draw branch stroke";
       }
       break;
     }
@@ -288,15 +293,14 @@ void PhotoView::mousePressEvent(QMouseEvent* event) {
     QGraphicsView::mousePressEvent(event);
     return;
   }
-  if (tool_ == Tool::kStrokes && (event->modifiers() & Qt::ShiftModifier)) {
-    const PhotoEdits before = working_;
-    working_.root = point;
-    UpdateShapes();
-    document_->Commit(photo_name_, before, working_, kStrokesLayer, "Mark tree base");
-    event->accept();
-    return;
+  const bool strokes = tool_ == Tool::kStrokes || tool_ == Tool::kPolyline;
+  if (strokes && (event->modifiers() & Qt::ShiftModifier)) {
+    MarkRoot(point);
+  } else if (tool_ == Tool::kPolyline) {
+    AddPolylinePoint(point);
+  } else {
+    BeginStroke(point);
   }
-  BeginStroke(point);
   event->accept();
 }
 
@@ -310,7 +314,13 @@ void PhotoView::mouseMoveEvent(QMouseEvent* event) {
     return;
   }
   UpdateCursor(point);
-  if (stroking_) ContinueStroke(point);
+  if (stroking_ && tool_ == Tool::kPolyline) {  // the next segment follows the cursor
+    std::vector<QPointF> points = live_points_;
+    points.push_back(point);
+    live_item_->setPath(PolylinePath(points, false));
+  } else if (stroking_) {
+    ContinueStroke(point);
+  }
 }
 
 void PhotoView::mouseReleaseEvent(QMouseEvent* event) {
@@ -319,10 +329,78 @@ void PhotoView::mouseReleaseEvent(QMouseEvent* event) {
     viewport()->setCursor(tool_ == Tool::kNavigate ? Qt::OpenHandCursor : Qt::CrossCursor);
     return;
   }
-  if (stroking_ && event->button() == Qt::LeftButton) {
+  if (stroking_ && event->button() == Qt::LeftButton && tool_ != Tool::kPolyline) {
     ContinueStroke(mapToScene(event->position().toPoint()));
     EndStroke();
   }
+}
+
+void PhotoView::mouseDoubleClickEvent(QMouseEvent* event) {
+  // A double click's first click added its point already.
+  if (tool_ == Tool::kPolyline && event->button() == Qt::LeftButton && stroking_) {
+    AddPolylinePoint(mapToScene(event->position().toPoint()));
+    FinishPolyline();
+    event->accept();
+    return;
+  }
+  QGraphicsView::mouseDoubleClickEvent(event);
+}
+
+void PhotoView::keyPressEvent(QKeyEvent* event) {
+  if (tool_ != Tool::kPolyline || !stroking_) {
+    QGraphicsView::keyPressEvent(event);
+    return;
+  }
+  switch (event->key()) {
+    case Qt::Key_Return:
+    case Qt::Key_Enter:
+      FinishPolyline();
+      break;
+    case Qt::Key_Escape:
+      DropStroke();
+      break;
+    case Qt::Key_Backspace:
+      live_points_.pop_back();
+      if (live_points_.empty()) DropStroke();
+      live_item_->setPath(PolylinePath(live_points_, false));
+      break;
+    default:
+      QGraphicsView::keyPressEvent(event);
+      return;
+  }
+  event->accept();
+}
+
+void PhotoView::AddPolylinePoint(const QPointF& point) {
+  if (!stroking_) {
+    stroking_ = true;
+    before_ = working_;
+    live_points_ = {point};
+  } else {
+    const QPointF d = point - live_points_.back();
+    if (std::hypot(d.x(), d.y()) >= kMinPointSpacing) live_points_.push_back(point);
+  }
+  live_item_->setPath(PolylinePath(live_points_, false));
+}
+
+void PhotoView::FinishPolyline() {
+  if (stroking_) EndStroke();  // fewer than 2 points: no stroke
+}
+
+void PhotoView::DropStroke() {
+  if (!stroking_) return;
+  stroking_ = false;
+  live_points_.clear();
+  live_item_->setPath(QPainterPath());
+  mask_.reset();
+  RefreshEdits();  // the document's edits, without the dropped stroke
+}
+
+void PhotoView::MarkRoot(const QPointF& point) {
+  const PhotoEdits before = working_;
+  working_.root = point;
+  UpdateShapes();
+  document_->Commit(photo_name_, before, working_, kStrokesLayer, "Mark tree base");
 }
 
 void PhotoView::wheelEvent(QWheelEvent* event) {

@@ -4,7 +4,10 @@
 //
 // Mouse: with a brush, the left button paints one stroke per press; the
 // middle button pans and the wheel zooms (any tool); with the navigate tool
-// the left button pans too. Strokes tool: Shift+click marks the tree base.
+// the left button pans too. Strokes tools: Shift+click marks the tree base.
+// Polyline tool: each click adds a point; a double click or Enter finishes
+// the stroke (one undo step, as a freehand stroke), Backspace removes the
+// last point, Escape drops the stroke.
 #ifndef SYLVA_UI_DESKTOP_PHOTO_VIEW_H_
 #define SYLVA_UI_DESKTOP_PHOTO_VIEW_H_
 
@@ -35,6 +38,7 @@ enum class Tool {
   kTrimapBackground,
   kTrimapUnknown,
   kStrokes,
+  kPolyline,  // a branch stroke clicked point by point
   kCrown,
   kEraser,
 };
@@ -74,6 +78,8 @@ class PhotoView : public QGraphicsView {
   void mousePressEvent(QMouseEvent* event) override;
   void mouseMoveEvent(QMouseEvent* event) override;
   void mouseReleaseEvent(QMouseEvent* event) override;
+  void mouseDoubleClickEvent(QMouseEvent* event) override;
+  void keyPressEvent(QKeyEvent* event) override;
   void wheelEvent(QWheelEvent* event) override;
   void resizeEvent(QResizeEvent* event) override;
 
@@ -82,6 +88,12 @@ class PhotoView : public QGraphicsView {
   void BeginStroke(const QPointF& point);
   void ContinueStroke(const QPointF& point);
   void EndStroke();
+  // The polyline tool: adds a clicked point (starting a stroke), finishes
+  // or drops the stroke in progress.
+  void AddPolylinePoint(const QPointF& point);
+  void FinishPolyline();
+  void DropStroke();
+  void MarkRoot(const QPointF& point);
   void UpdateLayerPictures(const QRect& rect);
   void UpdateShapes();
   void UpdateCursor(const QPointF& point);

@@ -45,17 +45,34 @@ void RunController::Cancel() {
 
 void RunController::Start(const std::filesystem::path& root, const PipelineOptions& options,
                           Stage until, std::optional<Stage> single) {
+  Launch([root, options] { return std::make_pair(Project::Open(root), options); }, until, single);
+}
+
+void RunController::StartSketch(const SketchSetup& setup) {
+  Launch(
+      [setup] {
+        PipelineOptions options;
+        OptionRegistry registry;
+        RegisterPipelineOptions(&options, &registry);
+        SetSketchDefaults(&registry);
+        options.Check();
+        return std::make_pair(CreateSketchProject(setup, options.sketch, registry), options);
+      },
+      AllStages().back().stage, std::nullopt);
+}
+
+void RunController::Launch(OpenJob open, Stage until, std::optional<Stage> single) {
   if (running_) return;
   Join();  // the previous worker has already sent Finished
   running_ = true;
   reporter_ = std::make_unique<Reporter>(this);
   Reporter* reporter = reporter_.get();
-  worker_ = std::thread([this, reporter, root, options, until, single] {
+  worker_ = std::thread([this, reporter, open, until, single] {
     RunSummary summary;
     bool ok = false, cancelled = false;
     std::string message;
     try {
-      const Project project = Project::Open(root);
+      const auto [project, options] = open();
       Pipeline pipeline(project, options, reporter);
       pipeline.SetStageStartCallback([this, reporter](Stage stage) {
         reporter->SetStage(static_cast<int>(stage));

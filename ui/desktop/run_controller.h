@@ -11,11 +11,13 @@
 #include <QObject>
 #include <QString>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <thread>
 
 #include "ui/pipeline/pipeline.h"
+#include "ui/pipeline/sketch_project.h"
 
 namespace sylva {
 
@@ -34,6 +36,11 @@ class RunController : public QObject {
   // up to `until` that is out of date, or `single` alone. No-op if running.
   void Start(const std::filesystem::path& root, const PipelineOptions& options, Stage until,
              std::optional<Stage> single = std::nullopt);
+  // `sylva sketch`'s work in the worker: creates the sketch project
+  // `setup` (CreateSketchProject with the sketch defaults,
+  // SetSketchDefaults) and runs every stage with its saved options. The
+  // project's root is `setup.root`. No-op if running.
+  void StartSketch(const SketchSetup& setup);
   // Asks the running stage to stop (returns at once).
   void Cancel();
 
@@ -52,6 +59,9 @@ class RunController : public QObject {
 
  private:
   class Reporter;
+  // The project to run and its options, made in the worker.
+  using OpenJob = std::function<std::pair<Project, PipelineOptions>()>;
+  void Launch(OpenJob open, Stage until, std::optional<Stage> single);
   void Join();
 
   std::unique_ptr<Reporter> reporter_;

@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <sstream>
 
 #include "core/io/camera_file.h"
 #include "core/io/colmap_model.h"
@@ -251,6 +252,21 @@ std::string CopyCameraSource(const ProjectSetup& setup, const std::string& camer
 }
 
 }  // namespace
+
+std::vector<std::string> ParseViewNames(const std::string& value) {
+  std::vector<std::string> names;
+  std::string text = value;
+  if (!value.empty() && value[0] == '@') text = ReadFileToString(value.substr(1));
+  std::string name;
+  std::istringstream stream(text);
+  const char separator = (!value.empty() && value[0] == '@') ? '\n' : ',';
+  while (std::getline(stream, name, separator)) {
+    const size_t begin = name.find_first_not_of(" \t\r");
+    if (begin == std::string::npos) continue;
+    names.push_back(name.substr(begin, name.find_last_not_of(" \t\r") - begin + 1));
+  }
+  return names;
+}
 
 bool Project::IsHeldOut(const std::string& view_name) const {
   return std::find(held_out_.begin(), held_out_.end(), view_name) != held_out_.end();

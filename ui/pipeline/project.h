@@ -80,6 +80,11 @@ struct ProjectSetup {
   std::string units;                     // empty: from the camera file, else "arbitrary"
 };
 
+// View names as `sylva init --held-out` and the new-project wizard take
+// them: comma-separated ("a.png, b.png"), or "@FILE" for a file of one name
+// per line; surrounding blanks and empty names are dropped.
+std::vector<std::string> ParseViewNames(const std::string& value);
+
 class Project {
  public:
   // Validates the inputs (every photo of the model present, of the camera's
