@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <numeric>
 #include <sstream>
 #include <unordered_map>
@@ -129,17 +130,17 @@ struct TriangleGrid {
   }
 
   // The triangles j > i (positions in `selected`) that share a cell with
-  // triangle i, ascending.
-  void Neighbours(int i, std::vector<int>* candidates) const {
+  // triangle i, ascending; with `all`, every j != i.
+  void Neighbours(int i, std::vector<int>* candidates, bool all = false) const {
     candidates->clear();
     for (int64_t x = ranges[i][0]; x <= ranges[i][3]; ++x)
       for (int64_t y = ranges[i][1]; y <= ranges[i][4]; ++y)
         for (int64_t z = ranges[i][2]; z <= ranges[i][5]; ++z) {
           // Entries of the cell past (cell, i): the cell's triangles j > i.
-          auto it =
-              std::upper_bound(entries.begin(), entries.end(), std::make_pair(CellKey(x, y, z), i));
+          auto it = std::upper_bound(entries.begin(), entries.end(),
+                                     std::make_pair(CellKey(x, y, z), all ? -1 : i));
           for (; it != entries.end() && it->first == CellKey(x, y, z); ++it) {
-            candidates->push_back(it->second);
+            if (it->second != i) candidates->push_back(it->second);
           }
         }
     std::sort(candidates->begin(), candidates->end());
@@ -153,6 +154,21 @@ struct TriangleGrid {
 // (TriangleGrid); the triangles are tested in parallel when every pair is
 // wanted, each one's pairs kept in order, so the result does not depend on
 // scheduling.
+bool ShareVertex(const Eigen::Vector3i& a, const Eigen::Vector3i& b) {
+  bool shared = false;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) shared = shared || a[i] == b[j];
+  return shared;
+}
+
+// Does triangle i of `grid` cross triangle j (positions in `selected`)?
+bool GridPairCrosses(const TriangleMesh& mesh, const std::vector<int>& selected,
+                     const TriangleGrid& grid, int i, int j) {
+  return grid.boxes[i].intersects(grid.boxes[j]) &&
+         !ShareVertex(mesh.triangles[selected[i]], mesh.triangles[selected[j]]) &&
+         TrianglesCross(grid.tris[i], grid.planes[i], grid.tris[j], grid.planes[j], grid.scale);
+}
+
 int64_t SelfIntersections(const TriangleMesh& mesh, const std::vector<int>& selected,
                           int64_t max_pairs, std::vector<std::pair<int, int>>* pairs) {
   if (selected.size() < 2) return 0;
@@ -160,18 +176,9 @@ int64_t SelfIntersections(const TriangleMesh& mesh, const std::vector<int>& sele
   const TriangleGrid grid(mesh, selected);
   // The pairs (i, j > i) of triangle i, j ascending.
   const auto pairs_of = [&](int i, std::vector<int>* candidates, std::vector<int>* found) {
-    const Eigen::Vector3i& fi = mesh.triangles[selected[i]];
     grid.Neighbours(i, candidates);
     for (int j : *candidates) {
-      if (!grid.boxes[i].intersects(grid.boxes[j])) continue;
-      const Eigen::Vector3i& fj = mesh.triangles[selected[j]];
-      bool shared = false;
-      for (int a = 0; a < 3; ++a)
-        for (int b = 0; b < 3; ++b) shared = shared || fi[a] == fj[b];
-      if (shared) continue;
-      if (TrianglesCross(grid.tris[i], grid.planes[i], grid.tris[j], grid.planes[j], grid.scale)) {
-        found->push_back(j);
-      }
+      if (GridPairCrosses(mesh, selected, grid, i, j)) found->push_back(j);
     }
   };
   int64_t count = 0;
@@ -216,7 +223,111 @@ std::vector<int> SelectTriangles(const TriangleMesh& mesh, const std::string& ma
   return selected;
 }
 
+// Every triangle of `mesh`, in order.
+std::vector<int> AllTriangles(const TriangleMesh& mesh) {
+  std::vector<int> all(mesh.NumTriangles());
+  std::iota(all.begin(), all.end(), 0);
+  return all;
+}
+
+// The crossing pairs (a < b) of `mesh` with a triangle of `fresh`
+// (ascending), tested in parallel, sorted.
+std::vector<std::pair<int, int>> PairsWithFresh(const TriangleMesh& mesh,
+                                                const std::vector<int>& fresh) {
+  const std::vector<int> all = AllTriangles(mesh);
+  const TriangleGrid grid(mesh, all);
+  std::vector<char> is_fresh(all.size(), 0);
+  for (int t : fresh) is_fresh[t] = 1;
+  std::vector<std::vector<int>> found(fresh.size());
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, fresh.size(), 64),
+                    [&](const tbb::blocked_range<size_t>& range) {
+                      std::vector<int> candidates;
+                      for (size_t k = range.begin(); k < range.end(); ++k) {
+                        const int i = fresh[k];
+                        grid.Neighbours(i, &candidates, /*all=*/true);
+                        for (int j : candidates) {
+                          if (is_fresh[j] && j < i) continue;  // tested from j
+                          if (GridPairCrosses(mesh, all, grid, i, j)) found[k].push_back(j);
+                        }
+                      }
+                    });
+  std::vector<std::pair<int, int>> pairs;
+  for (size_t k = 0; k < fresh.size(); ++k) {
+    for (int j : found[k]) pairs.emplace_back(std::min(fresh[k], j), std::max(fresh[k], j));
+  }
+  return pairs;
+}
+
+// The extent of the mesh's triangles (TriangleGrid::scale over all of them).
+double TrianglesScale(const TriangleMesh& mesh) {
+  Eigen::AlignedBox3d box;
+  for (const Eigen::Vector3i& f : mesh.triangles) {
+    for (int k = 0; k < 3; ++k) box.extend(mesh.vertices[f[k]].cast<double>());
+  }
+  return box.isEmpty() ? 0.0 : std::max(box.sizes().maxCoeff(), 1e-30);
+}
+
 }  // namespace
+
+size_t CrossingTracker::KeyHash::operator()(const Key& key) const {
+  uint64_t hash = 0xcbf29ce484222325ULL;
+  for (float value : key) {
+    uint32_t bits;
+    std::memcpy(&bits, &value, sizeof(bits));
+    hash = (hash ^ bits) * 0x100000001b3ULL;
+  }
+  return static_cast<size_t>(hash);
+}
+
+std::vector<std::pair<int, int>> CrossingTracker::Find(const TriangleMesh& mesh) {
+  mesh.Check();
+  const int n = mesh.NumTriangles();
+  std::unordered_map<Key, int, KeyHash> index_of(2 * static_cast<size_t>(n));
+  std::vector<Key> keys(n);
+  for (int t = 0; t < n; ++t) {
+    for (int k = 0; k < 3; ++k) {
+      for (int a = 0; a < 3; ++a) keys[t][3 * k + a] = mesh.vertices[mesh.triangles[t][k]][a];
+    }
+    const auto [it, inserted] = index_of.emplace(keys[t], t);
+    if (!inserted) it->second = -1;  // a repeated triangle counts as new
+  }
+  // Each triangle's index in the previous mesh (-1: new).
+  std::vector<int> previous(n, -1);
+  int64_t kept = 0;
+  for (int t = 0; t < n; ++t) {
+    const auto it = index_of_.find(keys[t]);
+    if (it == index_of_.end() || it->second < 0 || index_of.at(keys[t]) != t) continue;
+    previous[t] = it->second;
+    ++kept;
+  }
+  const double scale = TrianglesScale(mesh);
+  std::vector<std::pair<int, int>> pairs;
+  if (2 * kept < n || scale != scale_) {  // mostly new, or another extent (tolerances)
+    SelfIntersections(mesh, AllTriangles(mesh), -1, &pairs);
+    last_tested_ = n;
+  } else {
+    std::unordered_map<int, int> now_of;  // previous index -> index now
+    std::vector<int> fresh;
+    for (int t = 0; t < n; ++t) {
+      if (previous[t] >= 0) now_of[previous[t]] = t;
+      if (previous[t] < 0) fresh.push_back(t);
+    }
+    for (const auto& [a, b] : pairs_) {
+      const auto na = now_of.find(a), nb = now_of.find(b);
+      if (na == now_of.end() || nb == now_of.end()) continue;
+      if (ShareVertex(mesh.triangles[na->second], mesh.triangles[nb->second])) continue;
+      pairs.emplace_back(std::min(na->second, nb->second), std::max(na->second, nb->second));
+    }
+    const std::vector<std::pair<int, int>> fresh_pairs = PairsWithFresh(mesh, fresh);
+    pairs.insert(pairs.end(), fresh_pairs.begin(), fresh_pairs.end());
+    std::sort(pairs.begin(), pairs.end());
+    last_tested_ = static_cast<int64_t>(fresh.size());
+  }
+  index_of_ = std::move(index_of);
+  pairs_ = pairs;
+  scale_ = scale;
+  return pairs;
+}
 
 std::vector<std::pair<int, int>> FindSelfIntersections(const TriangleMesh& mesh,
                                                        const std::string& material,
