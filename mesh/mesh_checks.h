@@ -11,7 +11,6 @@
 #include <array>
 #include <cstdint>
 #include <string>
-#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -72,13 +71,13 @@ class CrossingTracker {
   int64_t last_tested() const { return last_tested_; }
 
  private:
-  using Key = std::array<float, 9>;
-  struct KeyHash {
-    size_t operator()(const Key& key) const;
-  };
-  std::unordered_map<Key, int, KeyHash> index_of_;  // previous mesh: triangle by key
-  std::vector<std::pair<int, int>> pairs_;          // previous mesh's crossings
-  double scale_ = 0.0;                              // previous mesh's extent
+  using Key = std::array<float, 9>;  // a triangle's vertex positions
+  // Of the previous mesh: each triangle's key, (hash of key, triangle)
+  // sorted, its crossings and its extent.
+  std::vector<Key> keys_;
+  std::vector<std::pair<uint64_t, int>> hashes_;
+  std::vector<std::pair<int, int>> pairs_;
+  double scale_ = 0.0;
   int64_t last_tested_ = 0;
 };
 
