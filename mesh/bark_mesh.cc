@@ -159,14 +159,17 @@ class BarkAttempt {
         merges_(settings.merges),
         spread_(settings.spread) {}
 
-  AttemptResult Run(bool find_crossings) {
+  // `crossings` keeps the crossings of earlier attempts, so only what this
+  // one changed is tested again.
+  AttemptResult Run(bool find_crossings, CrossingTracker* crossings) {
     AttemptResult result;
     result.mesh = Attempt();
     result.overflow = overflow_;
     result.failed_attach = failed_attach_;
     result.spread = spread_;
     if (find_crossings && overflow_.empty() && failed_attach_.empty()) {
-      result.crossing_junctions = CrossingJunctions(result.mesh, &result.crossing_merges);
+      result.crossing_junctions =
+          CrossingJunctions(result.mesh, crossings, &result.crossing_merges);
     }
     result.origins = std::move(origins_);
     result.summary = summary_;
@@ -179,14 +182,14 @@ class BarkAttempt {
   // `merges` receives chains (first two nodes) to take into the joint they
   // leave: short chains whose tube crosses a joint at one of its ends, and
   // the chain between two joints whose hulls cross.
-  std::set<int> CrossingJunctions(const TriangleMesh& mesh,
+  std::set<int> CrossingJunctions(const TriangleMesh& mesh, CrossingTracker* crossings,
                                   std::set<std::pair<int, int>>* merges) const {
     std::vector<int> junctions;
     for (int i = 0; i < skeleton_.NumNodes(); ++i) {
       if (children_[i].size() >= 2) junctions.push_back(i);
     }
     std::set<int> culprits;
-    for (const auto& [a, b] : FindSelfIntersections(mesh)) {
+    for (const auto& [a, b] : crossings->Find(mesh)) {
       for (const BarkTriangleOrigin* o : {&origins_[a], &origins_[b]}) {
         if (o->kind == BarkTriangleOrigin::kAttachment) culprits.insert(o->node);
       }
@@ -1168,9 +1171,11 @@ class BarkAttempt {
   std::vector<BarkTriangleOrigin> origins_;  // one per triangle of the mesh
 };
 
-// One attempt: a function of the tree and the settings alone.
-AttemptResult MeshAttempt(const BarkTree& tree, const AttemptSettings& settings) {
-  return BarkAttempt(tree, settings).Run(settings.find_crossings);
+// One attempt: a function of the tree and the settings alone (`crossings`
+// only saves work).
+AttemptResult MeshAttempt(const BarkTree& tree, const AttemptSettings& settings,
+                          CrossingTracker* crossings) {
+  return BarkAttempt(tree, settings).Run(settings.find_crossings, crossings);
 }
 
 // What the retry loop knows between attempts.
@@ -1257,10 +1262,11 @@ bool StartRepairRound(const AttemptResult& result, RetryState* state) {
 // repairs after the last). The last attempt's result, `repaired` counted.
 AttemptResult MeshWithRetries(const BarkTree& tree) {
   RetryState state;
+  CrossingTracker crossings;
   for (int attempt = 0;; ++attempt) {
     const bool last = attempt == kMaxAttempts;
     state.settings.find_crossings = state.rounds < tree.options.repair_rounds && !last;
-    AttemptResult result = MeshAttempt(tree, state.settings);
+    AttemptResult result = MeshAttempt(tree, state.settings, &crossings);
     bool again = true;
     if (!result.overflow.empty()) {
       GiveUpOverflowing(result.overflow, attempt, &state);

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <numeric>
 #include <sstream>
 #include <unordered_map>
@@ -20,6 +21,10 @@ namespace {
 constexpr double kEpsilon = 1e-9;
 // At most this many grid cells per triangle (larger ones go everywhere they touch anyway).
 constexpr int64_t kMaxCellsPerAxis = 1 << 20;
+
+// A box over more cells than this is taken to touch the grid (a superset
+// is harmless where Touches is used).
+constexpr int64_t kMaxCellsPerQuery = 64;
 
 using Tri = std::array<Eigen::Vector3d, 3>;
 
@@ -91,9 +96,14 @@ struct TriangleGrid {
   std::vector<Eigen::AlignedBox3d> boxes;
   std::vector<std::array<int64_t, 6>> ranges;     // cells: min x y z, max x y z
   std::vector<std::pair<uint64_t, int>> entries;  // (cell, triangle), sorted
-  double scale = 1.0;
+  double scale = 1.0;  // the extent the tests' tolerances are relative to
+  Eigen::Vector3d origin = Eigen::Vector3d::Zero();
+  double cell = 1.0;
+  std::array<int64_t, 3> last_cell = {0, 0, 0};
 
-  TriangleGrid(const TriangleMesh& mesh, const std::vector<int>& selected) {
+  // `scale` > 0: the tests' tolerances are relative to it, not to the
+  // selected triangles' extent (a part of a mesh tested like the whole).
+  TriangleGrid(const TriangleMesh& mesh, const std::vector<int>& selected, double given_scale = 0) {
     const int n = static_cast<int>(selected.size());
     tris.resize(n), planes.resize(n), boxes.resize(n), ranges.resize(n);
     Eigen::AlignedBox3d all;
@@ -109,8 +119,10 @@ struct TriangleGrid {
       extent_sum += boxes[i].sizes().maxCoeff();
     }
     scale = std::max(all.sizes().maxCoeff(), 1e-30);
-    double cell = std::max(2.0 * extent_sum / n, scale / kMaxCellsPerAxis);
+    cell = std::max(2.0 * extent_sum / n, scale / kMaxCellsPerAxis);
     if (cell <= 0) cell = scale;
+    if (given_scale > 0) scale = given_scale;
+    origin = all.min();
     auto cell_of = [&](double v, int axis) {
       return std::clamp<int64_t>(static_cast<int64_t>(std::floor((v - all.min()[axis]) / cell)), 0,
                                  2 * kMaxCellsPerAxis - 1);
@@ -125,21 +137,45 @@ struct TriangleGrid {
           for (int64_t z = ranges[i][2]; z <= ranges[i][5]; ++z)
             entries.emplace_back(CellKey(x, y, z), i);
     }
+    for (int a = 0; a < 3; ++a) last_cell[a] = cell_of(all.max()[a], a);
     tbb::parallel_sort(entries.begin(), entries.end());
   }
 
+  // Whether `box` overlaps a cell that holds a triangle (or, for a box over
+  // many cells, the grid's bounds).
+  bool Touches(const Eigen::AlignedBox3d& box) const {
+    int64_t low[3], high[3], cells = 1;
+    for (int a = 0; a < 3; ++a) {
+      low[a] = static_cast<int64_t>(std::floor((box.min()[a] - origin[a]) / cell));
+      high[a] = static_cast<int64_t>(std::floor((box.max()[a] - origin[a]) / cell));
+      if (!(high[a] >= 0 && low[a] <= last_cell[a])) return false;  // NaN: outside
+      low[a] = std::max<int64_t>(low[a], 0);
+      high[a] = std::min(high[a], last_cell[a]);
+      cells *= high[a] - low[a] + 1;
+    }
+    if (cells > kMaxCellsPerQuery) return true;
+    for (int64_t x = low[0]; x <= high[0]; ++x)
+      for (int64_t y = low[1]; y <= high[1]; ++y)
+        for (int64_t z = low[2]; z <= high[2]; ++z) {
+          const auto it = std::lower_bound(entries.begin(), entries.end(),
+                                           std::make_pair(CellKey(x, y, z), -1));
+          if (it != entries.end() && it->first == CellKey(x, y, z)) return true;
+        }
+    return false;
+  }
+
   // The triangles j > i (positions in `selected`) that share a cell with
-  // triangle i, ascending.
-  void Neighbours(int i, std::vector<int>* candidates) const {
+  // triangle i, ascending; with `all`, every j != i.
+  void Neighbours(int i, std::vector<int>* candidates, bool all = false) const {
     candidates->clear();
     for (int64_t x = ranges[i][0]; x <= ranges[i][3]; ++x)
       for (int64_t y = ranges[i][1]; y <= ranges[i][4]; ++y)
         for (int64_t z = ranges[i][2]; z <= ranges[i][5]; ++z) {
           // Entries of the cell past (cell, i): the cell's triangles j > i.
-          auto it =
-              std::upper_bound(entries.begin(), entries.end(), std::make_pair(CellKey(x, y, z), i));
+          auto it = std::upper_bound(entries.begin(), entries.end(),
+                                     std::make_pair(CellKey(x, y, z), all ? -1 : i));
           for (; it != entries.end() && it->first == CellKey(x, y, z); ++it) {
-            candidates->push_back(it->second);
+            if (it->second != i) candidates->push_back(it->second);
           }
         }
     std::sort(candidates->begin(), candidates->end());
@@ -153,6 +189,21 @@ struct TriangleGrid {
 // (TriangleGrid); the triangles are tested in parallel when every pair is
 // wanted, each one's pairs kept in order, so the result does not depend on
 // scheduling.
+bool ShareVertex(const Eigen::Vector3i& a, const Eigen::Vector3i& b) {
+  bool shared = false;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) shared = shared || a[i] == b[j];
+  return shared;
+}
+
+// Does triangle i of `grid` cross triangle j (positions in `selected`)?
+bool GridPairCrosses(const TriangleMesh& mesh, const std::vector<int>& selected,
+                     const TriangleGrid& grid, int i, int j) {
+  return grid.boxes[i].intersects(grid.boxes[j]) &&
+         !ShareVertex(mesh.triangles[selected[i]], mesh.triangles[selected[j]]) &&
+         TrianglesCross(grid.tris[i], grid.planes[i], grid.tris[j], grid.planes[j], grid.scale);
+}
+
 int64_t SelfIntersections(const TriangleMesh& mesh, const std::vector<int>& selected,
                           int64_t max_pairs, std::vector<std::pair<int, int>>* pairs) {
   if (selected.size() < 2) return 0;
@@ -160,18 +211,9 @@ int64_t SelfIntersections(const TriangleMesh& mesh, const std::vector<int>& sele
   const TriangleGrid grid(mesh, selected);
   // The pairs (i, j > i) of triangle i, j ascending.
   const auto pairs_of = [&](int i, std::vector<int>* candidates, std::vector<int>* found) {
-    const Eigen::Vector3i& fi = mesh.triangles[selected[i]];
     grid.Neighbours(i, candidates);
     for (int j : *candidates) {
-      if (!grid.boxes[i].intersects(grid.boxes[j])) continue;
-      const Eigen::Vector3i& fj = mesh.triangles[selected[j]];
-      bool shared = false;
-      for (int a = 0; a < 3; ++a)
-        for (int b = 0; b < 3; ++b) shared = shared || fi[a] == fj[b];
-      if (shared) continue;
-      if (TrianglesCross(grid.tris[i], grid.planes[i], grid.tris[j], grid.planes[j], grid.scale)) {
-        found->push_back(j);
-      }
+      if (GridPairCrosses(mesh, selected, grid, i, j)) found->push_back(j);
     }
   };
   int64_t count = 0;
@@ -216,7 +258,170 @@ std::vector<int> SelectTriangles(const TriangleMesh& mesh, const std::string& ma
   return selected;
 }
 
+// Every triangle of `mesh`, in order.
+std::vector<int> AllTriangles(const TriangleMesh& mesh) {
+  std::vector<int> all(mesh.NumTriangles());
+  std::iota(all.begin(), all.end(), 0);
+  return all;
+}
+
+// The triangles of `mesh` whose boxes share a cell of `fresh`'s grid with a
+// triangle of `fresh` (which are among them), ascending.
+std::vector<int> NearTriangles(const TriangleMesh& mesh, const std::vector<int>& fresh) {
+  const TriangleGrid fresh_grid(mesh, fresh);
+  std::vector<char> near(mesh.NumTriangles(), 0);
+  tbb::parallel_for(tbb::blocked_range<int>(0, mesh.NumTriangles(), 4096),
+                    [&](const tbb::blocked_range<int>& range) {
+                      for (int t = range.begin(); t < range.end(); ++t) {
+                        Eigen::AlignedBox3d box;
+                        for (int k = 0; k < 3; ++k) {
+                          box.extend(mesh.vertices[mesh.triangles[t][k]].cast<double>());
+                        }
+                        near[t] = fresh_grid.Touches(box);
+                      }
+                    });
+  for (int t : fresh) near[t] = 1;
+  std::vector<int> selected;
+  for (int t = 0; t < mesh.NumTriangles(); ++t) {
+    if (near[t]) selected.push_back(t);
+  }
+  return selected;
+}
+
+// The crossing pairs (a < b) of `mesh` with a triangle of `fresh`
+// (ascending), tested in parallel on a grid of the triangles near them, with
+// the tolerances of the whole mesh (`scale`).
+std::vector<std::pair<int, int>> PairsWithFresh(const TriangleMesh& mesh,
+                                                const std::vector<int>& fresh, double scale) {
+  if (fresh.empty()) return {};
+  const std::vector<int> selected = NearTriangles(mesh, fresh);
+  const TriangleGrid grid(mesh, selected, scale);
+  std::vector<char> is_fresh(selected.size(), 0);
+  std::vector<int> fresh_positions;  // in `selected`
+  for (size_t i = 0, k = 0; i < selected.size(); ++i) {
+    if (k < fresh.size() && fresh[k] == selected[i]) {
+      is_fresh[i] = 1;
+      fresh_positions.push_back(static_cast<int>(i));
+      ++k;
+    }
+  }
+  std::vector<std::vector<int>> found(fresh_positions.size());
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, fresh_positions.size(), 64),
+                    [&](const tbb::blocked_range<size_t>& range) {
+                      std::vector<int> candidates;
+                      for (size_t k = range.begin(); k < range.end(); ++k) {
+                        const int i = fresh_positions[k];
+                        grid.Neighbours(i, &candidates, /*all=*/true);
+                        for (int j : candidates) {
+                          if (is_fresh[j] && j < i) continue;  // tested from j
+                          if (GridPairCrosses(mesh, selected, grid, i, j)) found[k].push_back(j);
+                        }
+                      }
+                    });
+  std::vector<std::pair<int, int>> pairs;
+  for (size_t k = 0; k < found.size(); ++k) {
+    const int a = selected[fresh_positions[k]];
+    for (int j : found[k]) pairs.emplace_back(std::min(a, selected[j]), std::max(a, selected[j]));
+  }
+  return pairs;
+}
+
+// The extent of the mesh's triangles (TriangleGrid::scale over all of them).
+double TrianglesScale(const TriangleMesh& mesh) {
+  Eigen::AlignedBox3d box;
+  for (const Eigen::Vector3i& f : mesh.triangles) {
+    for (int k = 0; k < 3; ++k) box.extend(mesh.vertices[f[k]].cast<double>());
+  }
+  return box.isEmpty() ? 0.0 : std::max(box.sizes().maxCoeff(), 1e-30);
+}
+
 }  // namespace
+
+namespace {
+
+uint64_t HashOf(const std::array<float, 9>& key) {
+  uint64_t hash = 0xcbf29ce484222325ULL;
+  for (float value : key) {
+    uint32_t bits;
+    std::memcpy(&bits, &value, sizeof(bits));
+    hash = (hash ^ bits) * 0x100000001b3ULL;
+    hash ^= hash >> 29;
+  }
+  return hash;
+}
+
+// Each triangle of the new mesh's index in the old one (-1: new), matching
+// by key through the sorted hashes; a hash held by two triangles of either
+// mesh matches nothing.
+std::vector<int> MatchTriangles(const std::vector<std::array<float, 9>>& old_keys,
+                                const std::vector<std::pair<uint64_t, int>>& old_hashes,
+                                const std::vector<std::array<float, 9>>& keys,
+                                const std::vector<std::pair<uint64_t, int>>& hashes) {
+  std::vector<int> previous(keys.size(), -1);
+  const auto unique_at = [](const std::vector<std::pair<uint64_t, int>>& list, size_t i) {
+    return (i == 0 || list[i - 1].first != list[i].first) &&
+           (i + 1 == list.size() || list[i + 1].first != list[i].first);
+  };
+  for (size_t i = 0, j = 0; i < hashes.size() && j < old_hashes.size();) {
+    if (hashes[i].first < old_hashes[j].first) {
+      ++i;
+    } else if (old_hashes[j].first < hashes[i].first) {
+      ++j;
+    } else {
+      const int t = hashes[i].second, u = old_hashes[j].second;
+      if (unique_at(hashes, i) && unique_at(old_hashes, j) && keys[t] == old_keys[u]) {
+        previous[t] = u;
+      }
+      ++i, ++j;
+    }
+  }
+  return previous;
+}
+
+}  // namespace
+
+std::vector<std::pair<int, int>> CrossingTracker::Find(const TriangleMesh& mesh) {
+  mesh.Check();
+  const int n = mesh.NumTriangles();
+  std::vector<Key> keys(n);
+  std::vector<std::pair<uint64_t, int>> hashes(n);
+  tbb::parallel_for(0, n, [&](int t) {
+    for (int k = 0; k < 3; ++k) {
+      for (int a = 0; a < 3; ++a) keys[t][3 * k + a] = mesh.vertices[mesh.triangles[t][k]][a];
+    }
+    hashes[t] = {HashOf(keys[t]), t};
+  });
+  tbb::parallel_sort(hashes.begin(), hashes.end());
+  const std::vector<int> previous = MatchTriangles(keys_, hashes_, keys, hashes);
+  const int64_t kept = n - std::count(previous.begin(), previous.end(), -1);
+  const double scale = TrianglesScale(mesh);
+  std::vector<std::pair<int, int>> pairs;
+  if (2 * kept < n || scale != scale_) {  // mostly new, or another extent (tolerances)
+    SelfIntersections(mesh, AllTriangles(mesh), -1, &pairs);
+    last_tested_ = n;
+  } else {
+    std::vector<int> now_of(keys_.size(), -1);  // previous index -> index now
+    std::vector<int> fresh;
+    for (int t = 0; t < n; ++t) {
+      if (previous[t] >= 0) now_of[previous[t]] = t;
+      if (previous[t] < 0) fresh.push_back(t);
+    }
+    for (const auto& [a, b] : pairs_) {
+      const int na = now_of[a], nb = now_of[b];
+      if (na < 0 || nb < 0 || ShareVertex(mesh.triangles[na], mesh.triangles[nb])) continue;
+      pairs.emplace_back(std::min(na, nb), std::max(na, nb));
+    }
+    const std::vector<std::pair<int, int>> fresh_pairs = PairsWithFresh(mesh, fresh, scale);
+    pairs.insert(pairs.end(), fresh_pairs.begin(), fresh_pairs.end());
+    std::sort(pairs.begin(), pairs.end());
+    last_tested_ = static_cast<int64_t>(fresh.size());
+  }
+  keys_ = std::move(keys);
+  hashes_ = std::move(hashes);
+  pairs_ = pairs;
+  scale_ = scale;
+  return pairs;
+}
 
 std::vector<std::pair<int, int>> FindSelfIntersections(const TriangleMesh& mesh,
                                                        const std::string& material,

@@ -8,6 +8,7 @@
 #ifndef SYLVA_MESH_MESH_CHECKS_H_
 #define SYLVA_MESH_MESH_CHECKS_H_
 
+#include <array>
 #include <cstdint>
 #include <string>
 #include <utility>
@@ -54,6 +55,31 @@ MeshCheck CheckMesh(const TriangleMesh& mesh, const std::string& material = "",
 std::vector<std::pair<int, int>> FindSelfIntersections(const TriangleMesh& mesh,
                                                        const std::string& material = "",
                                                        int64_t max_pairs = -1);
+
+// FindSelfIntersections for a mesh built again and again with local changes
+// (the watertight bark's repair rounds re-mesh a few junctions each round):
+// a triangle identical to one of the previous mesh (the same three vertex
+// positions, bit for bit) keeps the crossings it had with the other
+// identical ones, and only the pairs with a new triangle are tested, on a
+// grid of the triangles that share a cell with a new one. Gives the pairs
+// FindSelfIntersections gives (all triangles), in its order; the first call,
+// and one where most triangles are new, tests the whole mesh.
+class CrossingTracker {
+ public:
+  std::vector<std::pair<int, int>> Find(const TriangleMesh& mesh);
+  // Triangles tested in the last Find (all of them for a whole-mesh search).
+  int64_t last_tested() const { return last_tested_; }
+
+ private:
+  using Key = std::array<float, 9>;  // a triangle's vertex positions
+  // Of the previous mesh: each triangle's key, (hash of key, triangle)
+  // sorted, its crossings and its extent.
+  std::vector<Key> keys_;
+  std::vector<std::pair<uint64_t, int>> hashes_;
+  std::vector<std::pair<int, int>> pairs_;
+  double scale_ = 0.0;
+  int64_t last_tested_ = 0;
+};
 
 // The one repair here: turns every closed component (connected by shared
 // vertices, each of its edges used by exactly two of its triangles) whose

@@ -116,5 +116,31 @@ TEST(MeshChecksTest, FindsCrossingTubesAndNotSeparateOnes) {
   EXPECT_EQ(CheckMesh(crossing, "leaves").triangles, 0);
 }
 
+// The bark's repair rounds mesh the tree again with a few junctions
+// changed: the tracker tests only the new triangles and finds the same
+// pairs as a whole-mesh search, whatever the triangles' order.
+TEST(MeshChecksTest, CrossingTrackerFindsWhatTheWholeSearchFinds) {
+  // Twelve tubes in a row, each crossing its neighbours; tube `moved` at x.
+  const auto row = [](int moved, double x, bool reversed) {
+    TriangleMesh mesh;
+    for (int k = 0; k < 12; ++k) {
+      const int tube = reversed ? 11 - k : k;
+      AddTube(tube == moved ? x : 0.5 * tube, 0, 1, 0.3, 12, &mesh);
+    }
+    return mesh;
+  };
+  CrossingTracker tracker;
+  const TriangleMesh first = row(-1, 0, false);
+  const std::vector<std::pair<int, int>> whole = FindSelfIntersections(first);
+  EXPECT_GT(whole.size(), 50u);
+  EXPECT_EQ(tracker.Find(first), whole);
+  EXPECT_EQ(tracker.last_tested(), first.NumTriangles());
+  // One tube moved to cross two others more, listed in another order.
+  for (const TriangleMesh& mesh : {row(5, 2.2, true), row(5, 2.6, false), row(-1, 0, false)}) {
+    EXPECT_EQ(tracker.Find(mesh), FindSelfIntersections(mesh));
+    EXPECT_LE(tracker.last_tested(), mesh.NumTriangles() / 12);
+  }
+}
+
 }  // namespace
 }  // namespace sylva

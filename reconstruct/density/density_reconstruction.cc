@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "core/util/check.h"
+#include "core/util/file_util.h"
 #include "reconstruct/density/ray_system.h"
 #include "reconstruct/density/thin_structure.h"
 #include "reconstruct/density/view_consensus.h"
@@ -205,10 +206,10 @@ std::vector<double> InitialSolution(const RaySystem& system, const std::vector<f
 // Non-negative least squares, or (thesis) CGLS, clamping of negatives, and
 // re-solves with the clamped voxels fixed.
 void SolveNonNegative(const RaySystem& system, const DensityOptions& options,
-                      const ProgressTask& progress, std::vector<double>* x,
-                      DensitySummary* summary) {
+                      double absolute_tolerance, const ProgressTask& progress,
+                      std::vector<double>* x, DensitySummary* summary) {
   const SparseRows transposed = system.matrix.Transposed();
-  const CglsOptions cgls{options.max_iterations, options.tolerance};
+  const CglsOptions cgls{options.max_iterations, options.tolerance, absolute_tolerance};
   if (options.solver == "projected") {
     ProgressTask task = progress.SubTask("density: least squares", 0.0, 1.0);
     summary->solves.push_back(
@@ -233,6 +234,59 @@ void SolveNonNegative(const RaySystem& system, const DensityOptions& options,
     summary->num_clamped_voxels += clamped;
     if (clamped == 0) break;
   }
+}
+
+// The warm start's key: the caller's context and the grid's block, exactly.
+std::string WarmStartKey(const std::string& context, const VoxelBlock& block) {
+  std::ostringstream text;
+  text << context << ";block" << std::hexfloat;
+  for (int a = 0; a < 3; ++a) text << " " << block.dims[a] << " " << block.lower_corner[a];
+  text << " " << block.voxel_size;
+  return HexString(Fnv1a64(text.str()));
+}
+
+// Replaces the unknowns `warm` covers by its depths (both lists of voxels
+// ascending); returns how many.
+int64_t ApplyWarmStart(const DensityWarmStart& warm, const std::vector<int64_t>& voxel_of_column,
+                       std::vector<double>* x) {
+  if (warm.voxels.size() != warm.depths.size()) return 0;
+  int64_t applied = 0;
+  size_t k = 0;
+  for (size_t j = 0; j < voxel_of_column.size(); ++j) {
+    while (k < warm.voxels.size() && warm.voxels[k] < voxel_of_column[j]) ++k;
+    if (k < warm.voxels.size() && warm.voxels[k] == voxel_of_column[j]) {
+      (*x)[j] = warm.depths[k];
+      ++applied;
+    }
+  }
+  return applied;
+}
+
+// Step 4: least squares from the (rescaled) initialisation, or from the warm
+// start where it matches; leaves this solve's state in `warm_start`.
+std::vector<double> SolveDensity(const RaySystem& system, const std::vector<float>& initial,
+                                 const VoxelBlock& block,
+                                 const std::vector<int64_t>& voxel_of_column,
+                                 const DensityOptions& options, const ProgressTask& progress,
+                                 DensityWarmStart* warm_start, DensitySummary* summary) {
+  std::vector<double> x = InitialSolution(system, initial, voxel_of_column,
+                                          options.max_pixel_opacity, &summary->initial_scale);
+  double stop_gradient = 0.0;
+  const std::string key =
+      warm_start != nullptr ? WarmStartKey(warm_start->context, block) : std::string();
+  if (warm_start != nullptr && warm_start->key == key) {
+    summary->num_warm_voxels = ApplyWarmStart(*warm_start, voxel_of_column, &x);
+    if (summary->num_warm_voxels > 0) stop_gradient = warm_start->stop_gradient;
+  }
+  SolveNonNegative(system, options, stop_gradient, progress, &x, summary);
+  if (warm_start == nullptr) return x;
+  const CglsSummary& last = summary->solves.back();
+  warm_start->key = key;
+  warm_start->voxels = voxel_of_column;
+  warm_start->depths.assign(x.begin(), x.end());
+  warm_start->stop_gradient = std::max(
+      {stop_gradient, options.tolerance * last.initial_gradient_norm, last.final_gradient_norm});
+  return x;
 }
 
 DensityGrid MakeGrid(const VoxelBlock& block, const std::vector<int64_t>& voxel_of_column,
@@ -263,7 +317,9 @@ std::string DensitySummary::BriefReport() const {
       << " bounds; " << num_carved_voxels << " voxels after carving, " << num_rows
       << " pixel rays, " << num_nonzeros << " non-zeros";
   if (num_unexplained_pixels > 0) out << ", " << num_unexplained_pixels << " unexplained fg pixels";
-  out << ". Least squares: ";
+  out << ". Least squares";
+  if (num_warm_voxels > 0) out << " (warm start: " << num_warm_voxels << " voxels)";
+  out << ": ";
   for (size_t i = 0; i < solves.size(); ++i) {
     out << (i ? "; " : "") << solves[i].iterations << " it, |r| " << solves[i].initial_residual_norm
         << " -> " << solves[i].final_residual_norm << (solves[i].converged ? " (converged)" : "");
@@ -331,9 +387,15 @@ RaySystem BuildPixelEquations(const ImageSet& image_set, const std::vector<Float
 
 }  // namespace
 
+DensityGrid ReconstructDensity(const ImageSet& image_set, const std::vector<FloatImage>& mattes,
+                               const DensityOptions& options, ProgressReporter* progress,
+                               DensitySummary* summary) {
+  return ReconstructDensity(image_set, mattes, options, progress, summary, nullptr);
+}
+
 DensityGrid ReconstructDensity(const ImageSet& all_views, const std::vector<FloatImage>& all_mattes,
                                const DensityOptions& options, ProgressReporter* reporter,
-                               DensitySummary* summary) {
+                               DensitySummary* summary, DensityWarmStart* warm_start) {
   options.Check();
   all_views.Check("cameras");
   CheckMattes(all_views, all_mattes);
@@ -380,11 +442,11 @@ DensityGrid ReconstructDensity(const ImageSet& all_views, const std::vector<Floa
       options, progress.SubTask("density: rays", 0.2, 0.4), summary);
   summary->seconds_system = SecondsSince(step);
 
-  // 4. Least squares from the (rescaled) initialisation.
+  // 4. Least squares.
   step = Clock::now();
-  std::vector<double> x = InitialSolution(system, initial, voxel_of_column,
-                                          options.max_pixel_opacity, &summary->initial_scale);
-  SolveNonNegative(system, options, progress.SubTask("density: solve", 0.4, 0.98), &x, summary);
+  const std::vector<double> x =
+      SolveDensity(system, initial, block, voxel_of_column, options,
+                   progress.SubTask("density: solve", 0.4, 0.98), warm_start, summary);
   summary->seconds_solve = SecondsSince(step);
 
   // 5. The sparse grid.

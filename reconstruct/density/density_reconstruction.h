@@ -33,6 +33,27 @@
 
 namespace sylva {
 
+// The app's loop re-solves after each density edit a system much like the
+// last one: the previous solution is a better start than the matte
+// initialisation. The caller keeps this between runs (the pipeline in the
+// project's cache folder); the reconstruction uses it only when its key
+// matches the new solve's, so a grid solved for other cameras, bounds or
+// options is never used.
+struct DensityWarmStart {
+  // In: what the caller knows makes two solves comparable (the cameras and
+  // the options, as canonical text); the reconstruction adds the grid's
+  // block (dimensions, voxel size, corner) to form the key.
+  std::string context;
+  // In/out: the key the state below was solved under ("" for none); replaced
+  // by this solve's key and state.
+  std::string key;
+  std::vector<int64_t> voxels;  // dense voxel indices of the unknowns, ascending
+  std::vector<float> depths;    // their optical depths per voxel length
+  // The projected gradient the solve stopped at (absolute): a warm solve stops
+  // there, the same criterion as the solve it continues.
+  double stop_gradient = 0.0;
+};
+
 struct DensitySummary {
   int num_views = 0;  // views used (trusted)
   // Views whose mattes disagree with the others and were left out
@@ -53,6 +74,7 @@ struct DensitySummary {
   int64_t num_nonzeros = 0;
   int64_t num_unexplained_pixels = 0;  // foreground rays that hit no kept voxel
   double initial_scale = 1.0;          // factor applied to the initialisation
+  int64_t num_warm_voxels = 0;         // unknowns started from the previous solve (warm start)
   std::vector<CglsSummary> solves;     // one per pass
   int64_t num_clamped_voxels = 0;      // negative values set to empty
   int64_t num_output_voxels = 0;
@@ -70,6 +92,14 @@ struct DensitySummary {
 DensityGrid ReconstructDensity(const ImageSet& image_set, const std::vector<FloatImage>& mattes,
                                const DensityOptions& options, ProgressReporter* progress,
                                DensitySummary* summary);
+
+// The same, starting the least squares from `warm_start`'s state where its
+// key matches (unknowns it does not cover start from the initialisation)
+// and stopping at its stop_gradient (or the usual tolerance), then leaving
+// this solve's key and state in it. Null: a cold start.
+DensityGrid ReconstructDensity(const ImageSet& image_set, const std::vector<FloatImage>& mattes,
+                               const DensityOptions& options, ProgressReporter* progress,
+                               DensitySummary* summary, DensityWarmStart* warm_start);
 
 }  // namespace sylva
 

@@ -188,7 +188,8 @@ CglsSummary SolveProjectedGradient(const SparseRows& a, const SparseRows& transp
     const StepPass pass = ProjectedStep(*x, g, metric, alpha, &d);
     projected = std::sqrt(pass.projected_gradient2);
     if (initial_projected < 0) initial_projected = projected;
-    summary.converged = projected <= options.tolerance * initial_projected;
+    summary.converged = projected <= options.tolerance * initial_projected ||
+                        projected <= options.absolute_tolerance;
     if (summary.converged || summary.iterations >= options.max_iterations) break;
     a.Multiply(d, &ad);
     const double ad2 = Dot(ad, ad);
@@ -215,6 +216,8 @@ CglsSummary SolveProjectedGradient(const SparseRows& a, const SparseRows& transp
   }
   summary.final_residual_norm = std::sqrt(Dot(r, r));
   summary.relative_gradient = initial_projected > 0 ? projected / initial_projected : 0.0;
+  summary.initial_gradient_norm = initial_projected;
+  summary.final_gradient_norm = projected;
   return summary;
 }
 

@@ -34,6 +34,11 @@ struct CglsOptions {
   int max_iterations = 40;
   // Stop when |A^T r| <= tolerance * |A^T b|.
   double tolerance = 1e-3;
+  // SolveProjectedGradient only: also stop when the projected gradient
+  // |P(x - g) - x| is at most this (absolute, in the units of A^T b). A warm
+  // start sets it to where the solve it continues stopped, so it stops on the
+  // same criterion rather than relative to its own (smaller) start; 0 = off.
+  double absolute_tolerance = 0.0;
 };
 
 struct CglsSummary {
@@ -41,7 +46,11 @@ struct CglsSummary {
   double initial_residual_norm = 0.0;  // |b - A x0|
   double final_residual_norm = 0.0;    // |b - A x|
   double relative_gradient = 0.0;      // |A^T r| / |A^T b| at the end
-  bool converged = false;              // tolerance reached
+  // SolveProjectedGradient only: the projected gradient at the start and at
+  // the end (absolute).
+  double initial_gradient_norm = 0.0;
+  double final_gradient_norm = 0.0;
+  bool converged = false;  // tolerance reached
 };
 
 // Minimises |A x - b| starting from *x. Entries where `free` is false (if
@@ -56,7 +65,7 @@ CglsSummary SolveCgls(const SparseRows& a, const SparseRows& transposed,
 // each projected step (the objective is quadratic), so the objective never
 // increases. One product with A and one with A^T per iteration, like CGLS.
 // Converged when the projected gradient |P(x - g) - x| falls below
-// tolerance times its initial value.
+// tolerance times its initial value, or below options.absolute_tolerance.
 CglsSummary SolveProjectedGradient(const SparseRows& a, const SparseRows& transposed,
                                    const std::vector<double>& b, const CglsOptions& options,
                                    std::vector<double>* x, ProgressTask* progress);

@@ -49,7 +49,86 @@ struct ViewAttractors {
   AttractorGraph2D graph;
   std::string source = "none";
   std::string note;  // why the graph differs from the usual, if it does
+  // A graph traced on the photo: what it was traced from (TraceKey), and
+  // whether it came from the cache rather than a trace.
+  std::string trace_key;
+  bool cached = false;
 };
+
+// The graphs traced on photos, per view, in cache/attractors/ (<photo>.json
+// the graph, <photo>.key its key, source and note): a view whose photo,
+// edited matte, strokes, livewire target and options have not changed keeps
+// its graph and overlay, so after a stroke or density edit on one view only
+// that view is traced again. Not read in a cold run (StageContext::cold).
+struct TraceCache {
+  fs::path dir;
+  std::string options_text;  // the Attractors options and the seed
+  bool read = true;
+};
+
+// Livewire targets are keyed to this fraction of a pixel, so that a base
+// estimate that moves by a rounding error after a density edit elsewhere
+// (the density changes a little everywhere) keeps the views' graphs; a kept
+// graph's root is moved to the exact target.
+constexpr double kTargetKeyPixels = 1.0 / 16.0;
+
+// What a view's traced graph depends on: the options, the photo (path and
+// stamp), the edited matte's values, the strokes drawn (path and stamp) and
+// the livewire target.
+std::string TraceKey(const TraceCache& cache, const Project& project, const std::string& name,
+                     const FloatImage& matte, const Eigen::Vector2d& target) {
+  std::ostringstream text;
+  text << cache.options_text << ";" << FileKey(project, project.PhotoPath(name)) << ";"
+       << FileKey(project, project.StrokesPath(name)) << ";"
+       << HexString(Fnv1a64(matte.data(), matte.NumPixels() * matte.channels() * sizeof(float)))
+       << ";" << std::llround(target.x() / kTargetKeyPixels) << ","
+       << std::llround(target.y() / kTargetKeyPixels);
+  return HexString(Fnv1a64(text.str()));
+}
+
+fs::path TraceCachePath(const TraceCache& cache, const std::string& name,
+                        const std::string& extension) {
+  return cache.dir / fs::path(name).replace_extension(extension).filename();
+}
+
+// The cached graph of view `name` if its key is `result->trace_key`.
+bool ReadCachedTrace(const TraceCache& cache, const std::string& name, ViewAttractors* result) {
+  const fs::path key_path = TraceCachePath(cache, name, ".key");
+  const fs::path graph_path = TraceCachePath(cache, name, ".json");
+  std::error_code ec;
+  if (!cache.read || !fs::is_regular_file(key_path, ec) || !fs::is_regular_file(graph_path, ec)) {
+    return false;
+  }
+  std::istringstream record(ReadFileToString(key_path));
+  std::string key, source, note;
+  if (!std::getline(record, key) || key != result->trace_key || !std::getline(record, source)) {
+    return false;
+  }
+  std::getline(record, note);
+  try {
+    result->graph = ReadAttractorGraphJson(graph_path);
+  } catch (const InputError&) {
+    return false;  // a damaged cache only means tracing again
+  }
+  result->source = source;
+  result->note = note;
+  result->cached = true;
+  return true;
+}
+
+// Keeps every freshly traced graph in the cache (the graph before its key).
+void WriteTraceCache(const TraceCache& cache, const ImageSet& views,
+                     const std::vector<ViewAttractors>& results) {
+  for (int v = 0; v < views.NumViews(); ++v) {
+    const ViewAttractors& result = results[v];
+    if (result.trace_key.empty() || result.cached) continue;
+    const std::string& name = views.views[v].name;
+    fs::create_directories(cache.dir);
+    WriteAttractorGraphJson(TraceCachePath(cache, name, ".json"), result.graph, name);
+    AtomicWriteString(TraceCachePath(cache, name, ".key"),
+                      result.trace_key + "\n" + result.source + "\n" + result.note + "\n");
+  }
+}
 
 // The tree base, as the skeleton stage finds it.
 Eigen::Vector3d TreeBaseInWorld(const StageContext& context) {
@@ -83,17 +162,33 @@ ViewAttractors ReadViewEdits(const Project& project, const std::string& name, co
 }
 
 // Step 2: traces the graph of a "livewire" view on its photo from the tree
-// base, or snaps drawn strokes onto it (Attractors.snap_strokes).
+// base, or snaps drawn strokes onto it (Attractors.snap_strokes); or takes
+// the graph from the cache when none of what it depends on changed.
 void TraceOnPhoto(const Project& project, const ImageSet& views, int v,
                   const Eigen::Vector3d& base_in_world, const AttractStageOptions& options,
-                  ViewAttractors* result) {
+                  const TraceCache& cache, ViewAttractors* result) {
   const bool needs_photo =
       result->source == "livewire" || (result->source == "strokes" && options.snap_strokes);
   if (!needs_photo) return;
   const std::string& name = views.views[v].name;
   const Camera& camera = views.CameraOf(v);
-  const FloatImage photo = ReadImage(project.PhotoPath(name));
   const FloatImage matte = project.LoadEditedMatte(views, v);
+  LivewireTarget target;
+  if (result->source == "livewire") {
+    target = ChooseLivewireTarget(views, v, base_in_world, matte, options.livewire.matte_threshold);
+    result->note = target.note;
+    if (!target.found) {
+      result->source = "none";
+      return;
+    }
+  }
+  result->trace_key = TraceKey(cache, project, name, matte, target.point_in_image);
+  if (ReadCachedTrace(cache, name, result)) {
+    if (result->source == "livewire")
+      result->graph.nodes[result->graph.root].position = target.point_in_image;
+    return;
+  }
+  const FloatImage photo = ReadImage(project.PhotoPath(name));
   SYLVA_CHECK_INPUT(photo.width() == camera.width() && photo.height() == camera.height(),
                     project.PhotoPath(name).string())
       << "the photo is " << photo.width() << "x" << photo.height() << " but its camera is "
@@ -103,20 +198,14 @@ void TraceOnPhoto(const Project& project, const ImageSet& views, int v,
     result->source = "strokes+livewire";
     return;
   }
-  const LivewireTarget target =
-      ChooseLivewireTarget(views, v, base_in_world, matte, options.livewire.matte_threshold);
-  result->note = target.note;
-  if (!target.found) {
-    result->source = "none";
-    return;
-  }
   result->graph = TraceAttractorGraph(photo, matte, target.point_in_image, {}, options.livewire);
 }
 
 // Every view's graph (steps 1 and 2), in parallel.
 std::vector<ViewAttractors> AttractViews(const Project& project, const ImageSet& views,
                                          const Eigen::Vector3d& base_in_world,
-                                         const AttractStageOptions& options, ProgressTask* task) {
+                                         const AttractStageOptions& options,
+                                         const TraceCache& cache, ProgressTask* task) {
   const int n = views.NumViews();
   std::vector<ViewAttractors> results(n);
   std::mutex mutex;
@@ -124,7 +213,7 @@ std::vector<ViewAttractors> AttractViews(const Project& project, const ImageSet&
   ParallelForFirstError(n, [&](int v) {
     task->CheckCancelled();
     results[v] = ReadViewEdits(project, views.views[v].name, views.CameraOf(v), options);
-    TraceOnPhoto(project, views, v, base_in_world, options, &results[v]);
+    TraceOnPhoto(project, views, v, base_in_world, options, cache, &results[v]);
     std::lock_guard<std::mutex> lock(mutex);
     task->Update(static_cast<double>(++done) / n);
   });
@@ -132,13 +221,16 @@ std::vector<ViewAttractors> AttractViews(const Project& project, const ImageSet&
 }
 
 // Every graph drawn on its photo (photos decoded again rather than all held,
-// so a failure while attracting leaves the old outputs untouched).
+// so a failure while attracting leaves the old outputs untouched); a graph
+// from the cache keeps the overlay drawn when it was traced.
 void WriteOverlays(const Project& project, const ImageSet& views,
                    const std::vector<ViewAttractors>& results, const ProgressTask& task) {
   ParallelForFirstError(views.NumViews(), [&](int v) {
     task.CheckCancelled();
     if (results[v].source == "none") return;
     const std::string& name = views.views[v].name;
+    std::error_code ec;
+    if (results[v].cached && fs::is_regular_file(project.AttractorOverlayPath(name), ec)) return;
     WriteImage(project.AttractorOverlayPath(name),
                DrawAttractorOverlay(ReadImage(project.PhotoPath(name)), results[v].graph));
   });
@@ -209,7 +301,10 @@ StageRun RunAttractStage(const StageContext& context) {
     const Eigen::Vector3d base_in_world = TreeBaseInWorld(context);
     clock.Lap("tree_base");
     ProgressTask task(context.progress, "attract: attractor graphs");
-    results = AttractViews(context.project, views, base_in_world, options, &task);
+    const TraceCache cache{context.project.CacheDir() / "attractors",
+                           OptionsText(context.options, {"Attractors.", "General.seed"}),
+                           !context.cold};
+    results = AttractViews(context.project, views, base_in_world, options, cache, &task);
     clock.Lap("graphs");
     if (options.write_overlays) {
       WriteOverlays(context.project, views, results, task);
@@ -218,8 +313,13 @@ StageRun RunAttractStage(const StageContext& context) {
   }
   const std::map<std::string, int> counts =
       WriteGraphsAndIndex(context.project, views, results, options, &run);
+  WriteTraceCache({context.project.CacheDir() / "attractors", "", false}, views, results);
   clock.Lap("write");
   SummariseAttract(options.mode, views.NumViews(), counts, &run);
+  int traced = 0;
+  for (const ViewAttractors& result : results)
+    traced += !result.trace_key.empty() && !result.cached;
+  run.AddFigure("traced", traced, "views");
   return run;
 }
 

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <memory>
 #include <sstream>
 #include <string>
@@ -20,6 +21,7 @@
 #include "reconstruct/density/density_reconstruction.h"
 #include "ui/pipeline/pipeline.h"
 #include "ui/pipeline/project.h"
+#include "ui/pipeline/report.h"
 
 namespace sylva {
 namespace {
@@ -188,6 +190,58 @@ TEST_F(DensityEditsTest, AViewWithALargeEditIsKeptAgainstTheOthers) {
   DensitySummary plain;
   ReconstructDensity(cameras, mattes, options_.density, nullptr, &plain);
   EXPECT_EQ(plain.distrusted_views, std::vector<std::string>{cameras.views[0].name});
+}
+
+// The app's loop (issue 18): after a density edit in one view, the density
+// solve starts from the last one (cache/density_warm_start.bin) and stops
+// sooner, and the attract stage traces that view alone; a forced run starts
+// cold and traces every view, and finds the same density.
+TEST_F(DensityEditsTest, ARunAfterAnEditStartsFromTheLastOne) {
+  const auto run = [&](bool force) {
+    std::map<Stage, StageRun> runs;
+    for (const StageRun& stage :
+         Pipeline(*project_, options_, nullptr).Run(Stage::kAttract, force).stages) {
+      runs[stage.stage] = stage;
+    }
+    return runs;
+  };
+  std::map<Stage, StageRun> first = run(false);
+  EXPECT_EQ(first[Stage::kDensity].Figure("warm_voxels"), 0.0);
+  EXPECT_EQ(first[Stage::kAttract].Figure("traced"), 6.0);
+  const DensityGrid before = ReadDensity();
+  const Box3d box = before.ActiveWorldBounds();
+  const Eigen::Vector3d crown = box.center() + 0.15 * box.sizes().z() * Eigen::Vector3d::UnitZ();
+  DensityPainter(*project_, project_->LoadCameras())
+      .PaintBall(crown, 0.1 * box.sizes().z(), 0.0f, 0);
+
+  std::map<Stage, StageRun> warm = run(false);
+  const DensityGrid warm_grid = ReadDensity();
+  std::map<Stage, StageRun> cold = run(true);
+  const DensityGrid cold_grid = ReadDensity();
+  const double warm_iterations = *warm[Stage::kDensity].Figure("iterations");
+  const double cold_iterations = *cold[Stage::kDensity].Figure("iterations");
+  std::printf("after the edit: warm %.0f iterations, cold %.0f\n", warm_iterations,
+              cold_iterations);
+  EXPECT_GT(warm[Stage::kDensity].Figure("warm_voxels"), 0.0);
+  EXPECT_LT(warm_iterations, 0.5 * cold_iterations);
+  EXPECT_EQ(cold[Stage::kDensity].Figure("warm_voxels"), 0.0);
+  EXPECT_EQ(warm[Stage::kAttract].Figure("traced"), 1.0) << "only the edited view";
+  EXPECT_EQ(cold[Stage::kAttract].Figure("traced"), 6.0);
+  // The same fit to the edited mattes: the report's density IoU (the cold
+  // solve stops after its iterations too, so voxel values differ a little).
+  const ImageSet cameras = project_->LoadCameras();
+  std::vector<FloatImage> mattes;
+  for (int v = 0; v < cameras.NumViews(); ++v) {
+    mattes.push_back(project_->LoadEditedMatte(cameras, v));
+  }
+  const std::vector<bool> held_out(cameras.NumViews(), false);
+  const FidelityReport warm_fit =
+      ComputeFidelity(warm_grid, cameras, mattes, held_out, options_.report);
+  const FidelityReport cold_fit =
+      ComputeFidelity(cold_grid, cameras, mattes, held_out, options_.report);
+  std::printf("density IoU: warm %.4f, cold %.4f\n", *warm_fit.input.mean_iou,
+              *cold_fit.input.mean_iou);
+  EXPECT_GT(*warm_fit.input.mean_iou, *cold_fit.input.mean_iou - 0.005);
 }
 
 // A crown outline drawn over each photo (edits/<photo>.crown.svg, issue 14's

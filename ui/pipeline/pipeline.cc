@@ -306,7 +306,7 @@ void Pipeline::WriteRunRecord(const RunSummary& summary) const {
   RegisterPipelineOptions(&copy, &registry);
   const Json record = {{"sylva_version", kSylvaVersion},
                        {"finished", LocalTime()},
-                       {"units", StageContext{project_, options_, progress_}.Units()},
+                       {"units", StageContext{project_, options_, progress_, false}.Units()},
                        {"held_out", project_.held_out()},
                        {"profile", RunProfileJson(summary)},
                        {"options", registry.ToJson(/*only_changed=*/false)}};
@@ -339,7 +339,7 @@ RunSummary Pipeline::Run(Stage until, bool force) {
   for (const StageDefinition& definition : Definitions()) {
     const Stage stage = definition.info.stage;
     if (std::find(to_run.begin(), to_run.end(), stage) != to_run.end()) {
-      summary.stages.push_back(Execute(stage));
+      summary.stages.push_back(Execute(stage, force));
     } else if (definition.applies(project_)) {
       StageRun skipped;
       skipped.stage = stage;
@@ -379,10 +379,10 @@ StageRun Pipeline::RunStage(Stage stage) {
   return run;
 }
 
-StageRun Pipeline::Execute(Stage stage) {
+StageRun Pipeline::Execute(Stage stage, bool cold) {
   if (on_stage_start_) on_stage_start_(stage);
   const auto start = std::chrono::steady_clock::now();
-  const StageContext context{project_, options_, progress_};
+  const StageContext context{project_, options_, progress_, cold};
   StageRun run = Definition(stage).run(context);
   run.stage = stage;
   run.seconds = SecondsSince(start);

@@ -61,7 +61,9 @@ class Pipeline {
   Pipeline(const Project& project, const PipelineOptions& options, ProgressReporter* progress);
 
   // Runs every stage up to and including `until` that is out of date (or
-  // all of them with `force`).
+  // all of them with `force`; a forced run also starts every stage cold,
+  // from none of the state earlier runs cached, so it depends only on the
+  // inputs: StageContext::cold).
   RunSummary Run(Stage until, bool force);
   // Runs one stage now; its inputs from earlier stages must exist.
   StageRun RunStage(Stage stage);
@@ -81,7 +83,7 @@ class Pipeline {
   }
 
  private:
-  StageRun Execute(Stage stage);
+  StageRun Execute(Stage stage, bool cold = false);
   // Reads the held-out views' mattes (only the report reads them) so a bad
   // one fails the run before any stage writes.
   void CheckHeldOutMattes() const;

@@ -95,6 +95,11 @@ struct StageContext {
   const Project& project;
   const PipelineOptions& options;
   ProgressReporter* progress;
+  // Start from scratch: use none of the state that earlier runs left in the
+  // cache folder to go faster (the density solve's warm start, the attractor
+  // graphs of unchanged views), so the outputs depend only on the inputs.
+  // Set for forced runs (`sylva run --force`).
+  bool cold = false;
 
   std::filesystem::path Out(const std::string& name) const { return project.OutDir() / name; }
   // An earlier stage's output; InputError naming it if it does not exist.
