@@ -1,0 +1,149 @@
+// Trees grown from 3D gestures (issue 17; Murakami, Onishi, Kitamura and
+// Kishino, "Modeling of Trees with 3D Gestures and Growth Simulation").
+//
+// Trunk-based modelling (section 4.1): each trunk stroke is resampled,
+// smoothed and turned into a trunk L-string of F(length, radius) modules
+// and the turns between them, decomposed about U, then L (then H) of the
+// turtle's frame as in 4.1.3; the trunk's radius is inversely proportional
+// to the stroke's speed (section 5.2). Later trunk strokes join the trunk
+// at its point closest to where they start (5.2) and are pushed off the
+// trunks drawn before them where they would pierce them (4.1.5). Growth
+// points A(l, r, h) are put on the trunks (4.1.4) and the interactive
+// L-system (sketch/lsystem.h) rewrites only the modules inside the region
+// of interest, a supertoroid (eq. 3) fitted to the ROI strokes or, without
+// any, to the gestures (4.2). Every new branch segment is checked against
+// the branch capsules grown before it: one that would leave the region is
+// shortened to its boundary, one that would collide is turned away from
+// the obstacle (the bypass direction of 4.1.5), else shortened, else
+// pruned with the rest of its branch. The corrections are written back
+// into the L-string, whose positions are then those of the tree.
+// Silhouette-based modelling (4.2): without a trunk stroke, the axiom is
+// applied at the bottom of the region: a straight trunk up the region's
+// axis carries the growth points.
+#ifndef SYLVA_SKETCH_GESTURE_TREE_H_
+#define SYLVA_SKETCH_GESTURE_TREE_H_
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/types/skeleton_graph.h"
+#include "sketch/gesture_io.h"
+#include "sketch/lsystem.h"
+
+namespace sylva {
+
+// The default grammar (also datasets/gesture/broadleaf.lsys): a broadleaf
+// crown grown from the growth points A(l, r, h).
+extern const char kDefaultGestureGrammar[];
+
+struct GestureTreeOptions {
+  // Grammar file (.lsys, sketch/lsystem.h); empty = kDefaultGestureGrammar.
+  std::string grammar;
+  // Derivation steps of the L-system. >= 0.
+  int iterations = 6;
+  uint64_t seed = 1;
+  // F modules per trunk stroke (the resampled point set, 4.1.1). >= 2.
+  int trunk_segments = 60;
+  // Smoothing passes over the resampled trunk (each moves a point half-way
+  // to its neighbours' mean; the ends stay). >= 0.
+  int smoothing_passes = 2;
+  // Trunk radius at the stroke's mean speed, as a fraction of the first
+  // trunk's length. > 0.
+  double trunk_radius = 0.02;
+  // The radius follows mean speed / speed (5.2), clamped to
+  // [1 / max_speed_ratio, max_speed_ratio]. >= 1.
+  double max_speed_ratio = 3.0;
+  // Growth points: none below this fraction of a trunk's length ...
+  double crown_base = 0.3;
+  // ... then one every this fraction of it, each rolled by the divergence
+  // from the previous one (golden angle by default). (0, 1].
+  double growth_spacing = 0.07;
+  double divergence_deg = 137.5;
+  // A growth point's l is this fraction of its trunk's length, and its r
+  // this fraction of the trunk's radius there. > 0.
+  double branch_length = 0.3;
+  double branch_radius_ratio = 0.5;
+  // The region of interest (supertoroid, eq. 3): exponents n (vertical
+  // profile) and e (horizontal section); n <= 0 = fitted to the strokes.
+  // alpha > 0 gives the torus its hole (in units of the radii).
+  double roi_n = 0.0;
+  double roi_e = 1.0;
+  double roi_alpha = 0.0;
+  // Without ROI strokes the region encloses the gestures, its horizontal
+  // radii at least this fraction of its height. > 0.
+  double roi_min_width = 0.35;
+  // Turns tried (each this many degrees more) to avoid a collision. >= 0.
+  int avoid_turns = 4;
+  double avoid_turn_deg = 15.0;
+  // Shortened segments below this fraction of their length are pruned.
+  // (0, 1).
+  double min_segment_fraction = 0.25;
+
+  void Check() const;  // throws InputError naming "Gesture.<field>"
+};
+
+// The supertoroid region of interest (Murakami eq. 3, with the up axis +Z):
+// a point p is inside when
+//   (|rho - alpha|)^(2/n) + |(p.z - center.z) / az|^(2/n) <= 1,
+//   rho = (|dx / ax|^(2/e) + |dy / ay|^(2/e))^(e/2),
+//   (dx, dy) = p.xy - center.xy - slope * (p.z - center.z),
+// the slope (b_x, b_z of eq. 3) tilting its axis.
+struct Supertoroid {
+  Eigen::Vector3d center = Eigen::Vector3d::Zero();
+  Eigen::Vector2d slope = Eigen::Vector2d::Zero();
+  double ax = 1, ay = 1, az = 1;
+  double n = 1, e = 1, alpha = 0;
+
+  double InsideOutside(const Eigen::Vector3d& p) const;  // <= 1 inside
+  bool Contains(const Eigen::Vector3d& p) const { return InsideOutside(p) <= 1.0; }
+  // The axis' point at height z.
+  Eigen::Vector3d AxisAt(double z) const;
+};
+
+// Fits the region to ROI strokes (their points on its surface: centre and
+// axis slope from the points' height slices, radii from their spread, n by
+// a 1D search unless given) or, with `enclose`, around `points` (with the
+// minimum width).
+Supertoroid FitSupertoroid(const std::vector<Eigen::Vector3d>& points, bool enclose,
+                           const GestureTreeOptions& options);
+
+struct GestureTree {
+  SkeletonGraph skeleton;  // radii from the strokes and the grammar (world units)
+  Supertoroid roi;
+  bool roi_from_strokes = false;
+  bool silhouette_based = false;  // no trunk stroke (4.2)
+  // Per trunk stroke: its skeleton nodes, base to tip.
+  std::vector<std::vector<int>> trunk_nodes;
+  LsystemString lstring;  // the final L-string, corrected
+  int growth_points = 0;
+  int modules = 0;
+  int segments_turned = 0, segments_shortened = 0, segments_clipped = 0, segments_pruned = 0;
+  int trunk_points_pushed = 0;
+  double min_capsule_distance = 0.0;  // MinNonAdjacentCapsuleDistance(skeleton)
+  std::string brief;
+};
+
+// Grows the tree of `gestures` with `grammar`. Throws InputError naming
+// the gesture file when it has neither trunk nor ROI strokes of length.
+GestureTree GrowGestureTree(const GestureSet& gestures, const LsystemGrammar& grammar,
+                            const GestureTreeOptions& options);
+// The grammar of options.grammar, or the default one.
+LsystemGrammar LoadGestureGrammar(const GestureTreeOptions& options);
+
+// Two edges of a skeleton (node -> parent) are adjacent when the skeleton
+// path between their nearest ends is no longer than the sum of their radii
+// (they are one tube there). Returns the smallest surface distance between
+// non-adjacent edges' capsules (axis distance minus both radii); negative
+// when two overlap; +infinity with fewer than two non-adjacent edges.
+double MinNonAdjacentCapsuleDistance(const SkeletonGraph& skeleton);
+
+// The largest distance between the stroke's polyline and the trunk's
+// (both directions), over the stroke's length.
+double TrunkDeviationFraction(const GestureStroke& stroke, const SkeletonGraph& skeleton,
+                              const std::vector<int>& trunk_nodes);
+
+}  // namespace sylva
+
+#endif  // SYLVA_SKETCH_GESTURE_TREE_H_
