@@ -45,12 +45,18 @@ constexpr double kJoinFraction = 1e-6;
 // no bypass direction (4.1.5: "if the distance is equal to or smaller than
 // a threshold"), and the half-space with fewer segments is taken.
 constexpr double kBypassThreshold = 0.25;
-// Later trunk points are pushed this much beyond touching.
-constexpr double kPushMargin = 1.01;
+// Later trunk points are pushed this much beyond touching, in at most this
+// many rounds.
+constexpr double kPushMargin = 1.02;
+constexpr int kPushRounds = 8;
 // Candidate exponents n of the supertoroid fit.
 constexpr double kFitExponents[] = {0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0, 1.2, 1.4, 1.6, 1.8, 2.0};
 // Height slices of the ROI fit.
 constexpr int kFitSlices = 8;
+// Two capsules are one tube (adjacent) when the skeleton path between
+// their nearest ends is at most this many times the sum of their radii:
+// a branch leaving at 30 degrees or more clears its parent's tube there.
+constexpr double kAdjacentReach = 2.0;
 // Horizontal radii differing more than this ratio are taken as contours
 // drawn on one plane.
 constexpr double kRevolutionRatio = 0.5;
@@ -392,7 +398,7 @@ bool Grower::Collides(const Capsule& c, Eigen::Vector3d* away) const {
       const double reach = c.radius + o.radius;
       Eigen::Vector3d cp, co;
       if (SegmentSegment2(c.a, c.b, o.a, o.b, &cp, &co) >= reach * reach) return;
-      if (paths.BetweenEdges(start, start, o.node_a, o.node_b) <= reach) return;
+      if (paths.BetweenEdges(start, start, o.node_a, o.node_b) <= kAdjacentReach * reach) return;
       hit = true;
       if (away == nullptr) return;
       *away = (cp - co).norm() > kBypassThreshold * reach ? Eigen::Vector3d(cp - co)
@@ -608,37 +614,48 @@ void AppendTrunk(const TrunkPlan& plan, int t, const Symbols& sym, const Gesture
   }
 }
 
-// 4.1.5 for later trunks: points that would pierce an earlier trunk are
-// pushed off it, away from its axis (or, when they cross it, to the side
-// holding fewer trunk segments). Returns how many points moved.
-int PushOffEarlierTrunks(const TrunkPlan& plan, int joined, int join_point, TrunkPath* path) {
+// One round of 4.1.5 for a later trunk: its segments that would pierce an
+// earlier trunk's are pushed off it, away from its axis (or, when they
+// cross it, along the normal of the plane holding both). Returns how many
+// points moved.
+int PushRound(const TrunkPlan& plan, int joined, int join_point, TrunkPath* path) {
   int pushed = 0;
-  const std::vector<double> arc = ArcLengths(path->points);
   for (size_t j = 1; j < path->points.size(); ++j) {
-    const double r = path->radii[std::min(j, path->radii.size()) - 1];
+    const double along_new = ArcLengths(path->points)[j - 1];
     for (size_t t = 0; t < plan.paths.size(); ++t) {
       const TrunkPath& other = plan.paths[t];
       for (size_t k = 0; k + 1 < other.points.size(); ++k) {
-        const double reach = r + other.radii[k];
-        if (static_cast<int>(t) == joined) {  // one tube near the join
-          const double along = std::min(std::abs(plan.arc[t][k] - plan.arc[t][join_point]),
-                                        std::abs(plan.arc[t][k + 1] - plan.arc[t][join_point]));
-          if (arc[j] + along <= reach) continue;
-        }
-        double s = 0;
-        const Eigen::Vector3d p = path->points[j];
-        const double d = std::sqrt(SegmentDistance2(p, other.points[k], other.points[k + 1], &s));
+        const double reach = path->radii[j - 1] + other.radii[k];
+        const double along = static_cast<int>(t) != joined
+                                 ? std::numeric_limits<double>::infinity()
+                                 : std::min(std::abs(plan.arc[t][k] - plan.arc[t][join_point]),
+                                            std::abs(plan.arc[t][k + 1] - plan.arc[t][join_point]));
+        if (along_new + along <= kAdjacentReach * reach) continue;  // one tube near the join
+        Eigen::Vector3d cp, co;
+        const double d = std::sqrt(SegmentSegment2(path->points[j - 1], path->points[j],
+                                                   other.points[k], other.points[k + 1], &cp, &co));
         if (d >= reach) continue;
-        const Eigen::Vector3d closest = other.points[k] + s * (other.points[k + 1] - other.points[k]);
-        Eigen::Vector3d away = p - closest;
+        Eigen::Vector3d away = cp - co;
         if (d <= kBypassThreshold * reach) {
           away = (other.points[k + 1] - other.points[k]).cross(path->points[j] - path->points[j - 1]);
           if (away.norm() < 1e-12) away = (other.points[k + 1] - other.points[k]).unitOrthogonal();
         }
-        path->points[j] = closest + away.normalized() * reach * kPushMargin;
-        ++pushed;
+        const Eigen::Vector3d shift = away.normalized() * (reach * kPushMargin - d);
+        for (size_t m : {j - 1, j}) {
+          if (m > 0) path->points[m] += shift, ++pushed;
+        }
       }
     }
+  }
+  return pushed;
+}
+
+int PushOffEarlierTrunks(const TrunkPlan& plan, int joined, int join_point, TrunkPath* path) {
+  int pushed = 0;
+  for (int round = 0; round < kPushRounds; ++round) {
+    const int moved = PushRound(plan, joined, join_point, path);
+    if (moved == 0) break;
+    pushed += moved;
   }
   return pushed;
 }
@@ -931,7 +948,9 @@ double MinNonAdjacentCapsuleDistance(const SkeletonGraph& skeleton) {
     grid.Near(reach, [&](int index) {
       const Capsule& o = grid.capsules()[index];
       if (o.module <= c.module) return;
-      if (paths.BetweenEdges(c.node_a, c.node_b, o.node_a, o.node_b) <= c.radius + o.radius) return;
+      if (paths.BetweenEdges(c.node_a, c.node_b, o.node_a, o.node_b) <=
+          kAdjacentReach * (c.radius + o.radius))
+        return;
       Eigen::Vector3d cp, co;
       smallest = std::min(smallest, std::sqrt(SegmentSegment2(c.a, c.b, o.a, o.b, &cp, &co)) -
                                         c.radius - o.radius);

@@ -73,7 +73,7 @@ struct GestureTreeOptions {
   double roi_alpha = 0.0;
   // Without ROI strokes the region encloses the gestures, its horizontal
   // radii at least this fraction of its height. > 0.
-  double roi_min_width = 0.35;
+  double roi_min_width = 0.45;
   // Turns tried (each this many degrees more) to avoid a collision. >= 0.
   int avoid_turns = 4;
   double avoid_turn_deg = 15.0;
@@ -133,8 +133,9 @@ GestureTree GrowGestureTree(const GestureSet& gestures, const LsystemGrammar& gr
 LsystemGrammar LoadGestureGrammar(const GestureTreeOptions& options);
 
 // Two edges of a skeleton (node -> parent) are adjacent when the skeleton
-// path between their nearest ends is no longer than the sum of their radii
-// (they are one tube there). Returns the smallest surface distance between
+// path between their nearest ends is no longer than twice the sum of their
+// radii (they are one tube there: a branch leaving its parent at 30 degrees
+// or more is clear of the parent's capsule beyond that path). Returns the smallest surface distance between
 // non-adjacent edges' capsules (axis distance minus both radii); negative
 // when two overlap; +infinity with fewer than two non-adjacent edges.
 double MinNonAdjacentCapsuleDistance(const SkeletonGraph& skeleton);
