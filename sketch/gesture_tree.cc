@@ -913,6 +913,7 @@ GestureTree GrowGestureTree(const GestureSet& gestures, const LsystemGrammar& gr
   tree.skeleton.radius_source = "gesture speed (trunks) and L-system (branches)";
   tree.skeleton.Check();
   tree.modules = tree.lstring.Size();
+  tree.lstring_text = grammar.ToText(tree.lstring);
   tree.min_capsule_distance = MinNonAdjacentCapsuleDistance(tree.skeleton);
   tree.brief = Brief(tree, tree.silhouette_based ? 0 : static_cast<int>(trunks.size()));
   return tree;

@@ -116,7 +116,8 @@ struct GestureTree {
   bool silhouette_based = false;  // no trunk stroke (4.2)
   // Per trunk stroke: its skeleton nodes, base to tip.
   std::vector<std::vector<int>> trunk_nodes;
-  LsystemString lstring;  // the final L-string, corrected
+  LsystemString lstring;     // the final L-string, corrected
+  std::string lstring_text;  // as text (LsystemGrammar::ToText)
   int growth_points = 0;
   int modules = 0;
   int segments_turned = 0, segments_shortened = 0, segments_clipped = 0, segments_pruned = 0;
