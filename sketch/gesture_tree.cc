@@ -683,12 +683,16 @@ TrunkPlan PlanTrunks(const std::vector<const GestureStroke*>& strokes, bool time
     std::vector<double> speeds;
     TrunkPath path = ResampleStroke(*strokes[k], o.trunk_segments, &speeds);
     SmoothPath(o.smoothing_passes, &path.points);
-    const double base = o.trunk_radius * plan.first_length;
+    std::pair<int, int> join = {-1, -1};
+    double base = o.trunk_radius * plan.first_length;
+    if (k > 0) {  // a main branch: thinner than the trunk it joins
+      join = NearestTrunkPoint(plan, path.points.front());
+      const std::vector<double>& radii = plan.paths[join.first].radii;
+      base = o.branch_radius_ratio * radii[std::min<size_t>(join.second, radii.size() - 1)];
+    }
     path.radii = timed ? RadiiFromSpeed(speeds, base, o.max_speed_ratio)
                        : std::vector<double>(speeds.size(), base);
-    std::pair<int, int> join = {-1, -1};
     if (k > 0) {
-      join = NearestTrunkPoint(plan, path.points.front());
       const Eigen::Vector3d at = plan.paths[join.first].points[join.second];
       if ((at - path.points.front()).norm() > kJoinFraction * plan.first_length) {
         path.points.insert(path.points.begin(), at);

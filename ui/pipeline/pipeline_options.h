@@ -28,7 +28,7 @@
 #include "simulate/skeleton_consolidation.h"
 #include "simulate/skeleton_pruning.h"
 #include "sketch/concept_plant.h"
-#include "sketch/gesture_tree.h"
+#include "sketch/gesture_options.h"
 #include "sketch/sketch_views.h"
 #include "sketch/stroke_graph.h"
 #include "ui/pipeline/option_registry.h"
