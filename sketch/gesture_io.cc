@@ -158,8 +158,7 @@ GestureStroke InkmlStroke(const XMLElement& trace, const XMLElement* group,
       v.push_back(value);
     }
     SYLVA_CHECK_INPUT(v.size() == channels.size(), source)
-        << where << index << ": " << v.size() << " values for " << channels.size()
-        << " channels";
+        << where << index << ": " << v.size() << " values for " << channels.size() << " channels";
     GestureSample s;
     s.position = {v[channels.at("X")], v[channels.at("Y")], v[channels.at("Z")]};
     if (channels.count("T")) s.t = v[channels.at("T")];
@@ -206,7 +205,8 @@ Eigen::Vector3d ParsePoint(std::istringstream& in, const std::string& source,
 
 // Polylines of an edge list: chains through vertices of degree 2, each
 // starting at a vertex of another degree (or anywhere on a closed loop).
-std::vector<std::vector<int>> ChainEdges(int vertices, const std::vector<std::array<int, 2>>& edges) {
+std::vector<std::vector<int>> ChainEdges(int vertices,
+                                         const std::vector<std::array<int, 2>>& edges) {
   std::vector<std::vector<int>> adjacent(vertices);
   for (size_t e = 0; e < edges.size(); ++e) {
     adjacent[edges[e][0]].push_back(static_cast<int>(e));
@@ -335,7 +335,9 @@ void GestureSet::Check() const {
   }
 }
 
-std::string GestureKindName(GestureKind kind) { return kind == GestureKind::kRoi ? "roi" : "trunk"; }
+std::string GestureKindName(GestureKind kind) {
+  return kind == GestureKind::kRoi ? "roi" : "trunk";
+}
 
 GestureSet ReadGestureJson(const std::filesystem::path& path) {
   const Json json = ReadJsonFile(path);

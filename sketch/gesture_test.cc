@@ -108,8 +108,7 @@ A(x) : x >= 3 -> B
   RandomEngine random(1);
   LsystemString s = grammar.axiom();
   for (int k = 0; k < 3; ++k) s = DeriveStep(grammar, s, nullptr, &random);
-  EXPECT_EQ(grammar.ToText(s),
-            "F(2)[+(30)F(4)[+(30)B]B]F(4)[+(30)B]B");
+  EXPECT_EQ(grammar.ToText(s), "F(2)[+(30)F(4)[+(30)B]B]F(4)[+(30)B]B");
   // Only rewritable modules are rewritten.
   const std::vector<char> none(s.Size(), 0);
   EXPECT_EQ(grammar.ToText(DeriveStep(grammar, s, &none, &random)), grammar.ToText(s));
@@ -124,8 +123,10 @@ TEST(LsystemTest, BadGrammarsNameLineAndColumn) {
             "nor a #define)");
   EXPECT_EQ(error("A(x) => B\n"), "g.lsys: line 1, column 6: expected '->' after the predecessor");
   EXPECT_EQ(error("A(x) -> F(x +)\n"), "g.lsys: line 1, column 14: expected a value, got ')'");
-  EXPECT_EQ(error("#define D\n"), "g.lsys: line 1, column 10: expected a value at the end of the line");
-  EXPECT_EQ(error("A(x) ->(0) B\n"), "g.lsys: line 1, column 11: a production's weight must be > 0");
+  EXPECT_EQ(error("#define D\n"),
+            "g.lsys: line 1, column 10: expected a value at the end of the line");
+  EXPECT_EQ(error("A(x) ->(0) B\n"),
+            "g.lsys: line 1, column 11: a production's weight must be > 0");
   EXPECT_EQ(error("A(x) -> F(foo(x))\n"), "g.lsys: line 1, column 11: unknown function 'foo'");
   EXPECT_NE(ErrorOf([] { LsystemGrammar::Read("/nonexistent.lsys"); }).find("no such grammar"),
             std::string::npos);
@@ -146,7 +147,8 @@ TEST(SupertoroidTest, FitFindsTheExponent) {
     for (int i = 0; i <= 40; ++i) {
       const double u = -M_PI / 2 + M_PI * i / 40;
       const double c = std::cos(u), s = std::sin(u);
-      const double r = std::pow(std::abs(c), truth.n), z = std::copysign(std::pow(std::abs(s), truth.n), s);
+      const double r = std::pow(std::abs(c), truth.n),
+                   z = std::copysign(std::pow(std::abs(s), truth.n), s);
       points.emplace_back(truth.center.x() + side * truth.ax * r, truth.center.y(),
                           truth.center.z() + truth.az * z);
     }

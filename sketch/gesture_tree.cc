@@ -14,7 +14,8 @@
 
 namespace sylva {
 
-const char kDefaultGestureGrammar[] = R"(# sylva's default gesture grammar: a broadleaf crown grown from the
+const char kDefaultGestureGrammar[] =
+    R"(# sylva's default gesture grammar: a broadleaf crown grown from the
 # growth points A(l, r, h) the gesture trunks carry (l: branch length,
 # r: radius, h: height fraction along the trunk).
 #define ANGLE 40      # branching angle (degrees)
@@ -50,7 +51,8 @@ constexpr double kBypassThreshold = 0.25;
 constexpr double kPushMargin = 1.02;
 constexpr int kPushRounds = 8;
 // Candidate exponents n of the supertoroid fit.
-constexpr double kFitExponents[] = {0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0, 1.2, 1.4, 1.6, 1.8, 2.0};
+constexpr double kFitExponents[] = {0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9,
+                                    1.0, 1.2, 1.4, 1.6, 1.8, 2.0};
 // Height slices of the ROI fit.
 constexpr int kFitSlices = 8;
 // Two capsules are one tube (adjacent) when the skeleton path between
@@ -302,9 +304,16 @@ class Grower {
  public:
   Grower(const LsystemGrammar& grammar, const Symbols& symbols, const Supertoroid& roi,
          const GestureTreeOptions& options, double scale, const Eigen::Vector3d& base)
-      : grammar_(grammar), symbols_(symbols), roi_(roi), options_(options), base_(base),
-        delta_(grammar.Constant("delta", 30.0)), step_(grammar.Constant("step", 1.0)),
-        grid_(scale / kGridCells), established_(scale / kGridCells), cell_(scale / kGridCells) {}
+      : grammar_(grammar),
+        symbols_(symbols),
+        roi_(roi),
+        options_(options),
+        base_(base),
+        delta_(grammar.Constant("delta", 30.0)),
+        step_(grammar.Constant("step", 1.0)),
+        grid_(scale / kGridCells),
+        established_(scale / kGridCells),
+        cell_(scale / kGridCells) {}
 
   // Lays out the established segments (fresh[i] == 0) first, then grows.
   LsystemString Grow(const LsystemString& string, const std::vector<char>& fresh,
@@ -401,8 +410,8 @@ bool Grower::Collides(const Capsule& c, Eigen::Vector3d* away) const {
       if (paths.BetweenEdges(start, start, o.node_a, o.node_b) <= kAdjacentReach * reach) return;
       hit = true;
       if (away == nullptr) return;
-      *away = (cp - co).norm() > kBypassThreshold * reach ? Eigen::Vector3d(cp - co)
-                                                         : FewerSide(o, c);
+      *away =
+          (cp - co).norm() > kBypassThreshold * reach ? Eigen::Vector3d(cp - co) : FewerSide(o, c);
     });
   };
   check(grid_, paths_, c.node_a, false);
@@ -452,7 +461,8 @@ bool Grower::Correct(double* length, double radius, int module, LsystemString* o
   const double min_length = options_.min_segment_fraction * *length;
   auto candidate = [&](const Eigen::Vector3d& h, double l, bool* clipped) {
     Capsule c{turtle_.position, turtle_.position + l * h, radius, turtle_.node, -1, module};
-    if (!FitsRegion(&c, clipped) || (c.b - c.a).norm() < min_length) return std::optional<Capsule>();
+    if (!FitsRegion(&c, clipped) || (c.b - c.a).norm() < min_length)
+      return std::optional<Capsule>();
     return std::optional<Capsule>(c);
   };
   bool clipped = false;
@@ -510,8 +520,8 @@ void Grower::Interpret(const LsystemString& string, const std::vector<char>& fre
   }
 }
 
-bool Grower::Step(const LsystemString& string, int i, bool is_new, bool correct,
-                  LsystemString* out, GestureTree* tree) {
+bool Grower::Step(const LsystemString& string, int i, bool is_new, bool correct, LsystemString* out,
+                  GestureTree* tree) {
   const LsystemModule& m = string.modules[i];
   const double p0 = m.count > 0 ? string.Param(i, 0) : 0.0;
   if (m.symbol == symbols_.F || m.symbol == symbols_.T) {
@@ -559,7 +569,6 @@ LsystemString Grower::Grow(const LsystemString& string, const std::vector<char>&
   return out;
 }
 
-
 // --- trunk L-strings (4.1.3, 4.1.4) -------------------------------------------
 
 struct TrunkPlan {
@@ -572,7 +581,8 @@ struct TrunkPlan {
 
 std::vector<double> ArcLengths(const std::vector<Eigen::Vector3d>& points) {
   std::vector<double> arc = {0.0};
-  for (size_t k = 1; k < points.size(); ++k) arc.push_back(arc.back() + (points[k] - points[k - 1]).norm());
+  for (size_t k = 1; k < points.size(); ++k)
+    arc.push_back(arc.back() + (points[k] - points[k - 1]).norm());
   return arc;
 }
 
@@ -637,7 +647,8 @@ int PushRound(const TrunkPlan& plan, int joined, int join_point, TrunkPath* path
         if (d >= reach) continue;
         Eigen::Vector3d away = cp - co;
         if (d <= kBypassThreshold * reach) {
-          away = (other.points[k + 1] - other.points[k]).cross(path->points[j] - path->points[j - 1]);
+          away =
+              (other.points[k + 1] - other.points[k]).cross(path->points[j] - path->points[j - 1]);
           if (away.norm() < 1e-12) away = (other.points[k + 1] - other.points[k]).unitOrthogonal();
         }
         const Eigen::Vector3d shift = away.normalized() * (reach * kPushMargin - d);
@@ -858,7 +869,8 @@ void Derive(const LsystemGrammar& grammar, const GestureTreeOptions& options, Gr
     for (int i = 0; i < tree->lstring.Size(); ++i) {
       inside[i] = tree->roi.Contains(grower->positions()[i]);
     }
-    const LsystemString next = DeriveStep(grammar, tree->lstring, &inside, &random, nullptr, &fresh);
+    const LsystemString next =
+        DeriveStep(grammar, tree->lstring, &inside, &random, nullptr, &fresh);
     tree->lstring = grower->Grow(next, fresh, tree);
   }
 }
@@ -867,13 +879,15 @@ std::string Brief(const GestureTree& tree, int trunks) {
   std::ostringstream brief;
   brief << (tree.silhouette_based ? "Silhouette-based (no trunk stroke)"
                                   : std::to_string(trunks) + " trunk stroke(s)")
-        << "; region of interest " << (tree.roi_from_strokes ? "fitted to the ROI strokes" : "around the gestures")
+        << "; region of interest "
+        << (tree.roi_from_strokes ? "fitted to the ROI strokes" : "around the gestures")
         << " (supertoroid n " << tree.roi.n << ", radii " << tree.roi.ax << " x " << tree.roi.ay
         << " x " << tree.roi.az << "); " << tree.growth_points << " growth points; L-string of "
-        << tree.modules << " modules; " << tree.skeleton.NumNodes() << " skeleton nodes. Collision avoidance: "
-        << tree.segments_turned << " segments turned, " << tree.segments_shortened
-        << " shortened, " << tree.segments_clipped << " clipped to the region, "
-        << tree.segments_pruned << " pruned, " << tree.trunk_points_pushed
+        << tree.modules << " modules; " << tree.skeleton.NumNodes()
+        << " skeleton nodes. Collision avoidance: " << tree.segments_turned << " segments turned, "
+        << tree.segments_shortened << " shortened, " << tree.segments_clipped
+        << " clipped to the region, " << tree.segments_pruned << " pruned, "
+        << tree.trunk_points_pushed
         << " trunk points pushed; smallest gap between non-adjacent capsules "
         << tree.min_capsule_distance << ".";
   return brief.str();
@@ -957,8 +971,8 @@ double MinNonAdjacentCapsuleDistance(const SkeletonGraph& skeleton) {
           kAdjacentReach * (c.radius + o.radius))
         return;
       Eigen::Vector3d cp, co;
-      smallest = std::min(smallest, std::sqrt(SegmentSegment2(c.a, c.b, o.a, o.b, &cp, &co)) -
-                                        c.radius - o.radius);
+      smallest = std::min(
+          smallest, std::sqrt(SegmentSegment2(c.a, c.b, o.a, o.b, &cp, &co)) - c.radius - o.radius);
     });
   }
   return smallest;
@@ -970,13 +984,15 @@ double TrunkDeviationFraction(const GestureStroke& stroke, const SkeletonGraph& 
   for (const GestureSample& s : stroke.samples) gesture.push_back(s.position);
   for (int node : trunk_nodes) trunk.push_back(skeleton.nodes[node].position);
   // Points of `from` (vertices and midpoints) against the polyline `to`.
-  auto one_way = [](const std::vector<Eigen::Vector3d>& from, const std::vector<Eigen::Vector3d>& to) {
+  auto one_way = [](const std::vector<Eigen::Vector3d>& from,
+                    const std::vector<Eigen::Vector3d>& to) {
     double worst = 0;
     for (size_t i = 0; i < from.size(); ++i) {
       for (const Eigen::Vector3d& p :
            {from[i], Eigen::Vector3d(0.5 * (from[i] + from[std::min(i + 1, from.size() - 1)]))}) {
         double best = std::numeric_limits<double>::infinity();
-        for (size_t k = 0; k + 1 < to.size(); ++k) best = std::min(best, SegmentDistance2(p, to[k], to[k + 1]));
+        for (size_t k = 0; k + 1 < to.size(); ++k)
+          best = std::min(best, SegmentDistance2(p, to[k], to[k + 1]));
         worst = std::max(worst, std::sqrt(best));
       }
     }

@@ -29,8 +29,8 @@
 #include <vector>
 
 #include "core/types/skeleton_graph.h"
-#include "sketch/gesture_options.h"
 #include "sketch/gesture_io.h"
+#include "sketch/gesture_options.h"
 #include "sketch/lsystem.h"
 
 namespace sylva {
@@ -91,9 +91,9 @@ LsystemGrammar LoadGestureGrammar(const GestureTreeOptions& options);
 // Two edges of a skeleton (node -> parent) are adjacent when the skeleton
 // path between their nearest ends is no longer than twice the sum of their
 // radii (they are one tube there: a branch leaving its parent at 30 degrees
-// or more is clear of the parent's capsule beyond that path). Returns the smallest surface distance between
-// non-adjacent edges' capsules (axis distance minus both radii); negative
-// when two overlap; +infinity with fewer than two non-adjacent edges.
+// or more is clear of the parent's capsule beyond that path). Returns the smallest surface distance
+// between non-adjacent edges' capsules (axis distance minus both radii); negative when two overlap;
+// +infinity with fewer than two non-adjacent edges.
 double MinNonAdjacentCapsuleDistance(const SkeletonGraph& skeleton);
 
 // The largest distance between the stroke's polyline and the trunk's

@@ -56,47 +56,74 @@ struct Function {
   int arity;
 };
 constexpr Function kFunctions[] = {
-    {"sin", kSin, 1},   {"cos", kCos, 1},   {"tan", kTan, 1},     {"sqrt", kSqrt, 1},
-    {"abs", kAbs, 1},   {"exp", kExp, 1},   {"log", kLog, 1},     {"floor", kFloor, 1},
-    {"min", kMin, 2},   {"max", kMax, 2},   {"uniform", kUniform, 2},
+    {"sin", kSin, 1}, {"cos", kCos, 1}, {"tan", kTan, 1},         {"sqrt", kSqrt, 1},
+    {"abs", kAbs, 1}, {"exp", kExp, 1}, {"log", kLog, 1},         {"floor", kFloor, 1},
+    {"min", kMin, 2}, {"max", kMax, 2}, {"uniform", kUniform, 2},
 };
 
 double Binary(int code, double a, double b) {
   switch (code) {
-    case kAdd: return a + b;
-    case kSub: return a - b;
-    case kMul: return a * b;
-    case kDiv: return a / b;
-    case kPow: return std::pow(a, b);
-    case kLt: return a < b;
-    case kLe: return a <= b;
-    case kGt: return a > b;
-    case kGe: return a >= b;
-    case kEq: return a == b;
-    case kNe: return a != b;
-    case kAnd: return a != 0 && b != 0;
-    case kOr: return a != 0 || b != 0;
-    case kMin: return std::min(a, b);
-    default: return std::max(a, b);
+    case kAdd:
+      return a + b;
+    case kSub:
+      return a - b;
+    case kMul:
+      return a * b;
+    case kDiv:
+      return a / b;
+    case kPow:
+      return std::pow(a, b);
+    case kLt:
+      return a < b;
+    case kLe:
+      return a <= b;
+    case kGt:
+      return a > b;
+    case kGe:
+      return a >= b;
+    case kEq:
+      return a == b;
+    case kNe:
+      return a != b;
+    case kAnd:
+      return a != 0 && b != 0;
+    case kOr:
+      return a != 0 || b != 0;
+    case kMin:
+      return std::min(a, b);
+    default:
+      return std::max(a, b);
   }
 }
 
 double Unary(int code, double a) {
   switch (code) {
-    case kNeg: return -a;
-    case kNot: return a == 0;
-    case kSin: return std::sin(a * kDegree);
-    case kCos: return std::cos(a * kDegree);
-    case kTan: return std::tan(a * kDegree);
-    case kSqrt: return std::sqrt(a);
-    case kAbs: return std::abs(a);
-    case kExp: return std::exp(a);
-    case kLog: return std::log(a);
-    default: return std::floor(a);
+    case kNeg:
+      return -a;
+    case kNot:
+      return a == 0;
+    case kSin:
+      return std::sin(a * kDegree);
+    case kCos:
+      return std::cos(a * kDegree);
+    case kTan:
+      return std::tan(a * kDegree);
+    case kSqrt:
+      return std::sqrt(a);
+    case kAbs:
+      return std::abs(a);
+    case kExp:
+      return std::exp(a);
+    case kLog:
+      return std::log(a);
+    default:
+      return std::floor(a);
   }
 }
 
-bool IsUnaryCode(int code) { return code == kNeg || code == kNot || (code >= kSin && code <= kFloor); }
+bool IsUnaryCode(int code) {
+  return code == kNeg || code == kNot || (code >= kSin && code <= kFloor);
+}
 
 }  // namespace
 
@@ -377,12 +404,14 @@ class LsystemParser {
     }
     const size_t start = pos_;
     const std::string name = Identifier();
-    if (name.empty()) Fail(AtEnd() ? "expected a value at the end of the line"
-                                   : std::string("expected a value, got '") + Peek() + "'");
+    if (name.empty())
+      Fail(AtEnd() ? "expected a value at the end of the line"
+                   : std::string("expected a value, got '") + Peek() + "'");
     SkipSpace();
     if (Peek() == '(') return ParseCall(name, start);
     const auto formal = std::find(formals_.begin(), formals_.end(), name);
-    if (formal != formals_.end()) return Emit(kParam, static_cast<double>(formal - formals_.begin()));
+    if (formal != formals_.end())
+      return Emit(kParam, static_cast<double>(formal - formals_.begin()));
     const auto constant = grammar_->constants_.find(name);
     if (constant == grammar_->constants_.end()) {
       pos_ = start;
@@ -541,7 +570,8 @@ LsystemString DeriveStep(const LsystemGrammar& grammar, const LsystemString& str
     for (const LsystemProduction::Successor& s : grammar.productions()[p].successor) {
       result.modules.push_back(
           {s.symbol, static_cast<int>(result.params.size()), static_cast<int>(s.params.size())});
-      for (const LsystemExpression& e : s.params) result.params.push_back(e.Evaluate(frame, random));
+      for (const LsystemExpression& e : s.params)
+        result.params.push_back(e.Evaluate(frame, random));
       if (fresh != nullptr) fresh->push_back(1);
     }
   }

@@ -165,7 +165,8 @@ std::string NaiveStep(const std::string& string, int* modules) {
     for (const NaiveProduction& p : kNaiveProductions) {
       if (p.name != name || p.formals.size() != params.size()) continue;
       vars.clear();
-      for (size_t k = 0; k < params.size(); ++k) vars[p.formals[k]] = std::strtod(params[k].c_str(), nullptr);
+      for (size_t k = 0; k < params.size(); ++k)
+        vars[p.formals[k]] = std::strtod(params[k].c_str(), nullptr);
       if (p.condition.empty() || NaiveExpression(p.condition, vars).Evaluate() != 0) {
         applied = &p;
         break;
@@ -181,7 +182,8 @@ std::string NaiveStep(const std::string& string, int* modules) {
     size_t succ_pos = 0;
     while (NextModule(applied->successor, &succ_pos, &succ_name, &succ_params)) {
       std::vector<double> values;
-      for (const std::string& e : succ_params) values.push_back(NaiveExpression(e, vars).Evaluate());
+      for (const std::string& e : succ_params)
+        values.push_back(NaiveExpression(e, vars).Evaluate());
       AppendModule(succ_name, values, &out);
       ++*modules;
     }
@@ -249,10 +251,11 @@ int Main(bool quick) {
   start = std::chrono::steady_clock::now();
   const GestureTree tree = GrowGestureTree(gestures, LoadGestureGrammar(options), options);
   const double grow_seconds = Seconds(start);
-  std::printf("gesture growth (%d steps, region and collision avoidance): %d modules, %d nodes in "
-              "%.3f s, %.3g modules/s; smallest capsule gap %.3g m\n",
-              options.iterations, tree.modules, tree.skeleton.NumNodes(), grow_seconds,
-              tree.modules / grow_seconds, tree.min_capsule_distance);
+  std::printf(
+      "gesture growth (%d steps, region and collision avoidance): %d modules, %d nodes in "
+      "%.3f s, %.3g modules/s; smallest capsule gap %.3g m\n",
+      options.iterations, tree.modules, tree.skeleton.NumNodes(), grow_seconds,
+      tree.modules / grow_seconds, tree.min_capsule_distance);
   agreement.AtLeast("smallest capsule gap (m)", tree.min_capsule_distance, 0.0);
   return agreement.ExitCode();
 }

@@ -39,10 +39,9 @@ TEST(GestureE2eTest, GrowsAndMeshesATree) {
   ASSERT_EQ(result.exit_code, 0) << result.Describe();
   EXPECT_LT(result.seconds, 20.0);
   EXPECT_NE(result.out.find("2 trunk stroke(s)"), std::string::npos) << result.out;
-  for (const char* name :
-       {"tree.glb", "tree.obj", "bark.obj", "skeleton.json", "qsm.csv", "metrics.json", "tree.lpy",
-        "tree_turtle.lpy", "tree.mtg", "lstring.txt", "roi.json", "options.json",
-        "preview_0.png"}) {
+  for (const char* name : {"tree.glb", "tree.obj", "bark.obj", "skeleton.json", "qsm.csv",
+                           "metrics.json", "tree.lpy", "tree_turtle.lpy", "tree.mtg", "lstring.txt",
+                           "roi.json", "options.json", "preview_0.png"}) {
     EXPECT_TRUE(fs::is_regular_file(out / name)) << name;
   }
   EXPECT_GT(ReadGlb(out / "tree.glb").NumTriangles(), 1000);
@@ -80,8 +79,7 @@ TEST(GestureE2eTest, BadGrammarAndGestureFiles) {
   const SubprocessResult bad_gesture =
       RunSubprocess({kSylva, "gesture", gesture.string(), out.string()});
   EXPECT_EQ(bad_gesture.exit_code, 2) << bad_gesture.Describe();
-  EXPECT_NE(bad_gesture.err.find(gesture.string() + ": line 3: expected x y z"),
-            std::string::npos)
+  EXPECT_NE(bad_gesture.err.find(gesture.string() + ": line 3: expected x y z"), std::string::npos)
       << bad_gesture.err;
   EXPECT_FALSE(fs::exists(out));
   const SubprocessResult bad_option =
