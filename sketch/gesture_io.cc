@@ -18,6 +18,8 @@ namespace {
 
 constexpr char kFormatName[] = "sylva-gesture";
 constexpr int kFormatVersion = 1;
+// InkML's prefixes of first and second differences and of omitted values.
+constexpr char kDifferenceEncodings[] = "'\"!?";
 
 std::string Lower(std::string text) {
   std::transform(text.begin(), text.end(), text.begin(),
@@ -145,8 +147,9 @@ GestureStroke InkmlStroke(const XMLElement& trace, const XMLElement* group,
   for (std::string item; std::getline(samples, item, ',');) {
     ++index;
     if (item.find_first_not_of(" \t\r\n") == std::string::npos) continue;
-    SYLVA_CHECK_INPUT(item.find_first_of("'\"!?") == std::string::npos, source)
-        << where << index << ": difference encodings (' \" ! ?) are not supported";
+    SYLVA_CHECK_INPUT(item.find_first_of(kDifferenceEncodings) == std::string::npos, source)
+        << where << index
+        << ": InkML difference encodings are not supported (explicit values only)";
     std::istringstream values(item);
     std::vector<double> v;
     std::string token;

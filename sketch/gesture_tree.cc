@@ -62,6 +62,8 @@ constexpr double kAdjacentReach = 2.0;
 // Horizontal radii differing more than this ratio are taken as contours
 // drawn on one plane.
 constexpr double kRevolutionRatio = 0.5;
+// The thinnest segment, as a fraction of the tree's size.
+constexpr double kMinRadius = 1e-5;
 // Cells of the capsule grid across the tree's size.
 constexpr double kGridCells = 25.0;
 
@@ -313,7 +315,8 @@ class Grower {
         step_(grammar.Constant("step", 1.0)),
         grid_(scale / kGridCells),
         established_(scale / kGridCells),
-        cell_(scale / kGridCells) {}
+        cell_(scale / kGridCells),
+        min_radius_(kMinRadius * scale) {}
 
   // Lays out the established segments (fresh[i] == 0) first, then grows.
   LsystemString Grow(const LsystemString& string, const std::vector<char>& fresh,
@@ -358,6 +361,7 @@ class Grower {
   std::vector<Eigen::Vector3d> positions_;
   std::vector<std::vector<int>> trunk_nodes_;
   double cell_;
+  double min_radius_;
   bool record_ = false;
 };
 
@@ -526,7 +530,8 @@ bool Grower::Step(const LsystemString& string, int i, bool is_new, bool correct,
   const double p0 = m.count > 0 ? string.Param(i, 0) : 0.0;
   if (m.symbol == symbols_.F || m.symbol == symbols_.T) {
     double length = m.count > 0 ? p0 : step_;
-    const double radius = m.count > 1 ? string.Param(i, 1) : turtle_.radius;
+    // Radii > 0 (cylinder tables need them), whatever the grammar says.
+    const double radius = std::max(m.count > 1 ? string.Param(i, 1) : turtle_.radius, min_radius_);
     const bool branch = m.symbol == symbols_.F;
     if (!correct && is_new && branch) {  // layout pass: new segments are not obstacles yet
       Forward(length, radius, -1, false);
@@ -721,11 +726,13 @@ TrunkPlan PlanTrunks(const std::vector<const GestureStroke*>& strokes, bool time
   return plan;
 }
 
-// Silhouette-based modelling (4.2) without a trunk: a straight trunk from
-// the region's bottom up its axis to its centre height.
+// Silhouette-based modelling (4.2) without a trunk: "the axiom at an
+// arbitrary point in the region": a straight trunk up the region's axis,
+// from the ground (z = 0, where sylva puts a tree's base) or the region's
+// bottom if lower, to the region's centre height.
 GestureStroke AxisTrunk(const Supertoroid& roi) {
   GestureStroke stroke;
-  stroke.samples.push_back({0.0, roi.AxisAt(roi.center.z() - roi.az), 1.0});
+  stroke.samples.push_back({0.0, roi.AxisAt(std::min(0.0, roi.center.z() - roi.az)), 1.0});
   stroke.samples.push_back({1.0, roi.AxisAt(roi.center.z()), 1.0});
   return stroke;
 }

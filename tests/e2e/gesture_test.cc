@@ -56,7 +56,7 @@ TEST(GestureE2eTest, GrowsAndMeshesATree) {
   const Json roi = Json::parse(ReadFileToString(out / "roi.json"));
   EXPECT_EQ(roi["fitted_to"], "roi strokes");
   const Json options = Json::parse(ReadFileToString(out / "options.json"));
-  EXPECT_EQ(options["Gesture.iterations"], 5);
+  EXPECT_EQ(options["Gesture"]["iterations"], 5);
   EXPECT_NE(ReadFileToString(out / "lstring.txt").find("T("), std::string::npos);
   fs::remove_all(out);
 }
