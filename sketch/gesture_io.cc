@@ -266,8 +266,10 @@ PlyHeader ReadPlyHeader(std::istream& in, const std::string& source) {
       int count = -1;
       words >> element >> count;
       SYLVA_CHECK_INPUT(count >= 0, source) << "line " << header.lines << ": bad element count";
-      (element == "vertex" ? header.vertices : header.edges) =
-          element == "vertex" || element == "edge" ? count : 0;
+      SYLVA_CHECK_INPUT((element == "vertex" && header.edges == 0) || element == "edge", source)
+          << "line " << header.lines << ": expected 'element vertex' then 'element edge', got '"
+          << element << "'";
+      (element == "vertex" ? header.vertices : header.edges) = count;
     } else if (word == "property") {
       std::string type, name;
       words >> type >> name;

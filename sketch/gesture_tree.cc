@@ -62,6 +62,8 @@ constexpr double kAdjacentReach = 2.0;
 // Horizontal radii differing more than this ratio are taken as contours
 // drawn on one plane.
 constexpr double kRevolutionRatio = 0.5;
+// The longest L-string grown (memory: about 40 bytes a module).
+constexpr int kMaxModules = 5000000;
 // The thinnest segment, as a fraction of the tree's size.
 constexpr double kMinRadius = 1e-5;
 // Cells of the capsule grid across the tree's size.
@@ -530,6 +532,10 @@ bool Grower::Step(const LsystemString& string, int i, bool is_new, bool correct,
   const double p0 = m.count > 0 ? string.Param(i, 0) : 0.0;
   if (m.symbol == symbols_.F || m.symbol == symbols_.T) {
     double length = m.count > 0 ? p0 : step_;
+    SYLVA_CHECK_INPUT(std::isfinite(length) && (m.count < 2 || std::isfinite(string.Param(i, 1))),
+                      grammar_.source())
+        << "the L-system made " << grammar_.SymbolName(m.symbol)
+        << " with a non-finite length or radius";
     // Radii > 0 (cylinder tables need them), whatever the grammar says.
     const double radius = std::max(m.count > 1 ? string.Param(i, 1) : turtle_.radius, min_radius_);
     const bool branch = m.symbol == symbols_.F;
@@ -551,6 +557,8 @@ bool Grower::Step(const LsystemString& string, int i, bool is_new, bool correct,
   if (m.symbol == symbols_.push) stack_.push_back(turtle_), ++turtle_.depth;
   if (m.symbol == symbols_.pop && !stack_.empty()) turtle_ = stack_.back(), stack_.pop_back();
   if (m.symbol == symbols_.width && m.count > 0) turtle_.radius = p0;
+  SYLVA_CHECK_INPUT(std::isfinite(p0), grammar_.source())
+      << "the L-system made " << grammar_.SymbolName(m.symbol) << " with a non-finite parameter";
   Turn(m.symbol, m.count > 0 ? p0 : delta_, &turtle_.frame);
   if (out != nullptr) out->Append(string, i);
   return true;
@@ -878,6 +886,9 @@ void Derive(const LsystemGrammar& grammar, const GestureTreeOptions& options, Gr
     }
     const LsystemString next =
         DeriveStep(grammar, tree->lstring, &inside, &random, nullptr, &fresh);
+    SYLVA_CHECK_INPUT(next.Size() <= kMaxModules, grammar.source())
+        << "the L-string grew past " << kMaxModules << " modules in step " << step + 1
+        << " (fewer Gesture.iterations?)";
     tree->lstring = grower->Grow(next, fresh, tree);
   }
 }

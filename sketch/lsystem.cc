@@ -17,6 +17,8 @@ namespace {
 constexpr double kDegree = 3.14159265358979323846 / 180.0;
 // The deepest evaluation stack an expression may need.
 constexpr int kMaxStack = 64;
+// The deepest nesting of parentheses and unary operators parsed.
+constexpr int kMaxNesting = 200;
 constexpr char kTurtleCharacters[] = "+-&^/\\|![]";
 
 enum Code {
@@ -203,6 +205,20 @@ class LsystemParser {
   }
   bool AtArrow() const { return Peek() == '-' && Peek(1) == '>'; }
 
+  // Constants, #defines and the arithmetic of them only.
+  void RequireConstant(const LsystemExpression& expression, const std::string& what) {
+    for (const LsystemExpression::Op& op : expression.ops) {
+      if (op.code == kUniform || op.code == kParam) {
+        Fail(what + " must be fixed: no parameters, no uniform()");
+      }
+    }
+  }
+
+  // Guards the recursion of nested parentheses and unary operators.
+  void Enter() {
+    if (++nesting_ > kMaxNesting) Fail("expression nested too deeply");
+  }
+
   std::string Identifier() {
     const size_t start = pos_;
     if (!std::isalpha(static_cast<unsigned char>(Peek()))) return "";
@@ -215,9 +231,7 @@ class LsystemParser {
     const std::string name = Identifier();
     if (name.empty()) Fail("expected a constant's name after #define");
     LsystemExpression expression = ParseExpressionAt();
-    for (const LsystemExpression::Op& op : expression.ops) {
-      if (op.code == kUniform) Fail("uniform() in a #define (constants are fixed)");
-    }
+    RequireConstant(expression, "a #define");
     SkipSpace();
     if (!AtEnd()) Fail("unexpected text after the constant's value");
     grammar_->constants_[name] = expression.Evaluate(nullptr, nullptr);
@@ -241,6 +255,7 @@ class LsystemParser {
     if (!Consume("->")) Fail("expected '->' after the predecessor");
     if (Consume("(")) {
       LsystemExpression weight = ParseExpressionAt();
+      RequireConstant(weight, "a production's weight");
       SkipSpace();
       Expect(")");
       production.weight = weight.Evaluate(nullptr, nullptr);
@@ -303,9 +318,7 @@ class LsystemParser {
       string.modules.push_back(
           {s.symbol, static_cast<int>(string.params.size()), static_cast<int>(s.params.size())});
       for (const LsystemExpression& e : s.params) {
-        for (const LsystemExpression::Op& op : e.ops) {
-          if (op.code == kUniform) Fail("uniform() in the axiom");
-        }
+        RequireConstant(e, "the axiom");
         string.params.push_back(e.Evaluate(nullptr, random));
       }
     }
@@ -379,12 +392,18 @@ class LsystemParser {
     }
   }
   void ParseUnary() {
+    Enter();
     SkipSpace();
-    if (!AtArrow() && Consume("-")) return ParseUnary(), Emit(kNeg);
-    if (Peek() == '!' && Peek(1) != '=' && Consume("!")) return ParseUnary(), Emit(kNot);
-    ParsePrimary();
-    SkipSpace();
-    if (Consume("^")) ParseUnary(), Emit(kPow);
+    if (!AtArrow() && Consume("-")) {
+      ParseUnary(), Emit(kNeg);
+    } else if (Peek() == '!' && Peek(1) != '=' && Consume("!")) {
+      ParseUnary(), Emit(kNot);
+    } else {
+      ParsePrimary();
+      SkipSpace();
+      if (Consume("^")) ParseUnary(), Emit(kPow);
+    }
+    --nesting_;
   }
   void ParsePrimary() {
     SkipSpace();
@@ -443,6 +462,7 @@ class LsystemParser {
   std::vector<std::string> formals_;
   std::vector<LsystemExpression::Op>* ops_ = nullptr;
   int depth_ = 0, max_depth_ = 0;
+  int nesting_ = 0;
 };
 
 LsystemGrammar LsystemGrammar::Parse(const std::string& text, const std::string& source) {
