@@ -239,6 +239,26 @@ TEST(GestureTreeTest, RadiusFollowsStrokeSpeed) {
   EXPECT_GT(base / tip, 2.5);
 }
 
+TEST(GestureTreeTest, LaterTrunkIsPushedOffTheTrunk) {
+  // A second trunk stroke drawn straight through the first (Murakami
+  // 4.1.5): it joins at its start and is pushed off, no capsules overlap.
+  GestureSet gestures;
+  gestures.source = "crossing";
+  GestureStroke first, second;
+  for (int k = 0; k <= 30; ++k) first.samples.push_back({0.1 * k, {0, 0, 0.2 * k}, 1.0});
+  for (int k = 0; k <= 30; ++k) {
+    second.samples.push_back({0.1 * k, {0.4 - 0.07 * k, 0.0, 1.0 + 0.13 * k}, 1.0});
+  }
+  gestures.strokes = {first, second};
+  gestures.timed = true;
+  GestureTreeOptions options;
+  options.iterations = 0;
+  const GestureTree tree = GrowGestureTree(gestures, LoadGestureGrammar(options), options);
+  EXPECT_GT(tree.trunk_points_pushed, 0);
+  EXPECT_GE(tree.min_capsule_distance, 0.0);
+  ASSERT_EQ(tree.trunk_nodes.size(), 2u);
+}
+
 TEST(GestureTreeTest, OptionsAreChecked) {
   GestureTreeOptions options;
   options.growth_spacing = 0;

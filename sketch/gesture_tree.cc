@@ -179,7 +179,7 @@ class CapsuleGrid {
   }
   // Calls visit(index) once per capsule whose cell range meets `c`'s.
   template <typename Visit>
-  void Near(const Capsule& c, Visit visit) {
+  void Near(const Capsule& c, Visit visit) const {
     ++stamp_;
     seen_.resize(capsules_.size(), 0);
     ForCells(c, [&](int64_t key) {
@@ -208,8 +208,9 @@ class CapsuleGrid {
   double cell_;
   std::vector<Capsule> capsules_;
   std::unordered_map<int64_t, std::vector<int>> cells_;
-  std::vector<int> seen_;
-  int stamp_ = 0;
+  // Scratch of Near (not thread-safe).
+  mutable std::vector<int> seen_;
+  mutable int stamp_ = 0;
 };
 
 // --- trunk strokes (4.1.1-4.1.3) ---------------------------------------------
@@ -407,7 +408,7 @@ void Grower::Forward(double length, double radius, int module, bool add_capsule)
 bool Grower::Collides(const Capsule& c, Eigen::Vector3d* away) const {
   bool hit = false;
   auto check = [&](const CapsuleGrid& grid, const TreePaths& paths, int start, bool later) {
-    const_cast<CapsuleGrid&>(grid).Near(c, [&](int index) {
+    grid.Near(c, [&](int index) {
       const Capsule& o = grid.capsules()[index];
       if (hit || (later && o.module <= c.module)) return;
       const double reach = c.radius + o.radius;
@@ -658,13 +659,16 @@ int PushRound(const TrunkPlan& plan, int joined, int join_point, TrunkPath* path
         const double d = std::sqrt(SegmentSegment2(path->points[j - 1], path->points[j],
                                                    other.points[k], other.points[k + 1], &cp, &co));
         if (d >= reach) continue;
-        Eigen::Vector3d away = cp - co;
-        if (d <= kBypassThreshold * reach) {
-          away =
-              (other.points[k + 1] - other.points[k]).cross(path->points[j] - path->points[j - 1]);
-          if (away.norm() < 1e-12) away = (other.points[k + 1] - other.points[k]).unitOrthogonal();
+        // Away from the obstacle's axis, across it (an axial push would
+        // only slide the point along the trunk).
+        const Eigen::Vector3d axis = (other.points[k + 1] - other.points[k]).normalized();
+        Eigen::Vector3d away = cp - co - (cp - co).dot(axis) * axis;
+        const double across = away.norm();
+        if (across <= kBypassThreshold * reach) {
+          away = axis.cross(path->points[j] - path->points[j - 1]);
+          if (away.norm() < 1e-12) away = axis.unitOrthogonal();
         }
-        const Eigen::Vector3d shift = away.normalized() * (reach * kPushMargin - d);
+        const Eigen::Vector3d shift = away.normalized() * (reach * kPushMargin - across);
         for (size_t m : {j - 1, j}) {
           if (m > 0) path->points[m] += shift, ++pushed;
         }
