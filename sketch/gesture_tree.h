@@ -2,9 +2,10 @@
 // Kishino, "Modeling of Trees with 3D Gestures and Growth Simulation").
 //
 // Trunk-based modelling (section 4.1): each trunk stroke is resampled,
-// smoothed and turned into a trunk L-string of F(length, radius) modules
-// and the turns between them, decomposed about U, then L (then H) of the
-// turtle's frame as in 4.1.3; the trunk's radius is inversely proportional
+// smoothed and turned into a trunk L-string of T(length, radius, stroke)
+// modules (drawn like F, never corrected) and the turns between them,
+// +(yaw) &(pitch): about U, then L (then H, not needed) of the turtle's
+// frame as in 4.1.3; the trunk's radius is inversely proportional
 // to the stroke's speed (section 5.2). Later trunk strokes join the trunk
 // at its point closest to where they start (5.2) and are pushed off the
 // trunks drawn before them where they would pierce them (4.1.5). Growth
@@ -17,9 +18,11 @@
 // the obstacle (the bypass direction of 4.1.5), else shortened, else
 // pruned with the rest of its branch. The corrections are written back
 // into the L-string, whose positions are then those of the tree.
-// Silhouette-based modelling (4.2): without a trunk stroke, the axiom is
-// applied at the bottom of the region: a straight trunk up the region's
-// axis carries the growth points.
+// Established segments (grown in earlier steps) keep their place: each
+// step first lays them out as obstacles, then grows the new ones (two
+// passes). Silhouette-based modelling (4.2): without a trunk stroke, a
+// straight trunk up the region's axis, from the ground, carries the growth
+// points. The grammar's own axiom is not used by gestures.
 #ifndef SYLVA_SKETCH_GESTURE_TREE_H_
 #define SYLVA_SKETCH_GESTURE_TREE_H_
 
