@@ -13,6 +13,9 @@ namespace sylva {
 struct GestureTreeOptions {
   // Grammar file (.lsys, sketch/lsystem.h); empty = kDefaultGestureGrammar.
   std::string grammar;
+  // The grammar's parameters: "NAME=VALUE,NAME=VALUE" replaces the values
+  // of its #define constants (each NAME must be defined in it).
+  std::string defines;
   // Derivation steps of the L-system. >= 0.
   int iterations = 6;
   uint64_t seed = 1;

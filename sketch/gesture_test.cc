@@ -259,6 +259,23 @@ TEST(GestureTreeTest, LaterTrunkIsPushedOffTheTrunk) {
   ASSERT_EQ(tree.trunk_nodes.size(), 2u);
 }
 
+TEST(GestureTreeTest, DefinesOverrideGrammarConstants) {
+  GestureTreeOptions options;
+  options.defines = "ANGLE=25, LR=0.6";
+  const LsystemGrammar grammar = LoadGestureGrammar(options);
+  EXPECT_EQ(grammar.Constant("ANGLE", 0), 25.0);
+  EXPECT_EQ(grammar.Constant("LR", 0), 0.6);
+  EXPECT_EQ(grammar.Constant("DIV", 0), 137.5);
+  options.defines = "NOPE=1";
+  EXPECT_NE(ErrorOf([&] {
+              LoadGestureGrammar(options);
+            }).find("Gesture.defines: 'NOPE' is not a #define"),
+            std::string::npos);
+  options.defines = "ANGLE=abc";
+  EXPECT_NE(ErrorOf([&] { LoadGestureGrammar(options); }).find("expected NAME=NUMBER"),
+            std::string::npos);
+}
+
 TEST(GestureTreeTest, OptionsAreChecked) {
   GestureTreeOptions options;
   options.growth_spacing = 0;

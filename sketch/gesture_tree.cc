@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <optional>
 #include <sstream>
 #include <unordered_map>
@@ -868,10 +869,36 @@ void GestureTreeOptions::Check() const {
 }
 
 LsystemGrammar LoadGestureGrammar(const GestureTreeOptions& options) {
-  if (options.grammar.empty()) {
-    return LsystemGrammar::Parse(kDefaultGestureGrammar, "the default gesture grammar");
+  const std::map<std::string, double> overrides = ParseDefines(options.defines);
+  LsystemGrammar grammar =
+      options.grammar.empty()
+          ? LsystemGrammar::Parse(kDefaultGestureGrammar, "the default gesture grammar", &overrides)
+          : LsystemGrammar::Read(options.grammar, &overrides);
+  SYLVA_CHECK_INPUT(grammar.unused_overrides().empty(), "Gesture.defines")
+      << "'" << (grammar.unused_overrides().empty() ? "" : grammar.unused_overrides()[0])
+      << "' is not a #define of " << grammar.source();
+  return grammar;
+}
+
+std::map<std::string, double> ParseDefines(const std::string& defines) {
+  std::map<std::string, double> values;
+  std::stringstream items(defines);
+  for (std::string item; std::getline(items, item, ',');) {
+    if (item.find_first_not_of(" ") == std::string::npos) continue;
+    const size_t equals = item.find('=');
+    char* end = nullptr;
+    std::string name = equals == std::string::npos ? "" : item.substr(0, equals);
+    name.erase(0, name.find_first_not_of(' '));
+    name.erase(name.find_last_not_of(' ') + 1);
+    const double value =
+        equals == std::string::npos ? 0.0 : std::strtod(item.c_str() + equals + 1, &end);
+    SYLVA_CHECK_INPUT(!name.empty() && end != nullptr && end != item.c_str() + equals + 1 &&
+                          *end == '\0' && std::isfinite(value),
+                      "Gesture.defines")
+        << "expected NAME=NUMBER[,NAME=NUMBER...], got '" << item << "'";
+    values[name] = value;
   }
-  return LsystemGrammar::Read(options.grammar);
+  return values;
 }
 
 namespace {

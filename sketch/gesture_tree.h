@@ -28,6 +28,7 @@
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -88,8 +89,13 @@ struct GestureTree {
 // the gesture file when it has neither trunk nor ROI strokes of length.
 GestureTree GrowGestureTree(const GestureSet& gestures, const LsystemGrammar& grammar,
                             const GestureTreeOptions& options);
-// The grammar of options.grammar, or the default one.
+// The grammar of options.grammar, or the default one, with the constants
+// of options.defines. Throws InputError naming the grammar file (line,
+// column) or Gesture.defines.
 LsystemGrammar LoadGestureGrammar(const GestureTreeOptions& options);
+// "NAME=VALUE,NAME=VALUE" as a map; throws InputError naming
+// Gesture.defines.
+std::map<std::string, double> ParseDefines(const std::string& defines);
 
 // Two edges of a skeleton (node -> parent) are adjacent when the skeleton
 // path between their nearest ends is no longer than twice the sum of their

@@ -234,7 +234,10 @@ class LsystemParser {
     RequireConstant(expression, "a #define");
     SkipSpace();
     if (!AtEnd()) Fail("unexpected text after the constant's value");
-    grammar_->constants_[name] = expression.Evaluate(nullptr, nullptr);
+    const auto* overrides = grammar_->overrides_;
+    const bool overridden = overrides != nullptr && overrides->count(name) != 0;
+    grammar_->constants_[name] =
+        overridden ? overrides->at(name) : expression.Evaluate(nullptr, nullptr);
   }
 
   void ParseProduction() {
@@ -465,9 +468,11 @@ class LsystemParser {
   int nesting_ = 0;
 };
 
-LsystemGrammar LsystemGrammar::Parse(const std::string& text, const std::string& source) {
+LsystemGrammar LsystemGrammar::Parse(const std::string& text, const std::string& source,
+                                     const std::map<std::string, double>* overrides) {
   LsystemGrammar grammar;
   grammar.source_ = source;
+  grammar.overrides_ = overrides;
   for (const char* c = kTurtleCharacters; *c != '\0'; ++c) grammar.Symbol(std::string(1, *c));
   std::istringstream lines(text);
   int number = 0;
@@ -483,6 +488,12 @@ LsystemGrammar LsystemGrammar::Parse(const std::string& text, const std::string&
     }
     LsystemParser(&grammar, line, number).ParseLine();
   }
+  grammar.overrides_ = nullptr;
+  if (overrides != nullptr) {
+    for (const auto& [name, value] : *overrides) {
+      if (grammar.constants_.count(name) == 0) grammar.unused_overrides_.push_back(name);
+    }
+  }
   grammar.by_symbol_.assign(grammar.names_.size(), {});
   for (size_t p = 0; p < grammar.productions_.size(); ++p) {
     grammar.by_symbol_[grammar.productions_[p].symbol].push_back(static_cast<int>(p));
@@ -490,11 +501,12 @@ LsystemGrammar LsystemGrammar::Parse(const std::string& text, const std::string&
   return grammar;
 }
 
-LsystemGrammar LsystemGrammar::Read(const std::filesystem::path& path) {
+LsystemGrammar LsystemGrammar::Read(const std::filesystem::path& path,
+                                    const std::map<std::string, double>* overrides) {
   std::error_code ec;
   SYLVA_CHECK_INPUT(std::filesystem::is_regular_file(path, ec), path.string())
       << "no such grammar file";
-  return Parse(ReadFileToString(path), path.string());
+  return Parse(ReadFileToString(path), path.string(), overrides);
 }
 
 int LsystemGrammar::Symbol(const std::string& name) {

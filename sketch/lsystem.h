@@ -94,8 +94,14 @@ class LsystemGrammar {
  public:
   // Parses grammar text; `source` names it in errors ("FILE: line L,
   // column C: ..."). Throws InputError.
-  static LsystemGrammar Parse(const std::string& text, const std::string& source);
-  static LsystemGrammar Read(const std::filesystem::path& path);
+  // `overrides` (optional) replaces the values of #define constants by
+  // name (the constants they are used in after it see the new value);
+  // names not defined in the text are listed in unused_overrides().
+  static LsystemGrammar Parse(const std::string& text, const std::string& source,
+                              const std::map<std::string, double>* overrides = nullptr);
+  static LsystemGrammar Read(const std::filesystem::path& path,
+                             const std::map<std::string, double>* overrides = nullptr);
+  const std::vector<std::string>& unused_overrides() const { return unused_overrides_; }
 
   // The symbol's index (added if new).
   int Symbol(const std::string& name);
@@ -123,6 +129,8 @@ class LsystemGrammar {
   std::vector<std::string> names_;
   std::map<std::string, int> index_;
   std::map<std::string, double> constants_;
+  const std::map<std::string, double>* overrides_ = nullptr;
+  std::vector<std::string> unused_overrides_;
   LsystemString axiom_;
   bool has_axiom_ = false;
   std::vector<LsystemProduction> productions_;

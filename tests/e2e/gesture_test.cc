@@ -33,9 +33,9 @@ fs::path FreshDir(const std::string& name) {
 
 TEST(GestureE2eTest, GrowsAndMeshesATree) {
   const fs::path out = FreshDir("obj");
-  const SubprocessResult result =
-      RunSubprocess({kSylva, "gesture", (kGestures / "two_trunks.obj").string(), out.string(),
-                     "--Gesture.iterations=5", "--Report.preview_size=96"});
+  const SubprocessResult result = RunSubprocess(
+      {kSylva, "gesture", (kGestures / "two_trunks.obj").string(), out.string(),
+       "--Gesture.iterations=5", "--Gesture.defines=ANGLE=35,LR=0.75", "--Report.preview_size=96"});
   ASSERT_EQ(result.exit_code, 0) << result.Describe();
   EXPECT_LT(result.seconds, 20.0);
   EXPECT_NE(result.out.find("2 trunk stroke(s)"), std::string::npos) << result.out;
@@ -57,6 +57,7 @@ TEST(GestureE2eTest, GrowsAndMeshesATree) {
   EXPECT_EQ(roi["fitted_to"], "roi strokes");
   const Json options = Json::parse(ReadFileToString(out / "options.json"));
   EXPECT_EQ(options["Gesture"]["iterations"], 5);
+  EXPECT_EQ(options["Gesture"]["defines"], "ANGLE=35,LR=0.75");
   EXPECT_NE(ReadFileToString(out / "lstring.txt").find("T("), std::string::npos);
   fs::remove_all(out);
 }

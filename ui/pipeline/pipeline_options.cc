@@ -739,6 +739,8 @@ void RegisterGesture(GestureTreeOptions* o, OptionRegistry* r) {
   r->AddString("Gesture.grammar", &o->grammar,
                "L-system grammar file (.lsys, see README); empty = the built-in broadleaf "
                "(datasets/gesture/broadleaf.lsys)");
+  r->AddString("Gesture.defines", &o->defines,
+               "the grammar's parameters: NAME=VALUE,... replaces its #define constants");
   r->AddInt("Gesture.iterations", &o->iterations, "steps", "derivation steps of the L-system");
   r->AddInt("Gesture.trunk_segments", &o->trunk_segments, "segments",
             "F modules per trunk stroke (resampled by arc length)");
