@@ -25,6 +25,7 @@
 #include "ui/cli/arguments.h"
 #include "ui/cli/terminal_progress.h"
 #include "ui/pipeline/concept_meshing.h"
+#include "ui/pipeline/gesture_meshing.h"
 #include "ui/pipeline/pipeline.h"
 #include "ui/pipeline/qsm_meshing.h"
 #include "ui/pipeline/sketch_mrf.h"
@@ -111,6 +112,30 @@ CommandSpec SketchSpec() {
            kLogLevelFlag},
           2,
           5,
+          true};
+}
+
+CommandSpec GestureSpec() {
+  return {"gesture",
+          "sylva gesture FILE OUT_DIR [--Gesture.grammar=FILE.lsys] [--Section.field=value ...]",
+          "Grows a tree from 3D gestures (Murakami et al.): strokes of a tracked stylus in a\n"
+          "sylva-gesture .json (timed samples [t, x, y, z, pressure?], kinds 'trunk' and 'roi'),\n"
+          "W3C .inkml (X, Y, Z, T channels), .obj ('l' polylines; groups named roi* are ROI\n"
+          "strokes) or ASCII .ply (edges; vertex property roi); see README 'Trees from 3D\n"
+          "gestures'. Trunk strokes become trunk L-strings (radius inversely proportional to\n"
+          "the stroke's speed) carrying growth points; the L-system of Gesture.grammar (sylva's\n"
+          "grammar format, README) grows them for Gesture.iterations steps, rewriting only\n"
+          "modules inside the region of interest (a supertoroid fitted to the ROI strokes, or\n"
+          "around the gestures), every new segment kept in the region and clear of the others\n"
+          "(turned, shortened or pruned). Without a trunk stroke the tree grows from the\n"
+          "region's base (silhouette-based modelling). The seed is General.seed.\n"
+          "Writes to OUT_DIR (made only when everything succeeded): tree.glb, tree.obj,\n"
+          "bark.obj (with their .mtl), skeleton.json, qsm.csv, metrics.json, tree.lpy,\n"
+          "tree_turtle.lpy, tree.mtg, lstring.txt (the grown L-string), roi.json (the region),\n"
+          "options.json and preview_0..3.png (Report.previews).",
+          {kLogLevelFlag},
+          2,
+          2,
           true};
 }
 
@@ -430,6 +455,7 @@ std::vector<CommandSpec> AllSpecs() {
   specs.push_back(SketchSpec());
   specs.push_back(MeshMtgSpec());
   specs.push_back(ConceptSpec());
+  specs.push_back(GestureSpec());
   return specs;
 }
 
@@ -661,6 +687,21 @@ int CmdConcept(const ParsedArguments& args) {
   return kExitOk;
 }
 
+// `sylva gesture FILE OUT_DIR`: a tree grown from 3D gestures.
+int CmdGesture(const ParsedArguments& args) {
+  PipelineOptions options;
+  OptionRegistry registry;
+  RegisterPipelineOptions(&options, &registry);
+  for (const auto& [key, value] : args.options) registry.Set(key, value, "--" + key);
+  options.Check();
+  const fs::path out = args.positional[1];
+  std::vector<fs::path> written;
+  const GestureMeshing meshing = RunGesture(args.positional[0], out, options, registry, &written);
+  std::cout << meshing.brief << "\nOutputs in " << out.string() << "/:\n";
+  for (const fs::path& file : written) std::cout << "  " << file.filename().string() << "\n";
+  return kExitOk;
+}
+
 // `sylva synth OUT --qsm`: the tree of `seed` as a TreeQSM-like table.
 int WriteSynthQsm(const fs::path& out, uint64_t seed) {
   std::error_code ec;
@@ -760,6 +801,7 @@ int Dispatch(int argc, const char* const* argv) {
     if (command == "sketch") return CmdSketch(args);
     if (command == "mesh-mtg") return CmdMeshMtg(args);
     if (command == "concept") return CmdConcept(args);
+    if (command == "gesture") return CmdGesture(args);
     const Stage stage = ParseStage(command, command);
     return RunPipeline(args, &stage);
   }

@@ -50,8 +50,9 @@ std::string NamedOption(const std::string& text, size_t open) {
   for (size_t i = open; i < text.size(); ++i) {
     const char c = text[i];
     if (c == '"') {
-      const size_t end = text.find('"', i + 1);
-      if (end == std::string::npos) return "";
+      size_t end = i + 1;  // the closing quote, past escaped ones
+      while (end < text.size() && text[end] != '"') end += text[end] == '\\' ? 2 : 1;
+      if (end >= text.size()) return "";
       last_literal = text.substr(i + 1, end - i - 1);
       literal_is_last = true;
       i = end;
@@ -59,6 +60,7 @@ std::string NamedOption(const std::string& text, size_t open) {
     }
     if (c == '\'') {  // a character literal, e.g. ','
       i = text.find('\'', i + 1 + (text[i + 1] == '\\'));
+      if (i == std::string::npos) return "";
       continue;
     }
     if (c == '(') ++depth;

@@ -90,6 +90,7 @@ void PipelineOptions::Check() const {
   sketch_mrf.Check();
   concept_plant.Check();
   pen_and_ink.Check();
+  gesture.Check();
 }
 
 namespace {
@@ -734,6 +735,45 @@ void RegisterPenAndInk(PenAndInkOptions* o, OptionRegistry* r) {
              "draw the construction lines (grey, dashed) in their own layer");
 }
 
+void RegisterGesture(GestureTreeOptions* o, OptionRegistry* r) {
+  r->AddString("Gesture.grammar", &o->grammar,
+               "L-system grammar file (.lsys, see README); empty = the built-in broadleaf "
+               "(datasets/gesture/broadleaf.lsys)");
+  r->AddString("Gesture.defines", &o->defines,
+               "the grammar's parameters: NAME=VALUE,... replaces its #define constants");
+  r->AddInt("Gesture.iterations", &o->iterations, "steps", "derivation steps of the L-system");
+  r->AddInt("Gesture.trunk_segments", &o->trunk_segments, "segments",
+            "F modules per trunk stroke (resampled by arc length)");
+  r->AddInt("Gesture.smoothing_passes", &o->smoothing_passes, "passes",
+            "smoothing of the resampled trunk strokes (ends fixed)");
+  r->AddDouble("Gesture.trunk_radius", &o->trunk_radius, "fraction of the trunk's length",
+               "trunk radius where the stroke moved at its mean speed");
+  r->AddDouble("Gesture.max_speed_ratio", &o->max_speed_ratio, "",
+               "radius = trunk_radius x mean speed / speed, clamped to [1/this, this]");
+  r->AddDouble("Gesture.crown_base", &o->crown_base, "fraction of a trunk's length",
+               "no growth points below this");
+  r->AddDouble("Gesture.growth_spacing", &o->growth_spacing, "fraction of a trunk's length",
+               "distance between growth points A(l, r, h)");
+  r->AddDouble("Gesture.divergence_deg", &o->divergence_deg, "degrees",
+               "roll between successive growth points");
+  r->AddDouble("Gesture.branch_length", &o->branch_length, "fraction of the trunk's length",
+               "l of the growth points");
+  r->AddDouble("Gesture.branch_radius_ratio", &o->branch_radius_ratio, "",
+               "r of the growth points over the trunk's radius there");
+  r->AddDouble("Gesture.roi_n", &o->roi_n, "",
+               "supertoroid exponent of the region's vertical profile; <= 0 = fitted");
+  r->AddDouble("Gesture.roi_e", &o->roi_e, "", "supertoroid exponent of its horizontal section");
+  r->AddDouble("Gesture.roi_alpha", &o->roi_alpha, "radii",
+               "the supertoroid's hole (0: a superellipsoid)");
+  r->AddDouble("Gesture.roi_min_width", &o->roi_min_width, "fraction of the height",
+               "least horizontal radius of a region fitted around the gestures (no ROI strokes)");
+  r->AddInt("Gesture.avoid_turns", &o->avoid_turns, "turns",
+            "turns tried away from an obstacle before shortening");
+  r->AddDouble("Gesture.avoid_turn_deg", &o->avoid_turn_deg, "degrees", "each turn's step");
+  r->AddDouble("Gesture.min_segment_fraction", &o->min_segment_fraction, "",
+               "segments shortened below this fraction of their length are pruned");
+}
+
 }  // namespace
 
 void RegisterPipelineOptions(PipelineOptions* options, OptionRegistry* registry) {
@@ -762,6 +802,7 @@ void RegisterPipelineOptions(PipelineOptions* options, OptionRegistry* registry)
   RegisterSketchMrf(&options->sketch_mrf, registry);
   RegisterConcept(&options->concept_plant, registry);
   RegisterPenAndInk(&options->pen_and_ink, registry);
+  RegisterGesture(&options->gesture, registry);
 }
 
 }  // namespace sylva

@@ -28,6 +28,7 @@
 #include "simulate/skeleton_consolidation.h"
 #include "simulate/skeleton_pruning.h"
 #include "sketch/concept_plant.h"
+#include "sketch/gesture_options.h"
 #include "sketch/sketch_views.h"
 #include "sketch/stroke_graph.h"
 #include "ui/pipeline/option_registry.h"
@@ -172,6 +173,8 @@ struct PipelineOptions {
   // General.seed) and how it is drawn in pen and ink.
   ConceptPlantOptions concept_plant;
   PenAndInkOptions pen_and_ink;
+  // How 3D gestures grow a tree (`sylva gesture`; its seed is General.seed).
+  GestureTreeOptions gesture;
 
   // Throws InputError naming the first invalid option.
   void Check() const;
