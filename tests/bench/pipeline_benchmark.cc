@@ -240,11 +240,14 @@ int Main(int argc, char** argv) {
   }
 
   // The app's loop: one brush stroke of density, then a run; one branch
-  // stroke, then a run.
+  // stroke, then a run; with the density's warm start (Density.warm_start,
+  // off by default).
+  PipelineOptions warm = options;
+  warm.density.warm_start = true;
   PaintDensityEdit(project);
-  RunAfterEdit("a density edit", project, options);
+  RunAfterEdit("a density edit", project, warm);
   DrawStrokeEdit(project);
-  RunAfterEdit("a stroke edit", project, options);
+  RunAfterEdit("a stroke edit", project, warm);
   fs::remove_all(dir);
   return agreement.ExitCode();
 }

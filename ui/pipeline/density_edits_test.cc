@@ -197,6 +197,7 @@ TEST_F(DensityEditsTest, AViewWithALargeEditIsKeptAgainstTheOthers) {
 // sooner, and the attract stage traces that view alone; a forced run starts
 // cold and traces every view, and finds the same density.
 TEST_F(DensityEditsTest, ARunAfterAnEditStartsFromTheLastOne) {
+  options_.density.warm_start = true;  // off by default (same inputs, same tree)
   const auto run = [&](bool force) {
     std::map<Stage, StageRun> runs;
     for (const StageRun& stage :

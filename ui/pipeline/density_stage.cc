@@ -47,7 +47,9 @@ fs::path WarmStartPath(const Project& project) {
 // What makes two solves comparable beyond the grid (which the reconstruction
 // adds): the cameras' contents, the input views and the Density options.
 std::string WarmStartContext(const StageContext& context, const ImageSet& views) {
-  std::string text = OptionsText(context.options, {"Density."});
+  PipelineOptions comparable = context.options;
+  comparable.density.warm_start = false;  // using the state or not does not change it
+  std::string text = OptionsText(comparable, {"Density."});
   for (const fs::path& file : context.project.CameraFiles()) {
     text += ";" + HexString(Fnv1a64(ReadFileToString(file)));
   }
@@ -104,7 +106,7 @@ StageRun RunDensityStage(const StageContext& context) {
   }
   DensityWarmStart warm;
   warm.context = WarmStartContext(context, views);
-  if (!context.cold) ReadWarmStart(WarmStartPath(context.project), &warm);
+  if (!context.cold && options.warm_start) ReadWarmStart(WarmStartPath(context.project), &warm);
   DensitySummary summary;
   DensityGrid grid = ReconstructDensity(views, mattes, options, context.progress, &summary, &warm);
   AddDensitySteps(summary, &clock.Lap("reconstruct"));

@@ -155,6 +155,9 @@ void RegisterDensity(DensityOptions* o, OptionRegistry* r) {
             "thesis)");
   r->AddDouble("Density.min_output_opacity", &o->min_output_opacity, "alpha",
                "voxels below this opacity are not stored");
+  r->AddBool("Density.warm_start", &o->warm_start,
+             "after an edit, re-solve from the last run's solve (faster; the grid then depends "
+             "slightly on that run, so the same inputs may not give the same tree)");
 }
 
 void RegisterTreeBase(TreeBaseOptions* o, OptionRegistry* r) {
