@@ -27,35 +27,6 @@ constexpr int kJunctionHops = 3;
 // radius).
 constexpr double kCapsuleInflation = 1.05;
 
-// Squared distance between segments [p0, p1] and [q0, q1].
-double SegmentSegmentDistance2(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1,
-                               const Eigen::Vector3d& q0, const Eigen::Vector3d& q1) {
-  const Eigen::Vector3d d1 = p1 - p0, d2 = q1 - q0, r = p0 - q0;
-  const double a = d1.squaredNorm(), e = d2.squaredNorm(), f = d2.dot(r);
-  double s = 0.0, t = 0.0;
-  if (a <= 1e-300 && e <= 1e-300) return r.squaredNorm();
-  if (a <= 1e-300) {
-    t = std::clamp(f / e, 0.0, 1.0);
-  } else {
-    const double c = d1.dot(r);
-    if (e <= 1e-300) {
-      s = std::clamp(-c / a, 0.0, 1.0);
-    } else {
-      const double b = d1.dot(d2), denom = a * e - b * b;
-      s = denom > 1e-300 ? std::clamp((b * f - c * e) / denom, 0.0, 1.0) : 0.0;
-      t = (b * s + f) / e;
-      if (t < 0.0) {
-        t = 0.0;
-        s = std::clamp(-c / a, 0.0, 1.0);
-      } else if (t > 1.0) {
-        t = 1.0;
-        s = std::clamp((b - c) / a, 0.0, 1.0);
-      }
-    }
-  }
-  return ((p0 + s * d1) - (q0 + t * d2)).squaredNorm();
-}
-
 // Tells whose a crossing pair of bark triangles is. Edges are named by
 // their child node.
 class CrossingClassifier {

@@ -103,37 +103,6 @@ std::pair<double, double> TurnTo(const Frame& frame, const Eigen::Vector3d& d) {
 
 // --- geometry -------------------------------------------------------------
 
-// Closest points of segments [p0, p1] and [q0, q1] (Ericson, Real-Time
-// Collision Detection 5.1.9); returns the squared distance.
-double SegmentSegment2(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1,
-                       const Eigen::Vector3d& q0, const Eigen::Vector3d& q1, Eigen::Vector3d* cp,
-                       Eigen::Vector3d* cq) {
-  const Eigen::Vector3d d1 = p1 - p0, d2 = q1 - q0, r = p0 - q0;
-  const double a = d1.squaredNorm(), e = d2.squaredNorm(), f = d2.dot(r);
-  double s = 0, t = 0;
-  if (a <= 1e-300 && e <= 1e-300) {
-  } else if (a <= 1e-300) {
-    t = std::clamp(f / e, 0.0, 1.0);
-  } else {
-    const double c = d1.dot(r);
-    if (e <= 1e-300) {
-      s = std::clamp(-c / a, 0.0, 1.0);
-    } else {
-      const double b = d1.dot(d2), denom = a * e - b * b;
-      s = denom > 1e-300 ? std::clamp((b * f - c * e) / denom, 0.0, 1.0) : 0.0;
-      t = (b * s + f) / e;
-      if (t < 0) {
-        t = 0, s = std::clamp(-c / a, 0.0, 1.0);
-      } else if (t > 1) {
-        t = 1, s = std::clamp((b - c) / a, 0.0, 1.0);
-      }
-    }
-  }
-  *cp = p0 + s * d1;
-  *cq = q0 + t * d2;
-  return (*cp - *cq).squaredNorm();
-}
-
 // Skeleton nodes with their path length from the root, for the adjacency
 // of capsules (path between their nearest ends <= sum of radii).
 class TreePaths {
@@ -414,7 +383,7 @@ bool Grower::Collides(const Capsule& c, Eigen::Vector3d* away) const {
       if (hit || (later && o.module <= c.module)) return;
       const double reach = c.radius + o.radius;
       Eigen::Vector3d cp, co;
-      if (SegmentSegment2(c.a, c.b, o.a, o.b, &cp, &co) >= reach * reach) return;
+      if (SegmentSegmentDistance2(c.a, c.b, o.a, o.b, &cp, &co) >= reach * reach) return;
       if (paths.BetweenEdges(start, start, o.node_a, o.node_b) <= kAdjacentReach * reach) return;
       hit = true;
       if (away == nullptr) return;
@@ -657,8 +626,8 @@ int PushRound(const TrunkPlan& plan, int joined, int join_point, TrunkPath* path
                                             std::abs(plan.arc[t][k + 1] - plan.arc[t][join_point]));
         if (along_new + along <= kAdjacentReach * reach) continue;  // one tube near the join
         Eigen::Vector3d cp, co;
-        const double d = std::sqrt(SegmentSegment2(path->points[j - 1], path->points[j],
-                                                   other.points[k], other.points[k + 1], &cp, &co));
+        const double d = std::sqrt(SegmentSegmentDistance2(
+            path->points[j - 1], path->points[j], other.points[k], other.points[k + 1], &cp, &co));
         if (d >= reach) continue;
         // Away from the obstacle's axis, across it (an axial push would
         // only slide the point along the trunk).
@@ -1020,8 +989,9 @@ double MinNonAdjacentCapsuleDistance(const SkeletonGraph& skeleton) {
           kAdjacentReach * (c.radius + o.radius))
         return;
       Eigen::Vector3d cp, co;
-      smallest = std::min(
-          smallest, std::sqrt(SegmentSegment2(c.a, c.b, o.a, o.b, &cp, &co)) - c.radius - o.radius);
+      smallest =
+          std::min(smallest, std::sqrt(SegmentSegmentDistance2(c.a, c.b, o.a, o.b, &cp, &co)) -
+                                 c.radius - o.radius);
     });
   }
   return smallest;

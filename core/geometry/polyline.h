@@ -29,6 +29,40 @@ double SegmentDistance2(const Vector& p, const Vector& a, const Vector& b, doubl
   return (a + s * (b - a) - p).squaredNorm();
 }
 
+// Squared distance between segments [p0, p1] and [q0, q1] (Ericson,
+// Real-Time Collision Detection 5.1.9); `cp` and `cq` (optional) receive the
+// closest points on each. Degenerate segments are points.
+template <typename Vector>
+double SegmentSegmentDistance2(const Vector& p0, const Vector& p1, const Vector& q0,
+                               const Vector& q1, Vector* cp = nullptr, Vector* cq = nullptr) {
+  const Vector d1 = p1 - p0, d2 = q1 - q0, r = p0 - q0;
+  const double a = d1.squaredNorm(), e = d2.squaredNorm(), f = d2.dot(r);
+  double s = 0.0, t = 0.0;
+  if (a <= 1e-300 && e > 1e-300) {
+    t = std::clamp(f / e, 0.0, 1.0);
+  } else if (a > 1e-300) {
+    const double c = d1.dot(r);
+    if (e <= 1e-300) {
+      s = std::clamp(-c / a, 0.0, 1.0);
+    } else {
+      const double b = d1.dot(d2), denom = a * e - b * b;
+      s = denom > 1e-300 ? std::clamp((b * f - c * e) / denom, 0.0, 1.0) : 0.0;
+      t = (b * s + f) / e;
+      if (t < 0.0) {
+        t = 0.0;
+        s = std::clamp(-c / a, 0.0, 1.0);
+      } else if (t > 1.0) {
+        t = 1.0;
+        s = std::clamp((b - c) / a, 0.0, 1.0);
+      }
+    }
+  }
+  const Vector on_p = p0 + s * d1, on_q = q0 + t * d2;
+  if (cp != nullptr) *cp = on_p;
+  if (cq != nullptr) *cq = on_q;
+  return (on_p - on_q).squaredNorm();
+}
+
 // Douglas-Peucker on a chain of `count` points, point(k) giving the k-th:
 // sets keep[k] = 1 for the points kept so that every dropped point lies
 // within `tolerance` of the kept polyline. The two ends are always kept;

@@ -15,6 +15,7 @@
 #include "mesh/wood.h"
 #include "sketch/drawing_io.h"
 #include "ui/pipeline/report.h"
+#include "ui/pipeline/staged_output.h"
 #include "ui/pipeline/tree_building.h"
 
 namespace sylva {
@@ -129,28 +130,14 @@ ConceptMeshing RunConcept(const std::filesystem::path& drawing_path, int ndjson_
                           const std::filesystem::path& out_dir, const PipelineOptions& options,
                           const OptionRegistry& registry,
                           std::vector<std::filesystem::path>* written) {
-  std::error_code ec;
-  SYLVA_CHECK_INPUT(!std::filesystem::exists(out_dir, ec) || std::filesystem::is_empty(out_dir, ec),
-                    out_dir.string())
-      << "already exists and is not empty";
+  CheckOutDirIsFree(out_dir);
   const ConceptMeshing meshing =
       MeshConceptDrawing(ReadSketch(drawing_path, ndjson_index), options);
-  const std::filesystem::path target = std::filesystem::absolute(out_dir);
-  const std::filesystem::path staging = TempPathBeside(target);
-  try {
-    std::vector<std::filesystem::path> paths = WriteConceptMeshing(meshing, staging, options);
-    paths.push_back(staging / "options.json");
-    AtomicWriteString(paths.back(), registry.ToJson(/*only_changed=*/false).dump(2) + "\n");
-    if (std::filesystem::exists(target, ec)) std::filesystem::remove(target);
-    std::filesystem::rename(staging, target);
-    if (written != nullptr) {
-      written->clear();
-      for (const auto& path : paths) written->push_back(target / path.filename());
-    }
-  } catch (...) {
-    std::filesystem::remove_all(staging, ec);
-    throw;
-  }
+  std::vector<std::filesystem::path> paths =
+      WriteStagedOutDir(out_dir, registry, [&](const std::filesystem::path& staging) {
+        return WriteConceptMeshing(meshing, staging, options);
+      });
+  if (written != nullptr) *written = std::move(paths);
   return meshing;
 }
 

@@ -6,6 +6,7 @@
 #include "core/io/skeleton_io.h"
 #include "core/util/check.h"
 #include "core/util/file_util.h"
+#include "ui/pipeline/staged_output.h"
 
 namespace sylva {
 namespace {
@@ -70,27 +71,13 @@ GestureMeshing RunGesture(const std::filesystem::path& gesture_path,
                           const std::filesystem::path& out_dir, const PipelineOptions& options,
                           const OptionRegistry& registry,
                           std::vector<std::filesystem::path>* written) {
-  std::error_code ec;
-  SYLVA_CHECK_INPUT(!std::filesystem::exists(out_dir, ec) || std::filesystem::is_empty(out_dir, ec),
-                    out_dir.string())
-      << "already exists and is not empty";
+  CheckOutDirIsFree(out_dir);
   const GestureMeshing meshing = MeshGestures(ReadGesture(gesture_path), options);
-  const std::filesystem::path target = std::filesystem::absolute(out_dir);
-  const std::filesystem::path staging = TempPathBeside(target);
-  try {
-    std::vector<std::filesystem::path> paths = WriteGestureMeshing(meshing, staging, options);
-    paths.push_back(staging / "options.json");
-    AtomicWriteString(paths.back(), registry.ToJson(/*only_changed=*/false).dump(2) + "\n");
-    if (std::filesystem::exists(target, ec)) std::filesystem::remove(target);
-    std::filesystem::rename(staging, target);
-    if (written != nullptr) {
-      written->clear();
-      for (const auto& path : paths) written->push_back(target / path.filename());
-    }
-  } catch (...) {
-    std::filesystem::remove_all(staging, ec);
-    throw;
-  }
+  std::vector<std::filesystem::path> paths =
+      WriteStagedOutDir(out_dir, registry, [&](const std::filesystem::path& staging) {
+        return WriteGestureMeshing(meshing, staging, options);
+      });
+  if (written != nullptr) *written = std::move(paths);
   return meshing;
 }
 
