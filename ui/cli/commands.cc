@@ -670,36 +670,45 @@ int CmdSketch(const ParsedArguments& args) {
   return kExitOk;
 }
 
+// The options of a command without a project: the defaults, then the
+// --Section.field=value flags, checked. `registry` points into `options`.
+void ApplyCommandOptions(const ParsedArguments& args, PipelineOptions* options,
+                         OptionRegistry* registry) {
+  RegisterPipelineOptions(options, registry);
+  for (const auto& [key, value] : args.options) registry->Set(key, value, "--" + key);
+  options->Check();
+}
+
+// What a one-shot command made: its brief and the files written in `out`.
+int PrintOutputs(const std::string& brief, const fs::path& out,
+                 const std::vector<fs::path>& written) {
+  std::cout << brief << "\nOutputs in " << out.string() << "/:\n";
+  for (const fs::path& file : written) std::cout << "  " << file.filename().string() << "\n";
+  return kExitOk;
+}
+
 // `sylva concept DRAWING OUT_DIR`: a concept sketch's plant and its drawings.
 int CmdConcept(const ParsedArguments& args) {
   PipelineOptions options;
   OptionRegistry registry;
-  RegisterPipelineOptions(&options, &registry);
-  for (const auto& [key, value] : args.options) registry.Set(key, value, "--" + key);
-  options.Check();
+  ApplyCommandOptions(args, &options, &registry);
   const fs::path out = args.positional[1];
   std::vector<fs::path> written;
   const ConceptMeshing meshing =
       RunConcept(args.positional[0], args.GetInt("index", 0, 0, std::numeric_limits<int>::max()),
                  out, options, registry, &written);
-  std::cout << meshing.brief << "\nOutputs in " << out.string() << "/:\n";
-  for (const fs::path& file : written) std::cout << "  " << file.filename().string() << "\n";
-  return kExitOk;
+  return PrintOutputs(meshing.brief, out, written);
 }
 
 // `sylva gesture FILE OUT_DIR`: a tree grown from 3D gestures.
 int CmdGesture(const ParsedArguments& args) {
   PipelineOptions options;
   OptionRegistry registry;
-  RegisterPipelineOptions(&options, &registry);
-  for (const auto& [key, value] : args.options) registry.Set(key, value, "--" + key);
-  options.Check();
+  ApplyCommandOptions(args, &options, &registry);
   const fs::path out = args.positional[1];
   std::vector<fs::path> written;
   const GestureMeshing meshing = RunGesture(args.positional[0], out, options, registry, &written);
-  std::cout << meshing.brief << "\nOutputs in " << out.string() << "/:\n";
-  for (const fs::path& file : written) std::cout << "  " << file.filename().string() << "\n";
-  return kExitOk;
+  return PrintOutputs(meshing.brief, out, written);
 }
 
 // `sylva synth OUT --qsm`: the tree of `seed` as a TreeQSM-like table.
