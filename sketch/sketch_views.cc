@@ -134,6 +134,12 @@ DrawnFrame FrameOf(const SketchDrawing& drawing) {
   DrawnFrame frame;
   if (drawing.root) {
     frame.base = *drawing.root;
+    // A root marked a little below where the strokes end (the ground under
+    // the trunk) is lifted onto that line: the tree's density starts at the
+    // strokes, and a base below it is outside the tree.
+    if (frame.base.y() > bottom && frame.base.y() - bottom <= kGroundShare * (bottom - top)) {
+      frame.base.y() = bottom;
+    }
   } else {
     // The mean over the strokes that reach the ground of the middle of
     // their points there: a trunk's centre line ends there, two outlines

@@ -111,6 +111,30 @@ TEST(SketchViewsTest, ADrawingBecomesAViewWithAnOrthographicCameraAndADepthPrior
 
 // A cloud of three round bumps over a trunk ending at (100, 150): one major
 // branch towards each bump, inside the crown.
+// A root marked a little below the trunk's foot (the ground under it) is
+// lifted onto the strokes' lowest line: the base is where the trunk ends, so
+// the density, made from the strokes, holds it. Marked on the trunk, or far
+// below, it stays where it was marked.
+TEST(SketchViewsTest, ARootMarkedJustBelowTheTrunkIsLiftedOntoIt) {
+  SketchViewOptions options;
+  options.image_size = 200;
+  const auto base_pixel = [&](const Eigen::Vector2d& root) {
+    SketchDrawing drawing = Lollipop();
+    drawing.height = 500;  // room below the trunk
+    drawing.root = root;
+    const SketchViews views = MakeSketchViews({drawing}, options);
+    Eigen::Vector2d pixel;
+    EXPECT_TRUE(views.drawing_cameras.Project(0, Eigen::Vector3d::Zero(), &pixel));
+    return pixel;
+  };
+  // The drawing spans 50-380 px (crown top to trunk foot): up to 33 px below
+  // the foot is lifted.
+  EXPECT_NEAR((base_pixel({100, 390}) - Eigen::Vector2d(100, 380)).norm(), 0.0, 1e-9);
+  EXPECT_NEAR((base_pixel({103, 385}) - Eigen::Vector2d(103, 380)).norm(), 0.0, 1e-9);
+  EXPECT_NEAR((base_pixel({100, 370}) - Eigen::Vector2d(100, 370)).norm(), 0.0, 1e-9);
+  EXPECT_NEAR((base_pixel({100, 440}) - Eigen::Vector2d(100, 440)).norm(), 0.0, 1e-9);
+}
+
 TEST(SketchViewsTest, MajorBranchesGrowIntoTheCrownsBumps) {
   FloatImage matte(200, 200, 1);
   const Eigen::Vector2d bumps[] = {{60, 90}, {100, 50}, {140, 90}};
