@@ -20,6 +20,7 @@
 #include "core/types/density_grid.h"
 #include "core/types/triangle_mesh.h"
 #include "core/util/file_util.h"
+#include "ui/desktop/app_test_util.h"
 #include "ui/desktop/edit_document.h"
 #include "ui/desktop/main_window.h"
 #include "ui/desktop/photo_view.h"
@@ -45,19 +46,6 @@ struct Disc {
   QPointF center;  // photo pixels
   double radius;
 };
-
-// Whether the report's comparison picture `kind` ("density" or "mesh") of
-// `view_name` is predicted (red channel high) at photo pixel `point`.
-bool ReportCovers(const fs::path& root, const std::string& kind, const std::string& view_name,
-                  const QPointF& point, int photo_width) {
-  const fs::path path =
-      root / "out" / "report" / kind / fs::path(view_name).replace_extension(".png");
-  const QImage picture(QString::fromStdString(path.string()));
-  if (picture.isNull()) return false;
-  const double scale = double(picture.width()) / photo_width;
-  const QPoint pixel(int(point.x() * scale), int(point.y() * scale));
-  return picture.valid(pixel) && qRed(picture.pixel(pixel)) >= 200;
-}
 
 // The fraction of the discs whose centre the tree's report silhouette
 // `kind` covers.
@@ -204,10 +192,7 @@ void AppDemoTest::RunCliOnCopy(const fs::path& copy) {
 
 void AppDemoTest::paintedDensityInAndOutOfEveryViewAndCliGivesSameTree() {
   MainWindow window(false);
-  window.resize(1200, 800);
-  window.show();
-  QVERIFY(QTest::qWaitForWindowExposed(&window));
-  QVERIFY(window.OpenProject(project_));
+  QVERIFY(ShowWithProject(&window, project_));
   const std::vector<Disc> discs = FindEmptyRegion(*window.project());
   QCOMPARE(discs.size(), size_t(8));  // every input view
   qInfo("region: disc radius %.1f px in view %s", discs[0].radius, discs[0].name.c_str());

@@ -26,6 +26,7 @@
 #include "reconstruct/registration/loose_setup_io.h"
 #include "sketch/drawing_io.h"
 #include "sketch/strokes.h"
+#include "ui/desktop/app_test_util.h"
 #include "ui/desktop/edit_document.h"
 #include "ui/desktop/loose_cameras_page.h"
 #include "ui/desktop/main_window.h"
@@ -130,10 +131,7 @@ void AppTest::Drag(MainWindow* window, const std::vector<QPointF>& points) {
 
 void AppTest::densityBrushWritesEditAndUndoRedoRestoreIt() {
   MainWindow window(false);
-  window.resize(1200, 800);
-  window.show();
-  QVERIFY(QTest::qWaitForWindowExposed(&window));
-  QVERIFY(window.OpenProject(project_));
+  QVERIFY(ShowWithProject(&window, project_));
   const std::string photo = window.photo_view()->photo_name();
   QCOMPARE(QString::fromStdString(photo), QString("view_00.png"));
   const fs::path file = project_ / "edits" / "density" / "view_00.png";
@@ -199,10 +197,7 @@ void AppTest::densityBrushWritesEditAndUndoRedoRestoreIt() {
 
 void AppTest::trimapStrokesCrownAndEraserWriteTheirFiles() {
   MainWindow window(false);
-  window.resize(1200, 800);
-  window.show();
-  QVERIFY(QTest::qWaitForWindowExposed(&window));
-  QVERIFY(window.OpenProject(project_));
+  QVERIFY(ShowWithProject(&window, project_));
   const Project project = Project::Open(project_);
 
   // Trimap: a foreground stroke, read back by the matte stage's reader.
@@ -256,10 +251,7 @@ void AppTest::trimapStrokesCrownAndEraserWriteTheirFiles() {
 
 void AppTest::polylineStrokesAreOneUndoStepEach() {
   MainWindow window(false);
-  window.resize(1200, 800);
-  window.show();
-  QVERIFY(QTest::qWaitForWindowExposed(&window));
-  QVERIFY(window.OpenProject(project_));
+  QVERIFY(ShowWithProject(&window, project_));
   window.SetTool(Tool::kPolyline);
   PhotoView* view = window.photo_view();
   QWidget* viewport = view->viewport();
@@ -592,10 +584,7 @@ void AppTest::optionsPanelRoundTripsEveryOption() {
 
 void AppTest::screenshotShowsPhotoAndTree() {
   MainWindow window(false);
-  window.resize(1400, 850);
-  window.show();
-  QVERIFY(QTest::qWaitForWindowExposed(&window));
-  QVERIFY(window.OpenProject(project_));
+  QVERIFY(ShowWithProject(&window, project_, 1400, 850));
   QVERIFY(window.view_3d()->HasScene());
   // Overlays off, so the photo's own pixels show.
   for (QCheckBox* box : window.findChildren<QCheckBox*>()) {
@@ -697,25 +686,9 @@ void AppTest::screenshotCommandWritesPng() {
   QVERIFY(!QFile::exists(temp_.path() + "/bad.png"));
 }
 
-// Whether the report's density projection of view `view_name` covers the
-// photo pixel `point` (out/report/density/<view>.png, a comparison picture
-// at its own scale: predicted pixels have a high red channel).
-bool ProjectionCovers(const fs::path& project_root, const std::string& view_name,
-                      const Eigen::Vector2d& point, int photo_size) {
-  const fs::path path =
-      project_root / "out" / "report" / "density" / fs::path(view_name).replace_extension(".png");
-  const QImage picture(QString::fromStdString(path.string()));
-  if (picture.isNull()) return false;
-  const double scale = double(picture.width()) / photo_size;
-  return qRed(picture.pixel(int(point.x() * scale), int(point.y() * scale))) >= 200;
-}
-
 void AppTest::paintedDensityGrowsAndEmptiesTheTreeAfterRerun() {
   MainWindow window(false);
-  window.resize(1200, 800);
-  window.show();
-  QVERIFY(QTest::qWaitForWindowExposed(&window));
-  QVERIFY(window.OpenProject(project_));
+  QVERIFY(ShowWithProject(&window, project_));
   const Project project = Project::Open(project_);
   const ImageSet cameras = project.LoadCameras();
   // A ball low beside the trunk, where the tree has no density.
@@ -733,7 +706,8 @@ void AppTest::paintedDensityGrowsAndEmptiesTheTreeAfterRerun() {
     QVERIFY(cameras.Project(v, ball, &middle));
     QVERIFY(cameras.Project(v, ball + radius * Eigen::Vector3d::UnitZ(), &top));
     discs.push_back({v, {middle, std::max(3.0, (top - middle).norm())}});
-    QVERIFY2(!ProjectionCovers(project_, cameras.views[v].name, middle, 96),
+    QVERIFY2(!ReportCovers(project_, "density", cameras.views[v].name,
+                           QPointF(middle.x(), middle.y()), 96),
              "the tree already covers the region");
   }
   QCOMPARE(discs.size(), size_t(3));
@@ -758,7 +732,8 @@ void AppTest::paintedDensityGrowsAndEmptiesTheTreeAfterRerun() {
   paint(Tool::kDensityAdd);
   run();
   for (const auto& [v, disc] : discs) {
-    QVERIFY2(ProjectionCovers(project_, cameras.views[v].name, disc.first, 96),
+    QVERIFY2(ReportCovers(project_, "density", cameras.views[v].name,
+                          QPointF(disc.first.x(), disc.first.y()), 96),
              cameras.views[v].name.c_str());
   }
   // Only the density and what follows re-ran.
@@ -770,7 +745,8 @@ void AppTest::paintedDensityGrowsAndEmptiesTheTreeAfterRerun() {
   paint(Tool::kDensityRemove);
   run();
   for (const auto& [v, disc] : discs) {
-    QVERIFY2(!ProjectionCovers(project_, cameras.views[v].name, disc.first, 96),
+    QVERIFY2(!ReportCovers(project_, "density", cameras.views[v].name,
+                           QPointF(disc.first.x(), disc.first.y()), 96),
              cameras.views[v].name.c_str());
   }
   // Leave the project without edits for the next test.
