@@ -50,6 +50,11 @@ struct GestureTreeOptions {
   // Without ROI strokes the region encloses the gestures, its horizontal
   // radii at least this fraction of its height. > 0.
   double roi_min_width = 0.45;
+  // ... its radii this many times the gestures' half-extent (room for the
+  // crown to grow around them), > 0.5; and its centre this fraction of the
+  // gestures' height above theirs (crowns grow up), >= 0.
+  double roi_margin = 1.2;
+  double roi_lift = 0.1;
   // Turns tried (each this many degrees more) to avoid a collision. >= 0.
   int avoid_turns = 4;
   double avoid_turn_deg = 15.0;

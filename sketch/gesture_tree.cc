@@ -788,9 +788,9 @@ Supertoroid FitSupertoroid(const std::vector<Eigen::Vector3d>& points, bool encl
   s.n = options.roi_n > 0 ? options.roi_n : 1.0;
   if (enclose) {  // around the gestures, a little above and beside them
     s.center = 0.5 * (lo + hi);
-    s.center.z() += 0.1 * height;
-    s.az = 0.6 * height;
-    const Eigen::Vector3d half = 0.6 * (hi - lo);
+    s.center.z() += options.roi_lift * height;
+    s.az = 0.5 * options.roi_margin * height;
+    const Eigen::Vector3d half = 0.5 * options.roi_margin * (hi - lo);
     s.ax = std::max(half.x(), options.roi_min_width * height) / (1 + s.alpha);
     s.ay = std::max(half.y(), options.roi_min_width * height) / (1 + s.alpha);
     return s;
@@ -830,6 +830,8 @@ void GestureTreeOptions::Check() const {
   SYLVA_CHECK_INPUT(roi_n <= 4, "Gesture.roi_n") << "must be <= 4 (<= 0: fitted)";
   SYLVA_CHECK_INPUT(roi_alpha >= 0, "Gesture.roi_alpha") << "must be >= 0";
   SYLVA_CHECK_INPUT(roi_min_width > 0, "Gesture.roi_min_width") << "must be > 0";
+  SYLVA_CHECK_INPUT(roi_margin > 0.5, "Gesture.roi_margin") << "must be > 0.5";
+  SYLVA_CHECK_INPUT(roi_lift >= 0, "Gesture.roi_lift") << "must be >= 0";
   SYLVA_CHECK_INPUT(avoid_turns >= 0 && avoid_turn_deg > 0, "Gesture.avoid_turns")
       << "needs avoid_turns >= 0 and Gesture.avoid_turn_deg > 0";
   SYLVA_CHECK_INPUT(min_segment_fraction > 0 && min_segment_fraction < 1,

@@ -770,6 +770,10 @@ void RegisterGesture(GestureTreeOptions* o, OptionRegistry* r) {
                "the supertoroid's hole (0: a superellipsoid)");
   r->AddDouble("Gesture.roi_min_width", &o->roi_min_width, "fraction of the height",
                "least horizontal radius of a region fitted around the gestures (no ROI strokes)");
+  r->AddDouble("Gesture.roi_margin", &o->roi_margin, "times the gestures' extent",
+               "size of a region fitted around the gestures (no ROI strokes)");
+  r->AddDouble("Gesture.roi_lift", &o->roi_lift, "fraction of the height",
+               "how far a region fitted around the gestures sits above them");
   r->AddInt("Gesture.avoid_turns", &o->avoid_turns, "turns",
             "turns tried away from an obstacle before shortening");
   r->AddDouble("Gesture.avoid_turn_deg", &o->avoid_turn_deg, "degrees", "each turn's step");
