@@ -178,8 +178,8 @@ float OpacityAround(const DensityGrid& density, const Eigen::Vector3d& point) {
 
 // Steps 2 and 3 on the trimmed skeleton (changed in place).
 void RemoveUnsupportedAxes(const DensityGrid& density, const ConsolidationOptions& options,
-                           double height, double spacing, SkeletonGraph* skeleton,
-                           ConsolidationSummary* summary) {
+                           double height, double spacing, const PaintedDensity* painted,
+                           SkeletonGraph* skeleton, ConsolidationSummary* summary) {
   const int root = skeleton->RootIdx();
   const double max_strands = options.max_strand_fraction * skeleton->nodes[root].strands;
   const double base_top = skeleton->nodes[root].position.z() + options.base_fraction * height;
@@ -187,10 +187,16 @@ void RemoveUnsupportedAxes(const DensityGrid& density, const ConsolidationOption
   const std::vector<BranchAxis> axes = skeleton->BranchAxes(&orders);
   std::vector<char> removed(skeleton->NumNodes(), 0);
   std::vector<int> strands_taken(skeleton->NumNodes(), 0);
+  const std::vector<char> carrying =
+      painted != nullptr ? painted->CarryingWood(*skeleton) : std::vector<char>(removed.size(), 0);
   for (size_t a = 1; a < axes.size(); ++a) {
     const BranchAxis& axis = axes[a];
     if (axis.size() < 2 || removed[axis[0]]) continue;
     if (skeleton->nodes[axis[1]].strands > max_strands) continue;
+    if (carrying[axis[1]]) {
+      ++summary->painted_axes;
+      continue;
+    }
     const Eigen::Vector3d& junction = skeleton->nodes[axis[0]].position;
     const bool at_base = orders[a] == 1 && junction.z() < base_top;
     double length = 0, empty = 0;
@@ -257,13 +263,15 @@ std::string ConsolidationSummary::BriefReport() const {
   out << "Consolidation: length " << length_before << " -> " << length_after << " ("
       << trimmed_nodes << " twig nodes trimmed (redundant or unsupported), " << bare_axes
       << " bare sticks through empty density removed (" << bare_nodes << " nodes), " << base_axes
-      << " thin branches at the trunk's foot removed (" << base_nodes << " nodes)).";
+      << " thin branches at the trunk's foot removed (" << base_nodes << " nodes)";
+  if (painted_axes > 0) out << ", " << painted_axes << " kept: they carry painted density";
+  out << ").";
   return out.str();
 }
 
 SkeletonGraph ConsolidateSkeleton(const SkeletonGraph& skeleton, const DensityGrid& density,
                                   const ConsolidationOptions& options,
-                                  ConsolidationSummary* summary) {
+                                  ConsolidationSummary* summary, const PaintedDensity* painted) {
   options.Check();
   skeleton.Check();
   ConsolidationSummary local;
@@ -283,7 +291,7 @@ SkeletonGraph ConsolidateSkeleton(const SkeletonGraph& skeleton, const DensityGr
     for (int i = 0; i < skeleton.NumNodes(); ++i) result.nodes[i].strands = strands[i];
     result = WithoutNodes(result, trimmed);
   }
-  RemoveUnsupportedAxes(density, options, height, spacing, &result, summary);
+  RemoveUnsupportedAxes(density, options, height, spacing, painted, &result, summary);
   summary->length_after = result.TotalLength();
   return result;
 }

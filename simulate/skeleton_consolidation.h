@@ -41,6 +41,7 @@
 
 #include "core/types/density_grid.h"
 #include "core/types/skeleton_graph.h"
+#include "simulate/painted_density.h"
 
 namespace sylva {
 
@@ -78,14 +79,17 @@ struct ConsolidationSummary {
   int trimmed_nodes = 0;                       // step 1
   int bare_axes = 0, bare_nodes = 0;           // step 2
   int base_axes = 0, base_nodes = 0;           // step 3
+  int painted_axes = 0;  // thin axes spared steps 2 and 3: they carry painted density
   std::string BriefReport() const;
 };
 
 // The consolidated skeleton: node order kept (parents before children),
-// orders reassigned. `density` is the one the skeleton was flowed in.
+// orders reassigned. `density` is the one the skeleton was flowed in. Thin
+// axes that carry `painted` density (optional) are spared steps 2 and 3.
 SkeletonGraph ConsolidateSkeleton(const SkeletonGraph& skeleton, const DensityGrid& density,
                                   const ConsolidationOptions& options,
-                                  ConsolidationSummary* summary);
+                                  ConsolidationSummary* summary,
+                                  const PaintedDensity* painted = nullptr);
 
 }  // namespace sylva
 

@@ -86,14 +86,17 @@ std::string MattePruningSummary::BriefReport() const {
   std::ostringstream out;
   out << "Pruning: " << removed_axes << " of " << tested_axes
       << " thin branches left the mattes and were removed (" << removed_nodes << " nodes, "
-      << removed_strands << " strands).";
+      << removed_strands << " strands)";
+  if (painted_axes > 0) out << "; " << painted_axes << " kept: they carry painted density";
+  out << ".";
   return out.str();
 }
 
 SkeletonGraph PruneBranchesOutsideMattes(const SkeletonGraph& skeleton, const ImageSet& views,
                                          const std::vector<FloatImage>& mattes,
                                          const MattePruningOptions& options,
-                                         MattePruningSummary* summary) {
+                                         MattePruningSummary* summary,
+                                         const PaintedDensity* painted) {
   options.Check();
   skeleton.Check();
   SYLVA_CHECK(static_cast<int>(mattes.size()) == views.NumViews());
@@ -109,9 +112,15 @@ SkeletonGraph PruneBranchesOutsideMattes(const SkeletonGraph& skeleton, const Im
   // skipped (it goes with its parent).
   std::vector<char> removed(skeleton.NumNodes(), 0);
   std::vector<int> strands_taken(skeleton.NumNodes(), 0);  // per junction node
+  const std::vector<char> carrying =
+      painted != nullptr ? painted->CarryingWood(skeleton) : std::vector<char>(removed.size(), 0);
   for (const BranchAxis& axis : skeleton.BranchAxes()) {
     if (axis.size() < 2 || removed[axis[0]] || removed[axis[1]]) continue;
     if (skeleton.nodes[axis[1]].strands > max_strands) continue;
+    if (carrying[axis[1]]) {
+      ++summary->painted_axes;
+      continue;
+    }
     ++summary->tested_axes;
     if (!LeavesTheMattes(AxisSamples(skeleton, axis, spacing), views, mattes, options)) continue;
     ++summary->removed_axes;

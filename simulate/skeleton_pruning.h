@@ -14,6 +14,7 @@
 #include "core/types/float_image.h"
 #include "core/types/image_set.h"
 #include "core/types/skeleton_graph.h"
+#include "simulate/painted_density.h"
 
 namespace sylva {
 
@@ -40,15 +41,18 @@ struct MattePruningSummary {
   int removed_axes = 0;  // tested axes that were removed (what they carried goes too)
   int removed_nodes = 0;
   int removed_strands = 0;
+  int painted_axes = 0;  // thin axes kept untested: they carry painted density
   std::string BriefReport() const;
 };
 
-// `mattes` are one per view of `views`. The result keeps node order (parents
-// before children), strands consistent and orders reassigned.
+// `mattes` are one per view of `views`. Axes that carry `painted` density
+// (optional) are kept. The result keeps node order (parents before
+// children), strands consistent and orders reassigned.
 SkeletonGraph PruneBranchesOutsideMattes(const SkeletonGraph& skeleton, const ImageSet& views,
                                          const std::vector<FloatImage>& mattes,
                                          const MattePruningOptions& options,
-                                         MattePruningSummary* summary);
+                                         MattePruningSummary* summary,
+                                         const PaintedDensity* painted = nullptr);
 
 }  // namespace sylva
 

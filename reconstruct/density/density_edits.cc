@@ -27,4 +27,14 @@ void ApplyDensityEdit(const FloatImage& edit, const std::string& source, FloatIm
   }
 }
 
+FloatImage AddedOpacity(const FloatImage& edited, const FloatImage& computed) {
+  SYLVA_CHECK(edited.width() == computed.width() && edited.height() == computed.height() &&
+              edited.channels() == 1 && computed.channels() == 1);
+  FloatImage added(edited.width(), edited.height(), 1);
+  for (size_t i = 0; i < added.values().size(); ++i) {
+    added.values()[i] = std::max(0.0f, edited.values()[i] - computed.values()[i]);
+  }
+  return added;
+}
+
 }  // namespace sylva

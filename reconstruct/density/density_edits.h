@@ -24,6 +24,10 @@ namespace sylva {
 // `source` if the edit has no alpha (1 or 3 channels) or differs in size.
 void ApplyDensityEdit(const FloatImage& edit, const std::string& source, FloatImage* matte);
 
+// The opacity an edit added: max(0, edited - computed) per pixel, for mattes
+// of one size (1 channel): where a person painted the tree in.
+FloatImage AddedOpacity(const FloatImage& edited, const FloatImage& computed);
+
 }  // namespace sylva
 
 #endif  // SYLVA_RECONSTRUCT_DENSITY_DENSITY_EDITS_H_

@@ -75,7 +75,7 @@ const std::vector<StageDefinition>& Definitions() {
         "particle flow from the density to the tree base, steered by the attractor graphs' "
         "direction fields; skeleton with pipe-model radii, scaled to the mattes on leafless plants "
         "(out/skeleton.json, skeleton.ply)"},
-       "skeleton/5",
+       "skeleton/6",
        {"TreeBase.", "DirectionField.", "ParticleFlow.", "Skeleton.", "Allometry.", "BranchWidth.",
         "Leaves.num_leaves", "General.seed"},
        {Stage::kDensity, Stage::kAttract},

@@ -396,6 +396,16 @@ FloatImage Project::LoadEditedMatte(const ImageSet& image_set, int view_idx) con
   return matte;
 }
 
+FloatImage Project::LoadPaintedIn(const ImageSet& image_set, int view_idx) const {
+  const std::string& name = image_set.views.at(view_idx).name;
+  const fs::path edit = DensityEditPath(name);
+  if (IsHeldOut(name) || edit.empty()) return FloatImage();
+  const FloatImage matte = LoadMatte(image_set, view_idx);
+  FloatImage painted = matte;
+  ApplyDensityEdit(ReadImage(edit), edit.string(), &painted);
+  return AddedOpacity(painted, matte);
+}
+
 FloatImage Project::LoadMatte(const std::string& view_name, int width, int height) const {
   const fs::path path = MattePath(view_name);
   if (matte_source_ == "computed") {

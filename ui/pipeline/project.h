@@ -165,6 +165,10 @@ class Project {
   // least kCrownOutlineOpacity (held-out views are left as they are: they
   // judge the reconstruction).
   FloatImage LoadEditedMatte(const ImageSet& image_set, int view_idx) const;
+  // The opacity the view's density edit adds over its matte
+  // (AddedOpacity: where a person painted the tree in); an empty image if
+  // the view has no density edit or is held out.
+  FloatImage LoadPaintedIn(const ImageSet& image_set, int view_idx) const;
   // Reads and validates the matte of a photo of the given size.
   FloatImage LoadMatte(const std::string& view_name, int width, int height) const;
 

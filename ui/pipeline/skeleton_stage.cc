@@ -3,8 +3,10 @@
 // stage's graphs (out/attractors/) -> skeleton with pipe-model radii scaled to the trunk
 // width seen in the mattes. Writes out/skeleton.json, out/skeleton.ply
 // (AdTree layout) and out/skeleton_raw.json (traces before simplification).
+// Thin wood that carries density painted in (edits/density/) is kept.
 #include "core/io/skeleton_io.h"
 #include "core/io/vdb_io.h"
+#include "core/util/threading.h"
 #include "ui/pipeline/stage_context.h"
 #include "ui/pipeline/tree_building.h"
 
@@ -17,9 +19,12 @@ StageRun RunSkeletonStage(const StageContext& context) {
   const ImageSet views = context.InputViews();
   const std::vector<FloatImage> mattes = context.LoadMattes(views, "skeleton: reading mattes");
   const std::vector<AttractorGraph2D> attractors = LoadAttractorGraphs(context.project, views);
+  std::vector<FloatImage> painted_in(views.NumViews());
+  ParallelForFirstError(views.NumViews(),
+                        [&](int v) { painted_in[v] = context.project.LoadPaintedIn(views, v); });
   clock.Lap("read");
-  BuiltSkeleton built =
-      BuildSkeleton(density, views, mattes, attractors, context.options, context.progress);
+  BuiltSkeleton built = BuildSkeleton(density, views, mattes, attractors, context.options,
+                                      context.progress, &painted_in);
   clock.Lap("build").steps = std::move(built.profile);
   const std::string units = context.Units();
   run.brief = built.brief;

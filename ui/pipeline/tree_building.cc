@@ -31,7 +31,8 @@ constexpr uint64_t kTwigSeedStream = 4;  // 3: the attract stage's livewire
 BuiltSkeleton BuildSkeleton(const DensityGrid& density, const ImageSet& input_views,
                             const std::vector<FloatImage>& mattes,
                             const std::vector<AttractorGraph2D>& attractors,
-                            const PipelineOptions& options, ProgressReporter* progress) {
+                            const PipelineOptions& options, ProgressReporter* progress,
+                            const std::vector<FloatImage>* painted_in) {
   BuiltSkeleton built;
   StepClock clock(&built.profile);
   built.base = options.skeleton.base.allFinite() ? options.skeleton.base
@@ -68,13 +69,15 @@ BuiltSkeleton BuildSkeleton(const DensityGrid& density, const ImageSet& input_vi
       .Add("join", flow_summary.seconds_join)
       .Add("integrate", flow_summary.seconds_integrate)
       .Add("skeleton", flow_summary.seconds_skeleton);
+  const std::vector<FloatImage> none(painted_in == nullptr ? input_views.NumViews() : 0);
+  const PaintedDensity painted(density, input_views, painted_in == nullptr ? none : *painted_in);
   MattePruningSummary pruning;
-  const SkeletonGraph pruned =
-      PruneBranchesOutsideMattes(flowed, input_views, mattes, options.skeleton.pruning, &pruning);
+  const SkeletonGraph pruned = PruneBranchesOutsideMattes(
+      flowed, input_views, mattes, options.skeleton.pruning, &pruning, &painted);
   clock.Lap("prune");
   ConsolidationSummary consolidation;
-  built.skeleton =
-      ConsolidateSkeleton(pruned, density, options.skeleton.consolidation, &consolidation);
+  built.skeleton = ConsolidateSkeleton(pruned, density, options.skeleton.consolidation,
+                                       &consolidation, &painted);
   clock.Lap("consolidate");
   const double height = std::max(built.skeleton.Height(), density.voxel_size());
   const TrunkRadius trunk =

@@ -36,11 +36,16 @@ struct BuiltSkeleton {
 // field of the attractor graphs (one per input view, empty = none; an empty
 // list = no field), pruning of thin branches that leave the mattes, trunk
 // radius (Skeleton.trunk_radius, or measured in the mattes, or a fraction of
-// the height) and radii. `mattes` are the input views'.
+// the height) and radii. `mattes` are the input views'. `painted_in`
+// (optional; one per input view, empty images for views without density
+// edits: Project::LoadPaintedIn) is where a person painted the tree in: the
+// thin wood that carries that density is kept by the pruning and the
+// consolidation (simulate/painted_density.h).
 BuiltSkeleton BuildSkeleton(const DensityGrid& density, const ImageSet& input_views,
                             const std::vector<FloatImage>& mattes,
                             const std::vector<AttractorGraph2D>& attractors,
-                            const PipelineOptions& options, ProgressReporter* progress);
+                            const PipelineOptions& options, ProgressReporter* progress,
+                            const std::vector<FloatImage>* painted_in = nullptr);
 
 // The tree's geometry: the wood (MeshWood, mesh/wood.h: the bark,
 // watertight or tubes, BranchMesh.*, and grown twigs, Twigs.*), the bark
