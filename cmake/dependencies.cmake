@@ -37,6 +37,9 @@ find_package(tinyxml2 9 CONFIG REQUIRED)
 # (qt6-base-dev). Optional: SYLVA_BUILD_GUI defaults to ON only when found.
 # Only ui/desktop links Qt.
 find_package(Qt6 COMPONENTS Widgets Test QUIET)
+# Its optional OpenGL 3D view (ui/desktop/view_3d_gl.cc): Qt's OpenGL and
+# OpenGL widgets modules (libqt6opengl6-dev); built when found.
+find_package(Qt6 COMPONENTS OpenGL OpenGLWidgets QUIET)
 
 if(SYLVA_BUILD_TESTS)
   find_package(GTest REQUIRED)

@@ -2,12 +2,16 @@
 //
 //   sylva-app [PROJECT] [--photo NAME] [--panel layers|run|options|photos|sketch]
 //             [--sketch DRAWING.svg] [--run] [--screenshot FILE.png]
+//             [--view3d auto|opengl|embree]
 //
 // --screenshot renders the main window (photo with overlays, 3D view) for
 // PROJECT into FILE.png and exits; it needs no display
 // (QT_QPA_PLATFORM=offscreen). --run first runs the out-of-date stages, as
 // the Run panel's "Run all" does. --sketch opens a drawing on the sketch
-// canvas (and shows it). Exit codes: 0 ok, 2 bad arguments or project.
+// canvas (and shows it). --view3d chooses the 3D view: OpenGL, or Embree on
+// the CPU; auto (the default) takes OpenGL where a context can be made
+// (not on the offscreen platform). Exit codes: 0 ok, 2 bad arguments or
+// project, or --view3d opengl where OpenGL cannot be used.
 #include <QApplication>
 #include <QEventLoop>
 #include <QStringList>
@@ -29,7 +33,7 @@ int Usage(const QString& problem) {
   std::cerr << "sylva-app: " << problem.toStdString()
             << "\nusage: sylva-app [PROJECT] [--photo NAME] "
                "[--panel layers|run|options|photos|sketch] [--sketch DRAWING.svg] [--run] "
-               "[--screenshot FILE.png]\n";
+               "[--screenshot FILE.png] [--view3d auto|opengl|embree]\n";
   return kExitBadInput;
 }
 
@@ -39,7 +43,7 @@ int main(int argc, char** argv) {
   QApplication app(argc, argv);
   QApplication::setApplicationName("sylva-app");
   QApplication::setOrganizationName("sylva");
-  QString project, screenshot, photo, panel, sketch;
+  QString project, screenshot, photo, panel, sketch, view3d = "auto";
   bool run = false;
   const QStringList args = QApplication::arguments();
   for (int i = 1; i < args.size(); ++i) {
@@ -50,6 +54,11 @@ int main(int argc, char** argv) {
       photo = args[++i];
     } else if (arg == "--sketch" && i + 1 < args.size()) {
       sketch = args[++i];
+    } else if (arg == "--view3d" && i + 1 < args.size()) {
+      view3d = args[++i];
+      if (view3d != "auto" && view3d != "opengl" && view3d != "embree") {
+        return Usage("--view3d takes auto, opengl or embree, not " + view3d);
+      }
     } else if (arg == "--run") {
       run = true;
     } else if (arg == "--panel" && i + 1 < args.size()) {
@@ -65,6 +74,10 @@ int main(int argc, char** argv) {
   if (!screenshot.isEmpty() && project.isEmpty()) return Usage("--screenshot needs a PROJECT");
 
   sylva::MainWindow window(/*interactive=*/screenshot.isEmpty());
+  if (view3d != "embree" && !window.UseOpenGlView(true) && view3d == "opengl") {
+    return Usage("--view3d opengl: no OpenGL context can be made on platform '" +
+                 QApplication::platformName() + "'");
+  }
   if (!project.isEmpty() && !window.OpenProject(project.toStdString())) {
     if (!screenshot.isEmpty()) return kExitBadInput;
   }

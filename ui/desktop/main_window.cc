@@ -17,7 +17,9 @@
 #include <QProgressBar>
 #include <QPushButton>
 #include <QSettings>
+#include <QSignalBlocker>
 #include <QSplitter>
+#include <QStackedWidget>
 #include <QStatusBar>
 #include <QTabWidget>
 #include <QToolBar>
@@ -36,6 +38,9 @@
 #include "ui/desktop/run_controller.h"
 #include "ui/desktop/sketch_canvas.h"
 #include "ui/desktop/view_3d.h"
+#ifdef SYLVA_HAVE_GL_VIEW
+#include "ui/desktop/view_3d_gl.h"
+#endif
 #include "ui/pipeline/pipeline.h"
 #include "ui/pipeline/project.h"
 
@@ -77,6 +82,16 @@ const std::vector<ToolInfo>& Tools() {
   return tools;
 }
 
+// Whether the OpenGL 3D view can be shown (asked once: it makes a context).
+bool GlViewAvailable() {
+#ifdef SYLVA_HAVE_GL_VIEW
+  static const bool available = View3dGl::Available();
+  return available;
+#else
+  return false;
+#endif
+}
+
 QString IouText(const std::optional<double>& iou) {
   return iou ? QString::number(*iou, 'f', 3) : QString("–");
 }
@@ -98,7 +113,9 @@ MainWindow::MainWindow(bool interactive, QWidget* parent)
   photo_layout->addWidget(photo_view_, 1);
   auto* splitter = new QSplitter;
   splitter->addWidget(photo_pane);
-  splitter->addWidget(view_3d_);
+  view_3d_stack_ = new QStackedWidget;
+  view_3d_stack_->addWidget(view_3d_);
+  splitter->addWidget(view_3d_stack_);
   splitter->setStretchFactor(0, 1);
   splitter->setStretchFactor(1, 1);
   splitter->setSizes({1000, 1000});  // halves of whatever width it gets
@@ -188,7 +205,52 @@ void MainWindow::BuildMenus() {
 
   QMenu* view = menuBar()->addMenu("&View");
   view->addAction("&Fit photo", [this] { photo_view_->FitPhoto(); });
-  view->addAction("Frame &3D view", [this] { view_3d_->FrameAll(); });
+  view->addAction("Frame &3D view", [this] {
+    view_3d_->FrameAll();
+    if (view_3d_gl_ != nullptr) view_3d_gl_->FrameAll();
+  });
+  opengl_action_ = view->addAction("&OpenGL 3D view");
+  opengl_action_->setCheckable(true);
+  opengl_action_->setEnabled(GlViewAvailable());
+  opengl_action_->setToolTip(GlViewAvailable()
+                                 ? "Draw the 3D view with OpenGL (off: Embree on the CPU)"
+                                 : "No OpenGL context can be made here; the 3D view uses Embree");
+  connect(opengl_action_, &QAction::toggled, this, [this](bool on) { UseOpenGlView(on); });
+}
+
+bool MainWindow::UseOpenGlView(bool on) {
+  if (on && !GlViewAvailable()) return false;
+#ifdef SYLVA_HAVE_GL_VIEW
+  if (on && view_3d_gl_ == nullptr) {
+    view_3d_gl_ = new View3dGl;
+    view_3d_stack_->addWidget(view_3d_gl_);
+    view_3d_gl_->SetScene(view_3d_->scene());
+    ApplyShown3d();
+  }
+  if (on) {
+    view_3d_gl_->SetCamera(view_3d_->camera());
+    view_3d_stack_->setCurrentWidget(view_3d_gl_);
+  } else if (view_3d_gl_ != nullptr) {
+    view_3d_->SetCamera(view_3d_gl_->camera());
+    view_3d_stack_->setCurrentWidget(view_3d_);
+  }
+#endif
+  const QSignalBlocker blocker(opengl_action_);
+  opengl_action_->setChecked(on);
+  return true;
+}
+
+bool MainWindow::opengl_view_shown() const {
+  return view_3d_gl_ != nullptr && view_3d_stack_->currentIndex() != 0;
+}
+
+void MainWindow::ApplyShown3d() {
+  const bool mesh = mesh_box_->isChecked(), points = points_box_->isChecked(),
+             skeleton = skeleton_box_->isChecked();
+  view_3d_->SetShown(mesh, points, skeleton);
+#ifdef SYLVA_HAVE_GL_VIEW
+  if (view_3d_gl_ != nullptr) view_3d_gl_->SetShown(mesh, points, skeleton);
+#endif
 }
 
 void MainWindow::BuildToolBar() {
@@ -259,12 +321,9 @@ QWidget* MainWindow::BuildLayersPanel() {
   for (QCheckBox* box : {mesh_box_, points_box_, skeleton_box_}) {
     box->setChecked(box == mesh_box_);
     layout->addWidget(box);
-    connect(box, &QCheckBox::toggled, this, [this] {
-      view_3d_->SetShown(mesh_box_->isChecked(), points_box_->isChecked(),
-                         skeleton_box_->isChecked());
-    });
+    connect(box, &QCheckBox::toggled, this, &MainWindow::ApplyShown3d);
   }
-  view_3d_->SetShown(true, false, false);
+  ApplyShown3d();
   layout->addStretch(1);
   return panel;
 }
@@ -512,6 +571,12 @@ void MainWindow::ShowPhotoOverlays() {
 void MainWindow::ReloadOutputs() {
   if (!project_) return;
   view_3d_->LoadProject(*project_);
+#ifdef SYLVA_HAVE_GL_VIEW
+  if (view_3d_gl_ != nullptr) {
+    view_3d_gl_->SetScene(view_3d_->scene());
+    view_3d_gl_->SetCamera(view_3d_->camera());
+  }
+#endif
   statusBar()->showMessage(view_3d_->status());
   ShowPhotoOverlays();
   RefreshPhotoList();

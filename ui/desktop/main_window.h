@@ -23,6 +23,7 @@ class QListWidget;
 class QMenu;
 class QPlainTextEdit;
 class QProgressBar;
+class QStackedWidget;
 class QPushButton;
 class QTabWidget;
 class QToolButton;
@@ -36,6 +37,7 @@ class Project;
 class RunController;
 class SketchCanvas;
 class View3d;
+class View3dGl;
 enum class Tool;
 
 class MainWindow : public QMainWindow {
@@ -69,11 +71,18 @@ class MainWindow : public QMainWindow {
   // "sketch" to the front; false if there is no such panel.
   bool ShowPanel(const QString& name);
 
+  // Shows the OpenGL 3D view (true) or the Embree one (false), keeping the
+  // camera; false if OpenGL was asked for and cannot be used here (built
+  // without Qt's OpenGL widgets, or View3dGl::Available() is false).
+  bool UseOpenGlView(bool on);
+  bool opengl_view_shown() const;
+
   // Renders the whole window into a PNG (atomically); false on failure.
   bool SaveScreenshot(const std::filesystem::path& path);
 
   PhotoView* photo_view() const { return photo_view_; }
   View3d* view_3d() const { return view_3d_; }
+  View3dGl* view_3d_gl() const { return view_3d_gl_; }  // null until UseOpenGlView(true)
   OptionsPanel* options_panel() const { return options_panel_; }
   SketchCanvas* sketch_canvas() const { return sketch_canvas_; }
   RunController* run_controller() const { return run_controller_; }
@@ -92,6 +101,8 @@ class MainWindow : public QMainWindow {
   void BeginRun();
   void ShowError(const QString& message);
   void ReloadOutputs();
+  // The layer boxes' choice of mesh, points and skeleton, to both 3D views.
+  void ApplyShown3d();
   void ShowPhotoOverlays();
   void RefreshPhotoList();
   void RefreshStageStates();
@@ -104,6 +115,9 @@ class MainWindow : public QMainWindow {
   std::unique_ptr<EditDocument> document_;
   PhotoView* photo_view_ = nullptr;
   View3d* view_3d_ = nullptr;
+  View3dGl* view_3d_gl_ = nullptr;
+  QStackedWidget* view_3d_stack_ = nullptr;  // view_3d_, and view_3d_gl_ once made
+  QAction* opengl_action_ = nullptr;
   OptionsPanel* options_panel_ = nullptr;
   SketchCanvas* sketch_canvas_ = nullptr;
   QTabWidget* pages_ = nullptr;                // photos, sketch
