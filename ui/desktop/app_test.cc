@@ -6,6 +6,7 @@
 #include <QCheckBox>
 #include <QElapsedTimer>
 #include <QLineEdit>
+#include <QPlainTextEdit>
 #include <QProcess>
 #include <QProgressBar>
 #include <QPushButton>
@@ -586,6 +587,13 @@ void AppTest::screenshotShowsPhotoAndTree() {
   MainWindow window(false);
   QVERIFY(ShowWithProject(&window, project_, 1400, 850));
   QVERIFY(window.view_3d()->HasScene());
+  // The Run panel shows what each stage recorded at its last run.
+  const auto* summaries = window.findChild<QPlainTextEdit*>("stage_summaries");
+  QVERIFY(summaries != nullptr);
+  for (const char* stage :
+       {"density (last run): ", "skeleton (last run): ", "report (last run): "}) {
+    QVERIFY2(summaries->toPlainText().contains(stage), stage);
+  }
   // Overlays off, so the photo's own pixels show.
   for (QCheckBox* box : window.findChildren<QCheckBox*>()) {
     if (box->text().contains("silhouette") || box->text().contains("Attractor")) {

@@ -43,6 +43,7 @@
 #endif
 #include "ui/pipeline/pipeline.h"
 #include "ui/pipeline/project.h"
+#include "ui/pipeline/stage_context.h"
 
 namespace sylva {
 namespace {
@@ -369,6 +370,7 @@ QWidget* MainWindow::BuildRunPanel() {
   layout->addLayout(grid);
   layout->addWidget(new QLabel("Stage summaries"));
   summary_text_ = new QPlainTextEdit;
+  summary_text_->setObjectName("stage_summaries");
   summary_text_->setReadOnly(true);
   summary_text_->setLineWrapMode(QPlainTextEdit::WidgetWidth);
   layout->addWidget(summary_text_, 1);
@@ -495,6 +497,7 @@ bool MainWindow::OpenProject(const std::filesystem::path& root) {
   ReloadOutputs();
   RefreshPhotoList();
   RefreshStageStates();
+  ShowRecordedSummaries();
   // The first input view (held-out views judge, they are not edited).
   const auto& names = project_->photo_names();
   for (size_t i = 0; i < names.size(); ++i) {
@@ -580,6 +583,16 @@ void MainWindow::ReloadOutputs() {
   statusBar()->showMessage(view_3d_->status());
   ShowPhotoOverlays();
   RefreshPhotoList();
+}
+
+void MainWindow::ShowRecordedSummaries() {
+  summary_text_->clear();
+  for (const StageInfo& info : AllStages()) {
+    const std::string brief = ReadRecordedBrief(*project_, info.name);
+    if (brief.empty()) continue;
+    summary_text_->appendPlainText(QString::fromUtf8(info.name) +
+                                   " (last run): " + QString::fromStdString(brief));
+  }
 }
 
 void MainWindow::RefreshStageStates() {

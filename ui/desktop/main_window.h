@@ -106,6 +106,8 @@ class MainWindow : public QMainWindow {
   void ShowPhotoOverlays();
   void RefreshPhotoList();
   void RefreshStageStates();
+  // The Run panel's summaries as the project's stages last recorded them.
+  void ShowRecordedSummaries();
   void UpdateRecentMenu();
   void AddRecent(const QString& root);
   void OnRunFinished(bool ok, bool cancelled, const QString& message);

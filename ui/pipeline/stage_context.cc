@@ -111,8 +111,12 @@ std::string StageContext::Units() const {
 }
 
 std::string StageContext::RecordedBrief(const std::string& stage_name) const {
+  return ReadRecordedBrief(project, stage_name);
+}
+
+std::string ReadRecordedBrief(const Project& project, const std::string& stage_name) {
   const Json records = ParseJson(ReadStageRecordsText(project), "stage records");
-  if (!records.contains(stage_name)) return "";
+  if (!records.contains(stage_name) || !records[stage_name].is_object()) return "";
   return records[stage_name].value("summary", "");
 }
 

@@ -148,6 +148,10 @@ std::string FileKey(const Project& project, const std::filesystem::path& file);
 // has not run or the cache is unreadable).
 std::vector<Warning> ReadRecordedWarnings(const Project& project, const std::string& stage_name);
 
+// The BriefReport() recorded for a stage in cache/stages.json ("" if the
+// stage has not run or the cache is unreadable).
+std::string ReadRecordedBrief(const Project& project, const std::string& stage_name);
+
 // The figures recorded for a stage in cache/stages.json (none if the stage
 // has not run or the cache is unreadable).
 std::vector<StageFigure> ReadRecordedFigures(const Project& project, const std::string& stage_name);
