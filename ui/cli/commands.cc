@@ -366,6 +366,7 @@ int CmdBatch(const ParsedArguments& args) {
 // --subdivide, --no-previews.
 PipelineOptions MeshingOptions(const ParsedArguments& args) {
   PipelineOptions options;
+  UseQsmMeshingDefaults(&options);  // leafless unless --Leaves.num_leaves >= 0
   OptionRegistry registry;
   RegisterPipelineOptions(&options, &registry);
   for (const auto& [key, value] : args.options) registry.Set(key, value, "--" + key);
@@ -384,7 +385,8 @@ double MergeFraction(const ParsedArguments& args) {
 
 // Meshes `qsm` and writes the outputs to OUT_DIR (positional[1]).
 int MeshAndWrite(const ParsedArguments& args, const QsmModel& qsm, PipelineOptions options) {
-  const QsmMeshing meshing = MeshQsm(qsm, options, MergeFraction(args));
+  QsmMeshing meshing = MeshQsm(qsm, options, MergeFraction(args));
+  AddSkeletonLeaves(options, &meshing);
   std::cout << meshing.brief << "\n";
   if (args.Has("no-previews")) options.report.previews = false;
   for (const fs::path& path : WriteQsmMeshing(meshing, qsm, args.positional[1], options)) {
@@ -611,11 +613,13 @@ int SketchByMrf(const ParsedArguments& args, const std::vector<fs::path>& paths,
                                                   ? BuiltinExemplars()
                                                   : LoadExemplars(options.sketch_mrf.exemplars);
   const MrfSketchTree tree = MakeMrfSketchTree(drawings, options, exemplars);
-  std::cout << tree.brief << "\n";
+  QsmModel qsm;
+  const QsmMeshing meshing = MeshMrfSketchTree(tree, options, &qsm);
+  std::cout << tree.brief << "\n" << meshing.brief << "\n";
   const fs::path staging = TempPathBeside(out);
   std::vector<fs::path> written;
   try {
-    written = WriteMrfSketchTree(tree, options, staging);
+    written = WriteMrfSketchTree(tree, qsm, meshing, options, staging);
     std::error_code ec;
     fs::remove(out, ec);  // empty, checked before
     fs::rename(staging, out);
@@ -637,6 +641,7 @@ int CmdSketch(const ParsedArguments& args) {
   const std::vector<fs::path> drawings(args.positional.begin(), args.positional.end() - 1);
   {
     PipelineOptions options;
+    UseSkeletonTreeDefaults(&options);  // the MRF's tree; the flow's are the project's
     OptionRegistry registry;
     SketchOptions(args, &options, &registry);
     if (options.sketch_mrf.method == "mrf") return SketchByMrf(args, drawings, options);
@@ -703,6 +708,7 @@ int CmdConcept(const ParsedArguments& args) {
 // `sylva gesture FILE OUT_DIR`: a tree grown from 3D gestures.
 int CmdGesture(const ParsedArguments& args) {
   PipelineOptions options;
+  UseSkeletonTreeDefaults(&options);
   OptionRegistry registry;
   ApplyCommandOptions(args, &options, &registry);
   const fs::path out = args.positional[1];
