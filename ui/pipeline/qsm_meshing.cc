@@ -4,6 +4,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "core/io/image_io.h"
 #include "core/io/lpy_io.h"
 #include "core/io/mesh_io.h"
 #include "core/util/check.h"
@@ -84,6 +85,10 @@ void AddSkeletonLeaves(const PipelineOptions& options, QsmMeshing* meshing) {
   }
   if (leaves.leaf_length <= 0) leaves.leaf_length = leaves.leaf_length_fraction * height;
   const double thin_radius = leaves.thin_branch_radius_fraction * trunk_radius;
+  // Leaves.image: relative to the working directory (no project here).
+  LeafShape image_leaf;
+  const std::string& image = options.geometry.leaf_image;
+  if (!image.empty()) image_leaf = LeafShapeFromImage(ReadImage(image), image);
   const uint64_t seed = leaves.seed;
   for (size_t k = 0; k < meshing->parts.size(); ++k) {
     const SkeletonGraph& skeleton = meshing->parts[k].skeleton;
@@ -93,7 +98,8 @@ void AddSkeletonLeaves(const PipelineOptions& options, QsmMeshing* meshing) {
     leaves.thin_branch_radius_fraction =
         root_radius > thin_radius ? thin_radius / root_radius : 1.0;
     LeafSummary summary;
-    const LeafInstances part = GenerateSkeletonLeafInstances(skeleton, leaves, &summary);
+    const LeafInstances part = GenerateSkeletonLeafInstances(skeleton, leaves, &summary,
+                                                             image.empty() ? nullptr : &image_leaf);
     meshing->leaves.shape = part.shape;
     meshing->leaves.material = part.material;
     std::vector<LeafInstance>& all = meshing->leaves.instances;

@@ -57,7 +57,9 @@ QsmMeshing MeshQsm(const QsmModel& qsm, const PipelineOptions& options, double m
 // LeafOptionsOf gives it) into meshing->leaves, unless Leaves.num_leaves is
 // -1; their summary ends the brief. One leaf length for all parts:
 // Leaves.leaf_length, or Leaves.leaf_length_fraction x the tallest part's
-// height; part k > 0 draws from DeriveSeed(the leaves' seed, k).
+// height; branches are thin as a fraction of the tallest trunk's radius;
+// part k > 0 draws from DeriveSeed(the leaves' seed, k). Leaves.image (a
+// path relative to the working directory) replaces the built-in shape.
 void AddSkeletonLeaves(const PipelineOptions& options, QsmMeshing* meshing);
 
 // A skeleton made without photos (gestures, an MRF sketch) as a cylinder
