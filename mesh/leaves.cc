@@ -173,23 +173,39 @@ double OpacityAt(const DensityGrid& density, const Eigen::Vector3d& p) {
   return density.Value(density.IndexFromWorld(p).array().round().cast<int>());
 }
 
-// Runs of consecutive branch-axis edges whose child radius is at most
-// max_radius, as polylines.
-std::vector<std::vector<Eigen::Vector3d>> ThinAxes(const SkeletonGraph& skeleton,
-                                                   double max_radius) {
-  std::vector<std::vector<Eigen::Vector3d>> runs;
+// A run of consecutive branch-axis edges whose child radius is at most
+// some maximum, as a polyline with each edge's radius (its child node's).
+struct ThinAxis {
+  std::vector<Eigen::Vector3d> points;
+  std::vector<double> radii;  // radii[k]: the edge from points[k] to points[k + 1]
+
+  // The radius of the edge holding arc length s (world units from points[0]).
+  double RadiusAt(double s) const {
+    double arc = 0.0;
+    for (size_t k = 0; k + 1 < points.size(); ++k) {
+      arc += (points[k + 1] - points[k]).norm();
+      if (s <= arc) return radii[k];
+    }
+    return radii.back();
+  }
+};
+
+std::vector<ThinAxis> ThinAxes(const SkeletonGraph& skeleton, double max_radius) {
+  std::vector<ThinAxis> runs;
   for (const BranchAxis& axis : skeleton.BranchAxes()) {
-    std::vector<Eigen::Vector3d> run;
+    ThinAxis run;
     for (size_t i = 1; i < axis.size(); ++i) {
-      if (skeleton.nodes[axis[i]].radius > max_radius) {
-        if (run.size() >= 2) runs.push_back(run);
-        run.clear();
+      const SkeletonNode& node = skeleton.nodes[axis[i]];
+      if (node.radius > max_radius) {
+        if (run.points.size() >= 2) runs.push_back(run);
+        run = ThinAxis();
         continue;
       }
-      if (run.empty()) run.push_back(skeleton.nodes[axis[i - 1]].position);
-      run.push_back(skeleton.nodes[axis[i]].position);
+      if (run.points.empty()) run.points.push_back(skeleton.nodes[axis[i - 1]].position);
+      run.points.push_back(node.position);
+      run.radii.push_back(node.radius);
     }
-    if (run.size() >= 2) runs.push_back(run);
+    if (run.points.size() >= 2) runs.push_back(run);
   }
   return runs;
 }
@@ -217,14 +233,19 @@ Leaf PhyllotacticLeaf(const LeafAttachment& a, const Eigen::Vector3d& centroid, 
   return leaf;
 }
 
-// Every phyllotactic site along `axes`, axis by axis, node by node.
-std::vector<Leaf> PhyllotaxisSites(const std::vector<std::vector<Eigen::Vector3d>>& axes,
-                                   const LeafOptions& options, double length,
-                                   const Eigen::Vector3d& centroid) {
+// Every phyllotactic site along `axes`, axis by axis, node by node; the
+// leaves' bases on the axes, or `on_bark` the edge's radius out from them
+// (across the axis, towards the petiole).
+std::vector<Leaf> PhyllotaxisSites(const std::vector<ThinAxis>& axes, const LeafOptions& options,
+                                   double length, const Eigen::Vector3d& centroid, bool on_bark) {
   const PhyllotaxisOptions phyllotaxis = ToPhyllotaxis(options, length);
   std::vector<Leaf> sites;
-  for (const std::vector<Eigen::Vector3d>& axis : axes) {
-    for (const LeafAttachment& a : PlaceLeavesAlongAxis(axis, phyllotaxis)) {
+  for (const ThinAxis& axis : axes) {
+    for (LeafAttachment a : PlaceLeavesAlongAxis(axis.points, phyllotaxis)) {
+      if (on_bark) {
+        a.position += axis.RadiusAt(a.arc_length) *
+                      Perpendicular(a.petiole_direction, a.axis_tangent.normalized());
+      }
       sites.push_back(PhyllotacticLeaf(a, centroid, options.phototropism, length));
     }
   }
@@ -434,11 +455,11 @@ std::vector<Leaf> DrawFreeLeaves(const PointGrid& twigs, const DensityGrid& dens
 // probability target x opacity / (sum of opacities over all sites), so the
 // kept count follows the density like the free draw. The phyllotactic
 // normal is turned towards n_opt by phototropism, as the random one is.
-std::vector<Leaf> PhyllotacticLeaves(const std::vector<std::vector<Eigen::Vector3d>>& axes,
-                                     const DensityGrid& density, const DensitySampler& sampler,
-                                     const LeafOptions& options, double length, RandomEngine* rng,
-                                     LeafSummary* summary) {
-  const std::vector<Leaf> sites = PhyllotaxisSites(axes, options, length, sampler.centroid);
+std::vector<Leaf> PhyllotacticLeaves(const std::vector<ThinAxis>& axes, const DensityGrid& density,
+                                     const DensitySampler& sampler, const LeafOptions& options,
+                                     double length, RandomEngine* rng, LeafSummary* summary) {
+  const std::vector<Leaf> sites =
+      PhyllotaxisSites(axes, options, length, sampler.centroid, /*on_bark=*/false);
   std::vector<double> weights;
   double total = 0.0;
   for (const Leaf& leaf : sites) {
@@ -499,9 +520,8 @@ LeafInstances GenerateLeafInstances(const SkeletonGraph& skeleton, const Density
   RandomEngine rng(options.seed, kDensityLeafStream);
   const bool free_draws = options.phyllotaxis == "none";
   const PointGrid twigs(free_draws ? std::move(thin.points) : std::vector<Eigen::Vector3d>());
-  const std::vector<std::vector<Eigen::Vector3d>> axes =
-      free_draws ? std::vector<std::vector<Eigen::Vector3d>>()
-                 : ThinAxes(skeleton, thin.max_radius);
+  const std::vector<ThinAxis> axes =
+      free_draws ? std::vector<ThinAxis>() : ThinAxes(skeleton, thin.max_radius);
   const int64_t max_draws = static_cast<int64_t>(options.max_draws_factor * summary->target);
   const LeafSummary wanted = *summary;
   do {
@@ -596,8 +616,9 @@ std::vector<Leaf> LeavesAlongBranches(const SkeletonGraph& skeleton, const ThinE
     const SkeletonNode& child = skeleton.nodes[edges.child[e]];
     const Eigen::Vector3d& parent = skeleton.nodes[child.parent_idx].position;
     const Eigen::Vector3d tangent = (child.position - parent).normalized();
-    const Eigen::Vector3d base = parent + rng->Uniform() * (child.position - parent);
+    const Eigen::Vector3d on_axis = parent + rng->Uniform() * (child.position - parent);
     const Eigen::Vector3d radial = RadialDirection(tangent, rng->Uniform(0.0, 360.0));
+    const Eigen::Vector3d base = on_axis + child.radius * radial;  // on the bark
     Leaf leaf;
     leaf.axis = (std::cos(options.insertion_deg * kDegree) * tangent +
                  std::sin(options.insertion_deg * kDegree) * radial)
@@ -618,7 +639,7 @@ std::vector<Leaf> PhyllotacticSkeletonLeaves(const SkeletonGraph& skeleton, doub
                                              const LeafOptions& options, double length,
                                              RandomEngine* rng, LeafSummary* summary) {
   const std::vector<Leaf> sites =
-      PhyllotaxisSites(ThinAxes(skeleton, max_radius), options, length, centroid);
+      PhyllotaxisSites(ThinAxes(skeleton, max_radius), options, length, centroid, /*on_bark=*/true);
   summary->phyllotaxis_sites = static_cast<int64_t>(sites.size());
   summary->drawn = summary->phyllotaxis_sites;
   summary->target = options.num_leaves > 0

@@ -162,6 +162,8 @@ LeafInstances GenerateLeafInstances(const SkeletonGraph& skeleton, const Density
 // by MRF, read from a QSM): there is no density and no photo, so the leaves
 // follow the thin branches (thin_branch_radius_fraction) alone. `skeleton`
 // needs radii.
+// Their bases sit on the bark (the branch's radius off its axis, towards
+// the petiole), so leaves of thick twigs are not buried in them.
 // - With a phyllotaxis pattern they sit at the pattern's nodes along the
 //   thin branches, as GenerateLeafInstances places them: every site for
 //   num_leaves = 0 (at most max_leaves), else num_leaves sites chosen

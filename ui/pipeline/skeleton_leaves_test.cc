@@ -80,18 +80,33 @@ double FarthestLeafFromThinBranches(const LeafInstances& leaves,
   return farthest;
 }
 
+// The thin segment nearest p.
+const Segment& NearestSegment(const Eigen::Vector3d& p, const std::vector<Segment>& segments) {
+  size_t best = 0;
+  double best2 = INFINITY;
+  for (size_t k = 0; k < segments.size(); ++k) {
+    const double d2 = SegmentDistance2(p, segments[k].a, segments[k].b);
+    if (d2 < best2) best2 = d2, best = k;
+  }
+  return segments[best];
+}
+
 // Divergence angles between successive leaves along a branch: consecutive
-// instances (sites are made axis by axis, node by node) one internode apart,
-// looking down the chord between their bases.
-std::vector<double> SuccessiveDivergences(const LeafInstances& leaves, double internode) {
+// instances (sites are made axis by axis, node by node) one internode apart
+// along the thin segment nearest the first one's base (the bases sit on
+// the bark, a radius off the axis), looking down that segment.
+std::vector<double> SuccessiveDivergences(const LeafInstances& leaves,
+                                          const std::vector<Segment>& thin, double internode) {
   std::vector<double> angles;
   for (size_t i = 0; i + 1 < leaves.instances.size(); ++i) {
     const LeafInstance& p = leaves.instances[i];
     const LeafInstance& q = leaves.instances[i + 1];
-    const Eigen::Vector3d chord = (q.translation - p.translation).cast<double>();
-    if (chord.norm() < 0.9 * internode || chord.norm() > 1.001 * internode) continue;
+    const Segment& segment = NearestSegment(p.translation.cast<double>(), thin);
+    const Eigen::Vector3d tangent = (segment.b - segment.a).normalized();
+    const double along = (q.translation - p.translation).cast<double>().dot(tangent);
+    if (std::abs(along - internode) > 0.1 * internode) continue;
     LeafAttachment a, b;
-    a.axis_tangent = chord.normalized();
+    a.axis_tangent = tangent;
     a.petiole_direction = (p.rotation * Eigen::Vector3f::UnitX()).cast<double>();
     b.petiole_direction = (q.rotation * Eigen::Vector3f::UnitX()).cast<double>();
     angles.push_back(DivergenceAngleDeg(a, b));
@@ -121,11 +136,11 @@ void ExpectPhyllotacticLeaves(const QsmMeshing& meshing, const PipelineOptions& 
             std::string::npos);
   const double length = meshing.leaf_summary.leaf_length;
   ASSERT_GT(length, 0.0);
-  const double farthest =
-      FarthestLeafFromThinBranches(leaves, ThinSegments(meshing, options.leaves));
+  const std::vector<Segment> thin = ThinSegments(meshing, options.leaves);
+  const double farthest = FarthestLeafFromThinBranches(leaves, thin);
   EXPECT_LT(farthest, 2.0 * length);
   const std::vector<double> divergences =
-      SuccessiveDivergences(leaves, options.leaves.internode * length);
+      SuccessiveDivergences(leaves, thin, options.leaves.internode * length);
   ASSERT_GT(divergences.size(), leaves.instances.size() / 2);
   const double median = Median(divergences), within = FractionNear(divergences, 137.5, 3.0);
   EXPECT_NEAR(median, 137.5, 1.0);
