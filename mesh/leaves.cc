@@ -16,6 +16,10 @@ namespace {
 
 const Material kLeafMaterial = {"leaves", Eigen::Vector3f(0.22f, 0.46f, 0.13f), true};
 
+// Random streams of RandomEngine(options.seed, stream).
+constexpr uint64_t kDensityLeafStream = 0x1eaf;
+constexpr uint64_t kSkeletonLeafStream = 0x1eaf5;
+
 // Points every `spacing` along the edges whose radius is thin enough.
 std::vector<Eigen::Vector3d> ThinBranchPoints(const SkeletonGraph& skeleton, double max_radius,
                                               double spacing) {
@@ -169,23 +173,39 @@ double OpacityAt(const DensityGrid& density, const Eigen::Vector3d& p) {
   return density.Value(density.IndexFromWorld(p).array().round().cast<int>());
 }
 
-// Runs of consecutive branch-axis edges whose child radius is at most
-// max_radius, as polylines.
-std::vector<std::vector<Eigen::Vector3d>> ThinAxes(const SkeletonGraph& skeleton,
-                                                   double max_radius) {
-  std::vector<std::vector<Eigen::Vector3d>> runs;
+// A run of consecutive branch-axis edges whose child radius is at most
+// some maximum, as a polyline with each edge's radius (its child node's).
+struct ThinAxis {
+  std::vector<Eigen::Vector3d> points;
+  std::vector<double> radii;  // radii[k]: the edge from points[k] to points[k + 1]
+
+  // The radius of the edge holding arc length s (world units from points[0]).
+  double RadiusAt(double s) const {
+    double arc = 0.0;
+    for (size_t k = 0; k + 1 < points.size(); ++k) {
+      arc += (points[k + 1] - points[k]).norm();
+      if (s <= arc) return radii[k];
+    }
+    return radii.back();
+  }
+};
+
+std::vector<ThinAxis> ThinAxes(const SkeletonGraph& skeleton, double max_radius) {
+  std::vector<ThinAxis> runs;
   for (const BranchAxis& axis : skeleton.BranchAxes()) {
-    std::vector<Eigen::Vector3d> run;
+    ThinAxis run;
     for (size_t i = 1; i < axis.size(); ++i) {
-      if (skeleton.nodes[axis[i]].radius > max_radius) {
-        if (run.size() >= 2) runs.push_back(run);
-        run.clear();
+      const SkeletonNode& node = skeleton.nodes[axis[i]];
+      if (node.radius > max_radius) {
+        if (run.points.size() >= 2) runs.push_back(run);
+        run = ThinAxis();
         continue;
       }
-      if (run.empty()) run.push_back(skeleton.nodes[axis[i - 1]].position);
-      run.push_back(skeleton.nodes[axis[i]].position);
+      if (run.points.empty()) run.points.push_back(skeleton.nodes[axis[i - 1]].position);
+      run.points.push_back(node.position);
+      run.radii.push_back(node.radius);
     }
-    if (run.size() >= 2) runs.push_back(run);
+    if (run.points.size() >= 2) runs.push_back(run);
   }
   return runs;
 }
@@ -197,6 +217,73 @@ PhyllotaxisOptions ToPhyllotaxis(const LeafOptions& options, double length) {
   out.leaves_per_whorl = options.leaves_per_whorl;
   out.internode = options.internode * length;
   out.insertion_deg = options.insertion_deg;
+  return out;
+}
+
+// The leaf at a phyllotactic site, its normal turned towards n_opt (away
+// from `centroid`) by phototropism, as the free leaves' random one is.
+Leaf PhyllotacticLeaf(const LeafAttachment& a, const Eigen::Vector3d& centroid, double phototropism,
+                      double length) {
+  Leaf leaf;
+  leaf.axis = a.petiole_direction;
+  leaf.center = a.position + 0.5 * length * leaf.axis;
+  const Eigen::Vector3d best = Perpendicular((leaf.center - centroid).normalized(), leaf.axis);
+  const Eigen::Vector3d n = phototropism * best + (1.0 - phototropism) * a.normal;
+  leaf.normal = n.norm() > 1e-9 ? Eigen::Vector3d(n.normalized()) : a.normal;
+  return leaf;
+}
+
+// Every phyllotactic site along `axes`, axis by axis, node by node; the
+// leaves' bases on the axes, or `on_bark` the edge's radius out from them
+// (across the axis, towards the petiole).
+std::vector<Leaf> PhyllotaxisSites(const std::vector<ThinAxis>& axes, const LeafOptions& options,
+                                   double length, const Eigen::Vector3d& centroid, bool on_bark) {
+  const PhyllotaxisOptions phyllotaxis = ToPhyllotaxis(options, length);
+  std::vector<Leaf> sites;
+  for (const ThinAxis& axis : axes) {
+    for (LeafAttachment a : PlaceLeavesAlongAxis(axis.points, phyllotaxis)) {
+      if (on_bark) {
+        a.position += axis.RadiusAt(a.arc_length) *
+                      Perpendicular(a.petiole_direction, a.axis_tangent.normalized());
+      }
+      sites.push_back(PhyllotacticLeaf(a, centroid, options.phototropism, length));
+    }
+  }
+  return sites;
+}
+
+// The branches that carry leaves: those of radius at most `fraction` of
+// the trunk's (all of them if none is that thin), and points every
+// `spacing` along them.
+struct ThinBranches {
+  double max_radius = 0.0;
+  std::vector<Eigen::Vector3d> points;
+};
+ThinBranches FindThinBranches(const SkeletonGraph& skeleton, double fraction, double spacing) {
+  const double trunk_radius = skeleton.nodes[skeleton.RootIdx()].radius;
+  ThinBranches thin;
+  thin.max_radius = fraction * trunk_radius;
+  thin.points = ThinBranchPoints(skeleton, thin.max_radius, spacing);
+  if (thin.points.empty()) {
+    thin.max_radius = trunk_radius;
+    thin.points = ThinBranchPoints(skeleton, thin.max_radius, spacing);
+  }
+  return thin;
+}
+
+// Leaf length in world units (LeafOptions::leaf_length).
+double LeafLength(const SkeletonGraph& skeleton, const LeafOptions& options) {
+  return options.leaf_length > 0 ? options.leaf_length
+                                 : options.leaf_length_fraction * skeleton.Height();
+}
+
+// No leaves yet, with the material and the leaf shape (`shape` or the
+// options' built-in one).
+LeafInstances NoLeaves(const LeafOptions& options, const LeafShape* shape) {
+  LeafInstances out;
+  out.material = kLeafMaterial;
+  out.shape = shape != nullptr ? *shape : BuiltinLeafShape(options.shape, options.leaf_aspect);
+  out.shape.Check();
   return out;
 }
 
@@ -224,27 +311,45 @@ void LeafOptions::Check() const {
   SYLVA_CHECK_INPUT(matte_threshold >= 0 && matte_threshold < 1, "Leaves.matte_threshold")
       << "must be in [0, 1), got " << matte_threshold;
   BuiltinLeafShape(shape, leaf_aspect);  // throws for unknown names
+  // Also used without phyllotaxis by GenerateSkeletonLeafInstances.
+  SYLVA_CHECK_INPUT(internode > 0 && std::isfinite(internode), "Leaves.internode")
+      << "must be > 0 leaf lengths, got " << internode;
+  SYLVA_CHECK_INPUT(insertion_deg > 0 && insertion_deg < 180, "Leaves.insertion_deg")
+      << "must be in (0, 180) degrees, got " << insertion_deg;
   if (phyllotaxis != "none") {
     PhyllotaxisOptions phyllo;
     phyllo.pattern = ParsePhyllotaxisPattern(phyllotaxis, "Leaves.phyllotaxis");
-    SYLVA_CHECK_INPUT(internode > 0 && std::isfinite(internode), "Leaves.internode")
-        << "must be > 0 leaf lengths, got " << internode;
     SYLVA_CHECK_INPUT(divergence_deg >= -360 && divergence_deg <= 360, "Leaves.divergence_deg")
         << "must be in [-360, 360] degrees, got " << divergence_deg;
     SYLVA_CHECK_INPUT(leaves_per_whorl >= 3 && leaves_per_whorl <= 32, "Leaves.leaves_per_whorl")
         << "must be between 3 and 32, got " << leaves_per_whorl;
-    SYLVA_CHECK_INPUT(insertion_deg > 0 && insertion_deg < 180, "Leaves.insertion_deg")
-        << "must be in (0, 180) degrees, got " << insertion_deg;
   }
 }
 
 std::string LeafSummary::BriefReport() const {
   std::ostringstream out;
+  if (!placement.empty()) {
+    out << "Leaves: " << kept << " (target " << target << "), " << placement;
+    if (phyllotaxis_sites > 0) out << ", " << phyllotaxis_sites << " sites";
+    out << ", length " << leaf_length << ".";
+    return out.str();
+  }
   out << "Leaves: " << kept << " (target " << target << ") of " << drawn << " drawn ("
       << far_from_branches << " too far from a thin branch, " << outside_mattes
       << " outside the mattes), length " << leaf_length << ".";
   if (phyllotaxis_sites > 0) out << " Phyllotaxis offered " << phyllotaxis_sites << " sites.";
   return out.str();
+}
+
+void LeafSummary::Add(const LeafSummary& other) {
+  target += other.target;
+  drawn += other.drawn;
+  kept += other.kept;
+  far_from_branches += other.far_from_branches;
+  outside_mattes += other.outside_mattes;
+  phyllotaxis_sites += other.phyllotaxis_sites;
+  leaf_length = std::max(leaf_length, other.leaf_length);
+  if (placement.empty()) placement = other.placement;
 }
 
 void LeafShape::Check() const {
@@ -350,28 +455,16 @@ std::vector<Leaf> DrawFreeLeaves(const PointGrid& twigs, const DensityGrid& dens
 // probability target x opacity / (sum of opacities over all sites), so the
 // kept count follows the density like the free draw. The phyllotactic
 // normal is turned towards n_opt by phototropism, as the random one is.
-std::vector<Leaf> PhyllotacticLeaves(const std::vector<std::vector<Eigen::Vector3d>>& axes,
-                                     const DensityGrid& density, const DensitySampler& sampler,
-                                     const LeafOptions& options, double length, RandomEngine* rng,
-                                     LeafSummary* summary) {
-  const PhyllotaxisOptions phyllotaxis = ToPhyllotaxis(options, length);
-  std::vector<Leaf> sites;
+std::vector<Leaf> PhyllotacticLeaves(const std::vector<ThinAxis>& axes, const DensityGrid& density,
+                                     const DensitySampler& sampler, const LeafOptions& options,
+                                     double length, RandomEngine* rng, LeafSummary* summary) {
+  const std::vector<Leaf> sites =
+      PhyllotaxisSites(axes, options, length, sampler.centroid, /*on_bark=*/false);
   std::vector<double> weights;
   double total = 0.0;
-  for (const std::vector<Eigen::Vector3d>& axis : axes) {
-    for (const LeafAttachment& a : PlaceLeavesAlongAxis(axis, phyllotaxis)) {
-      Leaf leaf;
-      leaf.axis = a.petiole_direction;
-      leaf.center = a.position + 0.5 * length * leaf.axis;
-      const Eigen::Vector3d best =
-          Perpendicular((leaf.center - sampler.centroid).normalized(), leaf.axis);
-      const Eigen::Vector3d n =
-          options.phototropism * best + (1.0 - options.phototropism) * a.normal;
-      leaf.normal = n.norm() > 1e-9 ? Eigen::Vector3d(n.normalized()) : a.normal;
-      sites.push_back(leaf);
-      weights.push_back(OpacityAt(density, leaf.center));
-      total += weights.back();
-    }
+  for (const Leaf& leaf : sites) {
+    weights.push_back(OpacityAt(density, leaf.center));
+    total += weights.back();
   }
   summary->phyllotaxis_sites = static_cast<int64_t>(sites.size());
   std::vector<Leaf> leaves;
@@ -406,22 +499,12 @@ LeafInstances GenerateLeafInstances(const SkeletonGraph& skeleton, const Density
   LeafSummary local;
   if (summary == nullptr) summary = &local;
   *summary = LeafSummary();
-  LeafInstances out;
-  out.material = kLeafMaterial;
-  out.shape = shape != nullptr ? *shape : BuiltinLeafShape(options.shape, options.leaf_aspect);
-  out.shape.Check();
+  LeafInstances out = NoLeaves(options, shape);
   if (skeleton.NumNodes() < 2 || density.IsEmpty() || options.num_leaves < 0) return out;
 
-  const double length = options.leaf_length > 0 ? options.leaf_length
-                                                : options.leaf_length_fraction * skeleton.Height();
+  const double length = LeafLength(skeleton, options);
   summary->leaf_length = length;
-  const double trunk_radius = skeleton.nodes[skeleton.RootIdx()].radius;
-  double thin_radius = options.thin_branch_radius_fraction * trunk_radius;
-  std::vector<Eigen::Vector3d> twig_points = ThinBranchPoints(skeleton, thin_radius, 0.5 * length);
-  if (twig_points.empty()) {
-    thin_radius = trunk_radius;
-    twig_points = ThinBranchPoints(skeleton, thin_radius, 0.5 * length);
-  }
+  ThinBranches thin = FindThinBranches(skeleton, options.thin_branch_radius_fraction, 0.5 * length);
   const DensitySampler sampler(density);
   const double leaf_area = 0.5 * length * options.leaf_aspect * length;
   summary->target =
@@ -434,11 +517,11 @@ LeafInstances GenerateLeafInstances(const SkeletonGraph& skeleton, const Density
   // Draw serially (one random stream), test against the mattes in parallel
   // (one flag per leaf: deterministic). Free draws repeat until the target
   // is met or max_draws_factor x target were drawn.
-  RandomEngine rng(options.seed, /*stream=*/0x1eaf);
+  RandomEngine rng(options.seed, kDensityLeafStream);
   const bool free_draws = options.phyllotaxis == "none";
-  const PointGrid twigs(free_draws ? std::move(twig_points) : std::vector<Eigen::Vector3d>());
-  const std::vector<std::vector<Eigen::Vector3d>> axes =
-      free_draws ? std::vector<std::vector<Eigen::Vector3d>>() : ThinAxes(skeleton, thin_radius);
+  const PointGrid twigs(free_draws ? std::move(thin.points) : std::vector<Eigen::Vector3d>());
+  const std::vector<ThinAxis> axes =
+      free_draws ? std::vector<ThinAxis>() : ThinAxes(skeleton, thin.max_radius);
   const int64_t max_draws = static_cast<int64_t>(options.max_draws_factor * summary->target);
   const LeafSummary wanted = *summary;
   do {
@@ -461,6 +544,146 @@ LeafInstances GenerateLeafInstances(const SkeletonGraph& skeleton, const Density
       ++summary->kept;
     }
   } while (free_draws && summary->kept < summary->target && summary->drawn < max_draws);
+  return out;
+}
+
+namespace {
+
+Eigen::Vector3d Mean(const std::vector<Eigen::Vector3d>& points) {
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  for (const Eigen::Vector3d& p : points) sum += p;
+  return points.empty() ? sum : Eigen::Vector3d(sum / double(points.size()));
+}
+
+// `target` of `sites` chosen uniformly without replacement (partial
+// Fisher-Yates), in the sites' order; all of them if there are fewer.
+std::vector<Leaf> ChooseSites(const std::vector<Leaf>& sites, int64_t target, RandomEngine* rng) {
+  const int64_t n = static_cast<int64_t>(sites.size());
+  if (target >= n) return sites;
+  std::vector<int64_t> order(n);
+  for (int64_t i = 0; i < n; ++i) order[i] = i;
+  for (int64_t i = 0; i < target; ++i) {
+    std::swap(order[i], order[i + rng->UniformInt(static_cast<uint32_t>(n - i))]);
+  }
+  order.resize(target);
+  std::sort(order.begin(), order.end());
+  std::vector<Leaf> chosen;
+  for (int64_t i : order) chosen.push_back(sites[i]);
+  return chosen;
+}
+
+// Thin edges (child node indices) and their cumulative length, for points
+// drawn uniformly by length.
+struct ThinEdges {
+  std::vector<int> child;
+  std::vector<double> cumulative;
+  double Total() const { return cumulative.empty() ? 0.0 : cumulative.back(); }
+};
+ThinEdges FindThinEdges(const SkeletonGraph& skeleton, double max_radius) {
+  ThinEdges edges;
+  double total = 0.0;
+  for (int i = 0; i < skeleton.NumNodes(); ++i) {
+    const SkeletonNode& node = skeleton.nodes[i];
+    if (node.parent_idx < 0 || node.radius > max_radius) continue;
+    const double length = (node.position - skeleton.nodes[node.parent_idx].position).norm();
+    if (length <= 0) continue;
+    total += length;
+    edges.child.push_back(i);
+    edges.cumulative.push_back(total);
+  }
+  return edges;
+}
+
+// Leaves without phyllotaxis: uniform by length along the thin edges, each
+// petiole leaning insertion_deg from its edge at a random azimuth.
+std::vector<Leaf> LeavesAlongBranches(const SkeletonGraph& skeleton, const ThinEdges& edges,
+                                      const Eigen::Vector3d& centroid, const LeafOptions& options,
+                                      double length, RandomEngine* rng, LeafSummary* summary) {
+  constexpr double kDegree = M_PI / 180.0;
+  summary->target =
+      options.num_leaves > 0
+          ? options.num_leaves
+          : std::min<int64_t>(options.max_leaves,
+                              std::llround(edges.Total() / (options.internode * length)));
+  std::vector<Leaf> leaves;
+  if (edges.child.empty()) return leaves;
+  for (int64_t k = 0; k < summary->target; ++k) {
+    const double u = rng->Uniform() * edges.Total();
+    const size_t e =
+        std::min<size_t>(std::upper_bound(edges.cumulative.begin(), edges.cumulative.end(), u) -
+                             edges.cumulative.begin(),
+                         edges.child.size() - 1);
+    const SkeletonNode& child = skeleton.nodes[edges.child[e]];
+    const Eigen::Vector3d& parent = skeleton.nodes[child.parent_idx].position;
+    const Eigen::Vector3d tangent = (child.position - parent).normalized();
+    const Eigen::Vector3d on_axis = parent + rng->Uniform() * (child.position - parent);
+    const Eigen::Vector3d radial = RadialDirection(tangent, rng->Uniform(0.0, 360.0));
+    const Eigen::Vector3d base = on_axis + child.radius * radial;  // on the bark
+    Leaf leaf;
+    leaf.axis = (std::cos(options.insertion_deg * kDegree) * tangent +
+                 std::sin(options.insertion_deg * kDegree) * radial)
+                    .normalized();
+    leaf.center = base + 0.5 * length * leaf.axis;
+    leaf.normal =
+        LeafNormal(leaf.axis, (leaf.center - centroid).normalized(), options.phototropism, rng);
+    leaves.push_back(leaf);
+  }
+  summary->drawn = summary->target;
+  return leaves;
+}
+
+// Leaves at the phyllotactic sites of the thin branches: all of them, or
+// num_leaves chosen uniformly.
+std::vector<Leaf> PhyllotacticSkeletonLeaves(const SkeletonGraph& skeleton, double max_radius,
+                                             const Eigen::Vector3d& centroid,
+                                             const LeafOptions& options, double length,
+                                             RandomEngine* rng, LeafSummary* summary) {
+  const std::vector<Leaf> sites =
+      PhyllotaxisSites(ThinAxes(skeleton, max_radius), options, length, centroid, /*on_bark=*/true);
+  summary->phyllotaxis_sites = static_cast<int64_t>(sites.size());
+  summary->drawn = summary->phyllotaxis_sites;
+  summary->target = options.num_leaves > 0
+                        ? options.num_leaves
+                        : std::min<int64_t>(options.max_leaves, summary->phyllotaxis_sites);
+  return ChooseSites(sites, summary->target, rng);
+}
+
+std::string SkeletonPlacement(const LeafOptions& options) {
+  if (options.phyllotaxis == "none") return "spread along the thin branches (no phyllotaxis)";
+  const PhyllotaxisOptions phyllotaxis = ToPhyllotaxis(options, 1.0);
+  std::ostringstream text;
+  text << PhyllotaxisPatternName(phyllotaxis.pattern) << " phyllotaxis (divergence "
+       << phyllotaxis.DivergenceDeg() << " degrees) on the thin branches";
+  return text.str();
+}
+
+}  // namespace
+
+LeafInstances GenerateSkeletonLeafInstances(const SkeletonGraph& skeleton,
+                                            const LeafOptions& options, LeafSummary* summary,
+                                            const LeafShape* shape) {
+  options.Check();
+  skeleton.Check();
+  LeafSummary local;
+  if (summary == nullptr) summary = &local;
+  *summary = LeafSummary();
+  LeafInstances out = NoLeaves(options, shape);
+  if (skeleton.NumNodes() < 2 || options.num_leaves < 0) return out;
+  const double length = LeafLength(skeleton, options);
+  summary->leaf_length = length;
+  summary->placement = SkeletonPlacement(options);
+  const ThinBranches thin =
+      FindThinBranches(skeleton, options.thin_branch_radius_fraction, 0.5 * length);
+  const Eigen::Vector3d centroid = Mean(thin.points);
+  RandomEngine rng(options.seed, kSkeletonLeafStream);
+  const std::vector<Leaf> leaves =
+      options.phyllotaxis == "none"
+          ? LeavesAlongBranches(skeleton, FindThinEdges(skeleton, thin.max_radius), centroid,
+                                options, length, &rng, summary)
+          : PhyllotacticSkeletonLeaves(skeleton, thin.max_radius, centroid, options, length, &rng,
+                                       summary);
+  for (const Leaf& leaf : leaves) out.instances.push_back(ToInstance(leaf, length));
+  summary->kept = static_cast<int64_t>(out.instances.size());
   return out;
 }
 

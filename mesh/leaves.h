@@ -6,6 +6,8 @@
 // shape (a built-in polygon or a textured quad from a user's image) under
 // its own rigid transform + scale, so exporters can instance it
 // (GenerateLeafInstances); GenerateLeaves bakes the copies into triangles.
+// Trees without photos (gestures, MRF sketches, QSMs) have no density: their
+// leaves follow the thin branches alone (GenerateSkeletonLeafInstances).
 #ifndef SYLVA_MESH_LEAVES_H_
 #define SYLVA_MESH_LEAVES_H_
 
@@ -87,7 +89,13 @@ struct LeafSummary {
   int64_t outside_mattes = 0;
   int64_t phyllotaxis_sites = 0;  // leaf positions offered by the pattern
   double leaf_length = 0.0;       // world units
+  // How GenerateSkeletonLeafInstances placed the leaves ("spiral
+  // phyllotaxis", ...); empty for GenerateLeafInstances, whose draws and
+  // tests the brief reports instead.
+  std::string placement;
   std::string BriefReport() const;
+  // Adds `other`'s counts (the leaves of another part of one tree).
+  void Add(const LeafSummary& other);
 };
 
 // One leaf in its own frame, in units of leaf length: +X along the midrib
@@ -149,6 +157,28 @@ LeafInstances GenerateLeafInstances(const SkeletonGraph& skeleton, const Density
                                     const ImageSet& views, const std::vector<FloatImage>& mattes,
                                     const LeafOptions& options, LeafSummary* summary,
                                     const LeafShape* shape = nullptr);
+
+// Leaves of a tree known by its skeleton alone (grown from gestures, drawn
+// by MRF, read from a QSM): there is no density and no photo, so the leaves
+// follow the thin branches (thin_branch_radius_fraction) alone. `skeleton`
+// needs radii.
+// Their bases sit on the bark (the branch's radius off its axis, towards
+// the petiole), so leaves of thick twigs are not buried in them.
+// - With a phyllotaxis pattern they sit at the pattern's nodes along the
+//   thin branches, as GenerateLeafInstances places them: every site for
+//   num_leaves = 0 (at most max_leaves), else num_leaves sites chosen
+//   uniformly (all of them if there are fewer), in the sites' order.
+// - With "none" they spread uniformly over the thin branches' length, each
+//   petiole leaning insertion_deg from its branch at a random azimuth:
+//   num_leaves of them, or for 0 one per internode of thin branch (as many
+//   as a single-leaf pattern would hold), at most max_leaves.
+// Leaf normals turn towards the outward direction from the thin branches'
+// centroid by phototropism. The leaf area, twig_reach, max_draws_factor and
+// the matte test of GenerateLeafInstances do not apply. Deterministic for
+// options.seed. `shape` (optional) replaces options.shape.
+LeafInstances GenerateSkeletonLeafInstances(const SkeletonGraph& skeleton,
+                                            const LeafOptions& options, LeafSummary* summary,
+                                            const LeafShape* shape = nullptr);
 
 // GenerateLeafInstances(...).Bake(). Material "leaves" (double-sided).
 TriangleMesh GenerateLeaves(const SkeletonGraph& skeleton, const DensityGrid& density,

@@ -248,6 +248,61 @@ TEST(LeavesTest, PhyllotacticLeavesKeepTheDensityDrivenCount) {
   EXPECT_EQ(leaves.Bake().NumTriangles(), 2 * summary.kept);
 }
 
+// Trees known by their skeleton alone: the leaves sit on the bark at the
+// pattern's sites of the thin shoot (all of them, or num_leaves chosen), or
+// spread along it without phyllotaxis; none for num_leaves = -1; same seed, same
+// leaves.
+TEST(LeavesTest, SkeletonLeavesFollowTheThinBranchesAlone) {
+  LeafOptions options;
+  options.leaf_length = 0.05;
+  options.phyllotaxis = "spiral";
+  LeafSummary summary;
+  LeafInstances leaves = GenerateSkeletonLeafInstances(Shoot(), options, &summary);
+  SCOPED_TRACE(summary.BriefReport());
+  EXPECT_NE(summary.BriefReport().find("spiral phyllotaxis"), std::string::npos);
+  // Nodes every 0.6 leaf lengths on the 2 m thin shoot, every one kept.
+  EXPECT_NEAR(summary.phyllotaxis_sites, 2.0 / 0.03, 1.0);
+  EXPECT_EQ(summary.kept, summary.phyllotaxis_sites);
+  EXPECT_EQ(static_cast<int64_t>(leaves.instances.size()), summary.kept);
+  const std::vector<LeafAttachment> measured = AsAttachments(leaves);
+  EXPECT_NEAR(MeanDivergence(measured, 1), 137.5, 1.0);
+  // On the thin shoot's bark: radius 0.03 below z = 2, 0.02 above.
+  auto bark_radius = [](const LeafAttachment& a) { return a.position.z() < 2.0 ? 0.03 : 0.02; };
+  for (const LeafAttachment& a : measured) {
+    EXPECT_NEAR(a.position.head<2>().norm(), bark_radius(a), 1e-5);
+    EXPECT_GE(a.position.z(), 1.0 - 1e-5);
+  }
+  const LeafInstances again = GenerateSkeletonLeafInstances(Shoot(), options, nullptr);
+  ASSERT_EQ(again.instances.size(), leaves.instances.size());
+  for (size_t i = 0; i < leaves.instances.size(); ++i) {
+    EXPECT_EQ(again.instances[i].translation, leaves.instances[i].translation);
+    EXPECT_EQ(again.instances[i].rotation.coeffs(), leaves.instances[i].rotation.coeffs());
+  }
+
+  options.num_leaves = 20;  // 20 of the sites, in their order up the shoot
+  leaves = GenerateSkeletonLeafInstances(Shoot(), options, &summary);
+  ASSERT_EQ(leaves.instances.size(), 20u);
+  for (size_t i = 1; i < leaves.instances.size(); ++i) {
+    EXPECT_GT(leaves.instances[i].translation.z(), leaves.instances[i - 1].translation.z());
+  }
+
+  options.num_leaves = 0;
+  options.phyllotaxis = "none";  // one per internode, spread along the shoot
+  leaves = GenerateSkeletonLeafInstances(Shoot(), options, &summary);
+  EXPECT_NEAR(static_cast<double>(leaves.instances.size()), 2.0 / 0.03, 1.0);
+  for (const LeafAttachment& a : AsAttachments(leaves)) {
+    EXPECT_NEAR(a.position.head<2>().norm(), bark_radius(a), 1e-5);
+    EXPECT_GE(a.position.z(), 1.0 - 1e-5);
+    EXPECT_NEAR(a.petiole_direction.z(), std::cos(60.0 * M_PI / 180), 1e-5);
+  }
+  options.seed = 2;
+  const LeafInstances other = GenerateSkeletonLeafInstances(Shoot(), options, nullptr);
+  EXPECT_NE(other.instances[0].translation, leaves.instances[0].translation);
+
+  options.num_leaves = -1;
+  EXPECT_TRUE(GenerateSkeletonLeafInstances(Shoot(), options, nullptr).instances.empty());
+}
+
 double ShapeArea(const LeafShape& shape) {
   double area = 0.0;
   for (const Eigen::Vector3i& t : shape.triangles) {

@@ -7,11 +7,12 @@
 #include <map>
 #include <optional>
 #include <sstream>
-#include <unordered_map>
 
 #include "core/geometry/polyline.h"
 #include "core/util/check.h"
 #include "core/util/random.h"
+#include "sketch/gesture_geometry.h"
+#include "sketch/gesture_trunks.h"
 
 namespace sylva {
 
@@ -33,215 +34,32 @@ B(l, r) : l >= MINL ->(1) F(l, r) [ +(ANGLE) B(l * LR, max(r * RR, MINR)) ] [ -(
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kDegree = kPi / 180.0;
+using gesture_internal::AxisTrunk;
+using gesture_internal::Capsule;
+using gesture_internal::CapsuleGrid;
+using gesture_internal::Frame;
+using gesture_internal::kAdjacentReach;
+using gesture_internal::kBypassThreshold;
+using gesture_internal::kDegree;
+using gesture_internal::Pitch;
+using gesture_internal::PlanTrunks;
+using gesture_internal::Roll;
+using gesture_internal::TreePaths;
+using gesture_internal::TrunkPath;
+using gesture_internal::TrunkPlan;
+using gesture_internal::TurnTo;
+using gesture_internal::Yaw;
+
 // Bisection steps clipping a segment to the region's boundary, and the
 // points checked along a clipped segment.
 constexpr int kClipSteps = 24;
 constexpr int kClipChecks = 8;
-// A trunk joins at its start when a later trunk stroke begins this close to
-// the trunk (fraction of the first trunk's length); else a connecting
-// segment is added.
-constexpr double kJoinFraction = 1e-6;
-// Below this fraction of the two radii the closest points of two axes give
-// no bypass direction (4.1.5: "if the distance is equal to or smaller than
-// a threshold"), and the half-space with fewer segments is taken.
-constexpr double kBypassThreshold = 0.25;
-// Later trunk points are pushed this much beyond touching, in at most this
-// many rounds.
-constexpr double kPushMargin = 1.02;
-constexpr int kPushRounds = 8;
-// Candidate exponents n of the supertoroid fit.
-constexpr double kFitExponents[] = {0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9,
-                                    1.0, 1.2, 1.4, 1.6, 1.8, 2.0};
-// Height slices of the ROI fit.
-constexpr int kFitSlices = 8;
-// Two capsules are one tube (adjacent) when the skeleton path between
-// their nearest ends is at most this many times the sum of their radii:
-// a branch leaving at 30 degrees or more clears its parent's tube there.
-constexpr double kAdjacentReach = 2.0;
-// Horizontal radii differing more than this ratio are taken as contours
-// drawn on one plane.
-constexpr double kRevolutionRatio = 0.5;
 // The longest L-string grown (memory: about 40 bytes a module).
 constexpr int kMaxModules = 5000000;
 // The thinnest segment, as a fraction of the tree's size.
 constexpr double kMinRadius = 1e-5;
 // Cells of the capsule grid across the tree's size.
 constexpr double kGridCells = 25.0;
-
-// --- turtle frame -------------------------------------------------------
-
-// Heading, left, up; right-handed (H x L = U).
-struct Frame {
-  Eigen::Vector3d h = Eigen::Vector3d::UnitZ();
-  Eigen::Vector3d l = Eigen::Vector3d::UnitX();
-  Eigen::Vector3d u = Eigen::Vector3d::UnitY();
-};
-
-// Rotates a and b about axis by angle (right hand).
-void Rotate(const Eigen::Vector3d& axis, double degrees, Eigen::Vector3d* a, Eigen::Vector3d* b) {
-  const double c = std::cos(degrees * kDegree), s = std::sin(degrees * kDegree);
-  const Eigen::Vector3d a0 = *a, b0 = *b;
-  *a = a0 * c + axis.cross(a0) * s;
-  *b = b0 * c + axis.cross(b0) * s;
-}
-
-void Yaw(double deg, Frame* f) { Rotate(f->u, deg, &f->h, &f->l); }    // + (turn left)
-void Pitch(double deg, Frame* f) { Rotate(f->l, deg, &f->h, &f->u); }  // & (pitch down)
-void Roll(double deg, Frame* f) { Rotate(f->h, deg, &f->l, &f->u); }   // / (roll)
-
-// The turn to heading `d` as a yaw about U then a pitch about the new L
-// (4.1.3: the axes in the order U, L, H; no roll needed for a direction).
-std::pair<double, double> TurnTo(const Frame& frame, const Eigen::Vector3d& d) {
-  const double yaw = std::atan2(d.dot(frame.l), d.dot(frame.h)) / kDegree;
-  Frame turned = frame;
-  Yaw(yaw, &turned);
-  const double pitch = std::atan2(-d.dot(turned.u), d.dot(turned.h)) / kDegree;
-  return {yaw, pitch};
-}
-
-// --- geometry -------------------------------------------------------------
-
-// Skeleton nodes with their path length from the root, for the adjacency
-// of capsules (path between their nearest ends <= sum of radii).
-class TreePaths {
- public:
-  void Add(int parent, double length) {
-    parent_.push_back(parent);
-    hops_.push_back(parent < 0 ? 0 : hops_[parent] + 1);
-    dist_.push_back(parent < 0 ? 0.0 : dist_[parent] + length);
-  }
-  double Between(int u, int v) const {
-    const double du = dist_[u], dv = dist_[v];
-    while (hops_[u] > hops_[v]) u = parent_[u];
-    while (hops_[v] > hops_[u]) v = parent_[v];
-    while (u != v) u = parent_[u], v = parent_[v];
-    return du + dv - 2 * dist_[u];
-  }
-  // Path between the nearest ends of edges (a0, a1) and (b0, b1).
-  double BetweenEdges(int a0, int a1, int b0, int b1) const {
-    return std::min(std::min(Between(a0, b0), Between(a0, b1)),
-                    std::min(Between(a1, b0), Between(a1, b1)));
-  }
-
- private:
-  std::vector<int> parent_, hops_;
-  std::vector<double> dist_;
-};
-
-struct Capsule {
-  Eigen::Vector3d a, b;
-  double radius;
-  int node_a, node_b;  // skeleton nodes (parent, child)
-  int module;          // the module that drew it (-1: none)
-};
-
-// Capsules in a uniform hash grid.
-class CapsuleGrid {
- public:
-  explicit CapsuleGrid(double cell) : cell_(cell) {}
-  const std::vector<Capsule>& capsules() const { return capsules_; }
-  void Add(const Capsule& c) {
-    const int index = static_cast<int>(capsules_.size());
-    capsules_.push_back(c);
-    ForCells(c, [&](int64_t key) { cells_[key].push_back(index); });
-  }
-  // Calls visit(index) once per capsule whose cell range meets `c`'s.
-  template <typename Visit>
-  void Near(const Capsule& c, Visit visit) const {
-    ++stamp_;
-    seen_.resize(capsules_.size(), 0);
-    ForCells(c, [&](int64_t key) {
-      const auto it = cells_.find(key);
-      if (it == cells_.end()) return;
-      for (int index : it->second) {
-        if (seen_[index] == stamp_) continue;
-        seen_[index] = stamp_;
-        visit(index);
-      }
-    });
-  }
-
- private:
-  template <typename Visit>
-  void ForCells(const Capsule& c, Visit visit) const {
-    const Eigen::Vector3d lo = c.a.cwiseMin(c.b).array() - c.radius;
-    const Eigen::Vector3d hi = c.a.cwiseMax(c.b).array() + c.radius;
-    const Eigen::Vector3i l = (lo / cell_).array().floor().cast<int>();
-    const Eigen::Vector3i h = (hi / cell_).array().floor().cast<int>();
-    for (int x = l.x(); x <= h.x(); ++x)
-      for (int y = l.y(); y <= h.y(); ++y)
-        for (int z = l.z(); z <= h.z(); ++z)
-          visit((int64_t(x) * 73856093) ^ (int64_t(y) * 19349663) ^ (int64_t(z) * 83492791));
-  }
-  double cell_;
-  std::vector<Capsule> capsules_;
-  std::unordered_map<int64_t, std::vector<int>> cells_;
-  // Scratch of Near (not thread-safe).
-  mutable std::vector<int> seen_;
-  mutable int stamp_ = 0;
-};
-
-// --- trunk strokes (4.1.1-4.1.3) ---------------------------------------------
-
-struct TrunkPath {
-  std::vector<Eigen::Vector3d> points;  // segments + 1
-  std::vector<double> radii;            // per segment
-};
-
-// Arc-length resampling into `segments` pieces, with each piece's speed.
-TrunkPath ResampleStroke(const GestureStroke& stroke, int segments, std::vector<double>* speeds) {
-  std::vector<double> arc = {0.0};
-  for (size_t k = 1; k < stroke.samples.size(); ++k) {
-    arc.push_back(arc.back() +
-                  (stroke.samples[k].position - stroke.samples[k - 1].position).norm());
-  }
-  auto at = [&](double s, double* t) {
-    size_t k = std::upper_bound(arc.begin(), arc.end(), s) - arc.begin();
-    k = std::clamp<size_t>(k, 1, arc.size() - 1);
-    const double w = arc[k] > arc[k - 1] ? (s - arc[k - 1]) / (arc[k] - arc[k - 1]) : 0.0;
-    *t = (1 - w) * stroke.samples[k - 1].t + w * stroke.samples[k].t;
-    return Eigen::Vector3d((1 - w) * stroke.samples[k - 1].position +
-                           w * stroke.samples[k].position);
-  };
-  TrunkPath path;
-  std::vector<double> times;
-  for (int i = 0; i <= segments; ++i) {
-    double t = 0;
-    path.points.push_back(at(arc.back() * i / segments, &t));
-    times.push_back(t);
-  }
-  speeds->clear();
-  for (int i = 0; i < segments; ++i) {
-    speeds->push_back(arc.back() / segments / std::max(times[i + 1] - times[i], 1e-12));
-  }
-  return path;
-}
-
-void SmoothPath(int passes, std::vector<Eigen::Vector3d>* points) {
-  for (int pass = 0; pass < passes; ++pass) {
-    std::vector<Eigen::Vector3d> next = *points;
-    for (size_t i = 1; i + 1 < points->size(); ++i) {
-      next[i] = 0.5 * (*points)[i] + 0.25 * ((*points)[i - 1] + (*points)[i + 1]);
-    }
-    *points = std::move(next);
-  }
-}
-
-// Murakami 5.2: "Trunk diameter increases in inverse proportion to the
-// velocity of the stroke": radius = base x mean speed / speed, clamped.
-std::vector<double> RadiiFromSpeed(const std::vector<double>& speeds, double base_radius,
-                                   double max_ratio) {
-  double mean = 0;
-  for (double v : speeds) mean += 1.0 / v;  // time per piece (equal lengths)
-  mean = speeds.size() / mean;              // length / time
-  std::vector<double> radii;
-  for (double v : speeds) {
-    radii.push_back(base_radius * std::clamp(mean / v, 1.0 / max_ratio, max_ratio));
-  }
-  return radii;
-}
 
 // --- the growth ---------------------------------------------------------------
 
@@ -555,21 +373,6 @@ LsystemString Grower::Grow(const LsystemString& string, const std::vector<char>&
 
 // --- trunk L-strings (4.1.3, 4.1.4) -------------------------------------------
 
-struct TrunkPlan {
-  std::vector<TrunkPath> paths;
-  std::vector<std::vector<double>> arc;  // arc length at each point
-  // joins[t][j]: trunks starting at point j of trunk t.
-  std::vector<std::vector<std::vector<int>>> joins;
-  double first_length = 0;
-};
-
-std::vector<double> ArcLengths(const std::vector<Eigen::Vector3d>& points) {
-  std::vector<double> arc = {0.0};
-  for (size_t k = 1; k < points.size(); ++k)
-    arc.push_back(arc.back() + (points[k] - points[k - 1]).norm());
-  return arc;
-}
-
 // The trunk string of trunk `t` from `frame`, with its growth points and
 // the trunks joining it (recursively, each in brackets).
 void AppendTrunk(const TrunkPlan& plan, int t, const Symbols& sym, const GestureTreeOptions& o,
@@ -608,210 +411,7 @@ void AppendTrunk(const TrunkPlan& plan, int t, const Symbols& sym, const Gesture
   }
 }
 
-// One round of 4.1.5 for a later trunk: its segments that would pierce an
-// earlier trunk's are pushed off it, away from its axis (or, when they
-// cross it, along the normal of the plane holding both). Returns how many
-// points moved.
-int PushRound(const TrunkPlan& plan, int joined, int join_point, TrunkPath* path) {
-  int pushed = 0;
-  for (size_t j = 1; j < path->points.size(); ++j) {
-    const double along_new = ArcLengths(path->points)[j - 1];
-    for (size_t t = 0; t < plan.paths.size(); ++t) {
-      const TrunkPath& other = plan.paths[t];
-      for (size_t k = 0; k + 1 < other.points.size(); ++k) {
-        const double reach = path->radii[j - 1] + other.radii[k];
-        const double along = static_cast<int>(t) != joined
-                                 ? std::numeric_limits<double>::infinity()
-                                 : std::min(std::abs(plan.arc[t][k] - plan.arc[t][join_point]),
-                                            std::abs(plan.arc[t][k + 1] - plan.arc[t][join_point]));
-        if (along_new + along <= kAdjacentReach * reach) continue;  // one tube near the join
-        Eigen::Vector3d cp, co;
-        const double d = std::sqrt(SegmentSegmentDistance2(
-            path->points[j - 1], path->points[j], other.points[k], other.points[k + 1], &cp, &co));
-        if (d >= reach) continue;
-        // Away from the obstacle's axis, across it (an axial push would
-        // only slide the point along the trunk).
-        const Eigen::Vector3d axis = (other.points[k + 1] - other.points[k]).normalized();
-        Eigen::Vector3d away = cp - co - (cp - co).dot(axis) * axis;
-        const double across = away.norm();
-        if (across <= kBypassThreshold * reach) {
-          away = axis.cross(path->points[j] - path->points[j - 1]);
-          if (away.norm() < 1e-12) away = axis.unitOrthogonal();
-        }
-        const Eigen::Vector3d shift = away.normalized() * (reach * kPushMargin - across);
-        for (size_t m : {j - 1, j}) {
-          if (m > 0) path->points[m] += shift, ++pushed;
-        }
-      }
-    }
-  }
-  return pushed;
-}
-
-int PushOffEarlierTrunks(const TrunkPlan& plan, int joined, int join_point, TrunkPath* path) {
-  int pushed = 0;
-  for (int round = 0; round < kPushRounds; ++round) {
-    const int moved = PushRound(plan, joined, join_point, path);
-    if (moved == 0) break;
-    pushed += moved;
-  }
-  return pushed;
-}
-
-// The nearest point of the earlier trunks to `p`: (trunk, point index).
-std::pair<int, int> NearestTrunkPoint(const TrunkPlan& plan, const Eigen::Vector3d& p) {
-  std::pair<int, int> best = {0, 0};
-  double best_d = std::numeric_limits<double>::infinity();
-  for (size_t t = 0; t < plan.paths.size(); ++t) {
-    for (size_t j = 0; j < plan.paths[t].points.size(); ++j) {
-      const double d = (plan.paths[t].points[j] - p).squaredNorm();
-      if (d < best_d) best_d = d, best = {static_cast<int>(t), static_cast<int>(j)};
-    }
-  }
-  return best;
-}
-
-// The trunk strokes resampled, smoothed, with radii from their speed
-// (4.1.1, 5.2); later ones joined to the nearest trunk point.
-TrunkPlan PlanTrunks(const std::vector<const GestureStroke*>& strokes, bool timed,
-                     const GestureTreeOptions& o, int* pushed) {
-  TrunkPlan plan;
-  plan.first_length = strokes[0]->Length();
-  for (size_t k = 0; k < strokes.size(); ++k) {
-    std::vector<double> speeds;
-    TrunkPath path = ResampleStroke(*strokes[k], o.trunk_segments, &speeds);
-    SmoothPath(o.smoothing_passes, &path.points);
-    std::pair<int, int> join = {-1, -1};
-    double base = o.trunk_radius * plan.first_length;
-    if (k > 0) {  // a main branch: thinner than the trunk it joins
-      join = NearestTrunkPoint(plan, path.points.front());
-      const std::vector<double>& radii = plan.paths[join.first].radii;
-      base = o.branch_radius_ratio * radii[std::min<size_t>(join.second, radii.size() - 1)];
-    }
-    path.radii = timed ? RadiiFromSpeed(speeds, base, o.max_speed_ratio)
-                       : std::vector<double>(speeds.size(), base);
-    if (k > 0) {
-      const Eigen::Vector3d at = plan.paths[join.first].points[join.second];
-      if ((at - path.points.front()).norm() > kJoinFraction * plan.first_length) {
-        path.points.insert(path.points.begin(), at);
-        path.radii.insert(path.radii.begin(), path.radii.front());
-      } else {
-        path.points.front() = at;
-      }
-      *pushed += PushOffEarlierTrunks(plan, join.first, join.second, &path);
-    }
-    plan.paths.push_back(path);
-    plan.arc.push_back(ArcLengths(path.points));
-    plan.joins.emplace_back(path.points.size());
-    if (k > 0) plan.joins[join.first][join.second].push_back(static_cast<int>(k));
-  }
-  return plan;
-}
-
-// Silhouette-based modelling (4.2) without a trunk: "the axiom at an
-// arbitrary point in the region": a straight trunk up the region's axis,
-// from the ground (z = 0, where sylva puts a tree's base) or the region's
-// bottom if lower, to the region's centre height.
-GestureStroke AxisTrunk(const Supertoroid& roi) {
-  GestureStroke stroke;
-  stroke.samples.push_back({0.0, roi.AxisAt(std::min(0.0, roi.center.z() - roi.az)), 1.0});
-  stroke.samples.push_back({1.0, roi.AxisAt(roi.center.z()), 1.0});
-  return stroke;
-}
-
-// --- the region of interest (4.2) -------------------------------------------
-
-// Centre and axis slope from the mean position of height slices.
-void FitAxis(const std::vector<Eigen::Vector3d>& points, Supertoroid* s) {
-  std::vector<Eigen::Vector3d> means;
-  for (int b = 0; b < kFitSlices; ++b) {
-    const double lo = s->center.z() - s->az + 2 * s->az * b / kFitSlices;
-    const double hi = lo + 2 * s->az / kFitSlices;
-    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-    int count = 0;
-    for (const Eigen::Vector3d& p : points) {
-      if (p.z() >= lo && (p.z() < hi || b == kFitSlices - 1)) sum += p, ++count;
-    }
-    if (count > 0) means.push_back(sum / count);
-  }
-  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-  for (const Eigen::Vector3d& m : means) mean += m;
-  mean /= static_cast<double>(means.size());
-  double szz = 0;
-  Eigen::Vector2d sxz = Eigen::Vector2d::Zero();
-  for (const Eigen::Vector3d& m : means) {
-    szz += (m.z() - mean.z()) * (m.z() - mean.z());
-    sxz += (m.head<2>() - mean.head<2>()) * (m.z() - mean.z());
-  }
-  s->slope = szz > 0 ? Eigen::Vector2d(sxz / szz) : Eigen::Vector2d::Zero();
-  s->center.head<2>() = mean.head<2>() + s->slope * (s->center.z() - mean.z());
-}
-
-// The exponent n whose surface passes nearest the points.
-double FitExponent(const std::vector<Eigen::Vector3d>& points, Supertoroid s) {
-  double best = 1.0, best_error = std::numeric_limits<double>::infinity();
-  for (double n : kFitExponents) {
-    s.n = n;
-    double error = 0;
-    for (const Eigen::Vector3d& p : points) {
-      error += std::pow(std::pow(s.InsideOutside(p), n / 2) - 1.0, 2);
-    }
-    if (error < best_error) best_error = error, best = n;
-  }
-  return best;
-}
-
 }  // namespace
-
-double Supertoroid::InsideOutside(const Eigen::Vector3d& p) const {
-  const double h = p.z() - center.z();
-  const double dx = (p.x() - center.x() - slope.x() * h) / ax;
-  const double dy = (p.y() - center.y() - slope.y() * h) / ay;
-  const double rho = std::pow(std::pow(std::abs(dx), 2 / e) + std::pow(std::abs(dy), 2 / e), e / 2);
-  return std::pow(std::abs(rho - alpha), 2 / n) + std::pow(std::abs(h / az), 2 / n);
-}
-
-Eigen::Vector3d Supertoroid::AxisAt(double z) const {
-  const double h = z - center.z();
-  return {center.x() + slope.x() * h, center.y() + slope.y() * h, z};
-}
-
-Supertoroid FitSupertoroid(const std::vector<Eigen::Vector3d>& points, bool enclose,
-                           const GestureTreeOptions& options) {
-  SYLVA_CHECK(!points.empty());
-  Eigen::Vector3d lo = points[0], hi = points[0];
-  for (const Eigen::Vector3d& p : points) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
-  const double height = std::max(hi.z() - lo.z(), 1e-9);
-  Supertoroid s;
-  s.e = options.roi_e;
-  s.alpha = options.roi_alpha;
-  s.n = options.roi_n > 0 ? options.roi_n : 1.0;
-  if (enclose) {  // around the gestures, a little above and beside them
-    s.center = 0.5 * (lo + hi);
-    s.center.z() += options.roi_lift * height;
-    s.az = 0.5 * options.roi_margin * height;
-    const Eigen::Vector3d half = 0.5 * options.roi_margin * (hi - lo);
-    s.ax = std::max(half.x(), options.roi_min_width * height) / (1 + s.alpha);
-    s.ay = std::max(half.y(), options.roi_min_width * height) / (1 + s.alpha);
-    return s;
-  }
-  s.center.z() = 0.5 * (lo.z() + hi.z());
-  s.az = 0.5 * height;
-  FitAxis(points, &s);
-  double rx = 0, ry = 0;
-  for (const Eigen::Vector3d& p : points) {
-    const Eigen::Vector3d axis = s.AxisAt(p.z());
-    rx = std::max(rx, std::abs(p.x() - axis.x()));
-    ry = std::max(ry, std::abs(p.y() - axis.y()));
-  }
-  // Two contours drawn on one plane say nothing of the depth: a region of
-  // revolution then (as sketch_views.h assumes of one drawing).
-  if (rx < kRevolutionRatio * ry || ry < kRevolutionRatio * rx) rx = ry = std::max(rx, ry);
-  s.ax = std::max(rx, 1e-9) / (1 + s.alpha);
-  s.ay = std::max(ry, 1e-9) / (1 + s.alpha);
-  if (options.roi_n <= 0) s.n = FitExponent(points, s);
-  return s;
-}
 
 void GestureTreeOptions::Check() const {
   SYLVA_CHECK_INPUT(iterations >= 0 && iterations <= 30, "Gesture.iterations")
@@ -955,71 +555,6 @@ GestureTree GrowGestureTree(const GestureSet& gestures, const LsystemGrammar& gr
   tree.min_capsule_distance = MinNonAdjacentCapsuleDistance(tree.skeleton);
   tree.brief = Brief(tree, tree.silhouette_based ? 0 : static_cast<int>(trunks.size()));
   return tree;
-}
-
-double MinNonAdjacentCapsuleDistance(const SkeletonGraph& skeleton) {
-  // Paths from the root, nodes in breadth-first order.
-  const std::vector<std::vector<int>> children = skeleton.Children();
-  std::vector<int> order = {skeleton.RootIdx()}, rank(skeleton.nodes.size(), -1);
-  TreePaths paths;
-  double longest = 0;
-  for (size_t k = 0; k < order.size(); ++k) {
-    const int node = order[k];
-    const int parent = skeleton.nodes[node].parent_idx;
-    const double length =
-        parent < 0 ? 0.0 : (skeleton.nodes[node].position - skeleton.nodes[parent].position).norm();
-    longest = std::max(longest, length);
-    rank[node] = static_cast<int>(k);
-    paths.Add(parent < 0 ? -1 : rank[parent], length);
-    for (int child : children[node]) order.push_back(child);
-  }
-  CapsuleGrid grid(std::max(longest, 1e-9));
-  for (const SkeletonNode& node : skeleton.nodes) {
-    if (node.parent_idx < 0) continue;
-    const int b = static_cast<int>(&node - skeleton.nodes.data());
-    grid.Add({skeleton.nodes[node.parent_idx].position, node.position, node.radius,
-              rank[node.parent_idx], rank[b], b});
-  }
-  double smallest = std::numeric_limits<double>::infinity();
-  for (const Capsule& c : grid.capsules()) {
-    Capsule reach = c;
-    reach.radius += 2 * longest;  // candidates within a generous box
-    grid.Near(reach, [&](int index) {
-      const Capsule& o = grid.capsules()[index];
-      if (o.module <= c.module) return;
-      if (paths.BetweenEdges(c.node_a, c.node_b, o.node_a, o.node_b) <=
-          kAdjacentReach * (c.radius + o.radius))
-        return;
-      Eigen::Vector3d cp, co;
-      smallest =
-          std::min(smallest, std::sqrt(SegmentSegmentDistance2(c.a, c.b, o.a, o.b, &cp, &co)) -
-                                 c.radius - o.radius);
-    });
-  }
-  return smallest;
-}
-
-double TrunkDeviationFraction(const GestureStroke& stroke, const SkeletonGraph& skeleton,
-                              const std::vector<int>& trunk_nodes) {
-  std::vector<Eigen::Vector3d> gesture, trunk;
-  for (const GestureSample& s : stroke.samples) gesture.push_back(s.position);
-  for (int node : trunk_nodes) trunk.push_back(skeleton.nodes[node].position);
-  // Points of `from` (vertices and midpoints) against the polyline `to`.
-  auto one_way = [](const std::vector<Eigen::Vector3d>& from,
-                    const std::vector<Eigen::Vector3d>& to) {
-    double worst = 0;
-    for (size_t i = 0; i < from.size(); ++i) {
-      for (const Eigen::Vector3d& p :
-           {from[i], Eigen::Vector3d(0.5 * (from[i] + from[std::min(i + 1, from.size() - 1)]))}) {
-        double best = std::numeric_limits<double>::infinity();
-        for (size_t k = 0; k + 1 < to.size(); ++k)
-          best = std::min(best, SegmentDistance2(p, to[k], to[k + 1]));
-        worst = std::max(worst, std::sqrt(best));
-      }
-    }
-    return worst;
-  };
-  return std::max(one_way(gesture, trunk), one_way(trunk, gesture)) / stroke.Length();
 }
 
 }  // namespace sylva

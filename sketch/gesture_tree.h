@@ -23,6 +23,11 @@
 // passes). Silhouette-based modelling (4.2): without a trunk stroke, a
 // straight trunk up the region's axis, from the ground, carries the growth
 // points. The grammar's own axiom is not used by gestures.
+//
+// Files: the region is sketch/gesture_roi.h; the trunk strokes' analysis
+// sketch/gesture_trunks.h and the turtle frame and capsules
+// sketch/gesture_geometry.h (both internal); the L-system growth under
+// collision avoidance is gesture_tree.cc.
 #ifndef SYLVA_SKETCH_GESTURE_TREE_H_
 #define SYLVA_SKETCH_GESTURE_TREE_H_
 
@@ -35,6 +40,7 @@
 #include "core/types/skeleton_graph.h"
 #include "sketch/gesture_io.h"
 #include "sketch/gesture_options.h"
+#include "sketch/gesture_roi.h"
 #include "sketch/lsystem.h"
 
 namespace sylva {
@@ -42,31 +48,6 @@ namespace sylva {
 // The default grammar (also datasets/gesture/broadleaf.lsys): a broadleaf
 // crown grown from the growth points A(l, r, h).
 extern const char kDefaultGestureGrammar[];
-
-// The supertoroid region of interest (Murakami eq. 3, with the up axis +Z):
-// a point p is inside when
-//   (|rho - alpha|)^(2/n) + |(p.z - center.z) / az|^(2/n) <= 1,
-//   rho = (|dx / ax|^(2/e) + |dy / ay|^(2/e))^(e/2),
-//   (dx, dy) = p.xy - center.xy - slope * (p.z - center.z),
-// the slope (b_x, b_z of eq. 3) tilting its axis.
-struct Supertoroid {
-  Eigen::Vector3d center = Eigen::Vector3d::Zero();
-  Eigen::Vector2d slope = Eigen::Vector2d::Zero();
-  double ax = 1, ay = 1, az = 1;
-  double n = 1, e = 1, alpha = 0;
-
-  double InsideOutside(const Eigen::Vector3d& p) const;  // <= 1 inside
-  bool Contains(const Eigen::Vector3d& p) const { return InsideOutside(p) <= 1.0; }
-  // The axis' point at height z.
-  Eigen::Vector3d AxisAt(double z) const;
-};
-
-// Fits the region to ROI strokes (their points on its surface: centre and
-// axis slope from the points' height slices, radii from their spread, n by
-// a 1D search unless given) or, with `enclose`, around `points` (with the
-// minimum width).
-Supertoroid FitSupertoroid(const std::vector<Eigen::Vector3d>& points, bool enclose,
-                           const GestureTreeOptions& options);
 
 struct GestureTree {
   SkeletonGraph skeleton;  // radii from the strokes and the grammar (world units)

@@ -1,6 +1,6 @@
 // End-to-end test of `sylva gesture` (issue 17, Murakami et al.): a gesture
-// file of datasets/gesture/ becomes a meshed tree whose outputs exist and
-// read back; a bad grammar and a bad gesture file are refused with exit
+// file of datasets/gesture/ becomes a meshed tree with leaves whose outputs
+// exist and read back; a bad grammar and a bad gesture file are refused with exit
 // code 2, naming the file and place, and leave no output folder.
 #include <gtest/gtest.h>
 
@@ -39,12 +39,16 @@ TEST(GestureE2eTest, GrowsAndMeshesATree) {
   ASSERT_EQ(result.exit_code, 0) << result.Describe();
   EXPECT_LT(result.seconds, 20.0);
   EXPECT_NE(result.out.find("2 trunk stroke(s)"), std::string::npos) << result.out;
+  // Leaves at the spiral phyllotaxis nodes of the thin branches (the
+  // command's default), in tree.obj as their own material.
+  EXPECT_NE(result.out.find("spiral phyllotaxis"), std::string::npos) << result.out;
   for (const char* name : {"tree.glb", "tree.obj", "bark.obj", "skeleton.json", "qsm.csv",
                            "metrics.json", "tree.lpy", "tree_turtle.lpy", "tree.mtg", "lstring.txt",
                            "roi.json", "options.json", "preview_0.png"}) {
     EXPECT_TRUE(fs::is_regular_file(out / name)) << name;
   }
   EXPECT_GT(ReadGlb(out / "tree.glb").NumTriangles(), 1000);
+  EXPECT_NE(ReadFileToString(out / "tree.obj").find("usemtl leaves"), std::string::npos);
   const SkeletonGraph skeleton = ReadSkeletonJson(out / "skeleton.json");
   EXPECT_GT(skeleton.NumNodes(), 100);
   const LpyTree lpy = ReadLpy(out / "tree.lpy");

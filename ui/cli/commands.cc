@@ -107,7 +107,8 @@ CommandSpec SketchSpec() {
           "2008 instead: the drawn branches' depths by a Markov random field with the tree\n"
           "parameters of the nearest exemplar (Sketch.exemplars), then self-similar\n"
           "propagation inside the drawn crown; the tree is meshed directly into OUT_DIR (no\n"
-          "project, no report).",
+          "project, no report), with leaves at the spiral phyllotaxis nodes of its thin\n"
+          "branches (Leaves.phyllotaxis=spiral by default; Leaves.num_leaves=-1: none).",
           {{"index", "N", "the drawing of a Quick, Draw! .ndjson file (0-based line, default 0)"},
            kLogLevelFlag},
           2,
@@ -128,7 +129,9 @@ CommandSpec GestureSpec() {
           "modules inside the region of interest (a supertoroid fitted to the ROI strokes, or\n"
           "around the gestures), every new segment kept in the region and clear of the others\n"
           "(turned, shortened or pruned). Without a trunk stroke the tree grows from the\n"
-          "region's base (silhouette-based modelling). The seed is General.seed.\n"
+          "region's base (silhouette-based modelling). The seed is General.seed. Leaves grow\n"
+          "at the phyllotactic nodes of the thin branches (Leaves.phyllotaxis=spiral by\n"
+          "default for this command; Leaves.num_leaves=N picks N of them, -1 none).\n"
           "Writes to OUT_DIR (made only when everything succeeded): tree.glb, tree.obj,\n"
           "bark.obj (with their .mtl), skeleton.json, qsm.csv, metrics.json, tree.lpy,\n"
           "tree_turtle.lpy, tree.mtg, lstring.txt (the grown L-string), roi.json (the region),\n"
@@ -236,6 +239,8 @@ CommandSpec MeshQsmSpec() {
       "bark from 4 sides, preview_0.png .. preview_3.png (Report.preview_* options).\n"
       "Prints the bark's figures: components, how many are inside out, and its volume\n"
       "over the union of the cylinders (and over their sum, which counts overlaps twice).\n"
+      "Leafless by default (Leaves.num_leaves=-1); --Leaves.num_leaves=0 puts a leaf at\n"
+      "every spiral phyllotaxis node of the thin branches, =N at N of them.\n"
       "Try it on a generated table: sylva synth T --qsm; sylva mesh-qsm T/qsm.csv OUT",
       {{"merge", "F",
         "children starting within F x their radius of the parent's axis hang from it "
@@ -366,6 +371,7 @@ int CmdBatch(const ParsedArguments& args) {
 // --subdivide, --no-previews.
 PipelineOptions MeshingOptions(const ParsedArguments& args) {
   PipelineOptions options;
+  UseQsmMeshingDefaults(&options);  // leafless unless --Leaves.num_leaves >= 0
   OptionRegistry registry;
   RegisterPipelineOptions(&options, &registry);
   for (const auto& [key, value] : args.options) registry.Set(key, value, "--" + key);
@@ -384,7 +390,8 @@ double MergeFraction(const ParsedArguments& args) {
 
 // Meshes `qsm` and writes the outputs to OUT_DIR (positional[1]).
 int MeshAndWrite(const ParsedArguments& args, const QsmModel& qsm, PipelineOptions options) {
-  const QsmMeshing meshing = MeshQsm(qsm, options, MergeFraction(args));
+  QsmMeshing meshing = MeshQsm(qsm, options, MergeFraction(args));
+  AddSkeletonLeaves(options, &meshing);
   std::cout << meshing.brief << "\n";
   if (args.Has("no-previews")) options.report.previews = false;
   for (const fs::path& path : WriteQsmMeshing(meshing, qsm, args.positional[1], options)) {
@@ -409,7 +416,8 @@ CommandSpec MeshMtgSpec() {
       "XX YY ZZ features become skeleton nodes (radii from a 'radius' feature, else\n"
       "TopDia / TopDiameter, else the pipe model), the skeletons a cylinder table, which is\n"
       "meshed and written as by 'sylva mesh-qsm' (bark.obj, tree.obj, tree.glb, qsm.csv,\n"
-      "metrics.json, tree.lpy, tree_turtle.lpy, tree.mtg, previews).\n"
+      "metrics.json, tree.lpy, tree_turtle.lpy, tree.mtg, previews); leafless unless\n"
+      "--Leaves.num_leaves=0 (every phyllotactic node of the thin branches) or N.\n"
       "Try it: sylva mesh-mtg datasets/openalea-mtg/boutdenoylum2.mtg OUT --diameter-unit 10 "
       "--scale 0.01 --units m",
       {{"diameter-unit", "K",
@@ -611,11 +619,13 @@ int SketchByMrf(const ParsedArguments& args, const std::vector<fs::path>& paths,
                                                   ? BuiltinExemplars()
                                                   : LoadExemplars(options.sketch_mrf.exemplars);
   const MrfSketchTree tree = MakeMrfSketchTree(drawings, options, exemplars);
-  std::cout << tree.brief << "\n";
+  QsmModel qsm;
+  const QsmMeshing meshing = MeshMrfSketchTree(tree, options, &qsm);
+  std::cout << tree.brief << "\n" << meshing.brief << "\n";
   const fs::path staging = TempPathBeside(out);
   std::vector<fs::path> written;
   try {
-    written = WriteMrfSketchTree(tree, options, staging);
+    written = WriteMrfSketchTree(tree, qsm, meshing, options, staging);
     std::error_code ec;
     fs::remove(out, ec);  // empty, checked before
     fs::rename(staging, out);
@@ -637,6 +647,7 @@ int CmdSketch(const ParsedArguments& args) {
   const std::vector<fs::path> drawings(args.positional.begin(), args.positional.end() - 1);
   {
     PipelineOptions options;
+    UseSkeletonTreeDefaults(&options);  // the MRF's tree; the flow's are the project's
     OptionRegistry registry;
     SketchOptions(args, &options, &registry);
     if (options.sketch_mrf.method == "mrf") return SketchByMrf(args, drawings, options);
@@ -703,6 +714,7 @@ int CmdConcept(const ParsedArguments& args) {
 // `sylva gesture FILE OUT_DIR`: a tree grown from 3D gestures.
 int CmdGesture(const ParsedArguments& args) {
   PipelineOptions options;
+  UseSkeletonTreeDefaults(&options);
   OptionRegistry registry;
   ApplyCommandOptions(args, &options, &registry);
   const fs::path out = args.positional[1];

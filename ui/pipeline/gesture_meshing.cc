@@ -41,8 +41,8 @@ GestureMeshing MeshGestures(const GestureSet& gestures, const PipelineOptions& o
   const LsystemGrammar grammar = LoadGestureGrammar(tree_options);
   meshing.grammar_source = grammar.source();
   meshing.tree = GrowGestureTree(gestures, grammar, tree_options);
-  meshing.qsm = QsmFromSkeletonParts({meshing.tree.skeleton}, kUnits);
-  meshing.meshing = MeshQsm(meshing.qsm, options, kMergeFraction);
+  meshing.meshing =
+      MeshSkeletonTree(meshing.tree.skeleton, kUnits, kMergeFraction, options, &meshing.qsm);
   std::ostringstream brief;
   brief << "Gestures " << gestures.source << " (" << gestures.strokes.size()
         << " strokes), grammar " << meshing.grammar_source << ", " << tree_options.iterations

@@ -1,9 +1,10 @@
 // `sylva gesture FILE OUT_DIR` (issue 17, Murakami et al.): 3D gestures
 // (sketch/gesture_io.h) grow a tree by the interactive L-system under
 // collision avoidance in the region of interest (sketch/gesture_tree.h),
-// and the skeleton is meshed like a QSM (qsm_meshing.h): bark, glTF/OBJ,
-// qsm.csv, metrics, L-Py, MTG and previews, as `sylva sketch
-// --Sketch.method=mrf` and `sylva mesh-qsm` write them.
+// and the skeleton is meshed like a QSM (qsm_meshing.h) with leaves on its
+// thin branches (AddSkeletonLeaves): bark, leaves, glTF/OBJ, qsm.csv,
+// metrics, L-Py, MTG and previews, as `sylva sketch --Sketch.method=mrf`
+// and `sylva mesh-qsm` write them.
 #ifndef SYLVA_UI_PIPELINE_GESTURE_MESHING_H_
 #define SYLVA_UI_PIPELINE_GESTURE_MESHING_H_
 
@@ -27,8 +28,9 @@ struct GestureMeshing {
   std::string brief;
 };
 
-// Grows (Gesture.*, General.seed) and meshes (BranchMesh.*, Geometry.*)
-// the tree of `gestures`. Throws InputError naming the gesture file, the
+// Grows (Gesture.*, General.seed) and meshes (BranchMesh.*, Geometry.*,
+// Leaves.*: UseSkeletonTreeDefaults gives the command's defaults) the tree
+// of `gestures`. Throws InputError naming the gesture file, the
 // grammar file (line and column) or the option at fault; writes nothing.
 GestureMeshing MeshGestures(const GestureSet& gestures, const PipelineOptions& options);
 

@@ -340,7 +340,8 @@ void RegisterBranchMesh(BranchMeshOptions* o, OptionRegistry* r) {
 void RegisterLeaves(LeafOptions* o, OptionRegistry* r) {
   r->AddInt("Leaves.num_leaves", &o->num_leaves, "leaves",
             "leaves placed in proportion to density; 0 = from the density's leaf area "
-            "(Beer-Lambert); -1 = no leaves (leafless plants)");
+            "(Beer-Lambert; trees without photos: every phyllotactic node of the thin "
+            "branches); -1 = no leaves (leafless plants; mesh-qsm's default)");
   r->AddInt("Leaves.max_leaves", &o->max_leaves, "leaves", "upper bound on the automatic count");
   r->AddDouble("Leaves.leaf_length", &o->leaf_length, "world units",
                "leaf length; 0 = leaf_length_fraction x tree height");
@@ -421,7 +422,8 @@ void RegisterLeafGeometry(TreeGeometryOptions* o, LeafOptions* leaves, OptionReg
   r->AddString("Leaves.image", &o->leaf_image,
                "a leaf picture (RGBA; alpha = outline) used as a textured leaf");
   r->AddString("Leaves.phyllotaxis", &leaves->phyllotaxis,
-               "none (free, by density), alternate, opposite_decussate, whorled or spiral");
+               "none (free, by density), alternate, opposite_decussate, whorled or spiral "
+               "(the default of gesture, sketch --Sketch.method=mrf, mesh-qsm)");
   r->AddDouble("Leaves.internode", &leaves->internode, "leaf lengths",
                "phyllotaxis: distance between leaf nodes along a branch");
   r->AddDouble("Leaves.divergence_deg", &leaves->divergence_deg, "degrees",

@@ -4,9 +4,11 @@
 #include <cmath>
 #include <sstream>
 
+#include "core/io/image_io.h"
 #include "core/io/lpy_io.h"
 #include "core/io/mesh_io.h"
 #include "core/util/check.h"
+#include "core/util/random.h"
 #include "mesh/allometry.h"
 #include "mesh/gltf_export.h"
 #include "mesh/mesh_checks.h"
@@ -21,6 +23,10 @@ namespace {
 // Monte Carlo samples per cylinder for the union volume: about 0.1 %
 // standard error on tables of thousands of cylinders.
 constexpr int kUnionSamplesPerCylinder = 64;
+
+double RootRadius(const SkeletonGraph& skeleton) {
+  return skeleton.nodes.empty() ? 0.0 : skeleton.nodes[skeleton.RootIdx()].radius;
+}
 
 }  // namespace
 
@@ -64,6 +70,62 @@ QsmMeshing MeshQsm(const QsmModel& qsm, const PipelineOptions& options, double m
   return meshing;
 }
 
+void AddSkeletonLeaves(const PipelineOptions& options, QsmMeshing* meshing) {
+  LeafOptions leaves = LeafOptionsOf(options);
+  meshing->leaves = LeafInstances();
+  meshing->leaf_summary = LeafSummary();
+  if (leaves.num_leaves < 0) {
+    meshing->brief += " No leaves (Leaves.num_leaves=-1).";
+    return;
+  }
+  double height = 0.0, trunk_radius = 0.0;
+  for (const QsmSkeleton& part : meshing->parts) {
+    height = std::max(height, part.skeleton.Height());
+    trunk_radius = std::max(trunk_radius, RootRadius(part.skeleton));
+  }
+  if (leaves.leaf_length <= 0) leaves.leaf_length = leaves.leaf_length_fraction * height;
+  const double thin_radius = leaves.thin_branch_radius_fraction * trunk_radius;
+  // Leaves.image: relative to the working directory (no project here).
+  LeafShape image_leaf;
+  const std::string& image = options.geometry.leaf_image;
+  if (!image.empty()) image_leaf = LeafShapeFromImage(ReadImage(image), image);
+  const uint64_t seed = leaves.seed;
+  for (size_t k = 0; k < meshing->parts.size(); ++k) {
+    const SkeletonGraph& skeleton = meshing->parts[k].skeleton;
+    leaves.seed = k == 0 ? seed : DeriveSeed(seed, k);
+    // Thin as a fraction of the tree's trunk, not of a detached part's root.
+    const double root_radius = RootRadius(skeleton);
+    leaves.thin_branch_radius_fraction =
+        root_radius > thin_radius ? thin_radius / root_radius : 1.0;
+    LeafSummary summary;
+    const LeafInstances part = GenerateSkeletonLeafInstances(skeleton, leaves, &summary,
+                                                             image.empty() ? nullptr : &image_leaf);
+    meshing->leaves.shape = part.shape;
+    meshing->leaves.material = part.material;
+    std::vector<LeafInstance>& all = meshing->leaves.instances;
+    all.insert(all.end(), part.instances.begin(), part.instances.end());
+    meshing->leaf_summary.Add(summary);
+  }
+  meshing->brief += " " + meshing->leaf_summary.BriefReport();
+}
+
+QsmMeshing MeshSkeletonTree(const SkeletonGraph& skeleton, const std::string& units,
+                            double merge_fraction, const PipelineOptions& options, QsmModel* qsm) {
+  *qsm = QsmFromSkeletonParts({skeleton}, units);
+  QsmMeshing meshing = MeshQsm(*qsm, options, merge_fraction);
+  AddSkeletonLeaves(options, &meshing);
+  return meshing;
+}
+
+void UseSkeletonTreeDefaults(PipelineOptions* options) {
+  options->leaves.phyllotaxis = kSkeletonTreePhyllotaxis;
+}
+
+void UseQsmMeshingDefaults(PipelineOptions* options) {
+  UseSkeletonTreeDefaults(options);
+  options->leaves.num_leaves = -1;
+}
+
 std::vector<std::filesystem::path> WriteQsmMeshing(const QsmMeshing& meshing, const QsmModel& qsm,
                                                    const std::filesystem::path& out_dir,
                                                    const PipelineOptions& options) {
@@ -81,9 +143,18 @@ std::vector<std::filesystem::path> WriteQsmMeshing(const QsmMeshing& meshing, co
   std::vector<std::filesystem::path> paths = {out_dir / "bark.obj", out_dir / "tree.obj",
                                               out_dir / "tree.glb", out_dir / "qsm.csv",
                                               out_dir / "metrics.json"};
+  const bool leafy = !meshing.leaves.instances.empty();
   WriteObj(paths[0], meshing.bark);
-  WriteObj(paths[1], meshing.bark);
-  WriteGlb(paths[2], meshing.bark, gltf);
+  if (leafy) {
+    TriangleMesh tree = meshing.bark;
+    tree.Append(meshing.leaves.Bake());
+    WriteObj(paths[1], tree);
+    gltf.instance_leaves = options.geometry.instance_leaves;
+    WriteGlb(paths[2], meshing.bark, meshing.leaves, gltf);
+  } else {
+    WriteObj(paths[1], meshing.bark);
+    WriteGlb(paths[2], meshing.bark, gltf);
+  }
   // The table as read (merged connectors move starts slightly; the exact
   // skeleton round trip is SkeletonsFromQsm with merge_fraction 0).
   WriteQsmCsv(paths[3], qsm);
@@ -100,8 +171,9 @@ std::vector<std::filesystem::path> WriteQsmMeshing(const QsmMeshing& meshing, co
   WriteLpy(paths[5], skeletons, LpyForm::kAbsolute, qsm.units);
   WriteLpy(paths[6], skeletons, LpyForm::kTurtle, qsm.units);
   WriteMtg(paths[7], skeletons, qsm.units);
-  for (const std::filesystem::path& preview :
-       WritePreviewPngs(RenderReportPreviews(meshing.bark, nullptr, options.report), out_dir)) {
+  for (const std::filesystem::path& preview : WritePreviewPngs(
+           RenderReportPreviews(meshing.bark, leafy ? &meshing.leaves : nullptr, options.report),
+           out_dir)) {
     paths.push_back(preview);
   }
   return paths;

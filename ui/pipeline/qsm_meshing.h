@@ -1,8 +1,11 @@
 // Meshing a QSM cylinder table (e.g. TreeQSM's, from a laser scan) without a
 // project: the table becomes sylva skeletons (one per root cylinder), each is
-// meshed into the watertight bark of the mesh stage, and the outputs are the
-// mesh stage's. `sylva mesh-qsm QSM.csv OUT_DIR` calls this, and `sylva
-// mesh-mtg MTG OUT_DIR` after turning an OpenAlea MTG's skeletons into a table.
+// meshed into the watertight bark of the mesh stage, leaves may grow on the
+// thin branches (AddSkeletonLeaves), and the outputs are the mesh stage's.
+// `sylva mesh-qsm QSM.csv OUT_DIR` calls this, and `sylva mesh-mtg MTG
+// OUT_DIR` after turning an OpenAlea MTG's skeletons into a table; so do the
+// trees made without photos, `sylva gesture` and `sylva sketch
+// --Sketch.method=mrf`, with their leaves.
 #ifndef SYLVA_UI_PIPELINE_QSM_MESHING_H_
 #define SYLVA_UI_PIPELINE_QSM_MESHING_H_
 
@@ -13,6 +16,7 @@
 #include "core/io/mtg_io.h"
 #include "core/io/qsm_io.h"
 #include "core/types/triangle_mesh.h"
+#include "mesh/leaves.h"
 #include "ui/pipeline/pipeline_options.h"
 
 namespace sylva {
@@ -31,6 +35,9 @@ struct QsmMeshing {
   int turned_components = 0;
   double cylinder_union_volume = 0.0;
   double volume_ratio = 0.0;
+  // Leaves on the thin branches (AddSkeletonLeaves); none by MeshQsm.
+  LeafInstances leaves;
+  LeafSummary leaf_summary;
   std::string brief;
 };
 
@@ -45,11 +52,42 @@ struct QsmMeshing {
 // whether the bark is what it should be.
 QsmMeshing MeshQsm(const QsmModel& qsm, const PipelineOptions& options, double merge_fraction);
 
-// Writes OUT_DIR/bark.obj, tree.obj (+ .mtl), tree.glb, qsm.csv (the table
-// as sylva read it, with its ids), metrics.json (of the largest part,
+// Leaves on the thin branches of every part of `meshing`
+// (GenerateSkeletonLeafInstances: Leaves.*, the seed from General.seed as
+// LeafOptionsOf gives it) into meshing->leaves, unless Leaves.num_leaves is
+// -1; their summary ends the brief. One leaf length for all parts:
+// Leaves.leaf_length, or Leaves.leaf_length_fraction x the tallest part's
+// height; branches are thin as a fraction of the tallest trunk's radius;
+// part k > 0 draws from DeriveSeed(the leaves' seed, k). Leaves.image (a
+// path relative to the working directory) replaces the built-in shape.
+void AddSkeletonLeaves(const PipelineOptions& options, QsmMeshing* meshing);
+
+// A skeleton made without photos (gestures, an MRF sketch) as a cylinder
+// table (*qsm, QsmFromSkeletonParts in `units`), meshed (MeshQsm with
+// `merge_fraction`) with leaves on its thin branches (AddSkeletonLeaves).
+QsmMeshing MeshSkeletonTree(const SkeletonGraph& skeleton, const std::string& units,
+                            double merge_fraction, const PipelineOptions& options, QsmModel* qsm);
+
+// The defaults of trees made without photos (`sylva gesture`, `sylva sketch
+// --Sketch.method=mrf`), set before the command's flags: their leaves show a
+// phyllotaxis, Leaves.phyllotaxis = kSkeletonTreePhyllotaxis (the photo
+// pipeline's "none" draws leaves where the density is, which these trees do
+// not have).
+inline constexpr char kSkeletonTreePhyllotaxis[] = "spiral";
+void UseSkeletonTreeDefaults(PipelineOptions* options);
+// The defaults of `sylva mesh-qsm` and `sylva mesh-mtg`: those of
+// UseSkeletonTreeDefaults, and no leaves (Leaves.num_leaves = -1), since
+// laser-scanned trees are mostly scanned leafless; --Leaves.num_leaves=0
+// (one leaf per phyllotactic site) or N asks for them.
+void UseQsmMeshingDefaults(PipelineOptions* options);
+
+// Writes OUT_DIR/bark.obj, tree.obj (+ .mtl; the bark and the baked
+// leaves), tree.glb (leaves instanced as by the mesh stage,
+// Export.instance_leaves), qsm.csv (the table as sylva read it, with its
+// ids), metrics.json (of the largest part,
 // TreeMetrics.*), the table's exact skeletons (SkeletonsFromQsm) for plant
 // modellers as tree.lpy, tree_turtle.lpy (core/io/lpy_io.h) and tree.mtg
-// (core/io/mtg_io.h) and, if Report.previews, preview pictures of the bark
+// (core/io/mtg_io.h) and, if Report.previews, preview pictures of the tree
 // OUT_DIR/preview_<k>.png
 // (RenderReportPreviews), each atomically; creates OUT_DIR. Returns the
 // paths written.

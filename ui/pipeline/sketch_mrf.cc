@@ -33,6 +33,8 @@ constexpr float kLineMatte = 0.99f;
 // A crown is made at most this much deeper than wide to hold the drawn
 // branches.
 constexpr double kMaxCrownDepthScale = 2.0;
+// QsmToSkeletonOptions::merge_fraction for meshing the skeleton.
+constexpr double kMergeFraction = 0.1;
 
 // The largest (by length) of `parts`.
 const SkeletonGraph& Largest(const std::vector<SkeletonGraph>& parts, const std::string& source) {
@@ -257,10 +259,14 @@ MrfSketchTree MakeMrfSketchTree(const std::vector<SketchDrawing>& drawings,
   return tree;
 }
 
-std::vector<fs::path> WriteMrfSketchTree(const MrfSketchTree& tree, const PipelineOptions& options,
+QsmMeshing MeshMrfSketchTree(const MrfSketchTree& tree, const PipelineOptions& options,
+                             QsmModel* qsm) {
+  return MeshSkeletonTree(tree.skeleton, "m", kMergeFraction, options, qsm);
+}
+
+std::vector<fs::path> WriteMrfSketchTree(const MrfSketchTree& tree, const QsmModel& qsm,
+                                         const QsmMeshing& meshing, const PipelineOptions& options,
                                          const fs::path& out_dir) {
-  const QsmModel qsm = QsmFromSkeletonParts({tree.skeleton}, "m");
-  const QsmMeshing meshing = MeshQsm(qsm, options, 0.1);
   std::vector<fs::path> paths = WriteQsmMeshing(meshing, qsm, out_dir, options);
   WriteSkeletonJson(out_dir / "skeleton.json", tree.skeleton, "m");
   paths.push_back(out_dir / "skeleton.json");

@@ -5,8 +5,9 @@
 // template is the exemplar whose footprint is nearest; the MRF gives every
 // segment's depth; self-similar propagation fills the drawn crown (its
 // surface of local revolution) or grows Sketch.generations generations; the
-// skeleton gets pipe-model radii and is meshed like a QSM (bark, glTF/OBJ,
-// qsm.csv, metrics, L-Py, MTG, previews).
+// skeleton gets pipe-model radii and is meshed like a QSM with leaves on its
+// thin branches (bark, leaves, glTF/OBJ, qsm.csv, metrics, L-Py, MTG,
+// previews).
 #ifndef SYLVA_UI_PIPELINE_SKETCH_MRF_H_
 #define SYLVA_UI_PIPELINE_SKETCH_MRF_H_
 
@@ -23,6 +24,8 @@
 namespace sylva {
 
 struct PipelineOptions;
+struct QsmMeshing;
+struct QsmModel;
 
 struct SketchMrfOptions {
   // "flow" (the drawing as views of a project, the particle flow) or "mrf".
@@ -57,9 +60,17 @@ MrfSketchTree MakeMrfSketchTree(const std::vector<SketchDrawing>& drawings,
                                 const PipelineOptions& options,
                                 const std::vector<TreeExemplar>& exemplars);
 
-// Writes OUT_DIR/skeleton.json, sketch_cameras.json and the meshed tree
-// (WriteQsmMeshing's files); returns the paths.
+// tree.skeleton as a cylinder table (*qsm), meshed like a QSM with leaves
+// on its thin branches (MeshSkeletonTree, qsm_meshing.h: BranchMesh.*,
+// Leaves.*, whose command defaults UseSkeletonTreeDefaults gives).
+QsmMeshing MeshMrfSketchTree(const MrfSketchTree& tree, const PipelineOptions& options,
+                             QsmModel* qsm);
+
+// Writes OUT_DIR/skeleton.json, sketch_cameras.json and the tree meshed by
+// MeshMrfSketchTree (WriteQsmMeshing's files); returns the paths.
 std::vector<std::filesystem::path> WriteMrfSketchTree(const MrfSketchTree& tree,
+                                                      const QsmModel& qsm,
+                                                      const QsmMeshing& meshing,
                                                       const PipelineOptions& options,
                                                       const std::filesystem::path& out_dir);
 

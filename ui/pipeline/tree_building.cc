@@ -119,6 +119,12 @@ WoodOptions WoodOptionsOf(const PipelineOptions& options) {
   return wood;
 }
 
+LeafOptions LeafOptionsOf(const PipelineOptions& options) {
+  LeafOptions leaves = options.leaves;
+  leaves.seed = DeriveSeed(options.general.seed, kLeafSeedStream);
+  return leaves;
+}
+
 TriangleMesh TreeGeometry::Wood() const {
   TriangleMesh mesh = bark;
   if (twigs.NumTriangles() > 0) mesh.Append(twigs);
@@ -145,8 +151,7 @@ TreeGeometry BuildTreeGeometry(const SkeletonGraph& skeleton, const DensityGrid&
   brief << wood.brief;
   SubdivideBark(options.geometry, &geometry.bark, &brief);
   if (options.geometry.bark_subdivision > 0) clock.Lap("subdivide");
-  LeafOptions leaf_options = options.leaves;
-  leaf_options.seed = DeriveSeed(options.general.seed, kLeafSeedStream);
+  const LeafOptions leaf_options = LeafOptionsOf(options);
   if (leaf_options.num_leaves < 0) {  // a leafless plant
     brief << " No leaves (Leaves.num_leaves=-1).";
   } else {

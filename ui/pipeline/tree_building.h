@@ -79,6 +79,10 @@ TreeGeometry BuildTreeGeometry(const SkeletonGraph& skeleton, const DensityGrid&
 // from General.seed.
 WoodOptions WoodOptionsOf(const PipelineOptions& options);
 
+// The leaves' options in the pipeline's: Leaves.* with the leaves' seed
+// derived from General.seed (the same stream for every kind of tree).
+LeafOptions LeafOptionsOf(const PipelineOptions& options);
+
 // Smooths `bark` by BranchMesh.subdivision levels of Loop subdivision
 // (mesh/subdivision.h; nothing if 0) and appends its summary to `brief`.
 // A bark that is not a closed 2-manifold (a failed joint, see
