@@ -982,6 +982,10 @@ TEST_F(CliTest, MeshQsmMakesClosedBarkFromLaserScanCylinders) {
     ExpectPlantExports(out, skeletons);
     const Json metrics = ReadJsonFile(out / "metrics.json");
     EXPECT_TRUE(metrics.at("dbh").is_number()) << name;
+    // The report of a tree made without photos, with the table's figures.
+    const Json report = ReadJsonFile(out / "report.json");
+    EXPECT_EQ(report.at("previews").size(), previews ? 4u : 0u) << name;
+    EXPECT_NE(ReadFileToString(out / "report.html").find("made without photos"), std::string::npos);
     // ITSMe's tables record no sources: the figures say so.
     EXPECT_EQ(metrics.at("sources").at("dbh"), "unknown") << name;
     EXPECT_EQ(metrics.at("sources").at("height"), "unknown") << name;

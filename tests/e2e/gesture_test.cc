@@ -42,11 +42,24 @@ TEST(GestureE2eTest, GrowsAndMeshesATree) {
   // Leaves at the spiral phyllotaxis nodes of the thin branches (the
   // command's default), in tree.obj as their own material.
   EXPECT_NE(result.out.find("spiral phyllotaxis"), std::string::npos) << result.out;
-  for (const char* name : {"tree.glb", "tree.obj", "bark.obj", "skeleton.json", "qsm.csv",
-                           "metrics.json", "tree.lpy", "tree_turtle.lpy", "tree.mtg", "lstring.txt",
-                           "roi.json", "options.json", "preview_0.png"}) {
+  for (const char* name :
+       {"tree.glb", "tree.obj", "bark.obj", "skeleton.json", "qsm.csv", "metrics.json", "tree.lpy",
+        "tree_turtle.lpy", "tree.mtg", "lstring.txt", "roi.json", "options.json", "preview_0.png",
+        "report.json", "report.html"}) {
     EXPECT_TRUE(fs::is_regular_file(out / name)) << name;
   }
+  // The report of a tree made without photos: its figures, previews beside
+  // it and the summary; no comparison with photos.
+  const std::string html = ReadFileToString(out / "report.html");
+  EXPECT_NE(html.find("made without photos"), std::string::npos);
+  EXPECT_NE(html.find("src=\"preview_0.png\""), std::string::npos);
+  EXPECT_NE(html.find("total branch length"), std::string::npos);
+  EXPECT_NE(html.find("spiral phyllotaxis"), std::string::npos);
+  EXPECT_EQ(html.find("Comparisons"), std::string::npos);
+  const Json report = Json::parse(ReadFileToString(out / "report.json"));
+  EXPECT_EQ(report.at("previews").at(0), "preview_0.png");
+  const Json metrics = Json::parse(ReadFileToString(out / "metrics.json"));
+  EXPECT_EQ(metrics.at("sources").at("height"), "gestures (trunks) and L-system (branches)");
   EXPECT_GT(ReadGlb(out / "tree.glb").NumTriangles(), 1000);
   EXPECT_NE(ReadFileToString(out / "tree.obj").find("usemtl leaves"), std::string::npos);
   const SkeletonGraph skeleton = ReadSkeletonJson(out / "skeleton.json");

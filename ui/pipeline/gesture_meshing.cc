@@ -43,6 +43,9 @@ GestureMeshing MeshGestures(const GestureSet& gestures, const PipelineOptions& o
   meshing.tree = GrowGestureTree(gestures, grammar, tree_options);
   meshing.meshing =
       MeshSkeletonTree(meshing.tree.skeleton, kUnits, kMergeFraction, options, &meshing.qsm);
+  // What the figures in qsm.csv, metrics.json and the report come from.
+  meshing.qsm.position_source = "gestures (trunks) and L-system (branches)";
+  meshing.qsm.branching_source = "L-system";
   std::ostringstream brief;
   brief << "Gestures " << gestures.source << " (" << gestures.strokes.size()
         << " strokes), grammar " << meshing.grammar_source << ", " << tree_options.iterations

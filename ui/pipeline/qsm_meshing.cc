@@ -159,9 +159,13 @@ std::vector<std::filesystem::path> WriteQsmMeshing(const QsmMeshing& meshing, co
   // skeleton round trip is SkeletonsFromQsm with merge_fraction 0).
   WriteQsmCsv(paths[3], qsm);
   // Labelled with the table's own sources ("unknown" when it has none).
-  WriteTreeMetricsJson(paths[4], ComputeTreeMetrics(meshing.parts[largest].skeleton, nullptr,
-                                                    qsm.units, options.tree_metrics,
-                                                    {qsm.position_source, qsm.branching_source}));
+  FidelityReport report;
+  report.units = qsm.units;
+  report.has_metrics = true;
+  report.metrics =
+      ComputeTreeMetrics(meshing.parts[largest].skeleton, nullptr, qsm.units, options.tree_metrics,
+                         {qsm.position_source, qsm.branching_source});
+  WriteTreeMetricsJson(paths[4], report.metrics);
   // For plant modellers: the table's exact skeletons (no merged connectors).
   std::vector<SkeletonGraph> skeletons;
   for (const QsmSkeleton& part : SkeletonsFromQsm(qsm)) skeletons.push_back(part.skeleton);
@@ -171,10 +175,13 @@ std::vector<std::filesystem::path> WriteQsmMeshing(const QsmMeshing& meshing, co
   WriteLpy(paths[5], skeletons, LpyForm::kAbsolute, qsm.units);
   WriteLpy(paths[6], skeletons, LpyForm::kTurtle, qsm.units);
   WriteMtg(paths[7], skeletons, qsm.units);
-  for (const std::filesystem::path& preview : WritePreviewPngs(
-           RenderReportPreviews(meshing.bark, leafy ? &meshing.leaves : nullptr, options.report),
-           out_dir)) {
-    paths.push_back(preview);
+  // Previews beside the other outputs, and the report of the tree's figures.
+  report.previews =
+      RenderReportPreviews(meshing.bark, leafy ? &meshing.leaves : nullptr, options.report);
+  report.preview_dir = "";
+  for (const std::filesystem::path& path :
+       WriteFidelityReport(report, {{"mesh", meshing.brief}}, options.report, out_dir)) {
+    paths.push_back(path);
   }
   return paths;
 }

@@ -87,10 +87,11 @@ void UseQsmMeshingDefaults(PipelineOptions* options);
 // ids), metrics.json (of the largest part,
 // TreeMetrics.*), the table's exact skeletons (SkeletonsFromQsm) for plant
 // modellers as tree.lpy, tree_turtle.lpy (core/io/lpy_io.h) and tree.mtg
-// (core/io/mtg_io.h) and, if Report.previews, preview pictures of the tree
-// OUT_DIR/preview_<k>.png
-// (RenderReportPreviews), each atomically; creates OUT_DIR. Returns the
-// paths written.
+// (core/io/mtg_io.h), if Report.previews preview pictures of the tree
+// OUT_DIR/preview_<k>.png (RenderReportPreviews), and the report of a tree
+// made without photos (report.json, report.html if Report.write_images: the
+// figures, previews and the meshing's summary; WriteFidelityReport), each
+// atomically; creates OUT_DIR. Returns the paths written.
 std::vector<std::filesystem::path> WriteQsmMeshing(const QsmMeshing& meshing, const QsmModel& qsm,
                                                    const std::filesystem::path& out_dir,
                                                    const PipelineOptions& options);

@@ -93,9 +93,9 @@ Json ViewJson(const ViewFidelity& view) {
   return json;
 }
 
-// out/report/preview_<k>.png
-fs::path PreviewPath(size_t k) {
-  return fs::path("report") / ("preview_" + std::to_string(k) + ".png");
+// <preview_dir>/preview_<k>.png, relative to the report.
+fs::path PreviewPath(const FidelityReport& report, size_t k) {
+  return fs::path(report.preview_dir) / ("preview_" + std::to_string(k) + ".png");
 }
 
 // {stage: [{"key", "value", "unit"}, ...]}
@@ -142,7 +142,7 @@ Json ReportJson(const FidelityReport& report, const std::map<std::string, std::s
   if (report.has_metrics) json["tree"] = Json::parse(report.metrics.ToJson());
   Json previews = Json::array();
   for (size_t k = 0; k < report.previews.size(); ++k) {
-    previews.push_back(PreviewPath(k).generic_string());
+    previews.push_back(PreviewPath(report, k).generic_string());
   }
   json["previews"] = previews;
   json["stage_figures"] = StageFiguresJson(report.stage_figures);
@@ -178,7 +178,7 @@ std::string TreeSectionHtml(const FidelityReport& report) {
   std::ostringstream html;
   html << "<h2>Tree</h2>\n<div>";
   for (size_t k = 0; k < report.previews.size(); ++k) {
-    html << "<img class=\"preview\" src=\"" << PreviewPath(k).generic_string() << "\">";
+    html << "<img class=\"preview\" src=\"" << PreviewPath(report, k).generic_string() << "\">";
   }
   html << "</div>\n";
   if (!report.has_metrics) return html.str();
@@ -206,7 +206,12 @@ std::string TreeSectionHtml(const FidelityReport& report) {
     if (order.num_angles > 0) value += ", mean angle " + Number(order.mean_angle_deg, "deg");
     html << row("order " + std::to_string(order.order), value, "orders");
   }
-  html << "</table>\n<p>Figures from out/metrics.json. Sources: <i>measured</i> from the photos "
+  html << "</table>\n";
+  if (report.views.empty()) {
+    html << "<p>Figures from metrics.json, each with its source.</p>\n";
+    return html.str();
+  }
+  html << "<p>Figures from out/metrics.json. Sources: <i>measured</i> from the photos "
           "(the density and the skeleton that follows it); <i>prior</i>: set by the model "
           "(the particle count and merging for the branching, the pipe model for the radii), "
           "not measured.</p>\n";
@@ -251,7 +256,12 @@ std::string ReportHtml(const FidelityReport& report,
   for (const auto& [stage, brief] : briefs) {
     html << "<li><b>" << HtmlEscape(stage) << "</b>: " << HtmlEscape(brief) << "</li>\n";
   }
-  html << "</ul>\n<p>Comparisons: white = both, red = reconstruction only, blue = matte only."
+  html << "</ul>\n";
+  if (report.views.empty()) {
+    html << "</body></html>\n";
+    return html.str();
+  }
+  html << "<p>Comparisons: white = both, red = reconstruction only, blue = matte only."
        << "</p>\n<table><tr><th>view</th><th>held out</th><th>density IoU</th><th>mesh IoU</th>"
        << "<th>density vs matte</th><th>mesh vs matte</th><th>mesh</th></tr>\n";
   for (const ViewFidelity& view : report.views) {
@@ -302,12 +312,17 @@ ViewFidelityOptions FidelityOptions(const ReportOptions& options) {
 }  // namespace
 
 std::string FidelityReport::BriefReport() const {
-  std::string text = "Fidelity (silhouettes vs mattes, at about the grid's resolution):\n";
-  if (input.num_views > 0) text += GroupLine("density, input views", input);
-  if (held_out.num_views > 0) text += GroupLine("density, held-out views", held_out);
-  if (mesh_input.num_views > 0) text += GroupLine("mesh, input views", mesh_input);
-  if (mesh_held_out.num_views > 0) text += GroupLine("mesh, held-out views", mesh_held_out);
-  if (held_out.num_views == 0) text += "  no held-out views\n";
+  std::string text;
+  if (views.empty()) {
+    text = "No photos to compare the tree with (it was made without photos).\n";
+  } else {
+    text = "Fidelity (silhouettes vs mattes, at about the grid's resolution):\n";
+    if (input.num_views > 0) text += GroupLine("density, input views", input);
+    if (held_out.num_views > 0) text += GroupLine("density, held-out views", held_out);
+    if (mesh_input.num_views > 0) text += GroupLine("mesh, input views", mesh_input);
+    if (mesh_held_out.num_views > 0) text += GroupLine("mesh, held-out views", mesh_held_out);
+    if (held_out.num_views == 0) text += "  no held-out views\n";
+  }
   if (const int priors = NumPriorViews(); priors > 0) {
     text += "  " + std::to_string(priors) +
             " prior view(s) (made up, not photographed: a drawing's depth prior) are not in "
@@ -392,7 +407,9 @@ std::vector<FloatImage> RenderReportPreviews(const TriangleMesh& bark, const Lea
 std::vector<fs::path> WritePreviewPngs(const std::vector<FloatImage>& previews,
                                        const fs::path& dir) {
   std::vector<fs::path> written;
-  for (size_t k = 0; k < previews.size(); ++k) written.push_back(dir / PreviewPath(k).filename());
+  for (size_t k = 0; k < previews.size(); ++k) {
+    written.push_back(dir / ("preview_" + std::to_string(k) + ".png"));
+  }
   ParallelForFirstError(static_cast<int>(previews.size()),
                         [&](int k) { WriteImage(written[k], previews[k]); });
   return written;
@@ -401,7 +418,7 @@ std::vector<fs::path> WritePreviewPngs(const std::vector<FloatImage>& previews,
 std::vector<fs::path> WriteFidelityReport(const FidelityReport& report,
                                           const std::map<std::string, std::string>& stage_briefs,
                                           const ReportOptions& options, const fs::path& out_dir) {
-  std::vector<fs::path> written = WritePreviewPngs(report.previews, out_dir / "report");
+  std::vector<fs::path> written = WritePreviewPngs(report.previews, out_dir / report.preview_dir);
   if (options.write_images) {
     // Each view's pictures are encoded in parallel; the list keeps view order.
     std::vector<std::vector<fs::path>> pictures(report.views.size());

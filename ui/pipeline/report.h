@@ -35,8 +35,10 @@ struct FidelityReport {
   bool has_metrics = false;
   TreeMetricsReport metrics;
   // Preview pictures of the tree (Report.previews), written as
-  // out/report/preview_<k>.png.
+  // <preview_dir>/preview_<k>.png beside report.json (out/report/ in a
+  // project; the output folder itself for trees made without photos).
   std::vector<FloatImage> previews;
+  std::string preview_dir = "report";
   // The earlier stages' figures (StageRun::figures, as recorded), in
   // pipeline order.
   std::vector<std::pair<std::string, std::vector<StageFigure>>> stage_figures;
@@ -87,7 +89,9 @@ std::vector<std::filesystem::path> WritePreviewPngs(const std::vector<FloatImage
                                                     const std::filesystem::path& dir);
 
 // out/report.json (+ out/report/*.png and out/report.html if asked); returns
-// the files written. `stage_briefs` maps stage names to their summaries.
+// the files written. A report without views (a tree made without photos:
+// gestures, a drawing by MRF, a QSM or MTG) holds the tree's figures,
+// previews and summaries only. `stage_briefs` maps stage names to their summaries.
 std::vector<std::filesystem::path> WriteFidelityReport(
     const FidelityReport& report, const std::map<std::string, std::string>& stage_briefs,
     const ReportOptions& options, const std::filesystem::path& out_dir);

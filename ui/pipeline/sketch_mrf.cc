@@ -261,7 +261,11 @@ MrfSketchTree MakeMrfSketchTree(const std::vector<SketchDrawing>& drawings,
 
 QsmMeshing MeshMrfSketchTree(const MrfSketchTree& tree, const PipelineOptions& options,
                              QsmModel* qsm) {
-  return MeshSkeletonTree(tree.skeleton, "m", kMergeFraction, options, qsm);
+  QsmMeshing meshing = MeshSkeletonTree(tree.skeleton, "m", kMergeFraction, options, qsm);
+  // What the figures in qsm.csv, metrics.json and the report come from.
+  qsm->position_source = "drawing (MRF depths, self-similar propagation)";
+  qsm->branching_source = "drawing and self-similar propagation";
+  return meshing;
 }
 
 std::vector<fs::path> WriteMrfSketchTree(const MrfSketchTree& tree, const QsmModel& qsm,
