@@ -40,11 +40,13 @@ TEST(ConceptE2eTest, MakesAPlantWithEveryOutput) {
   ASSERT_EQ(result.exit_code, 0) << result.Describe();
   EXPECT_NE(result.out.find("spiral phyllotaxis"), std::string::npos) << result.out;
   for (const char* name :
-       {"tree.glb", "tree.obj", "tree.mtl", "bark.obj", "skeleton.json", "qsm.csv", "tree.lpy",
-        "tree_turtle.lpy", "tree.mtg", "organs.json", "pen_front.svg", "pen_front.png",
-        "pen_oblique.svg", "pen_oblique.png", "pen_top.svg", "pen_top.png", "preview_0.png"}) {
+       {"tree.glb",      "tree.obj",      "tree.mtl",        "bark.obj",        "skeleton.json",
+        "qsm.csv",       "tree.lpy",      "tree_turtle.lpy", "tree.mtg",        "organs.json",
+        "pen_front.svg", "pen_front.png", "pen_oblique.svg", "pen_oblique.png", "pen_top.svg",
+        "pen_top.png",   "preview_0.png", "metrics.json",    "report.json",     "report.html"}) {
     EXPECT_TRUE(fs::is_regular_file(out / name)) << name;
   }
+  EXPECT_NE(ReadFileToString(out / "report.html").find("made without photos"), std::string::npos);
   // The meshes read back: bark and leaves.
   const TriangleMesh glb = ReadGlb(out / "tree.glb");
   const TriangleMesh obj = ReadObj(out / "tree.obj");

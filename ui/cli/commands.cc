@@ -135,7 +135,7 @@ CommandSpec GestureSpec() {
           "Writes to OUT_DIR (made only when everything succeeded): tree.glb, tree.obj,\n"
           "bark.obj (with their .mtl), skeleton.json, qsm.csv, metrics.json, tree.lpy,\n"
           "tree_turtle.lpy, tree.mtg, lstring.txt (the grown L-string), roi.json (the region),\n"
-          "options.json and preview_0..3.png (Report.previews).",
+          "options.json, preview_0..3.png (Report.previews), report.html and report.json.",
           {kLogLevelFlag},
           2,
           2,
@@ -158,8 +158,8 @@ CommandSpec ConceptSpec() {
           "bark.obj (with their .mtl), skeleton.json, qsm.csv, tree.lpy, tree_turtle.lpy,\n"
           "tree.mtg, organs.json (each organ's node, azimuth and divergence), options.json\n"
           "(the effective options), pen-and-ink drawings pen_front, pen_oblique, pen_top\n"
-          "(.svg with Inkscape layers hatching, outline, construction; and .png), and\n"
-          "preview_0..3.png (Report.previews).",
+          "(.svg with Inkscape layers hatching, outline, construction; and .png),\n"
+          "preview_0..3.png (Report.previews), metrics.json, report.html and report.json.",
           {{"index", "N", "the drawing of a Quick, Draw! .ndjson file (0-based line, default 0)"},
            kLogLevelFlag},
           2,
@@ -236,7 +236,8 @@ CommandSpec MeshQsmSpec() {
       "project: one sylva skeleton per root cylinder, the watertight bark of the mesh\n"
       "stage (BranchMesh.* options). Writes OUT_DIR/bark.obj (closed solid), tree.obj,\n"
       "tree.glb, qsm.csv (the table as read), metrics.json and preview pictures of the\n"
-      "bark from 4 sides, preview_0.png .. preview_3.png (Report.preview_* options).\n"
+      "bark from 4 sides, preview_0.png .. preview_3.png (Report.preview_* options),\n"
+      "report.html and report.json (the tree's figures and previews).\n"
       "Prints the bark's figures: components, how many are inside out, and its volume\n"
       "over the union of the cylinders (and over their sum, which counts overlaps twice).\n"
       "Leafless by default (Leaves.num_leaves=-1); --Leaves.num_leaves=0 puts a leaf at\n"

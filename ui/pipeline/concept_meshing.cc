@@ -12,6 +12,7 @@
 #include "core/util/check.h"
 #include "core/util/file_util.h"
 #include "mesh/gltf_export.h"
+#include "mesh/tree_metrics.h"
 #include "mesh/wood.h"
 #include "sketch/drawing_io.h"
 #include "ui/pipeline/report.h"
@@ -119,9 +120,19 @@ std::vector<std::filesystem::path> WriteConceptMeshing(const ConceptMeshing& mes
     WritePenAndInkSvg(out(stem + ".svg"), meshing.drawings[k]);
     WriteImage(out(stem + ".png"), RasterizePenAndInk(meshing.drawings[k]), PixelFormat::kUint8);
   }
-  for (const std::filesystem::path& preview :
-       WritePreviewPngs(RenderReportPreviews(tree, nullptr, options.report), out_dir)) {
-    paths.push_back(preview);
+  // The plant's figures, and the report of a plant made without photos:
+  // the figures, the previews beside it and the summary.
+  FidelityReport report;
+  report.units = kUnits;
+  report.has_metrics = true;
+  report.metrics = ComputeTreeMetrics(skeleton, nullptr, kUnits, options.tree_metrics,
+                                      {"concept sketch", "concept sketch (phyllotaxis)"});
+  WriteTreeMetricsJson(out("metrics.json"), report.metrics);
+  report.previews = RenderReportPreviews(tree, nullptr, options.report);
+  report.preview_dir = "";
+  for (const std::filesystem::path& path :
+       WriteFidelityReport(report, {{"concept", meshing.brief}}, options.report, out_dir)) {
+    paths.push_back(path);
   }
   return paths;
 }

@@ -43,8 +43,10 @@ ConceptMeshing MeshConceptDrawing(const SketchDrawing& drawing, const PipelineOp
 // Writes into `out_dir` (created): tree.glb, tree.obj (+ .mtl), bark.obj
 // (+ .mtl), skeleton.json, qsm.csv, tree.lpy, tree_turtle.lpy, tree.mtg,
 // organs.json (the placed organs: node, azimuth, divergence from the
-// previous organ, base, tip, length, fit), pen_<view>.svg and .png, and if
-// Report.previews preview_<k>.png; each file atomically. Returns the paths.
+// previous organ, base, tip, length, fit), pen_<view>.svg and .png,
+// metrics.json, if Report.previews preview_<k>.png, and the report of a plant
+// made without photos (report.json, report.html: WriteFidelityReport); each
+// file atomically. Returns the paths.
 std::vector<std::filesystem::path> WriteConceptMeshing(const ConceptMeshing& meshing,
                                                        const std::filesystem::path& out_dir,
                                                        const PipelineOptions& options);
