@@ -6,24 +6,6 @@
 #include "core/util/check.h"
 
 namespace sylva {
-namespace {
-
-// The largest value in the 3 x 3 x 3 voxels around `point` (world): lenient
-// with traces along the painted region's surface.
-float DensityAround(const DensityGrid& density, const Eigen::Vector3d& point) {
-  const Eigen::Vector3i centre = density.IndexFromWorld(point).array().round().cast<int>();
-  float best = 0.0f;
-  for (int dz = -1; dz <= 1; ++dz) {
-    for (int dy = -1; dy <= 1; ++dy) {
-      for (int dx = -1; dx <= 1; ++dx) {
-        best = std::max(best, density.Value(centre + Eigen::Vector3i(dx, dy, dz)));
-      }
-    }
-  }
-  return best;
-}
-
-}  // namespace
 
 PaintedDensity::PaintedDensity(const DensityGrid& density, const ImageSet& views,
                                const std::vector<FloatImage>& added, float min_added)
@@ -36,7 +18,7 @@ PaintedDensity::PaintedDensity(const DensityGrid& density, const ImageSet& views
 }
 
 bool PaintedDensity::Contains(const Eigen::Vector3d& point) const {
-  if (!any_ || DensityAround(density_, point) <= 0.0f) return false;
+  if (!any_ || density_.MaxValueAround(point) <= 0.0f) return false;
   for (int v = 0; v < views_.NumViews(); ++v) {
     const FloatImage& added = added_[v];
     Eigen::Vector2d pixel;

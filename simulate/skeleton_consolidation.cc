@@ -162,20 +162,6 @@ std::vector<char> TrimTwigs(const SkeletonGraph& skeleton, const DensityGrid& de
   return removed;
 }
 
-// The largest opacity in the 3 x 3 x 3 voxels around `point` (world).
-float OpacityAround(const DensityGrid& density, const Eigen::Vector3d& point) {
-  const Eigen::Vector3i centre = density.IndexFromWorld(point).array().round().cast<int>();
-  float best = 0.0f;
-  for (int dz = -1; dz <= 1; ++dz) {
-    for (int dy = -1; dy <= 1; ++dy) {
-      for (int dx = -1; dx <= 1; ++dx) {
-        best = std::max(best, density.Value(centre + Eigen::Vector3i(dx, dy, dz)));
-      }
-    }
-  }
-  return best;
-}
-
 // Steps 2 and 3 on the trimmed skeleton (changed in place).
 void RemoveUnsupportedAxes(const DensityGrid& density, const ConsolidationOptions& options,
                            double height, double spacing, const PaintedDensity* painted,
@@ -207,7 +193,7 @@ void RemoveUnsupportedAxes(const DensityGrid& density, const ConsolidationOption
       const double piece = (skeleton->nodes[axis[k]].position - from).norm() / samples.size();
       for (const Eigen::Vector3d& point : samples) {
         length += piece;
-        if (OpacityAround(density, point) <= 0.0f) empty += piece;
+        if (density.MaxValueAround(point) <= 0.0f) empty += piece;
       }
     }
     const bool bare = !at_base && empty > options.max_empty_fraction * length;

@@ -160,4 +160,17 @@ DensityGrid DensityGridFromVdb(const openvdb::FloatGrid& vdb_grid, const std::st
   return grid;
 }
 
+float DensityGrid::MaxValueAround(const Eigen::Vector3d& point_in_world) const {
+  const Eigen::Vector3i centre = IndexFromWorld(point_in_world).array().round().cast<int>();
+  float best = 0.0f;
+  for (int dz = -1; dz <= 1; ++dz) {
+    for (int dy = -1; dy <= 1; ++dy) {
+      for (int dx = -1; dx <= 1; ++dx) {
+        best = std::max(best, Value(centre + Eigen::Vector3i(dx, dy, dz)));
+      }
+    }
+  }
+  return best;
+}
+
 }  // namespace sylva

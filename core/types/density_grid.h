@@ -48,6 +48,9 @@ class DensityGrid {
 
   // Opacity of a voxel (0 if inactive).
   float Value(const Eigen::Vector3i& ijk) const;
+  // The largest opacity in the 3 x 3 x 3 voxels around the voxel nearest
+  // `point_in_world` (lenient with points on a structure's surface).
+  float MaxValueAround(const Eigen::Vector3d& point_in_world) const;
   // Stores an opacity (clamped to [0, 1]); values <= 0 deactivate the voxel.
   void SetValue(const Eigen::Vector3i& ijk, float alpha);
 

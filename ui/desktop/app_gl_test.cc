@@ -8,13 +8,10 @@
 #include <QtTest>
 #include <filesystem>
 
-#include "datasets/synthetic/synthetic_dataset.h"
 #include "ui/desktop/app_test_util.h"
 #include "ui/desktop/main_window.h"
 #include "ui/desktop/view_3d.h"
 #include "ui/desktop/view_3d_gl.h"
-#include "ui/pipeline/pipeline.h"
-#include "ui/pipeline/project.h"
 
 namespace sylva {
 namespace fs = std::filesystem;
@@ -82,26 +79,11 @@ void AppGlTest::initTestCase() {
   QCOMPARE(QGuiApplication::platformName(), QString("xcb"));  // run by xvfb-run
   QVERIFY2(View3dGl::Available(), "no OpenGL context under xvfb-run");
   const fs::path data = fs::path(temp_.path().toStdString()) / "data";
-  SyntheticDatasetOptions options;
-  options.num_views = 3;
-  options.num_held_out = 0;
-  options.image_size = 96;
-  options.samples_per_axis = 1;
-  WriteSyntheticDataset(MakeSyntheticDataset(options), options, data);
-  ProjectSetup setup;
-  setup.root = fs::path(temp_.path().toStdString()) / "project";
-  setup.photos_dir = data / "photos";
-  setup.colmap_model_dir = data / "colmap";
-  setup.mattes_dir = data / "mattes";
-  Project project = Project::Create(setup);
-  project_ = setup.root;
-  PipelineOptions pipeline_options;
-  OptionRegistry registry;
-  RegisterPipelineOptions(&pipeline_options, &registry);
-  registry.Set("Density.resolution", "32", "test");
-  registry.Set("Report.previews", "false", "test");
-  project.SaveOptions(registry);
-  Pipeline(project, pipeline_options, nullptr).Run(Stage::kReport, false);
+  WriteSmallDataset(data);
+  project_ = fs::path(temp_.path().toStdString()) / "project";
+  CreateSmallProject(data, project_);
+  RunSmallPipeline(project_);
+  const Project project = Project::Open(project_);
   QVERIFY(fs::is_regular_file(project.OutDir() / "tree.obj"));
 }
 

@@ -81,40 +81,23 @@ class AppTest : public QObject {
 };
 
 fs::path AppTest::CreateProject(const std::string& name) {
-  ProjectSetup setup;
-  setup.root = data_.parent_path() / name;
-  setup.photos_dir = data_ / "photos";
-  setup.colmap_model_dir = data_ / "colmap";
-  setup.mattes_dir = data_ / "mattes";
-  setup.held_out = {"heldout_00.png"};
-  Project::Create(setup);
-  return setup.root;
+  const fs::path root = data_.parent_path() / name;
+  CreateSmallProject(data_, root);
+  return root;
 }
 
 void AppTest::initTestCase() {
   QVERIFY(temp_.isValid());
   qputenv("XDG_CONFIG_HOME", (temp_.path() + "/config").toUtf8());  // recent projects
   data_ = fs::path(temp_.path().toStdString()) / "data";
-  SyntheticDatasetOptions options;
-  options.num_views = 3;
-  options.num_held_out = 1;
-  options.image_size = 96;
-  options.samples_per_axis = 1;
-  WriteSyntheticDataset(MakeSyntheticDataset(options), options, data_);
+  WriteSmallDataset(data_);
   project_ = CreateProject("project");
   // The whole pipeline once, small, so the outputs exist.
-  Project project = Project::Open(project_);
-  PipelineOptions pipeline_options;
-  OptionRegistry registry;
-  RegisterPipelineOptions(&pipeline_options, &registry);
-  registry.Set("Density.resolution", "32", "test");
-  registry.Set("Report.previews", "false", "test");
-  project.SaveOptions(registry);
   QElapsedTimer timer;
   timer.start();
-  Pipeline(project, pipeline_options, nullptr).Run(Stage::kReport, false);
+  RunSmallPipeline(project_);
   qInfo("pipeline on the test project: %.2f s", timer.elapsed() / 1000.0);
-  QVERIFY(fs::is_regular_file(project.OutDir() / "tree.obj"));
+  QVERIFY(fs::is_regular_file(Project::Open(project_).OutDir() / "tree.obj"));
 }
 
 void AppTest::Drag(MainWindow* window, const std::vector<QPointF>& points) {

@@ -8,9 +8,48 @@
 #include <filesystem>
 #include <string>
 
+#include "datasets/synthetic/synthetic_dataset.h"
 #include "ui/desktop/main_window.h"
+#include "ui/pipeline/pipeline.h"
+#include "ui/pipeline/project.h"
 
 namespace sylva {
+
+// A small synthetic photo set in `data`: 3 input views and 1 held-out one
+// (heldout_00.png), 96 px, with COLMAP cameras and mattes.
+inline void WriteSmallDataset(const std::filesystem::path& data) {
+  SyntheticDatasetOptions options;
+  options.num_views = 3;
+  options.num_held_out = 1;
+  options.image_size = 96;
+  options.samples_per_axis = 1;
+  WriteSyntheticDataset(MakeSyntheticDataset(options), options, data);
+}
+
+// The project `root` of WriteSmallDataset's `data`, as `sylva init` makes it.
+inline void CreateSmallProject(const std::filesystem::path& data,
+                               const std::filesystem::path& root) {
+  ProjectSetup setup;
+  setup.root = root;
+  setup.photos_dir = data / "photos";
+  setup.colmap_model_dir = data / "colmap";
+  setup.mattes_dir = data / "mattes";
+  setup.held_out = {"heldout_00.png"};
+  Project::Create(setup);
+}
+
+// Every stage of the project at `root`, small (a 32 grid, no previews;
+// saved in its sylva.json, so the app and the CLI read them too).
+inline void RunSmallPipeline(const std::filesystem::path& root) {
+  Project project = Project::Open(root);
+  PipelineOptions options;
+  OptionRegistry registry;
+  RegisterPipelineOptions(&options, &registry);
+  registry.Set("Density.resolution", "32", "test");
+  registry.Set("Report.previews", "false", "test");
+  project.SaveOptions(registry);
+  Pipeline(project, options, nullptr).Run(Stage::kReport, false);
+}
 
 // Shows `window` at `width` x `height`, waits until it is on screen and
 // opens `project`; false if either fails (for QVERIFY).
