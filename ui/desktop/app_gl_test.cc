@@ -79,7 +79,7 @@ void AppGlTest::initTestCase() {
   QCOMPARE(QGuiApplication::platformName(), QString("xcb"));  // run by xvfb-run
   QVERIFY2(View3dGl::Available(), "no OpenGL context under xvfb-run");
   const fs::path data = fs::path(temp_.path().toStdString()) / "data";
-  WriteSmallDataset(data);
+  WriteTinySyntheticSet(data, 96);
   project_ = fs::path(temp_.path().toStdString()) / "project";
   CreateSmallProject(data, project_);
   RunSmallPipeline(project_);

@@ -90,7 +90,7 @@ void AppTest::initTestCase() {
   QVERIFY(temp_.isValid());
   qputenv("XDG_CONFIG_HOME", (temp_.path() + "/config").toUtf8());  // recent projects
   data_ = fs::path(temp_.path().toStdString()) / "data";
-  WriteSmallDataset(data_);
+  WriteTinySyntheticSet(data_, 96);
   project_ = CreateProject("project");
   // The whole pipeline once, small, so the outputs exist.
   QElapsedTimer timer;

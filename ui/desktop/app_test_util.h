@@ -8,25 +8,15 @@
 #include <filesystem>
 #include <string>
 
-#include "datasets/synthetic/synthetic_dataset.h"
 #include "ui/desktop/main_window.h"
 #include "ui/pipeline/pipeline.h"
+#include "ui/pipeline/pipeline_test_util.h"
 #include "ui/pipeline/project.h"
 
 namespace sylva {
 
-// A small synthetic photo set in `data`: 3 input views and 1 held-out one
-// (heldout_00.png), 96 px, with COLMAP cameras and mattes.
-inline void WriteSmallDataset(const std::filesystem::path& data) {
-  SyntheticDatasetOptions options;
-  options.num_views = 3;
-  options.num_held_out = 1;
-  options.image_size = 96;
-  options.samples_per_axis = 1;
-  WriteSyntheticDataset(MakeSyntheticDataset(options), options, data);
-}
-
-// The project `root` of WriteSmallDataset's `data`, as `sylva init` makes it.
+// The project `root` of the synthetic set in `data` (WriteTinySyntheticSet), as `sylva init` makes
+// it.
 inline void CreateSmallProject(const std::filesystem::path& data,
                                const std::filesystem::path& root) {
   ProjectSetup setup;
