@@ -104,7 +104,10 @@ std::map<std::string, int> InkmlChannels(const XMLElement& ink, const std::strin
     const char* name = c->Attribute("name");
     SYLVA_CHECK_INPUT(name != nullptr, source)
         << "line " << c->GetLineNum() << ": <channel> without a name";
-    channels[name] = column++;
+    // A repeated name would leave a column no channel reads (and the
+    // samples' count check short of the columns).
+    SYLVA_CHECK_INPUT(channels.emplace(name, column++).second, source)
+        << "line " << c->GetLineNum() << ": channel '" << name << "' is declared twice";
   }
   for (const char* required : {"X", "Y", "Z"}) {
     SYLVA_CHECK_INPUT(channels.count(required), source)

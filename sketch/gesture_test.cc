@@ -84,6 +84,13 @@ TEST(GestureIoTest, BadFilesNameTheFileAndPlace) {
 <trace>0 0 0, 1 1 1, 2 2</trace></ink>)");
   EXPECT_NE(ErrorOf([&] { ReadGesture(values); }).find("line 3, <trace> sample 3: 2 values"),
             std::string::npos);
+  // Found by fuzz/gesture_inkml_fuzzer.cc: a repeated channel read past
+  // the sample's values.
+  const fs::path twice = WriteTemp("twice.inkml", R"(<ink><traceFormat><channel name="X"/>
+<channel name="Y"/><channel name="X"/><channel name="Z"/></traceFormat>
+<trace>0 0 0, 1 1 1</trace></ink>)");
+  EXPECT_NE(ErrorOf([&] { ReadGesture(twice); }).find("line 2: channel 'X' is declared twice"),
+            std::string::npos);
   const fs::path obj = WriteTemp("bad.obj", "v 0 0 0\nv 0 0 1\nl 1 2\nl 1 7\n");
   EXPECT_NE(ErrorOf([&] { ReadGesture(obj); }).find(obj.string() + ": line 4: vertex 7"),
             std::string::npos);
