@@ -1,7 +1,7 @@
 #include "core/io/mesh_io.h"
 
+#include <charconv>
 #include <cmath>
-#include <cstdio>
 #include <cstdlib>
 #include <map>
 #include <sstream>
@@ -17,14 +17,27 @@ namespace {
 // The comment that carries Material::double_sided through an .mtl file.
 constexpr char kDoubleSidedTag[] = "# sylva double_sided";
 
-// 9 significant digits reproduce any float exactly.
-std::string FormatFloats(const char* keyword, const float* values, int count) {
-  std::string line = keyword;
+// Appends " value" for each value: the shortest text that reads back as the
+// same float (std::to_chars; at most 9 significant digits), several times
+// faster than printf's %.9g on a mesh of 10^6 vertices.
+void AppendFloats(const float* values, int count, std::string* text) {
   char buffer[32];
   for (int i = 0; i < count; ++i) {
-    std::snprintf(buffer, sizeof(buffer), " %.9g", static_cast<double>(values[i]));
-    line += buffer;
+    buffer[0] = ' ';
+    const std::to_chars_result end = std::to_chars(buffer + 1, buffer + sizeof(buffer), values[i]);
+    text->append(buffer, end.ptr);
   }
+}
+
+void AppendInt(int value, std::string* text) {
+  char buffer[16];
+  const std::to_chars_result end = std::to_chars(buffer, buffer + sizeof(buffer), value);
+  text->append(buffer, end.ptr);
+}
+
+std::string FormatFloats(const char* keyword, const float* values, int count) {
+  std::string line = keyword;
+  AppendFloats(values, count, &line);
   return line + "\n";
 }
 
@@ -41,21 +54,30 @@ std::string MtlText(const TriangleMesh& mesh) {
 }
 
 std::string ObjText(const TriangleMesh& mesh, const std::string& mtl_name) {
-  std::ostringstream out;
-  out << "# sylva mesh: " << mesh.NumVertices() << " vertices, " << mesh.NumTriangles()
-      << " triangles\n";
-  out << "mtllib " << mtl_name << "\n";
-  for (const Eigen::Vector3f& v : mesh.vertices) out << FormatFloats("v", v.data(), 3);
+  std::string out = "# sylva mesh: " + std::to_string(mesh.NumVertices()) + " vertices, " +
+                    std::to_string(mesh.NumTriangles()) + " triangles\nmtllib " + mtl_name + "\n";
+  // About 30 bytes per vertex and 20 per face.
+  out.reserve(out.size() + 32 * mesh.vertices.size() + 24 * mesh.triangles.size());
+  for (const Eigen::Vector3f& v : mesh.vertices) {
+    out += 'v';
+    AppendFloats(v.data(), 3, &out);
+    out += '\n';
+  }
   int current_material = -1;
   for (int t = 0; t < mesh.NumTriangles(); ++t) {
     if (mesh.triangle_materials[t] != current_material) {
       current_material = mesh.triangle_materials[t];
-      out << "usemtl " << mesh.materials[current_material].name << "\n";
+      out += "usemtl " + mesh.materials[current_material].name + "\n";
     }
     const Eigen::Vector3i& tri = mesh.triangles[t];
-    out << "f " << tri.x() + 1 << " " << tri.y() + 1 << " " << tri.z() + 1 << "\n";
+    out += 'f';
+    for (int k = 0; k < 3; ++k) {
+      out += ' ';
+      AppendInt(tri[k] + 1, &out);
+    }
+    out += '\n';
   }
-  return out.str();
+  return out;
 }
 
 std::vector<std::string> SplitWords(const std::string& line) {
