@@ -46,6 +46,12 @@ fs::path SketchCamerasPath(const Project& project) {
 void SetSketchDefaults(OptionRegistry* registry) {
   const std::string source = "sketch project";
   registry->Set("Attractors.mode", "edits", source);
+  // Drawings are views of one tree that agree by construction: their 2D
+  // directions pin the 3D one down (two-drawing oracle, seed 2: first-order
+  // median angle 28.3 -> 39.8 degrees against the truth's 41.1; the 18
+  // bundled drawings' front-view mesh IoU: median 0.796 -> 0.797, 16 -> 17
+  // of them at 0.7 or more).
+  registry->Set("DirectionField.combine", "intersect", source);
   registry->Set("WorldFrame.up", "keep", source);
   registry->Set("WorldFrame.base", "keep", source);
   registry->Set("Skeleton.base", "0,0,0", source);
