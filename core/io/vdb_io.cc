@@ -25,6 +25,12 @@ DensityGrid ReadDensityGrid(const fs::path& path) {
   std::error_code ec;
   SYLVA_CHECK_INPUT(fs::is_regular_file(path, ec), path.string()) << "file not found";
   openvdb::GridPtrVecPtr grids;
+  // Known limit (fuzz/vdb_fuzzer.cc): OpenVDB 10.0's bloscFromStream reads
+  // a block whose size field says "uncompressed" (negative) into the node's
+  // buffer before comparing the size with the buffer's (later OpenVDB
+  // releases compare first), so a deliberately made file can overflow the
+  // heap. Only a copy of OpenVDB's reader could check that here; sylva reads
+  // the density.vdb it wrote itself.
   try {
     openvdb::io::File file(path.string());
     // Without delayed loading: its metadata, when damaged, fails an
