@@ -1524,8 +1524,11 @@ TEST_F(CliTest, AnInvertedMatteIsNamedAndLeftOut) {
   EXPECT_TRUE(Contains(painted.out, "warning [implausible-matte] " + names[6])) << painted.out;
   EXPECT_TRUE(Contains(painted.out, "warning [distrusted-view] " + names[6])) << painted.out;
   const Json report = ReadJsonFile(project / "out" / "report.json");
+  // The warnings about views (the report's own about the whole tree, such
+  // as this small run's poor-mesh-fit, have no subject).
   std::set<std::string> codes;
   for (const Json& warning : report.at("warnings")) {
+    if (!warning.contains("subject")) continue;
     EXPECT_EQ(warning.at("subject").get<std::string>(), names[6]) << warning.dump();
     codes.insert(warning.at("code").get<std::string>());
   }

@@ -84,6 +84,46 @@ TEST(ReportTest, NoHeldOutViewsMeansNoHeldOutFiguresNotZeros) {
   EXPECT_FALSE(Contains(html, "held-out views (0)")) << html;
 }
 
+FidelityGroup Group(int views, double iou, double precision, double recall) {
+  FidelityGroup group;
+  group.num_views = views;
+  group.mean_iou = group.min_iou = iou;
+  group.mean_precision = precision;
+  group.mean_recall = recall;
+  return group;
+}
+
+TEST(ReportTest, PoorFitsAreNamedWithWhatTheSilhouettesDoWrong) {
+  FidelityReport report;
+  EXPECT_TRUE(FidelityWarnings(report).empty());  // no views (a tree made without photos)
+  // ROMI's figures: the density misses most of the thin siliques.
+  report.input = Group(22, 0.422, 0.909, 0.441);
+  report.mesh_input = Group(22, 0.85, 0.9, 0.9);
+  std::vector<Warning> warnings = FidelityWarnings(report);
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_EQ(warnings[0].code, "poor-density-fit");
+  EXPECT_TRUE(warnings[0].subject.empty());
+  EXPECT_TRUE(Contains(warnings[0].message, "mean IoU 0.422 over 22 input views (precision 0.909, "
+                                            "recall 0.441): it lacks structure"))
+      << warnings[0].message;
+  // A tree larger than the mattes, and a density just above the threshold.
+  report.input = Group(8, kPoorFitIou + 0.01, 0.9, 0.9);
+  report.mesh_input = Group(8, 0.3, 0.31, 0.95);
+  warnings = FidelityWarnings(report);
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_EQ(warnings[0].code, "poor-mesh-fit");
+  EXPECT_TRUE(Contains(warnings[0].message, "the tree is larger than the mattes show"))
+      << warnings[0].message;
+  // From real scores: a density filling the tree's bounding box covers far
+  // more than the mattes.
+  const FidelityReport box = Fixture(0).Report();
+  ASSERT_LT(*box.input.mean_iou, kPoorFitIou);
+  warnings = FidelityWarnings(box);
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_TRUE(Contains(warnings[0].message, "it covers more than the mattes show"))
+      << warnings[0].message;
+}
+
 TEST(ReportTest, PriorViewsAreShownButNotInTheFigures) {
   const Fixture fixture(0);
   FidelityReport report = fixture.Report();
