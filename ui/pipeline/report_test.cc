@@ -103,8 +103,9 @@ TEST(ReportTest, PoorFitsAreNamedWithWhatTheSilhouettesDoWrong) {
   ASSERT_EQ(warnings.size(), 1u);
   EXPECT_EQ(warnings[0].code, "poor-density-fit");
   EXPECT_TRUE(warnings[0].subject.empty());
-  EXPECT_TRUE(Contains(warnings[0].message, "mean IoU 0.422 over 22 input views (precision 0.909, "
-                                            "recall 0.441): it lacks structure"))
+  EXPECT_TRUE(Contains(warnings[0].message,
+                       "mean IoU 0.422 over 22 input views (precision 0.909, "
+                       "recall 0.441): it lacks structure"))
       << warnings[0].message;
   // A tree larger than the mattes, and a density just above the threshold.
   report.input = Group(8, kPoorFitIou + 0.01, 0.9, 0.9);
