@@ -375,41 +375,44 @@ void MarkPriorViews(const std::vector<std::string>& names, FidelityReport* repor
 
 namespace {
 
-// "mean IoU 0.42 (precision 0.91, recall 0.44)" and, from the weaker of
-// precision and recall, what the silhouettes do wrong.
-std::string FitFigures(const FidelityGroup& group, const char* misses, const char* exceeds) {
-  const bool missing = *group.mean_recall < *group.mean_precision;
-  return "mean IoU " + Fixed(group.mean_iou) + " over " + std::to_string(group.num_views) +
-         " input views (precision " + Fixed(group.mean_precision) + ", recall " +
-         Fixed(group.mean_recall) + "): " + (missing ? misses : exceeds);
-}
+// A poor fit's warning: its code, what reproduces the mattes, and what is
+// wrong when the silhouettes miss the mattes' foreground or exceed it.
+struct PoorFit {
+  const char* code;
+  const char* what;
+  const FidelityGroup FidelityReport::*group;
+  const char* misses;
+  const char* exceeds;
+};
+
+constexpr PoorFit kPoorFits[] = {
+    {"poor-density-fit", "the density", &FidelityReport::input,
+     "it lacks structure the mattes show (thinner than the voxels: raise Density.resolution; or "
+     "shown by some mattes and not others: a wrong or inconsistent matte, or cameras that "
+     "disagree)",
+     "it covers more than the mattes show (soft or missing mattes, cameras that disagree, or "
+     "bounds too loose)"},
+    {"poor-mesh-fit", "the tree's silhouette", &FidelityReport::mesh_input,
+     "branches or foliage the mattes show are missing (the skeleton did not reach them, or the "
+     "radii are too thin)",
+     "the tree is larger than the mattes show (radii or leaves too large, or branches outside the "
+     "crown)"}};
 
 }  // namespace
 
 std::vector<Warning> FidelityWarnings(const FidelityReport& report) {
   std::vector<Warning> warnings;
-  const FidelityGroup& density = report.input;
-  if (density.mean_iou && *density.mean_iou < kPoorFitIou) {
+  for (const PoorFit& fit : kPoorFits) {
+    const FidelityGroup& group = report.*fit.group;
+    if (!group.mean_iou || *group.mean_iou >= kPoorFitIou) continue;
+    // "mean IoU 0.42 ... (precision 0.91, recall 0.44)", and from the weaker
+    // of precision and recall, what the silhouettes do wrong.
+    const bool missing = *group.mean_recall < *group.mean_precision;
     warnings.push_back(
-        {"poor-density-fit",
-         "the density reproduces the mattes poorly, " +
-             FitFigures(density,
-                        "it lacks structure the mattes show (thinner than the voxels: raise "
-                        "Density.resolution; or shown by some mattes and not others: a wrong or "
-                        "inconsistent matte, or cameras that disagree)",
-                        "it covers more than the mattes show (soft or missing mattes, cameras "
-                        "that disagree, or bounds too loose)")});
-  }
-  const FidelityGroup& mesh = report.mesh_input;
-  if (mesh.mean_iou && *mesh.mean_iou < kPoorFitIou) {
-    warnings.push_back(
-        {"poor-mesh-fit",
-         "the tree's silhouette reproduces the mattes poorly, " +
-             FitFigures(mesh,
-                        "branches or foliage the mattes show are missing (the skeleton did not "
-                        "reach them, or the radii are too thin)",
-                        "the tree is larger than the mattes show (radii or leaves too large, "
-                        "or branches outside the crown)")});
+        {fit.code, std::string(fit.what) + " reproduces the mattes poorly, mean IoU " +
+                       Fixed(group.mean_iou) + " over " + std::to_string(group.num_views) +
+                       " input views (precision " + Fixed(group.mean_precision) + ", recall " +
+                       Fixed(group.mean_recall) + "): " + (missing ? fit.misses : fit.exceeds)});
   }
   return warnings;
 }
