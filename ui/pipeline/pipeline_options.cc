@@ -27,6 +27,8 @@ void ReportOptions::Check() const {
   SYLVA_CHECK_INPUT(preview_samples_per_axis >= 1 && preview_samples_per_axis <= 8,
                     "Report.preview_samples_per_axis")
       << "must be between 1 and 8, got " << preview_samples_per_axis;
+  SYLVA_CHECK_INPUT(poor_fit_iou >= 0 && poor_fit_iou <= 1, "Report.poor_fit_iou")
+      << "must be in [0, 1], got " << poor_fit_iou;
 }
 
 void SkeletonOptions::Check() const {
@@ -469,6 +471,9 @@ void RegisterReport(ReportOptions* o, OptionRegistry* r) {
             "width and height of the preview pictures");
   r->AddInt("Report.preview_samples_per_axis", &o->preview_samples_per_axis, "rays",
             "rays per preview pixel along each axis (anti-aliasing)");
+  r->AddDouble("Report.poor_fit_iou", &o->poor_fit_iou, "IoU",
+               "below this mean IoU over the input views the report warns poor-density-fit / "
+               "poor-mesh-fit; 0 = never");
 }
 
 // RegisterMatting's parts, in registration order: the trimap, its refinement.

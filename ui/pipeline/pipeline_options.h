@@ -90,6 +90,9 @@ struct ReportOptions {
   int preview_size = 320;
   // Rays per preview pixel along each axis (anti-aliasing), in [1, 8].
   int preview_samples_per_axis = 2;
+  // Below this mean IoU over the input views (unitless, in [0, 1]) the report
+  // warns poor-density-fit / poor-mesh-fit (FidelityWarnings); 0 = never.
+  double poor_fit_iou = 0.6;
   void Check() const;
 };
 

@@ -400,11 +400,11 @@ constexpr PoorFit kPoorFits[] = {
 
 }  // namespace
 
-std::vector<Warning> FidelityWarnings(const FidelityReport& report) {
+std::vector<Warning> FidelityWarnings(const FidelityReport& report, const ReportOptions& options) {
   std::vector<Warning> warnings;
   for (const PoorFit& fit : kPoorFits) {
     const FidelityGroup& group = report.*fit.group;
-    if (!group.mean_iou || *group.mean_iou >= kPoorFitIou) continue;
+    if (!group.mean_iou || *group.mean_iou >= options.poor_fit_iou) continue;
     // "mean IoU 0.42 ... (precision 0.91, recall 0.44)", and from the weaker
     // of precision and recall, what the silhouettes do wrong.
     const bool missing = *group.mean_recall < *group.mean_precision;

@@ -73,14 +73,13 @@ void MarkPriorViews(const std::vector<std::string>& names, FidelityReport* repor
 void AddWarnings(const std::vector<Warning>& warnings, FidelityReport* report);
 
 // The report's own warnings, when a group of views is poorly reproduced
-// (mean IoU below kPoorFitIou): "poor-density-fit" (the density against the
-// input views' mattes) and "poor-mesh-fit" (the tree's silhouette against
-// them), each saying whether the matte's foreground is missed (recall) or
-// exceeded (precision) and what usually causes it. None for a report
-// without views. A wrong tree is then named in the summary and the report
-// instead of only showing in its figures.
-constexpr double kPoorFitIou = 0.6;
-std::vector<Warning> FidelityWarnings(const FidelityReport& report);
+// (mean IoU below Report.poor_fit_iou): "poor-density-fit" (the density
+// against the input views' mattes) and "poor-mesh-fit" (the tree's
+// silhouette against them), each saying whether the matte's foreground is
+// missed (recall) or exceeded (precision) and what usually causes it. None
+// for a report without views. A wrong tree is then named in the summary and
+// the report instead of only showing in its figures.
+std::vector<Warning> FidelityWarnings(const FidelityReport& report, const ReportOptions& options);
 
 // Adds the mesh's fidelity (AddMeshViewFidelity with the Report options,
 // and its groups) to a report of ComputeFidelity on the same views.

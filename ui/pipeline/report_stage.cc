@@ -64,7 +64,7 @@ StageRun RunReportStage(const StageContext& context) {
     const std::string brief = context.RecordedBrief(stage);
     if (!brief.empty()) briefs[stage] = brief;
   }
-  run.warnings = FidelityWarnings(report);
+  run.warnings = FidelityWarnings(report, context.options.report);
   AddWarnings(run.warnings, &report);
   for (const char* stage : {"matte", "register", "density", "attract", "skeleton", "mesh"}) {
     AddWarnings(context.RecordedWarnings(stage), &report);

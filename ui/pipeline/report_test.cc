@@ -95,11 +95,12 @@ FidelityGroup Group(int views, double iou, double precision, double recall) {
 
 TEST(ReportTest, PoorFitsAreNamedWithWhatTheSilhouettesDoWrong) {
   FidelityReport report;
-  EXPECT_TRUE(FidelityWarnings(report).empty());  // no views (a tree made without photos)
+  const ReportOptions options;
+  EXPECT_TRUE(FidelityWarnings(report, options).empty());  // no views (a tree made without photos)
   // ROMI's figures: the density misses most of the thin siliques.
   report.input = Group(22, 0.422, 0.909, 0.441);
   report.mesh_input = Group(22, 0.85, 0.9, 0.9);
-  std::vector<Warning> warnings = FidelityWarnings(report);
+  std::vector<Warning> warnings = FidelityWarnings(report, options);
   ASSERT_EQ(warnings.size(), 1u);
   EXPECT_EQ(warnings[0].code, "poor-density-fit");
   EXPECT_TRUE(warnings[0].subject.empty());
@@ -108,9 +109,9 @@ TEST(ReportTest, PoorFitsAreNamedWithWhatTheSilhouettesDoWrong) {
                        "recall 0.441): it lacks structure"))
       << warnings[0].message;
   // A tree larger than the mattes, and a density just above the threshold.
-  report.input = Group(8, kPoorFitIou + 0.01, 0.9, 0.9);
+  report.input = Group(8, options.poor_fit_iou + 0.01, 0.9, 0.9);
   report.mesh_input = Group(8, 0.3, 0.31, 0.95);
-  warnings = FidelityWarnings(report);
+  warnings = FidelityWarnings(report, options);
   ASSERT_EQ(warnings.size(), 1u);
   EXPECT_EQ(warnings[0].code, "poor-mesh-fit");
   EXPECT_TRUE(Contains(warnings[0].message, "the tree is larger than the mattes show"))
@@ -118,11 +119,15 @@ TEST(ReportTest, PoorFitsAreNamedWithWhatTheSilhouettesDoWrong) {
   // From real scores: a density filling the tree's bounding box covers far
   // more than the mattes.
   const FidelityReport box = Fixture(0).Report();
-  ASSERT_LT(*box.input.mean_iou, kPoorFitIou);
-  warnings = FidelityWarnings(box);
+  ASSERT_LT(*box.input.mean_iou, options.poor_fit_iou);
+  warnings = FidelityWarnings(box, options);
   ASSERT_EQ(warnings.size(), 1u);
   EXPECT_TRUE(Contains(warnings[0].message, "it covers more than the mattes show"))
       << warnings[0].message;
+  // Report.poor_fit_iou = 0 turns them off.
+  ReportOptions never;
+  never.poor_fit_iou = 0.0;
+  EXPECT_TRUE(FidelityWarnings(box, never).empty());
 }
 
 TEST(ReportTest, PriorViewsAreShownButNotInTheFigures) {
