@@ -80,9 +80,9 @@ BuiltSkeleton BuildSkeleton(const DensityGrid& density, const ImageSet& input_vi
                                        &consolidation, &painted);
   clock.Lap("consolidate");
   const double height = std::max(built.skeleton.Height(), density.voxel_size());
-  const TrunkRadius trunk =
-      ChooseTrunkRadius(input_views, mattes, built.base, height, options.skeleton.trunk_radius,
-                        options.skeleton.trunk_radius_fraction);
+  const TrunkRadius trunk = ChooseTrunkRadius(
+      input_views, mattes, built.skeleton, height, options.skeleton.trunk_radius,
+      options.skeleton.trunk_radius_fraction, options.allometry.diameter_exponent);
   AllometryOptions allometry = options.allometry;
   allometry.trunk_radius = trunk.radius;
   allometry.min_radius = options.skeleton.min_radius_fraction * allometry.trunk_radius;
