@@ -34,6 +34,8 @@ void DensityOptions::Check() const {
       << "must be in [0, 1), got " << carve_threshold;
   SYLVA_CHECK_INPUT(carve_dissent >= 0 && carve_dissent < 0.5, "Density.carve_dissent")
       << "must be in [0, 0.5), got " << carve_dissent;
+  SYLVA_CHECK_INPUT(carve_min_views >= 1, "Density.carve_min_views")
+      << "must be at least 1, got " << carve_min_views;
   SYLVA_CHECK_INPUT(pixels_per_voxel > 0 && pixels_per_voxel <= 64, "Density.pixels_per_voxel")
       << "must be in (0, 64], got " << pixels_per_voxel;
   SYLVA_CHECK_INPUT(rays_per_axis >= 1 && rays_per_axis <= 8, "Density.rays_per_axis")

@@ -117,9 +117,11 @@ void ChooseTrustedViews(const ImageSet& image_set, const std::vector<FloatImage>
   SYLVA_CHECK_INPUT(!trusted->empty(), "mattes") << "no view agrees with the others";
 }
 
-// How many views implicit carving lets disagree (DensityOptions::carve_dissent).
+// How many views implicit carving lets disagree (DensityOptions::carve_dissent
+// and carve_min_views).
 int CarveRank(int num_views, const DensityOptions& options) {
-  return static_cast<int>(std::floor(options.carve_dissent * num_views));
+  const int dissent = static_cast<int>(std::floor(options.carve_dissent * num_views));
+  return std::min(dissent, std::max(0, num_views - options.carve_min_views));
 }
 
 // Views whose mattes are looked at for thin structure (evenly spread).

@@ -135,7 +135,10 @@ void RegisterDensity(DensityOptions* o, OptionRegistry* r) {
   r->AddDouble("Density.carve_dissent", &o->carve_dissent, "share of views",
                "implicit carving lets this share of the views see (nearly) nothing where a "
                "voxel is: thin structure missed by a view or two stays for the least squares "
-               "to decide (0 = minimum over views, the thesis)");
+               "to decide (floor(share x views) views; 0 = minimum over views, the thesis)");
+  r->AddInt("Density.carve_min_views", &o->carve_min_views, "views",
+            "... but never fewer views than this must see something where a voxel is "
+            "(fewer agree on the visual hull's ghosts)");
   r->AddDouble("Density.pixels_per_voxel", &o->pixels_per_voxel, "pixels",
                "images are downsampled so a voxel covers about this many pixels across");
   r->AddInt("Density.rays_per_axis", &o->rays_per_axis, "rays",
