@@ -108,7 +108,7 @@ TrunkWidth MeasureSections(const ImageSet& views, const std::vector<FloatImage>&
   for (const TrunkSection& section : sections) {
     std::vector<double> widths = SectionWidths(views, mattes, section, tree_height, options);
     result.num_measurements += static_cast<int>(widths.size());
-    if (widths.empty() || widths.size() < min_views) continue;
+    if (widths.size() < min_views) continue;
     std::nth_element(widths.begin(), widths.begin() + widths.size() / 2, widths.end());
     const double base_radius = 0.5 * widths[widths.size() / 2] * section.base_factor;
     if (result.radius == 0 || base_radius < result.radius) result.radius = base_radius;
@@ -117,17 +117,6 @@ TrunkWidth MeasureSections(const ImageSet& views, const std::vector<FloatImage>&
 }
 
 }  // namespace
-
-TrunkWidth MeasureTrunkWidth(const ImageSet& views, const std::vector<FloatImage>& mattes,
-                             const Eigen::Vector3d& base, double tree_height,
-                             const TrunkWidthOptions& options) {
-  std::vector<TrunkSection> sections;
-  for (double fraction : options.sample_heights) {
-    sections.push_back(
-        {base + Eigen::Vector3d::UnitZ() * fraction * tree_height, Eigen::Vector3d::UnitZ(), 1.0});
-  }
-  return MeasureSections(views, mattes, sections, tree_height, options);
-}
 
 TrunkWidth MeasureTrunkWidth(const ImageSet& views, const std::vector<FloatImage>& mattes,
                              const SkeletonGraph& skeleton, double tree_height,

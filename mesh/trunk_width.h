@@ -56,10 +56,6 @@ struct TrunkWidth {
 TrunkWidth MeasureTrunkWidth(const ImageSet& views, const std::vector<FloatImage>& mattes,
                              const SkeletonGraph& skeleton, double tree_height,
                              const TrunkWidthOptions& options = TrunkWidthOptions());
-// A vertical trunk standing on `base`, carrying everything at every height.
-TrunkWidth MeasureTrunkWidth(const ImageSet& views, const std::vector<FloatImage>& mattes,
-                             const Eigen::Vector3d& base, double tree_height,
-                             const TrunkWidthOptions& options = TrunkWidthOptions());
 
 // The trunk radius that scales the allometric radii, and how it was found.
 struct TrunkRadius {

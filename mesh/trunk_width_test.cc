@@ -33,7 +33,7 @@ TEST(TrunkWidthTest, MatchesTheSyntheticTrunk) {
     const SyntheticDataset data = MakeSyntheticDataset(options);
     const double height = data.tree.mesh.Bounds().sizes().z();
     const TrunkWidth width =
-        MeasureTrunkWidth(data.image_set, data.mattes, Eigen::Vector3d::Zero(), height);
+        MeasureTrunkWidth(data.image_set, data.mattes, data.tree.skeleton, height);
     const double truth = TrueTrunkRadius(data.tree.skeleton, height);
     EXPECT_GE(width.num_measurements, options.num_views) << SyntheticCameraKindName(kind);
     EXPECT_NEAR(width.radius, truth, 0.2 * truth) << SyntheticCameraKindName(kind);
@@ -53,8 +53,8 @@ SyntheticDataset PinholeViews(int num_views, int image_size) {
 // of the height and up to 12 % of it, painted into every matte: the lowest
 // sections measure the pot, those above it the trunk, and the trunk is the
 // smallest base radius they imply (the median over the lowest heights
-// measured the pot). Along the vertical from the base and along the true
-// skeleton's trunk (its tip counts as strands).
+// measured the pot). Along the true skeleton's trunk (its tip counts as
+// strands).
 TEST(TrunkWidthTest, APotAtTheFootIsNotTheTrunk) {
   const SyntheticDataset data = PinholeViews(4, 384);
   const double height = data.tree.mesh.Bounds().sizes().z();
@@ -76,23 +76,20 @@ TEST(TrunkWidthTest, APotAtTheFootIsNotTheTrunk) {
     }
   }
   const double truth = TrueTrunkRadius(data.tree.skeleton, height);
-  const TrunkWidth vertical =
-      MeasureTrunkWidth(data.image_set, potted, Eigen::Vector3d::Zero(), height);
-  EXPECT_NEAR(vertical.radius, truth, 0.2 * truth);
-  const TrunkWidth along = MeasureTrunkWidth(data.image_set, potted, data.tree.skeleton, height);
-  EXPECT_NEAR(along.radius, truth, 0.25 * truth);
+  const TrunkWidth potted_width =
+      MeasureTrunkWidth(data.image_set, potted, data.tree.skeleton, height);
+  EXPECT_NEAR(potted_width.radius, truth, 0.25 * truth);
   // Without the pot, the same.
   const TrunkWidth clean =
       MeasureTrunkWidth(data.image_set, data.mattes, data.tree.skeleton, height);
   EXPECT_NEAR(clean.radius, truth, 0.25 * truth);
-  std::printf("truth %.4f; potted: vertical %.4f, along the skeleton %.4f; clean %.4f\n", truth,
-              vertical.radius, along.radius, clean.radius);
+  std::printf("truth %.4f; potted %.4f; clean %.4f\n", truth, potted_width.radius, clean.radius);
 }
 
 TEST(TrunkWidthTest, NothingMeasurableGivesZero) {
   const SyntheticDataset data = PinholeViews(2, 64);
   std::vector<FloatImage> empty(2, FloatImage(64, 64, 1, 0.0f));
-  const TrunkWidth width = MeasureTrunkWidth(data.image_set, empty, Eigen::Vector3d::Zero(), 6.0);
+  const TrunkWidth width = MeasureTrunkWidth(data.image_set, empty, data.tree.skeleton, 6.0);
   EXPECT_EQ(width.num_measurements, 0);
   EXPECT_EQ(width.radius, 0.0);
 }
