@@ -53,12 +53,8 @@ for target in "${targets[@]}"; do
       cp -n "$SYLVA_ROOT/$seed" "$corpus/"; fi
   done
   sylva_log "Fuzzing $target for $what ($(ls "$corpus" | wc -l) inputs in its corpus)"
-  # LeakSanitizer's suppression of OpenImageIO's leak (cmake/lsan.supp)
-  # only matches with slow unwinding, which costs ~10x: images only.
-  unwind=1
-  if [ "$target" = image ]; then unwind=0; fi
   set +e
-  LSAN_OPTIONS="suppressions=$SYLVA_ROOT/cmake/lsan.supp:fast_unwind_on_malloc=$unwind" \
+  LSAN_OPTIONS="suppressions=$SYLVA_ROOT/cmake/lsan.supp:fast_unwind_on_malloc=1" \
   "$FUZZ_BUILD/fuzz/${target}_fuzzer" "$corpus" "${limit[@]}" \
     -max_len=65536 -timeout=20 -rss_limit_mb=4096 -print_final_stats=1 \
     -artifact_prefix="$FUZZ_BUILD/findings/${target}-" > "$FUZZ_BUILD/findings/${target}.log" 2>&1

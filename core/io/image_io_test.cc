@@ -121,6 +121,68 @@ TEST(ImageIoTest, MissingAndCorruptFilesAreInputErrors) {
   }
 }
 
+// The PNG's chunks are checked before decoding: the error says where the
+// file breaks.
+TEST(ImageIoTest, DamagedPngSaysWhereItBreaks) {
+  WriteImage(TestDir() / "chunks.png", Gradient(3));
+  const std::string bytes = ReadFileToString(TestDir() / "chunks.png");
+  ASSERT_EQ(bytes.substr(12, 4), "IHDR");
+  ASSERT_EQ(bytes.substr(bytes.size() - 8, 4), "IEND");
+  const auto message = [](const std::string& content) {
+    const fs::path path = TestDir() / "damaged.png";
+    AtomicWriteString(path, content);
+    try {
+      ReadImage(path);
+    } catch (const InputError& error) {
+      EXPECT_EQ(error.source(), path.string());
+      return std::string(error.what());
+    }
+    return std::string("read");
+  };
+  // Cut inside a chunk, just before IEND, and with IEND's type damaged.
+  EXPECT_NE(message(bytes.substr(0, 40)).find("(truncated)"), std::string::npos);
+  EXPECT_NE(message(bytes.substr(0, bytes.size() - 12)).find("before its IEND chunk"),
+            std::string::npos);
+  std::string no_iend = bytes;
+  no_iend[no_iend.size() - 8] = '%';
+  EXPECT_NE(message(no_iend).find("no valid chunk at byte " + std::to_string(bytes.size() - 12)),
+            std::string::npos);
+  // A chunk other than IHDR first.
+  std::string no_ihdr = bytes;
+  no_ihdr[12] = 'X';
+  EXPECT_NE(message(no_ihdr).find("does not start with its IHDR"), std::string::npos);
+  // A huge chunk length.
+  std::string huge = bytes;
+  huge[33] = '\x7f';
+  EXPECT_NE(message(huge).find("the file ends at byte " + std::to_string(bytes.size())),
+            std::string::npos);
+  // The whole file, and bytes after IEND, are fine.
+  EXPECT_EQ(message(bytes), "read");
+  EXPECT_EQ(message(bytes + "trailing"), "read");
+}
+
+// The format is told by the content: a JPEG named .png reads, a text file
+// named .png is refused at once.
+TEST(ImageIoTest, FormatFromContentNotExtension) {
+  const FloatImage image = Gradient(3);
+  WriteImage(TestDir() / "photo.jpg", image);
+  fs::copy_file(TestDir() / "photo.jpg", TestDir() / "photo_named.png",
+                fs::copy_options::overwrite_existing);
+  const FloatImage read = ReadImage(TestDir() / "photo_named.png");
+  EXPECT_EQ(read.width(), image.width());
+  EXPECT_EQ(read.channels(), 3);
+  for (const char* content : {"a text file", "", "GIF89a", "MMMM not a TIFF"}) {
+    AtomicWriteString(TestDir() / "text.png", content);
+    try {
+      ReadImage(TestDir() / "text.png");
+      FAIL() << "read '" << content << "' as an image";
+    } catch (const InputError& error) {
+      EXPECT_NE(std::string(error.what()).find("not an image sylva reads"), std::string::npos)
+          << error.what();
+    }
+  }
+}
+
 TEST(ImageIoTest, TruncatedJpegIsRefused) {
   // libjpeg decodes a truncated JPEG "successfully", padding it with grey.
   const fs::path path = TestDir() / "truncated.jpg";
