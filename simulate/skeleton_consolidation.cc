@@ -162,7 +162,71 @@ std::vector<char> TrimTwigs(const SkeletonGraph& skeleton, const DensityGrid& de
   return removed;
 }
 
-// Steps 2 and 3 on the trimmed skeleton (changed in place).
+// Step 2: zips stretches that run beside their parent axis. A bundle of
+// particles that flowed beside its parent to join it lower down traces the
+// parent's wood twice (on laser-scanned trees, limbs beside the trunk for a
+// fifth of its height, a few centimetres from it). Such an axis starts
+// instead where it leaves the parent: its first stretch, while within
+// `radius` of the parent axis and without side branches, goes, and the first
+// node beyond it joins the parent axis' nearest node at or above the old
+// junction. The parent's nodes between the old junction and the new one
+// carry the axis' strands too (its particles flowed down that wood).
+// Axes are zipped trunk first, so a zipped parent is final before its
+// children; the result lists parents before children.
+SkeletonGraph ZipParallelStretches(const SkeletonGraph& skeleton, double radius, double max_spacing,
+                                   int* zipped_axes) {
+  const double spacing = std::min(max_spacing, 0.5 * radius);
+  const std::vector<BranchAxis> axes = skeleton.BranchAxes();
+  std::vector<int> axis_of(skeleton.NumNodes(), 0);
+  for (size_t a = 1; a < axes.size(); ++a) {
+    for (size_t k = 1; k < axes[a].size(); ++k) axis_of[axes[a][k]] = static_cast<int>(a);
+  }
+  const WoodSamples wood(skeleton, radius, spacing);
+  const std::vector<std::vector<int>> children = skeleton.Children();
+  SkeletonGraph result = skeleton;
+  std::vector<char> removed(skeleton.NumNodes(), 0);
+  for (size_t a = 1; a < axes.size(); ++a) {
+    const BranchAxis& axis = axes[a];
+    const int parent_axis = axis_of[axis[0]];
+    const auto beside_parent = [&](int owner) {
+      return !removed[owner] && axis_of[owner] == parent_axis;
+    };
+    // The first node whose edge leaves the parent (or carries a side branch).
+    size_t leave = 1;
+    while (leave + 1 < axis.size() && children[axis[leave]].size() == 1) {
+      const std::vector<Eigen::Vector3d> samples = EdgeSamples(
+          result.nodes[axis[leave - 1]].position, result.nodes[axis[leave]].position, spacing);
+      const bool beside = std::all_of(samples.begin(), samples.end(), [&](const auto& p) {
+        return wood.AnyWithin(p, beside_parent);
+      });
+      if (!beside) break;
+      ++leave;
+    }
+    if (leave == 1) continue;
+    // The parent axis' nearest node at or above the junction, short of its
+    // tip (whose strands are the particles that started there, not the sum
+    // of children it would gain).
+    const BranchAxis& parent = axes[parent_axis];
+    size_t at = std::find(parent.begin(), parent.end(), axis[0]) - parent.begin();
+    size_t nearest = at;
+    const Eigen::Vector3d& free_end = result.nodes[axis[leave]].position;
+    for (size_t k = at; k + 1 < parent.size(); ++k) {
+      if (removed[parent[k]]) continue;
+      if ((result.nodes[parent[k]].position - free_end).norm() <
+          (result.nodes[parent[nearest]].position - free_end).norm()) {
+        nearest = k;
+      }
+    }
+    const int carried = result.nodes[axis[1]].strands;
+    for (size_t k = at + 1; k <= nearest; ++k) result.nodes[parent[k]].strands += carried;
+    for (size_t k = 1; k < leave; ++k) removed[axis[k]] = 1;
+    result.nodes[axis[leave]].parent_idx = parent[nearest];
+    ++*zipped_axes;
+  }
+  return ParentsFirst(WithoutNodes(result, removed));
+}
+
+// Steps 3 and 4 on the trimmed and zipped skeleton (changed in place).
 void RemoveUnsupportedAxes(const DensityGrid& density, const ConsolidationOptions& options,
                            double height, double spacing, const PaintedDensity* painted,
                            SkeletonGraph* skeleton, ConsolidationSummary* summary) {
@@ -214,6 +278,7 @@ void RemoveUnsupportedAxes(const DensityGrid& density, const ConsolidationOption
 ConsolidationOptions ConsolidationOptions::Off() {
   ConsolidationOptions off;
   off.redundancy_fraction = 0;
+  off.zip_radius_voxels = 0;
   off.min_support = 0;
   off.max_empty_fraction = 1;
   off.base_fraction = 0;
@@ -231,6 +296,8 @@ void ConsolidationOptions::Check() const {
       << "must be in [1, 8], got " << support_radius_voxels;
   SYLVA_CHECK_INPUT(support_opacity > 0 && support_opacity <= 1, "Skeleton.support_opacity")
       << "must be in (0, 1], got " << support_opacity;
+  SYLVA_CHECK_INPUT(zip_radius_voxels >= 0 && zip_radius_voxels <= 8, "Skeleton.zip_radius_voxels")
+      << "must be in [0, 8], got " << zip_radius_voxels;
   SYLVA_CHECK_INPUT(max_strand_fraction >= 0 && max_strand_fraction <= 1,
                     "Skeleton.thin_strand_fraction")
       << "must be in [0, 1], got " << max_strand_fraction;
@@ -247,7 +314,8 @@ void ConsolidationOptions::Check() const {
 std::string ConsolidationSummary::BriefReport() const {
   std::ostringstream out;
   out << "Consolidation: length " << length_before << " -> " << length_after << " ("
-      << trimmed_nodes << " twig nodes trimmed (redundant or unsupported), " << bare_axes
+      << trimmed_nodes << " twig nodes trimmed (redundant or unsupported), " << zipped_axes
+      << " branches beside their parent zipped onto it, " << bare_axes
       << " bare sticks through empty density removed (" << bare_nodes << " nodes), " << base_axes
       << " thin branches at the trunk's foot removed (" << base_nodes << " nodes)";
   if (painted_axes > 0) out << ", " << painted_axes << " kept: they carry painted density";
@@ -276,6 +344,10 @@ SkeletonGraph ConsolidateSkeleton(const SkeletonGraph& skeleton, const DensityGr
     summary->trimmed_nodes = static_cast<int>(std::count(trimmed.begin(), trimmed.end(), 1));
     for (int i = 0; i < skeleton.NumNodes(); ++i) result.nodes[i].strands = strands[i];
     result = WithoutNodes(result, trimmed);
+  }
+  if (options.zip_radius_voxels > 0) {
+    result = ZipParallelStretches(result, options.zip_radius_voxels * density.voxel_size(), spacing,
+                                  &summary->zipped_axes);
   }
   RemoveUnsupportedAxes(density, options, height, spacing, painted, &result, summary);
   summary->length_after = result.TotalLength();

@@ -4,9 +4,7 @@
 // ran side by side without merging (one branch drawn several times), single
 // particles' paths through foliage, thin traces that reach the root beside
 // the trunk, and sticks across empty space from particles seeded in the
-// density's ghost regions. On synthetic trees with known skeletons these made
-// 1.8 x (leafless) to 3.9 x (leafy) the true branch length
-// (tests/bench/skeleton_probe.cc). Three steps, in this order:
+// density's ghost regions. Four steps, in this order:
 //   1. redundant and unsupported twigs: branch axes, the trunk included,
 //      are trimmed from their tips, axes of higher order first, while the
 //      trimmed stretch lies within redundancy_fraction of the height of
@@ -15,21 +13,28 @@
 //      trace its parent continues into; where the child reaches farther
 //      (its tip is not redundant) the parent's own tail beside it goes
 //      instead, and the child continues the parent;
-//   2. bare sticks: thin axes of which more than max_empty_fraction runs
+//   2. stretches beside the parent: a branch whose first stretch runs
+//      within zip_radius_voxels of its parent axis (a bundle that flowed
+//      beside the trunk to join it lower down: the same wood traced twice,
+//      which step 1 cannot see from the branch's tip) starts where it
+//      leaves the parent instead;
+//   3. bare sticks: thin axes of which more than max_empty_fraction runs
 //      through empty density (no opacity in the 3 x 3 x 3 voxels around) are
 //      removed with what they carry; the density is the evidence of wood or
 //      foliage, a trace through empty space has none;
-//   3. thin branches at the base: thin axes leaving the trunk within
+//   4. thin branches at the base: thin axes leaving the trunk within
 //      base_fraction of the height above the root are removed (the trunk's
 //      foot holds no twigs; they are particles seeded in the trunk's own
 //      width, or that reached the base beside it).
-// On the 5 leafless synthetic trees of the probe (livewire graphs) this gave
-// 0.94-1.10 x the true length (was 1.69-1.90 x) at precision 0.80-0.86
-// (was 0.82-0.88); on the 4 ITSMe laser-scanned trees rendered to photos
-// 0.78-1.32 x at precision 0.97-1.00 (the trunk's top traced twice made
-// 1.43-1.56 x before the trunk's tail could be trimmed, and a radius of 1 %
-// instead of 1.25 % of the height kept 1.36 x on average); leafy crowns
-// keep about 3.4 x: in foliage the density cannot tell a twig from leaves.
+// On the 5 leafless synthetic trees of tests/bench/skeleton_probe.cc
+// (livewire graphs) this gave
+// 0.91-1.07 x the true length (1.69-1.90 x unconsolidated) at precision
+// 0.80-0.85; on the 4 ITSMe laser-scanned trees rendered to photos
+// 0.70-1.13 x at precision 0.96-1.00. Without step 2 those were 0.94-1.10 x
+// and 0.78-1.32 x: limbs traced beside the trunk for a fifth of its height
+// made buttressed tree 2 1.32 x, and hid that buttressed tree 1 misses a
+// third of its crown (recall 0.68 either way). Leafy crowns keep about
+// 3.2 x: in foliage the density cannot tell a twig from leaves.
 // Every junction still carries the sum of its children (pipe model): the
 // strands of trimmed twigs move onto the wood that stays there (their
 // particles did flow into it), those of removed sticks and base branches
@@ -49,6 +54,10 @@ struct ConsolidationOptions {
   // A twig stretch within this distance of other wood, as a fraction of the
   // tree height, is redundant; 0 disables it.
   double redundancy_fraction = 0.0125;
+  // Step 2: a branch's first stretch within this distance of its parent
+  // axis, in voxels of the density, is zipped onto the parent; 0 disables
+  // it.
+  double zip_radius_voxels = 0.5;
   // A twig stretch is also trimmed where the density does not support it:
   // on average less than min_support of the voxels within
   // support_radius_voxels (a cube) reach support_opacity. 0 disables it.
@@ -56,12 +65,12 @@ struct ConsolidationOptions {
   int support_radius_voxels = 2;
   double support_opacity = 0.05;
   // Axes carrying at most this fraction of the root's strands are "thin"
-  // (steps 2 and 3); thicker limbs are trusted.
+  // (steps 3 and 4); thicker limbs are trusted.
   double max_strand_fraction = 0.05;
-  // Step 2: a thin axis with more than this fraction of its length in empty
+  // Step 3: a thin axis with more than this fraction of its length in empty
   // density is removed; 1 disables the step.
   double max_empty_fraction = 0.8;
-  // Step 3: thin axes leaving the trunk below this fraction of the height
+  // Step 4: thin axes leaving the trunk below this fraction of the height
   // are removed; 0 disables the step.
   double base_fraction = 0.03;
   // Distance between samples along edges, as a fraction of the height.
@@ -77,15 +86,16 @@ struct ConsolidationOptions {
 struct ConsolidationSummary {
   double length_before = 0, length_after = 0;  // world units
   int trimmed_nodes = 0;                       // step 1
-  int bare_axes = 0, bare_nodes = 0;           // step 2
-  int base_axes = 0, base_nodes = 0;           // step 3
-  int painted_axes = 0;  // thin axes spared steps 2 and 3: they carry painted density
+  int zipped_axes = 0;                         // step 2
+  int bare_axes = 0, bare_nodes = 0;           // step 3
+  int base_axes = 0, base_nodes = 0;           // step 4
+  int painted_axes = 0;  // thin axes spared steps 3 and 4: they carry painted density
   std::string BriefReport() const;
 };
 
 // The consolidated skeleton: node order kept (parents before children),
 // orders reassigned. `density` is the one the skeleton was flowed in. Thin
-// axes that carry `painted` density (optional) are spared steps 2 and 3.
+// axes that carry `painted` density (optional) are spared steps 3 and 4.
 SkeletonGraph ConsolidateSkeleton(const SkeletonGraph& skeleton, const DensityGrid& density,
                                   const ConsolidationOptions& options,
                                   ConsolidationSummary* summary,

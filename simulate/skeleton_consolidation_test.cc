@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "core/util/check.h"
 
 namespace sylva {
@@ -76,6 +78,98 @@ TEST(SkeletonConsolidationTest, KeepsTheWoodTheDensityShowsOnce) {
   }
 }
 
+// A limb that flowed beside the trunk (a fifth of a voxel off it) from 2 m
+// to 5 m before leaving it: zipped, it leaves the trunk at 6 m, the trunk's
+// node nearest to where it parts, and the trunk carries its strands up to
+// there. Its node 1 cm off the trunk at 3 m is beyond half a voxel of the
+// trunk when the zip radius is a fifth of a voxel, and nothing is zipped.
+SkeletonGraph TrunkWithLimbBeside(const Eigen::Vector3d& out_at = {1, 0, 7}) {
+  SkeletonGraph s;
+  const int root = s.AddNode({0, 0, 0}, 0, -1, 0);
+  const int low = s.AddNode({0, 0, 2}, 0, root, 0);
+  const int mid = s.AddNode({0, 0, 4}, 0, low, 0);
+  const int high = s.AddNode({0, 0, 6}, 0, mid, 0);
+  s.AddNode({0, 0, 10}, 0, high, 0);                          // 4: trunk top
+  const int beside = s.AddNode({0.01, 0, 3}, 0, low, 1);      // 5
+  const int parting = s.AddNode({0.01, 0, 5}, 0, beside, 1);  // 6
+  const int out = s.AddNode(out_at, 0, parting, 1);           // 7
+  s.AddNode(out_at + Eigen::Vector3d(1, 0, 1), 0, out, 1);    // 8: limb tip
+  const int strands[] = {80, 80, 50, 50, 50, 30, 30, 30, 30};
+  for (int i = 0; i < s.NumNodes(); ++i) s.nodes[i].strands = strands[i];
+  s.AssignOrders();
+  return s;
+}
+
+TEST(SkeletonConsolidationTest, ZipsALimbTracedBesideItsParent) {
+  const SkeletonGraph skeleton = TrunkWithLimbBeside();
+  DensityGrid density(kVoxel, Eigen::Vector3d::Zero());
+  AddWood({0, 0, 0}, {0, 0, 10}, &density);
+  AddWood({0, 0, 5}, {1, 0, 7}, &density);
+  AddWood({1, 0, 7}, {2, 0, 8}, &density);
+  ConsolidationSummary summary;
+  const SkeletonGraph result =
+      ConsolidateSkeleton(skeleton, density, ConsolidationOptions(), &summary);
+  SCOPED_TRACE(summary.BriefReport());
+  EXPECT_NO_THROW(result.Check());
+  EXPECT_EQ(summary.zipped_axes, 1);
+  ASSERT_EQ(result.NumNodes(), 7);
+  EXPECT_NEAR(result.TotalLength(), 10.0 + 2 * std::sqrt(2.0), 1e-9);
+  for (int i = 0; i < result.NumNodes(); ++i) {
+    EXPECT_LT(result.nodes[i].parent_idx, i) << "parents come first";
+  }
+  const std::vector<std::vector<int>> children = result.Children();
+  for (int i = 0; i < result.NumNodes(); ++i) {
+    if (children[i].empty()) continue;
+    int sum = 0;
+    for (int child : children[i]) sum += result.nodes[child].strands;
+    EXPECT_EQ(sum, result.nodes[i].strands) << "node " << i;
+  }
+  // The limb leaves the trunk at 6 m; the trunk carries 80 strands to there.
+  for (const SkeletonNode& node : result.nodes) {
+    if (node.position.isApprox(Eigen::Vector3d(1, 0, 7))) {
+      EXPECT_TRUE(result.nodes[node.parent_idx].position.isApprox(Eigen::Vector3d(0, 0, 6)));
+    }
+    if (node.position.x() == 0 && node.position.z() > 0 && node.position.z() <= 6) {
+      EXPECT_EQ(node.strands, 80) << node.position.z();
+    }
+  }
+  ConsolidationOptions narrow;
+  narrow.zip_radius_voxels = 0.1;  // 5 mm: the limb runs 1 cm off the trunk
+  ConsolidationSummary kept;
+  EXPECT_EQ(ConsolidateSkeleton(skeleton, density, narrow, &kept).NumNodes(), 9);
+  EXPECT_EQ(kept.zipped_axes, 0);
+}
+
+// Where the limb parts nearest the trunk's tip, it joins the node below:
+// the tip's strands are the particles that started there, and it would
+// carry a child's without their sum.
+TEST(SkeletonConsolidationTest, ZippedLimbsDoNotJoinTheParentsTip) {
+  const SkeletonGraph skeleton = TrunkWithLimbBeside({1, 0, 9.5});
+  DensityGrid density(kVoxel, Eigen::Vector3d::Zero());
+  AddWood({0, 0, 0}, {0, 0, 10}, &density);
+  AddWood({0, 0, 5}, {1, 0, 9.5}, &density);
+  AddWood({1, 0, 9.5}, {2, 0, 10.5}, &density);
+  ConsolidationSummary summary;
+  const SkeletonGraph result =
+      ConsolidateSkeleton(skeleton, density, ConsolidationOptions(), &summary);
+  EXPECT_EQ(summary.zipped_axes, 1);
+  const std::vector<std::vector<int>> children = result.Children();
+  for (int i = 0; i < result.NumNodes(); ++i) {
+    if (result.nodes[i].position.isApprox(Eigen::Vector3d(0, 0, 10))) {
+      EXPECT_TRUE(children[i].empty());
+      EXPECT_EQ(result.nodes[i].strands, 50);
+    }
+    if (result.nodes[i].position.isApprox(Eigen::Vector3d(1, 0, 9.5))) {
+      EXPECT_TRUE(
+          result.nodes[result.nodes[i].parent_idx].position.isApprox(Eigen::Vector3d(0, 0, 6)));
+    }
+    if (children[i].empty()) continue;
+    int sum = 0;
+    for (int child : children[i]) sum += result.nodes[child].strands;
+    EXPECT_EQ(sum, result.nodes[i].strands) << "node " << i;
+  }
+}
+
 TEST(SkeletonConsolidationTest, DisabledStepsKeepEverything) {
   const Scene scene = MakeScene();
   const SkeletonGraph result =
@@ -87,6 +181,9 @@ TEST(SkeletonConsolidationTest, DisabledStepsKeepEverything) {
 TEST(SkeletonConsolidationTest, RejectsBadOptions) {
   ConsolidationOptions options;
   options.min_support = 2;
+  EXPECT_THROW(options.Check(), InputError);
+  options = ConsolidationOptions();
+  options.zip_radius_voxels = -1;
   EXPECT_THROW(options.Check(), InputError);
 }
 

@@ -1,5 +1,8 @@
 #include "simulate/skeleton_editing.h"
 
+#include <functional>
+#include <queue>
+
 namespace sylva {
 
 void MarkDescendants(const SkeletonGraph& skeleton, std::vector<char>* removed) {
@@ -46,6 +49,28 @@ SkeletonGraph WithoutNodes(const SkeletonGraph& skeleton, const std::vector<char
   }
   kept.AssignOrders();
   return kept;
+}
+
+SkeletonGraph ParentsFirst(const SkeletonGraph& skeleton) {
+  const int root = skeleton.RootIdx();
+  if (root < 0) return skeleton;
+  const std::vector<std::vector<int>> children = skeleton.Children();
+  // Visited smallest index first among the nodes whose parent is placed.
+  std::priority_queue<int, std::vector<int>, std::greater<int>> ready;
+  ready.push(root);
+  std::vector<int> new_index(skeleton.NumNodes(), -1);
+  SkeletonGraph ordered;
+  ordered.radius_source = skeleton.radius_source;
+  while (!ready.empty()) {
+    const int node = ready.top();
+    ready.pop();
+    new_index[node] = ordered.NumNodes();
+    ordered.nodes.push_back(skeleton.nodes[node]);
+    const int parent = skeleton.nodes[node].parent_idx;
+    ordered.nodes.back().parent_idx = parent >= 0 ? new_index[parent] : -1;
+    for (int child : children[node]) ready.push(child);
+  }
+  return ordered;
 }
 
 }  // namespace sylva

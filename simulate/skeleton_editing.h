@@ -21,6 +21,11 @@ void TakeStrands(const std::vector<int>& strands_taken, const std::vector<char>&
 // child), in the same relative order, orders reassigned.
 SkeletonGraph WithoutNodes(const SkeletonGraph& skeleton, const std::vector<char>& removed);
 
+// The same skeleton with its nodes reordered so that every parent comes
+// before its children (after re-parenting), otherwise in their present
+// order: a skeleton already so ordered is returned unchanged.
+SkeletonGraph ParentsFirst(const SkeletonGraph& skeleton);
+
 }  // namespace sylva
 
 #endif  // SYLVA_SIMULATE_SKELETON_EDITING_H_

@@ -294,6 +294,9 @@ void RegisterSkeleton(SkeletonOptions* o, AllometryOptions* allometry, OptionReg
   r->AddDouble("Skeleton.redundancy_fraction", &o->consolidation.redundancy_fraction, "",
                "twig stretches within this fraction of the height of other wood are trimmed "
                "(a branch traced twice keeps one trace; 0 = keep all)");
+  r->AddDouble("Skeleton.zip_radius_voxels", &o->consolidation.zip_radius_voxels, "voxels",
+               "a branch's first stretch within this distance of its parent (wood traced "
+               "twice side by side) is zipped onto the parent (0 = keep)");
   r->AddDouble("Skeleton.min_support", &o->consolidation.min_support, "",
                "twig stretches where less than this share of the voxels around reach "
                "Skeleton.support_opacity are trimmed (0 = keep)");
