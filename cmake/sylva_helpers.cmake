@@ -96,6 +96,9 @@ function(sylva_add_fuzzer name)
   target_link_libraries(${target} PRIVATE ${ARGN})
   if(NOT SYLVA_BUILD_FUZZERS AND SYLVA_BUILD_TESTS)
     file(STRINGS ${PROJECT_SOURCE_DIR}/fuzz/seeds.txt lines REGEX "^${name} ")
+    # A seed added to the list re-configures the build (the tests' arguments).
+    set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS
+                 ${PROJECT_SOURCE_DIR}/fuzz/seeds.txt)
     string(REGEX REPLACE "^${name} +" "" seeds "${lines}")
     separate_arguments(seeds UNIX_COMMAND "${seeds}")
     list(TRANSFORM seeds PREPEND ${PROJECT_SOURCE_DIR}/)
