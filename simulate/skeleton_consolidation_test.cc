@@ -51,6 +51,17 @@ Scene MakeScene() {
   return scene;
 }
 
+// Every junction carries the sum of its children (pipe model).
+void ExpectStrandsAddUp(const SkeletonGraph& skeleton) {
+  const std::vector<std::vector<int>> children = skeleton.Children();
+  for (int i = 0; i < skeleton.NumNodes(); ++i) {
+    if (children[i].empty()) continue;
+    int sum = 0;
+    for (int child : children[i]) sum += skeleton.nodes[child].strands;
+    EXPECT_EQ(sum, skeleton.nodes[i].strands) << "node " << i;
+  }
+}
+
 TEST(SkeletonConsolidationTest, KeepsTheWoodTheDensityShowsOnce) {
   const Scene scene = MakeScene();
   ConsolidationSummary summary;
@@ -69,13 +80,7 @@ TEST(SkeletonConsolidationTest, KeepsTheWoodTheDensityShowsOnce) {
   EXPECT_EQ(result.nodes[0].strands, 98);
   EXPECT_EQ(result.nodes[1].strands, 98);
   EXPECT_EQ(result.nodes[2].strands, 78);
-  const std::vector<std::vector<int>> children = result.Children();
-  for (int i = 0; i < result.NumNodes(); ++i) {
-    if (children[i].empty()) continue;
-    int sum = 0;
-    for (int child : children[i]) sum += result.nodes[child].strands;
-    EXPECT_EQ(sum, result.nodes[i].strands) << "node " << i;
-  }
+  ExpectStrandsAddUp(result);
 }
 
 // A limb that flowed beside the trunk (a fifth of a voxel off it) from 2 m
@@ -100,12 +105,19 @@ SkeletonGraph TrunkWithLimbBeside(const Eigen::Vector3d& out_at = {1, 0, 7}) {
   return s;
 }
 
-TEST(SkeletonConsolidationTest, ZipsALimbTracedBesideItsParent) {
-  const SkeletonGraph skeleton = TrunkWithLimbBeside();
+// The density of TrunkWithLimbBeside(out_at): the trunk and the limb from
+// where it parts.
+DensityGrid TrunkAndLimbDensity(const Eigen::Vector3d& out_at = {1, 0, 7}) {
   DensityGrid density(kVoxel, Eigen::Vector3d::Zero());
   AddWood({0, 0, 0}, {0, 0, 10}, &density);
-  AddWood({0, 0, 5}, {1, 0, 7}, &density);
-  AddWood({1, 0, 7}, {2, 0, 8}, &density);
+  AddWood({0, 0, 5}, out_at, &density);
+  AddWood(out_at, out_at + Eigen::Vector3d(1, 0, 1), &density);
+  return density;
+}
+
+TEST(SkeletonConsolidationTest, ZipsALimbTracedBesideItsParent) {
+  const SkeletonGraph skeleton = TrunkWithLimbBeside();
+  const DensityGrid density = TrunkAndLimbDensity();
   ConsolidationSummary summary;
   const SkeletonGraph result =
       ConsolidateSkeleton(skeleton, density, ConsolidationOptions(), &summary);
@@ -117,13 +129,7 @@ TEST(SkeletonConsolidationTest, ZipsALimbTracedBesideItsParent) {
   for (int i = 0; i < result.NumNodes(); ++i) {
     EXPECT_LT(result.nodes[i].parent_idx, i) << "parents come first";
   }
-  const std::vector<std::vector<int>> children = result.Children();
-  for (int i = 0; i < result.NumNodes(); ++i) {
-    if (children[i].empty()) continue;
-    int sum = 0;
-    for (int child : children[i]) sum += result.nodes[child].strands;
-    EXPECT_EQ(sum, result.nodes[i].strands) << "node " << i;
-  }
+  ExpectStrandsAddUp(result);
   // The limb leaves the trunk at 6 m; the trunk carries 80 strands to there.
   for (const SkeletonNode& node : result.nodes) {
     if (node.position.isApprox(Eigen::Vector3d(1, 0, 7))) {
@@ -145,13 +151,9 @@ TEST(SkeletonConsolidationTest, ZipsALimbTracedBesideItsParent) {
 // carry a child's without their sum.
 TEST(SkeletonConsolidationTest, ZippedLimbsDoNotJoinTheParentsTip) {
   const SkeletonGraph skeleton = TrunkWithLimbBeside({1, 0, 9.5});
-  DensityGrid density(kVoxel, Eigen::Vector3d::Zero());
-  AddWood({0, 0, 0}, {0, 0, 10}, &density);
-  AddWood({0, 0, 5}, {1, 0, 9.5}, &density);
-  AddWood({1, 0, 9.5}, {2, 0, 10.5}, &density);
   ConsolidationSummary summary;
-  const SkeletonGraph result =
-      ConsolidateSkeleton(skeleton, density, ConsolidationOptions(), &summary);
+  const SkeletonGraph result = ConsolidateSkeleton(skeleton, TrunkAndLimbDensity({1, 0, 9.5}),
+                                                   ConsolidationOptions(), &summary);
   EXPECT_EQ(summary.zipped_axes, 1);
   const std::vector<std::vector<int>> children = result.Children();
   for (int i = 0; i < result.NumNodes(); ++i) {
@@ -163,11 +165,8 @@ TEST(SkeletonConsolidationTest, ZippedLimbsDoNotJoinTheParentsTip) {
       EXPECT_TRUE(
           result.nodes[result.nodes[i].parent_idx].position.isApprox(Eigen::Vector3d(0, 0, 6)));
     }
-    if (children[i].empty()) continue;
-    int sum = 0;
-    for (int child : children[i]) sum += result.nodes[child].strands;
-    EXPECT_EQ(sum, result.nodes[i].strands) << "node " << i;
   }
+  ExpectStrandsAddUp(result);
 }
 
 TEST(SkeletonConsolidationTest, DisabledStepsKeepEverything) {
