@@ -92,7 +92,35 @@ class VdbLayoutReader {
   uint64_t at_ = 0;
 };
 
-// Checks a .vdb file's layout up to each grid's metadata before OpenVDB
+// A grid's transform (the scale-and-translate maps sylva's grids use) and
+// its tree's root: OpenVDB reads each root tile's active flag straight into
+// a bool, and a damaged byte there is undefined behaviour (found by
+// fuzz/vdb_fuzzer.cc under UBSan).
+void CheckTransformAndRoot(const fs::path& path, VdbLayoutReader* in) {
+  const std::string map = in->String("a grid's transform");
+  // The maps' fields: translation (scale-translate maps), scale, voxel size,
+  // inverse scale, inverse squared scale, inverse twice the scale.
+  const uint64_t map_bytes = map == "UniformScaleTranslateMap" || map == "ScaleTranslateMap"
+                                 ? 6 * 24
+                             : map == "UniformScaleMap" || map == "ScaleMap" ? 5 * 24
+                                                                             : 0;
+  SYLVA_CHECK_INPUT(map_bytes > 0, path.string())
+      << "the grid's transform '" << map
+      << "' is not read (sylva's grids are scaled and translated voxels)";
+  in->Skip(map_bytes, "a grid's transform");
+  in->Fail(in->Read<int32_t>("the tree's buffer count") != 1, "the tree's buffer count");
+  in->Read<float>("the tree's background");
+  const uint32_t tiles = in->Read<uint32_t>("the root's tile count");
+  in->Read<uint32_t>("the root's child count");
+  in->Fail(tiles > (in->size() - in->at()) / 17, "the root's tile count");
+  for (uint32_t t = 0; t < tiles; ++t) {
+    in->Skip(16, "a root tile");  // origin and value
+    const char active = in->Read<char>("a root tile's active flag");
+    in->Fail(active != 0 && active != 1, "a root tile's active flag");
+  }
+}
+
+// Checks a .vdb file's layout up to each grid's root node before OpenVDB
 // reads it, and that no grid is compressed with zlib or Blosc. OpenVDB
 // 10.0's readers trust the sizes a file states: a damaged string length or
 // metadata size allocates gigabytes, and its zlib and Blosc readers copy a
@@ -135,7 +163,8 @@ void CheckVdbLayout(const fs::path& path) {
            "decompressors trust the sizes a file states); save it without compression "
            "(in OpenVDB: io::File::setCompression(io::COMPRESS_ACTIVE_MASK))";
     in.Metadata("a grid's metadata");
-    in.Fail(in.at() > block, "a grid's metadata");
+    CheckTransformAndRoot(path, &in);
+    in.Fail(in.at() > block, "a grid's metadata, transform or root");
     in.Seek(end);
   }
 }

@@ -111,6 +111,14 @@ TEST(VdbIoTest, DamagedLayoutSaysWhereItBreaks) {
   AtomicWriteString(path, positions);
   EXPECT_NE(ReadError(path).find("a grid's positions at byte"), std::string::npos)
       << ReadError(path);
+  // The tree's buffer count after the transform (OpenVDB would go on to read
+  // the root's tiles from the wrong place).
+  std::string buffers = bytes;
+  const size_t tree = bytes.find("UniformScaleMap") + 15 + 5 * 24;
+  ASSERT_EQ(buffers[tree], 1);
+  buffers[tree] = 2;
+  AtomicWriteString(path, buffers);
+  EXPECT_NE(ReadError(path).find("the tree's buffer count"), std::string::npos) << ReadError(path);
   // Not a .vdb, and an old file version.
   std::string magic = bytes;
   magic[1] = 'X';
