@@ -97,6 +97,7 @@ constexpr Signature kSignatures[] = {{"\x89PNG\r\n\x1a\n"sv, "png"},
 // (or a damaged PNG).
 const char* ImageFormat(const fs::path& path) {
   std::ifstream file(path, std::ios::binary);
+  SYLVA_CHECK_INPUT(file.is_open(), path.string()) << "cannot open image file";
   char head[8] = {};
   file.read(head, sizeof(head));
   const std::string_view start(head, static_cast<size_t>(file.gcount()));
