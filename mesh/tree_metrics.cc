@@ -301,12 +301,7 @@ double BranchingAngle(const SkeletonGraph& skeleton, const std::vector<BranchAxi
 std::vector<OrderMetrics> BranchMetrics(const SkeletonGraph& skeleton,
                                         const std::vector<BranchAxis>& axes,
                                         const std::vector<int>& orders, double direction_fraction) {
-  // The axis each node belongs to (a junction belongs to the axis it continues).
-  std::vector<int> axis_of_node(skeleton.nodes.size(), 0);
-  for (size_t a = 0; a < axes.size(); ++a) {
-    for (size_t k = (a == 0 ? 0 : 1); k < axes[a].size(); ++k)
-      axis_of_node[axes[a][k]] = static_cast<int>(a);
-  }
+  const std::vector<int> axis_of_node = skeleton.AxisOfNodes(axes);
   const int max_order = *std::max_element(orders.begin(), orders.end());
   std::vector<OrderMetrics> metrics(max_order + 1);
   std::vector<std::vector<double>> angles(max_order + 1);

@@ -108,10 +108,7 @@ std::vector<char> TrimTwigs(const SkeletonGraph& skeleton, const DensityGrid& de
                             std::vector<int>* strands) {
   std::vector<char> removed(skeleton.NumNodes(), 0);
   const std::vector<BranchAxis> axes = skeleton.BranchAxes();
-  std::vector<int> axis_of(skeleton.NumNodes(), 0);
-  for (size_t a = 1; a < axes.size(); ++a) {
-    for (size_t k = 1; k < axes[a].size(); ++k) axis_of[axes[a][k]] = static_cast<int>(a);
-  }
+  const std::vector<int> axis_of = skeleton.AxisOfNodes(axes);
   const WoodSamples wood(skeleton, std::max(radius, spacing), spacing);
   const std::vector<std::vector<int>> children = skeleton.Children();
   // Axes are listed by order: backwards, the outermost go first.
@@ -175,12 +172,11 @@ std::vector<char> TrimTwigs(const SkeletonGraph& skeleton, const DensityGrid& de
 // children; the result lists parents before children.
 SkeletonGraph ZipParallelStretches(const SkeletonGraph& skeleton, double radius, double max_spacing,
                                    int* zipped_axes) {
+  // Samples at most half the radius apart, so that a stretch between two
+  // samples cannot stray far beyond the radius unseen.
   const double spacing = std::min(max_spacing, 0.5 * radius);
   const std::vector<BranchAxis> axes = skeleton.BranchAxes();
-  std::vector<int> axis_of(skeleton.NumNodes(), 0);
-  for (size_t a = 1; a < axes.size(); ++a) {
-    for (size_t k = 1; k < axes[a].size(); ++k) axis_of[axes[a][k]] = static_cast<int>(a);
-  }
+  const std::vector<int> axis_of = skeleton.AxisOfNodes(axes);
   const WoodSamples wood(skeleton, radius, spacing);
   const std::vector<std::vector<int>> children = skeleton.Children();
   SkeletonGraph result = skeleton;

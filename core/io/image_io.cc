@@ -130,7 +130,10 @@ std::unique_ptr<OIIO::ImageInput> OpenImage(const fs::path& path) {
   config.attribute("oiio:UnassociatedAlpha", 1);
   OIIO::ImageSpec spec;
   if (!input->open(path.string(), spec, config)) {
-    std::string reason = OneLine(input->geterror() + OIIO::geterror());
+    std::string reason = input->geterror();
+    const std::string global = OIIO::geterror();
+    if (!global.empty()) reason += (reason.empty() ? "" : "\n") + global;
+    reason = OneLine(reason);
     if (reason.empty()) reason = "damaged " + std::string(format) + " file";
     SYLVA_INPUT_ERROR(path.string()) << "cannot read image: " << reason;
   }

@@ -58,7 +58,8 @@ class VdbLayoutReader {
     at_ = position;
     file_.seekg(static_cast<std::streamoff>(position));
   }
-  // Metadata: a count, then per item its name, type name, value size and value.
+  // Metadata: a count, then per item its name, type name, value size and
+  // value (12 bytes at the least: two empty names and a size).
   void Metadata(const char* what) {
     const int32_t count = Read<int32_t>(what);
     Fail(count < 0 || uint64_t(count) > (size_ - at_) / 12, what);
@@ -112,6 +113,7 @@ void CheckTransformAndRoot(const fs::path& path, VdbLayoutReader* in) {
   in->Read<float>("the tree's background");
   const uint32_t tiles = in->Read<uint32_t>("the root's tile count");
   in->Read<uint32_t>("the root's child count");
+  // A tile: origin (3 int32), value (float), active flag (1 byte).
   in->Fail(tiles > (in->size() - in->at()) / 17, "the root's tile count");
   for (uint32_t t = 0; t < tiles; ++t) {
     in->Skip(16, "a root tile");  // origin and value
@@ -143,7 +145,8 @@ void CheckVdbLayout(const fs::path& path) {
   in.Skip(36, "the file's UUID");
   in.Metadata("the file's metadata");
   const int32_t num_grids = in.Read<int32_t>("the grid count");
-  in.Fail(num_grids < 0 || uint64_t(num_grids) > in.size() / 40, "the grid count");
+  // A descriptor holds 3 strings and 3 positions: 36 bytes at the least.
+  in.Fail(num_grids < 0 || uint64_t(num_grids) > in.size() / 36, "the grid count");
   for (int32_t g = 0; g < num_grids; ++g) {
     in.String("a grid name");
     in.String("a grid type");
@@ -152,7 +155,7 @@ void CheckVdbLayout(const fs::path& path) {
     const uint64_t block = in.Read<uint64_t>("a grid's data position");
     const uint64_t end = in.Read<uint64_t>("a grid's end position");
     in.Fail(grid < in.at() || block < grid || end < block, "a grid's positions");
-    in.Skip(end - in.at(), "a grid");  // within the file
+    in.Skip(end - in.at(), "a grid");  // checks that the grid ends within the file
     in.Seek(grid);
     const uint32_t compression = in.Read<uint32_t>("a grid's compression flags");
     in.Fail(compression > (kCompressZip | kCompressActiveMask | kCompressBlosc),

@@ -57,6 +57,14 @@ int ContinuationChild(const SkeletonGraph& graph, const std::vector<int>& childr
 
 }  // namespace
 
+std::vector<int> SkeletonGraph::AxisOfNodes(const std::vector<BranchAxis>& axes) const {
+  std::vector<int> axis_of(nodes.size(), 0);
+  for (size_t a = 1; a < axes.size(); ++a) {
+    for (size_t k = 1; k < axes[a].size(); ++k) axis_of[axes[a][k]] = static_cast<int>(a);
+  }
+  return axis_of;
+}
+
 std::vector<BranchAxis> SkeletonGraph::BranchAxes(std::vector<int>* orders) const {
   return BranchAxes(
       [this](int, const std::vector<int>& children) { return ContinuationChild(*this, children); },

@@ -55,6 +55,9 @@ class SkeletonGraph {
   using ContinuationRule = std::function<int(int node, const std::vector<int>& children)>;
   std::vector<BranchAxis> BranchAxes(const ContinuationRule& continuation,
                                      std::vector<int>* orders) const;
+  // The axis (index into `axes`, from BranchAxes()) each node lies on: a
+  // junction node lies on the axis it continues, the root on the trunk.
+  std::vector<int> AxisOfNodes(const std::vector<BranchAxis>& axes) const;
   // Sets every node's `order` from BranchAxes() (a junction node keeps the
   // order of the axis it continues).
   void AssignOrders();
