@@ -130,5 +130,112 @@ TEST(VdbIoTest, DamagedLayoutSaysWhereItBreaks) {
   EXPECT_NE(ReadError(path).find("file version 200"), std::string::npos) << ReadError(path);
 }
 
+// Voxels in several root children, leaves full and sparse, and values
+// stored as half floats (as other tools may write them): the layout check
+// walks each as OpenVDB reads it.
+TEST(VdbIoTest, TreesOfEveryShapeAreRead) {
+  DensityGrid grid(0.5, Eigen::Vector3d(1, 2, 3));
+  for (int i = 0; i < 8; ++i) {
+    for (int j = 0; j < 8; ++j) {
+      for (int k = 0; k < 8; ++k) grid.SetValue({i, j, k}, 0.001f * (i + 8 * j + 64 * k));
+    }
+  }
+  for (const Eigen::Vector3i& far : {Eigen::Vector3i(-5000, 3, 9), Eigen::Vector3i(4100, -9000, 1),
+                                     Eigen::Vector3i(70, 80, 90000)}) {
+    grid.SetValue(far, 0.5f);
+  }
+  const fs::path path = TestDir() / "shapes.vdb";
+  WriteDensityGrid(path, grid);
+  const DensityGrid back = ReadDensityGrid(path);
+  EXPECT_EQ(back.NumActiveVoxels(), grid.NumActiveVoxels());
+  grid.ForEachActive([&](const Eigen::Vector3i& ijk, float alpha) {
+    EXPECT_FLOAT_EQ(back.Value(ijk), alpha) << ijk.transpose();
+  });
+
+  InitializeOpenVdb();
+  openvdb::FloatGrid::Ptr half = VdbGrid(grid).deepCopy();
+  half->setSaveFloatAsHalf(true);
+  const fs::path half_path = TestDir() / "half.vdb";
+  openvdb::io::File file(half_path.string());
+  file.setCompression(openvdb::io::COMPRESS_ACTIVE_MASK);
+  file.write(openvdb::GridCPtrVec{half});
+  file.close();
+  const DensityGrid from_half = ReadDensityGrid(half_path);
+  EXPECT_EQ(from_half.NumActiveVoxels(), grid.NumActiveVoxels());
+  EXPECT_NEAR(from_half.Value({7, 7, 7}), 0.511f, 1e-3f);
+  EXPECT_NEAR(from_half.Value({4100, -9000, 1}), 0.5f, 1e-3f);
+}
+
+// A damaged child mask states thousands of nodes a few kilobytes cannot
+// hold: refused before OpenVDB allocates them (it asked for 1.6 GB).
+TEST(VdbIoTest, NodesTheFileCannotHoldAreRefused) {
+  const fs::path ours = TestDir() / "nodes.vdb";
+  WriteDensityGrid(ours, SmallGrid());
+  const std::string bytes = ReadFileToString(ours);
+  const fs::path path = TestDir() / "damaged_nodes.vdb";
+  // After the transform: buffer count, background, tile and child counts,
+  // the first child's origin, then its child mask.
+  const size_t tree = bytes.find("UniformScaleMap") + 15 + 5 * 24;
+  std::string bomb = bytes;
+  std::memset(bomb.data() + tree + 28, 0xff, 512);
+  AtomicWriteString(path, bomb);
+  // Refused by the layout check (the message depends on which of the bytes
+  // read as the stated nodes' fields breaks first), not by OpenVDB.
+  EXPECT_NE(ReadError(path), "read");
+  EXPECT_EQ(ReadError(path).find("cannot read OpenVDB file"), std::string::npos) << ReadError(path);
+  // A child whose origin is not on the root's grid of 4096 voxels.
+  std::string origin = bytes;
+  origin[tree + 16] = 1;
+  AtomicWriteString(path, origin);
+  EXPECT_NE(ReadError(path).find("a root child's origin"), std::string::npos) << ReadError(path);
+  // Another grid type.
+  std::string type = bytes;
+  type.replace(type.find("Tree_float_5_4_3"), 16, "Tree_int32_5_4_3");
+  AtomicWriteString(path, type);
+  EXPECT_NE(ReadError(path).find("float grids"), std::string::npos) << ReadError(path);
+  // Cut anywhere in the leaves' values.
+  AtomicWriteString(path, bytes.substr(0, bytes.size() - 30));
+  EXPECT_NE(ReadError(path).find("runs past its end"), std::string::npos) << ReadError(path);
+}
+
+// OpenVDB reads a metadata value of fixed size whatever size the file
+// states, a bool's byte into a bool, and allocates the leaf count its
+// delayed-loading metadata states: each is checked first.
+TEST(VdbIoTest, MetadataOpenVdbWouldMisreadIsRefused) {
+  const fs::path ours = TestDir() / "metadata.vdb";
+  DensityGrid grid(0.125, Eigen::Vector3d::Zero());  // enough leaves for Blosc to pay
+  for (int i = 0; i < 400; ++i) grid.SetValue({8 * i, 0, 0}, 0.5f);
+  WriteDensityGrid(ours, grid);
+  const std::string bytes = ReadFileToString(ours);
+  const fs::path path = TestDir() / "damaged_metadata.vdb";
+  const auto expect_refused = [&](const std::string& damaged) {
+    AtomicWriteString(path, damaged);
+    EXPECT_NE(ReadError(path).find("a grid's metadata at byte"), std::string::npos)
+        << ReadError(path);
+  };
+  std::string vec3i = bytes;  // the bounding box's size 12 stated as 4
+  ASSERT_EQ(vec3i[bytes.find("vec3i") + 5], 12);
+  vec3i[bytes.find("vec3i") + 5] = 4;
+  expect_refused(vec3i);
+  const size_t delayed = bytes.find("__delayedload") + 13;  // then size, leaf count
+  std::string leaves = bytes;
+  leaves[delayed + 7] = '\x7f';
+  expect_refused(leaves);
+  std::string blosc = bytes;  // the mask's Blosc buffer stated 1 byte longer
+  ASSERT_GT(blosc[delayed + 8], 0);
+  ++blosc[delayed + 8];
+  expect_refused(blosc);
+  // A bool whose byte is 2 (undefined behaviour in OpenVDB): the string
+  // "class" made a bool (the file's size kept).
+  std::string boolean = bytes;
+  const size_t type = bytes.find("string", bytes.find("class"));
+  boolean.replace(type - 4, 4 + 6 + 4, std::string("\x04\0\0\0bool\x01\0\0\0\x02\0", 14));
+  expect_refused(boolean);
+  std::string unknown = bytes;  // a type OpenVDB does not register
+  unknown.replace(bytes.find("vec3i"), 5, "vec9z");
+  AtomicWriteString(path, unknown);
+  EXPECT_NE(ReadError(path).find("metadata of type 'vec9z'"), std::string::npos) << ReadError(path);
+}
+
 }  // namespace
 }  // namespace sylva
