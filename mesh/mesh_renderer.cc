@@ -67,7 +67,9 @@ class MeshRenderer::Impl {
   RTCRayHit MakeRayHit(const Ray3d& ray, double* t_start) const;
 
   // Renders `channels` channels; `shade(hit, pixel)` adds one hit's colour to
-  // the pixel's first channels - 1 values, the last channel is coverage.
+  // the pixel's first channels - 1 values, the last channel is coverage. One
+  // channel (coverage alone) needs no hit's place: any hit will do, which
+  // Embree finds sooner than the first (rtcOccluded, as for shadow rays).
   using ShadeFn = std::function<void(const Hit&, float*)>;
   FloatImage Render(const Camera& camera, const Rigid3d& cam_from_world, int samples_per_axis,
                     int channels, const ShadeFn& shade) const;
@@ -84,10 +86,12 @@ class MeshRenderer::Impl {
   struct RowBuffers {
     std::vector<RTCRayHit> ray_hits;
     std::vector<double> t_starts;
+    std::vector<RTCRay> rays;  // coverage alone
   };
   void RenderRow(const Camera& camera, const Rigid3d& world_from_cam, int samples_per_axis, int row,
                  const ShadeFn& shade, RowBuffers* buffers, FloatImage* image) const;
   // Averages the traced rays of one row (`samples` consecutive rays per pixel).
+  static void CoverRow(const RowBuffers& buffers, int samples, int row, FloatImage* image);
   static void ShadeRow(const RowBuffers& buffers, int samples, int row, const ShadeFn& shade,
                        FloatImage* image);
 
@@ -192,9 +196,30 @@ void MeshRenderer::Impl::RenderRow(const Camera& camera, const Rigid3d& world_fr
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+  if (image->channels() == 1) {
+    buffers->rays.resize(num_rays);
+    for (size_t k = 0; k < num_rays; ++k) buffers->rays[k] = buffers->ray_hits[k].ray;
+    rtcOccluded1M(scene_, &context, buffers->rays.data(), static_cast<unsigned>(num_rays),
+                  sizeof(RTCRay));
+    CoverRow(*buffers, samples, row, image);
+    return;
+  }
   rtcIntersect1M(scene_, &context, buffers->ray_hits.data(), static_cast<unsigned>(num_rays),
                  sizeof(RTCRayHit));
   ShadeRow(*buffers, samples, row, shade, image);
+}
+
+void MeshRenderer::Impl::CoverRow(const RowBuffers& buffers, int samples, int row,
+                                  FloatImage* image) {
+  for (int col = 0; col < image->width(); ++col) {
+    int hits = 0;
+    for (int k = 0; k < samples; ++k) {
+      // Embree sets an occluded ray's tfar to -inf; the others keep theirs
+      // (>= 0: infinity, or 0 for a ray made inactive by MakeRayHit).
+      hits += buffers.rays[static_cast<size_t>(col) * samples + k].tfar < 0.0f ? 1 : 0;
+    }
+    image->at(col, row, 0) = static_cast<float>(hits) / static_cast<float>(samples);
+  }
 }
 
 void MeshRenderer::Impl::ShadeRow(const RowBuffers& buffers, int samples, int row,
