@@ -282,9 +282,15 @@ void CheckVdbLayout(const fs::path& path) {
   VdbLayoutReader in(path);
   in.Fail(in.Read<uint64_t>("the magic number") != kVdbMagic, "the magic number (not a .vdb)");
   const uint32_t version = in.Read<uint32_t>("the file version");
-  SYLVA_CHECK_INPUT(version >= kFirstVersionWithGridCompression && version < 1000, path.string())
+  // The layout walked here is that of the versions from OpenVDB 3 to the
+  // linked library's; a later one may differ (OpenVDB itself only warns).
+  SYLVA_CHECK_INPUT(
+      version >= kFirstVersionWithGridCompression && version <= openvdb::OPENVDB_FILE_VERSION,
+      path.string())
       << "OpenVDB file version " << version << " is not read (versions "
-      << kFirstVersionWithGridCompression << " and later: OpenVDB 3 onwards)";
+      << kFirstVersionWithGridCompression << " to " << openvdb::OPENVDB_FILE_VERSION
+      << ": OpenVDB 3 to " << openvdb::OPENVDB_LIBRARY_MAJOR_VERSION << "."
+      << openvdb::OPENVDB_LIBRARY_MINOR_VERSION << ")";
   in.Read<uint32_t>("the library's major version");
   in.Read<uint32_t>("the library's minor version");
   in.Fail(in.Read<char>("the grid offsets flag") != 1, "a file without grid offsets");

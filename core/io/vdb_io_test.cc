@@ -128,6 +128,9 @@ TEST(VdbIoTest, DamagedLayoutSaysWhereItBreaks) {
   old[8] = static_cast<char>(200);
   AtomicWriteString(path, old);
   EXPECT_NE(ReadError(path).find("file version 200"), std::string::npos) << ReadError(path);
+  old[8] = static_cast<char>(240);  // newer than the linked OpenVDB
+  AtomicWriteString(path, old);
+  EXPECT_NE(ReadError(path).find("file version 240"), std::string::npos) << ReadError(path);
 }
 
 // Voxels in several root children, leaves full and sparse, and values
