@@ -138,7 +138,11 @@ class VdbLayoutReader {
     const uint32_t uncompressed = Read<uint32_t>(what);
     Skip(4, what);
     const uint32_t compressed = Read<uint32_t>(what);
-    Fail(uncompressed != raw_bytes || compressed != bytes, what);
+    // OpenVDB pads buffers of 48 to 127 bytes to 128 before compressing
+    // them (points/StreamCompression.h: BLOSC_PAD_BYTES).
+    Fail((uncompressed != raw_bytes && !(raw_bytes < 128 && uncompressed == 128)) ||
+             compressed != bytes,
+         what);
     Seek(start);
     Skip(bytes, what);
   }

@@ -167,6 +167,15 @@ TEST(VdbIoTest, TreesOfEveryShapeAreRead) {
   EXPECT_EQ(from_half.NumActiveVoxels(), grid.NumActiveVoxels());
   EXPECT_NEAR(from_half.Value({7, 7, 7}), 0.511f, 1e-3f);
   EXPECT_NEAR(from_half.Value({4100, -9000, 1}), 0.5f, 1e-3f);
+
+  // The delayed-loading metadata holds a byte per leaf, raw or compressed
+  // (padded to 128 bytes when 48 to 127 leaves): every count reads.
+  for (int leaves : {1, 47, 48, 90, 127, 128, 400}) {
+    DensityGrid row(0.125, Eigen::Vector3d::Zero());
+    for (int i = 0; i < leaves; ++i) row.SetValue({8 * i, 0, 0}, 0.5f);
+    WriteDensityGrid(path, row);
+    EXPECT_EQ(ReadDensityGrid(path).NumActiveVoxels(), leaves);
+  }
 }
 
 // A damaged child mask states thousands of nodes a few kilobytes cannot
