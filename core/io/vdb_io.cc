@@ -10,6 +10,8 @@
 #include <new>
 #include <string>
 
+#include <openvdb/points/StreamCompression.h>
+
 #include "core/types/density_grid_vdb.h"
 #include "core/util/check.h"
 #include "core/util/file_util.h"
@@ -26,6 +28,11 @@ constexpr uint64_t kVdbMagic = 0x56444220;
 constexpr uint32_t kFirstVersionWithGridCompression = 222;  // flags per grid
 constexpr uint32_t kCompressZip = 0x1, kCompressActiveMask = 0x2, kCompressBlosc = 0x4;
 const std::string kFloatTree = "Tree_float_5_4_3", kHalfSuffix = "_HalfFloat";
+// That tree's nodes, as OpenVDB defines them: internal nodes of 32^3 and
+// 16^3 entries (log2 of their side: 5 and 4) above leaves of 8^3 voxels.
+using UpperNode = openvdb::FloatTree::RootNodeType::ChildNodeType;
+using LowerNode = UpperNode::ChildNodeType;
+using LeafNode = LowerNode::ChildNodeType;
 // The metadata types OpenVDB registers (openvdb.cc) whose values have a
 // fixed size, in bytes; besides these, "string" and "__delayedload".
 const std::map<std::string, uint32_t> kFixedMetadataBytes = {
@@ -122,7 +129,7 @@ class VdbLayoutReader {
     Need(bytes, what);
     const uint64_t end = at_ + bytes;
     const uint32_t leaves = Read<uint32_t>(what);
-    Fail(leaves > size_ / 64, what);  // a leaf's mask alone takes 64 bytes
+    Fail(leaves > size_ / LeafNode::NodeMaskType::memUsage(), what);  // its mask alone
     DelayedLoadBuffer(leaves, /*optional=*/false, what);
     DelayedLoadBuffer(uint64_t{leaves} * 8, /*optional=*/true, what);
     Fail(at_ > end, what);
@@ -138,9 +145,9 @@ class VdbLayoutReader {
     const uint32_t uncompressed = Read<uint32_t>(what);
     Skip(4, what);
     const uint32_t compressed = Read<uint32_t>(what);
-    // OpenVDB pads buffers of 48 to 127 bytes to 128 before compressing
-    // them (points/StreamCompression.h: BLOSC_PAD_BYTES).
-    Fail((uncompressed != raw_bytes && !(raw_bytes < 128 && uncompressed == 128)) ||
+    // OpenVDB pads small buffers to BLOSC_PAD_BYTES before compressing them.
+    const uint64_t padded = openvdb::compression::BLOSC_PAD_BYTES;
+    Fail((uncompressed != raw_bytes && !(raw_bytes < padded && uncompressed == padded)) ||
              compressed != bytes,
          what);
     Seek(start);
@@ -208,15 +215,15 @@ class FloatTreeLayout {
       std::array<int32_t, 3> origin;
       for (int32_t& coordinate : origin) {
         coordinate = in_->Read<int32_t>("a root child");
-        in_->Fail(coordinate % 4096 != 0, "a root child's origin");
+        in_->Fail(coordinate % static_cast<int32_t>(UpperNode::DIM) != 0, "a root child's origin");
       }
       in_->Fail(c > 0 && !(last < origin), "a root child's origin");
       last = origin;
-      InternalTopology(5);
+      InternalTopology(UpperNode::LOG2DIM);
     }
     for (uint64_t leaf = 0; leaf < leaves_; ++leaf) {
-      const uint64_t active = MaskBitsSet(3, "a leaf's value mask");
-      Values(3, active, "a leaf's values");
+      const uint64_t active = MaskBitsSet(LeafNode::LOG2DIM, "a leaf's value mask");
+      Values(LeafNode::LOG2DIM, active, "a leaf's values");
     }
   }
 
@@ -235,10 +242,10 @@ class FloatTreeLayout {
     RefuseActiveTiles(MaskBitsSet(log2_dim, "an internal node's value mask") > 0);
     Values(log2_dim, 0, "an internal node's values");
     for (uint64_t c = 0; c < children; ++c) {
-      if (log2_dim == 5) {
-        InternalTopology(4);
+      if (log2_dim == UpperNode::LOG2DIM) {
+        InternalTopology(LowerNode::LOG2DIM);
       } else {
-        in_->Skip(64, "a leaf's value mask");
+        in_->Skip(LeafNode::NodeMaskType::memUsage(), "a leaf's value mask");
         ++leaves_;
       }
     }
