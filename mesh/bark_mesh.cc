@@ -184,10 +184,26 @@ class BarkAttempt {
   // the chain between two joints whose hulls cross.
   std::set<int> CrossingJunctions(const TriangleMesh& mesh, CrossingTracker* crossings,
                                   std::set<std::pair<int, int>>* merges) const {
-    std::vector<int> junctions;
+    // Junctions by x, each with the distance within which it is near (its
+    // largest radius's ring times kNearJunction): a crossing looks only at
+    // those whose x lies within the largest such distance of its own.
+    struct Junction {
+      double x;
+      int node;
+      double ring;
+    };
+    std::vector<Junction> junctions;
+    double reach = 0.0;
     for (int i = 0; i < skeleton_.NumNodes(); ++i) {
-      if (children_[i].size() >= 2) junctions.push_back(i);
+      if (children_[i].size() < 2) continue;
+      double r = skeleton_.nodes[i].radius;
+      for (int v : children_[i]) r = std::max(r, skeleton_.nodes[v].radius);
+      junctions.push_back({Position(i).x(), i, RingRadius(r)});
+      reach = std::max(reach, kNearJunction * junctions.back().ring);
     }
+    std::sort(junctions.begin(), junctions.end(), [](const Junction& a, const Junction& b) {
+      return a.x < b.x || (a.x == b.x && a.node < b.node);
+    });
     std::set<int> culprits;
     for (const auto& [a, b] : crossings->Find(mesh)) {
       for (const BarkTriangleOrigin* o : {&origins_[a], &origins_[b]}) {
@@ -218,15 +234,17 @@ class BarkAttempt {
       for (int t : {a, b}) {
         for (int k = 0; k < 3; ++k) c += mesh.vertices[mesh.triangles[t][k]].cast<double>() / 6;
       }
+      // The nearest in units of its ring (ties: the lowest node).
       int best = -1;
       double best_ratio = kNearJunction;
-      for (int u : junctions) {
-        double r = skeleton_.nodes[u].radius;
-        for (int v : children_[u]) r = std::max(r, skeleton_.nodes[v].radius);
-        const double ratio = (c - Position(u)).norm() / RingRadius(r);
-        if (ratio < best_ratio) {
+      const auto first =
+          std::lower_bound(junctions.begin(), junctions.end(), c.x() - reach,
+                           [](const Junction& junction, double x) { return junction.x < x; });
+      for (auto it = first; it != junctions.end() && it->x <= c.x() + reach; ++it) {
+        const double ratio = (c - Position(it->node)).norm() / it->ring;
+        if (ratio < best_ratio || (ratio == best_ratio && best >= 0 && it->node < best)) {
           best_ratio = ratio;
-          best = u;
+          best = it->node;
         }
       }
       if (best >= 0 && group_[best] < 0) culprits.insert(best);

@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "core/util/check.h"
@@ -22,14 +23,12 @@ namespace {
 // would have infinite extinction and weight).
 constexpr double kMaxOpacity = 1.0 - 1e-6;
 
-// The voxels of the active voxels' bounding box grown by a margin, x
-// fastest. The margin keeps the outermost layer empty.
+// The voxels of a bounding box (index space) grown by a margin, x fastest.
+// The margin keeps the outermost layer empty.
 class DenseBox {
  public:
-  DenseBox(const DensityGrid& density, int margin) {
-    Eigen::Vector3i hi;
-    density.ActiveIndexBounds(&lo_, &hi);
-    lo_ -= Eigen::Vector3i::Constant(margin);
+  DenseBox(const Eigen::Vector3i& lo, const Eigen::Vector3i& hi, int margin) {
+    lo_ = lo - Eigen::Vector3i::Constant(margin);
     dims_ = hi + Eigen::Vector3i::Constant(margin) - lo_ + Eigen::Vector3i::Ones();
     strides_ = {1, static_cast<size_t>(dims_.x()), static_cast<size_t>(dims_.x()) * dims_.y()};
   }
@@ -45,14 +44,13 @@ class DenseBox {
   int Coordinate(size_t index, int axis) const {
     return static_cast<int>(index / strides_[axis] % dims_[axis]);
   }
+  bool Contains(const Eigen::Vector3i& ijk) const {
+    const Eigen::Vector3i d = ijk - lo_;
+    return (d.array() >= 0).all() && (d.array() < dims_.array()).all();
+  }
   // The world z of the centres of box layer `layer`.
   double WorldZ(const DensityGrid& density, int layer) const {
     return density.WorldFromIndex(Eigen::Vector3d(0, 0, lo_.z() + layer)).z();
-  }
-  // The box layer of the first voxels whose centres lie at or above `z`.
-  int FirstLayerAbove(const DensityGrid& density, double z) const {
-    const double k = std::ceil(density.IndexFromWorld(Eigen::Vector3d(0, 0, z)).z() - 1e-9);
-    return static_cast<int>(std::clamp(k - lo_.z(), 0.0, static_cast<double>(dims_.z())));
   }
 
  private:
@@ -74,18 +72,24 @@ double SelfWeightedMedian(std::vector<float> values) {
   return values.empty() ? 0.0 : values.back();
 }
 
-// Per box voxel, the extinction of the crown's voxels (0 elsewhere).
-std::vector<float> CrownExtinction(const DensityGrid& density, const DenseBox& box,
-                                   int first_layer) {
-  std::vector<float> sigma(box.Size(), 0.0f);
+// The crown's voxels: active, centre at or above `crown_base_z`, with their
+// extinction (> 0).
+struct CrownVoxel {
+  Eigen::Vector3i ijk;
+  float sigma;
+};
+std::vector<CrownVoxel> CrownVoxels(const DensityGrid& density, double crown_base_z) {
+  const double first_k =
+      std::ceil(density.IndexFromWorld(Eigen::Vector3d(0, 0, crown_base_z)).z() - 1e-9);
   const double voxel_size = density.voxel_size();
+  std::vector<CrownVoxel> voxels;
   density.ForEachActive([&](const Eigen::Vector3i& ijk, float alpha) {
-    const size_t index = box.Index(ijk);
-    if (box.Coordinate(index, 2) < first_layer) return;
-    sigma[index] =
+    if (ijk.z() < first_k) return;
+    const auto sigma =
         static_cast<float>(-std::log1p(-std::min<double>(alpha, kMaxOpacity)) / voxel_size);
+    if (sigma > 0) voxels.push_back({ijk, sigma});
   });
-  return sigma;
+  return voxels;
 }
 
 // Dilates `mask` by a cube of half side `w` voxels (one axis at a time).
@@ -95,12 +99,16 @@ void Dilate(const DenseBox& box, int w, std::vector<char>* mask) {
   for (int axis = 0; axis < 3; ++axis) {
     const int n = box.Dim(axis);
     const size_t stride = box.Stride(axis);
-    for (size_t start = 0; start < mask->size(); ++start) {
-      if (box.Coordinate(start, axis) != 0) continue;  // each line once, from its first voxel
-      prefix.assign(n + 1, 0);
-      for (int i = 0; i < n; ++i) prefix[i + 1] = prefix[i] + (*mask)[start + i * stride];
-      for (int i = 0; i < n; ++i) {
-        out[start + i * stride] = prefix[std::min(n, i + w + 1)] > prefix[std::max(0, i - w)];
+    // Each line along `axis` once, from its first voxel.
+    const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+    for (int j = 0; j < box.Dim(v); ++j) {
+      for (int i = 0; i < box.Dim(u); ++i) {
+        const size_t start = i * box.Stride(u) + j * box.Stride(v);
+        prefix.assign(n + 1, 0);
+        for (int k = 0; k < n; ++k) prefix[k + 1] = prefix[k] + (*mask)[start + k * stride];
+        for (int k = 0; k < n; ++k) {
+          out[start + k * stride] = prefix[std::min(n, k + w + 1)] > prefix[std::max(0, k - w)];
+        }
       }
     }
     mask->swap(out);
@@ -119,20 +127,30 @@ void Close(const DenseBox& box, int w, std::vector<char>* mask) {
 // Adds to `mask` every voxel the outside (flood fill from the box's empty
 // corner, 6-connected) does not reach.
 void FillCavities(const DenseBox& box, std::vector<char>* mask) {
+  // Scanline flood fill: runs along x, seeds in the four neighbouring rows.
+  const int nx = box.Dim(0), ny = box.Dim(1), nz = box.Dim(2);
   std::vector<char> outside(mask->size(), 0);
-  std::vector<size_t> stack = {0};
-  outside[0] = 1;
-  while (!stack.empty()) {
-    const size_t index = stack.back();
-    stack.pop_back();
-    for (int axis = 0; axis < 3; ++axis) {
-      const int at = box.Coordinate(index, axis);
-      for (int step : {-1, 1}) {
-        if (at + step < 0 || at + step >= box.Dim(axis)) continue;
-        const size_t next = step < 0 ? index - box.Stride(axis) : index + box.Stride(axis);
-        if ((*mask)[next] || outside[next]) continue;
-        outside[next] = 1;
-        stack.push_back(next);
+  const auto open = [&](size_t index) { return !(*mask)[index] && !outside[index]; };
+  std::vector<Eigen::Vector3i> seeds = {Eigen::Vector3i::Zero()};
+  while (!seeds.empty()) {
+    const Eigen::Vector3i seed = seeds.back();
+    seeds.pop_back();
+    const size_t row = seed.y() * box.Stride(1) + seed.z() * box.Stride(2);
+    if (!open(row + seed.x())) continue;
+    int x0 = seed.x(), x1 = seed.x();
+    while (x0 > 0 && open(row + x0 - 1)) --x0;
+    while (x1 + 1 < nx && open(row + x1 + 1)) ++x1;
+    for (int x = x0; x <= x1; ++x) outside[row + x] = 1;
+    const std::pair<int, int> neighbours[4] = {{seed.y() - 1, seed.z()},
+                                               {seed.y() + 1, seed.z()},
+                                               {seed.y(), seed.z() - 1},
+                                               {seed.y(), seed.z() + 1}};
+    for (const auto& [y, z] : neighbours) {
+      if (y < 0 || y >= ny || z < 0 || z >= nz) continue;
+      const size_t next = y * box.Stride(1) + z * box.Stride(2);
+      // One seed per run of open voxels beside [x0, x1].
+      for (int x = x0; x <= x1; ++x) {
+        if (open(next + x) && (x == x0 || !open(next + x - 1))) seeds.emplace_back(x, y, z);
       }
     }
   }
@@ -143,20 +161,21 @@ void FillCavities(const DenseBox& box, std::vector<char>* mask) {
 // its extinction over the median of its 26 neighbours' in the envelope.
 double Share(const DenseBox& box, const std::vector<char>& envelope,
              const std::vector<float>& sigma, size_t index, std::vector<float>* neighbours) {
+  // The envelope never touches the box's outer layer: neighbours exist.
   bool surface = false;
+  for (int axis = 0; axis < 3 && !surface; ++axis) {
+    surface = !envelope[index - box.Stride(axis)] || !envelope[index + box.Stride(axis)];
+  }
+  if (!surface) return 1.0;
   neighbours->clear();
   for (int dz = -1; dz <= 1; ++dz) {
     for (int dy = -1; dy <= 1; ++dy) {
       for (int dx = -1; dx <= 1; ++dx) {
-        // The envelope never touches the box's outer layer: neighbours exist.
         const size_t n = index + dx + dy * box.Stride(1) + dz * box.Stride(2);
-        if (n == index) continue;
-        if (std::abs(dx) + std::abs(dy) + std::abs(dz) == 1 && !envelope[n]) surface = true;
-        if (envelope[n] && sigma[n] > 0) neighbours->push_back(sigma[n]);
+        if (n != index && envelope[n] && sigma[n] > 0) neighbours->push_back(sigma[n]);
       }
     }
   }
-  if (!surface) return 1.0;
   if (neighbours->empty()) return sigma[index] > 0 ? 1.0 : 0.0;
   auto middle = neighbours->begin() + neighbours->size() / 2;
   std::nth_element(neighbours->begin(), middle, neighbours->end());
@@ -172,28 +191,40 @@ DensityCrown MeasureDensityCrown(const DensityGrid& density, double crown_base_z
   if (density.IsEmpty()) return crown;
   const double voxel_size = density.voxel_size();
   const int w = static_cast<int>(std::lround(options.scale / voxel_size));
-  const DenseBox box(density, w + 2);
-  const std::vector<float> sigma =
-      CrownExtinction(density, box, box.FirstLayerAbove(density, crown_base_z));
-  std::vector<float> active;
-  for (float s : sigma) {
-    if (s > 0) active.push_back(s);
+  const std::vector<CrownVoxel> voxels = CrownVoxels(density, crown_base_z);
+  if (voxels.empty()) return crown;
+  std::vector<float> sigmas;
+  for (const CrownVoxel& voxel : voxels) sigmas.push_back(voxel.sigma);
+  const double support = options.support_fraction * SelfWeightedMedian(std::move(sigmas));
+  // The envelope lies within w voxels of the supported voxels (closing), its
+  // surface's neighbours one more: a box around them with a margin of w + 2
+  // holds everything the measure reads, and is often much smaller than the
+  // grid's.
+  Eigen::Vector3i lo = Eigen::Vector3i::Constant(std::numeric_limits<int>::max());
+  Eigen::Vector3i hi = Eigen::Vector3i::Constant(std::numeric_limits<int>::min());
+  for (const CrownVoxel& voxel : voxels) {
+    if (voxel.sigma < support) continue;
+    lo = lo.cwiseMin(voxel.ijk);
+    hi = hi.cwiseMax(voxel.ijk);
   }
-  if (active.empty()) return crown;
-  const double support = options.support_fraction * SelfWeightedMedian(std::move(active));
+  const DenseBox box(lo, hi, w + 2);
+  std::vector<float> sigma(box.Size(), 0.0f);
+  for (const CrownVoxel& voxel : voxels) {
+    if (box.Contains(voxel.ijk)) sigma[box.Index(voxel.ijk)] = voxel.sigma;
+  }
   std::vector<char> envelope(sigma.size());
   for (size_t i = 0; i < sigma.size(); ++i) envelope[i] = sigma[i] > 0 && sigma[i] >= support;
   Close(box, w, &envelope);
   FillCavities(box, &envelope);
-  double voxels = 0.0;
+  double envelope_voxels = 0.0;
   int top_layer = -1;
   std::vector<float> neighbours;
   for (size_t i = 0; i < envelope.size(); ++i) {
     if (!envelope[i]) continue;
-    voxels += Share(box, envelope, sigma, i, &neighbours);
-    top_layer = std::max(top_layer, box.Coordinate(i, 2));
+    envelope_voxels += Share(box, envelope, sigma, i, &neighbours);
+    top_layer = std::max(top_layer, static_cast<int>(i / box.Stride(2)));
   }
-  crown.volume = voxels * std::pow(voxel_size, 3);
+  crown.volume = envelope_voxels * std::pow(voxel_size, 3);
   if (top_layer >= 0) crown.top_z = box.WorldZ(density, top_layer);
   return crown;
 }

@@ -13,6 +13,7 @@
 #include "core/geometry/box.h"
 #include "core/util/check.h"
 #include "mesh/embree_util.h"
+#include "mesh/mesh_rasterizer.h"
 
 namespace sylva {
 namespace {
@@ -72,7 +73,21 @@ class MeshRenderer::Impl {
   // Embree finds sooner than the first (rtcOccluded, as for shadow rays).
   using ShadeFn = std::function<void(const Hit&, float*)>;
   FloatImage Render(const Camera& camera, const Rigid3d& cam_from_world, int samples_per_axis,
-                    int channels, const ShadeFn& shade) const;
+                    int channels, MeshRenderMethod method, const ShadeFn& shade) const;
+
+  // RasterizeSamples on this mesh (false where it would not be exact).
+  bool Rasterize(const Camera& camera, const Rigid3d& cam_from_world, int samples_per_axis,
+                 bool nearest, std::vector<int>* sample_triangles) const {
+    return RasterizeSamples(raster_mesh_, camera, cam_from_world, samples_per_axis, nearest,
+                            sample_triangles);
+  }
+  // The pixels from rasterized samples (RasterizeSamples' layout), S x S
+  // samples per pixel; the image's width times S is the samples' width.
+  void ResolveSamples(const std::vector<int>& sample_triangles, int samples_per_axis,
+                      const ShadeFn& shade, FloatImage* image) const;
+
+  // Lambert on the triangle's diffuse colour, lit from both sides.
+  ShadeFn Lambert(const MeshRenderOptions& options) const;
 
   const Eigen::Vector3f& ColorOf(int triangle_idx) const {
     return material_colors_[triangle_materials_[triangle_idx]];
@@ -99,7 +114,9 @@ class MeshRenderer::Impl {
   RTCScene scene_ = nullptr;
   std::vector<int> triangle_materials_;
   std::vector<Eigen::Vector3f> material_colors_;
-  Box3d padded_bounds_;  // mesh bounds, padded (empty for an empty mesh)
+  RasterMesh raster_mesh_;
+  std::vector<Eigen::Vector3f> triangle_normals_;  // geometric, as Embree's
+  Box3d padded_bounds_;                            // mesh bounds, padded (empty for an empty mesh)
 };
 
 MeshRenderer::Impl::Impl(const TriangleMesh& mesh) {
@@ -107,6 +124,12 @@ MeshRenderer::Impl::Impl(const TriangleMesh& mesh) {
   triangle_materials_ = mesh.triangle_materials;
   for (const Material& material : mesh.materials)
     material_colors_.push_back(material.diffuse_color);
+  raster_mesh_.vertices = mesh.vertices;
+  raster_mesh_.triangles = mesh.triangles;
+  for (const Eigen::Vector3i& t : mesh.triangles) {
+    const Eigen::Vector3f& v0 = mesh.vertices[t[0]];
+    triangle_normals_.push_back((v0 - mesh.vertices[t[1]]).cross(mesh.vertices[t[2]] - v0));
+  }
   if (mesh.NumVertices() > 0) {
     const Box3d bounds = mesh.Bounds();
     const double pad = kBoundsPadding * bounds.diagonal().norm() + kBoundsPadding;
@@ -242,13 +265,56 @@ void MeshRenderer::Impl::ShadeRow(const RowBuffers& buffers, int samples, int ro
   }
 }
 
+void MeshRenderer::Impl::ResolveSamples(const std::vector<int>& sample_triangles,
+                                        int samples_per_axis, const ShadeFn& shade,
+                                        FloatImage* image) const {
+  const int channels = image->channels();
+  const int samples = samples_per_axis * samples_per_axis;
+  const size_t sample_width = static_cast<size_t>(image->width()) * samples_per_axis;
+  tbb::parallel_for(
+      tbb::blocked_range<int>(0, image->height()), [&](const tbb::blocked_range<int>& rows) {
+        std::vector<float> sum(channels);
+        for (int row = rows.begin(); row < rows.end(); ++row) {
+          for (int col = 0; col < image->width(); ++col) {
+            std::fill(sum.begin(), sum.end(), 0.0f);
+            int hits = 0;
+            // The rays' order within the pixel, so that sums round alike.
+            for (int t = 0; t < samples_per_axis; ++t) {
+              const size_t sample_row = static_cast<size_t>(row) * samples_per_axis + t;
+              for (int s = 0; s < samples_per_axis; ++s) {
+                const int triangle =
+                    sample_triangles[sample_row * sample_width + col * samples_per_axis + s];
+                if (triangle < 0) continue;
+                ++hits;
+                if (channels == 1) continue;
+                Hit hit;
+                hit.triangle_idx = triangle;
+                hit.normal = triangle_normals_[triangle];
+                shade(hit, sum.data());
+              }
+            }
+            float* pixel = &image->at(col, row, 0);
+            for (int c = 0; c + 1 < channels; ++c) pixel[c] = hits > 0 ? sum[c] / hits : 0.0f;
+            pixel[channels - 1] = static_cast<float>(hits) / static_cast<float>(samples);
+          }
+        }
+      });
+}
+
 FloatImage MeshRenderer::Impl::Render(const Camera& camera, const Rigid3d& cam_from_world,
-                                      int samples_per_axis, int channels,
+                                      int samples_per_axis, int channels, MeshRenderMethod method,
                                       const ShadeFn& shade) const {
   camera.Check("MeshRenderer camera");
   SYLVA_CHECK_INPUT(samples_per_axis >= 1, "samples_per_axis")
       << "must be >= 1, got " << samples_per_axis;
   FloatImage image(camera.width(), camera.height(), channels);
+  if (NumTriangles() == 0) return image;
+  std::vector<int> sample_triangles;
+  if (method == MeshRenderMethod::kAuto &&
+      Rasterize(camera, cam_from_world, samples_per_axis, channels > 1, &sample_triangles)) {
+    ResolveSamples(sample_triangles, samples_per_axis, shade, &image);
+    return image;
+  }
   const Rigid3d world_from_cam = cam_from_world.Inverse();
   tbb::parallel_for(
       tbb::blocked_range<int>(0, camera.height()), [&](const tbb::blocked_range<int>& rows) {
@@ -267,25 +333,64 @@ MeshRenderer& MeshRenderer::operator=(MeshRenderer&&) noexcept = default;
 
 int MeshRenderer::NumTriangles() const { return impl_->NumTriangles(); }
 
-FloatImage MeshRenderer::RenderRgba(const Camera& camera, const Rigid3d& cam_from_world,
-                                    const Options& options) const {
+MeshRenderer::Impl::ShadeFn MeshRenderer::Impl::Lambert(const MeshRenderOptions& options) const {
   options.Check();
   const Eigen::Vector3f light = options.light_direction.normalized();
   const float ambient = options.ambient;
-  const Impl& impl = *impl_;
-  return impl.Render(
-      camera, cam_from_world, options.samples_per_axis, 4, [&](const Hit& hit, float* rgb) {
-        const float normal_norm = hit.normal.norm();
-        const float cosine = normal_norm > 0 ? std::abs(hit.normal.dot(light)) / normal_norm : 1.0f;
-        const float shading = ambient + (1.0f - ambient) * cosine;
-        const Eigen::Vector3f& color = impl.ColorOf(hit.triangle_idx);
-        for (int c = 0; c < 3; ++c) rgb[c] += shading * color[c];
-      });
+  return [this, light, ambient](const Hit& hit, float* rgb) {
+    const float normal_norm = hit.normal.norm();
+    const float cosine = normal_norm > 0 ? std::abs(hit.normal.dot(light)) / normal_norm : 1.0f;
+    const float shading = ambient + (1.0f - ambient) * cosine;
+    const Eigen::Vector3f& color = ColorOf(hit.triangle_idx);
+    for (int c = 0; c < 3; ++c) rgb[c] += shading * color[c];
+  };
+}
+
+FloatImage MeshRenderer::RenderRgba(const Camera& camera, const Rigid3d& cam_from_world,
+                                    const Options& options) const {
+  return impl_->Render(camera, cam_from_world, options.samples_per_axis, 4, options.method,
+                       impl_->Lambert(options));
+}
+
+MeshRenderer::CoverageAndRgba MeshRenderer::RenderCoverageAndRgba(const Camera& camera,
+                                                                  const Rigid3d& cam_from_world,
+                                                                  int samples_per_axis,
+                                                                  int picture_scale,
+                                                                  const Options& shading) const {
+  SYLVA_CHECK_INPUT(samples_per_axis >= 1, "samples_per_axis")
+      << "must be >= 1, got " << samples_per_axis;
+  SYLVA_CHECK_INPUT(
+      picture_scale >= 0 && (picture_scale == 0 || samples_per_axis % picture_scale == 0),
+      "picture_scale")
+      << "must be 0 or divide samples_per_axis " << samples_per_axis << ", got " << picture_scale;
+  const Impl::ShadeFn shade = impl_->Lambert(shading);
+  CoverageAndRgba result;
+  if (picture_scale == 0) {
+    result.coverage = RenderCoverage(camera, cam_from_world, samples_per_axis, shading.method);
+    return result;
+  }
+  const Camera picture_camera =
+      camera.Scaled(picture_scale, camera.width() * picture_scale, camera.height() * picture_scale);
+  const int picture_samples = samples_per_axis / picture_scale;
+  std::vector<int> sample_triangles;
+  if (shading.method == MeshRenderMethod::kAuto && impl_->NumTriangles() > 0 &&
+      impl_->Rasterize(camera, cam_from_world, samples_per_axis, true, &sample_triangles)) {
+    result.coverage = FloatImage(camera.width(), camera.height(), 1);
+    impl_->ResolveSamples(sample_triangles, samples_per_axis, shade, &result.coverage);
+    result.rgba = FloatImage(picture_camera.width(), picture_camera.height(), 4);
+    impl_->ResolveSamples(sample_triangles, picture_samples, shade, &result.rgba);
+    return result;
+  }
+  result.coverage = RenderCoverage(camera, cam_from_world, samples_per_axis, shading.method);
+  result.rgba =
+      impl_->Render(picture_camera, cam_from_world, picture_samples, 4, shading.method, shade);
+  return result;
 }
 
 FloatImage MeshRenderer::RenderCoverage(const Camera& camera, const Rigid3d& cam_from_world,
-                                        int samples_per_axis) const {
-  return impl_->Render(camera, cam_from_world, samples_per_axis, 1, [](const Hit&, float*) {});
+                                        int samples_per_axis, MeshRenderMethod method) const {
+  return impl_->Render(camera, cam_from_world, samples_per_axis, 1, method,
+                       [](const Hit&, float*) {});
 }
 
 double MeshRenderer::CastRay(const Ray3d& ray_in_world) const {

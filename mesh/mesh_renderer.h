@@ -9,6 +9,11 @@
 // A pixel's coverage is the fraction of its rays that hit the mesh, so the
 // rendered mattes are exact up to the sampling resolution of 1 / S^2.
 //
+// For a camera without lens distortion the samples are found by rasterizing
+// the triangles (mesh_rasterizer.h), which gives what the rays would (up to
+// samples exactly on an edge) at a fraction of their cost; with distortion,
+// or a perspective camera with geometry beside or behind it, rays are cast.
+//
 // Used to render the synthetic ground-truth photos and mattes, and to render
 // reconstructed meshes for silhouette fidelity reports. Embree does the ray
 // casting; it stays an implementation detail of mesh_renderer.cc.
@@ -25,6 +30,11 @@
 
 namespace sylva {
 
+// How the samples are found: kAuto rasterizes where that is exact (see
+// above) and casts rays elsewhere; kRayCast always casts rays (tests and
+// benchmarks compare the two).
+enum class MeshRenderMethod { kAuto, kRayCast };
+
 struct MeshRenderOptions {
   // Rays per pixel along each image axis (S); S x S rays per pixel. >= 1.
   int samples_per_axis = 4;
@@ -34,6 +44,7 @@ struct MeshRenderOptions {
   // Fraction of the diffuse colour seen on faces turned away from the light,
   // in [0, 1]. Shading is ambient + (1 - ambient) |n . l| (double-sided).
   float ambient = 0.35f;
+  MeshRenderMethod method = MeshRenderMethod::kAuto;
 
   // Throws InputError naming the violated constraint.
   void Check() const;
@@ -62,7 +73,21 @@ class MeshRenderer {
 
   // One-channel coverage (alpha) image with the same sampling as RenderRgba.
   FloatImage RenderCoverage(const Camera& camera, const Rigid3d& cam_from_world,
-                            int samples_per_axis) const;
+                            int samples_per_axis,
+                            MeshRenderMethod method = MeshRenderMethod::kAuto) const;
+
+  // The coverage image of RenderCoverage(camera, cam_from_world, S) and, from
+  // the same samples, a shaded picture `picture_scale` times as large per
+  // axis with S / picture_scale rays per pixel per axis: RenderRgba through
+  // the camera scaled by picture_scale (its samples are the coverage's).
+  // picture_scale must divide S; 0 = no picture. One pass where the mesh is
+  // rasterized; shading options' samples_per_axis is not used.
+  struct CoverageAndRgba {
+    FloatImage coverage, rgba;
+  };
+  CoverageAndRgba RenderCoverageAndRgba(const Camera& camera, const Rigid3d& cam_from_world,
+                                        int samples_per_axis, int picture_scale,
+                                        const Options& shading) const;
 
   // Distance along a world ray to the first hit at t >= ray.t_min (for a
   // full line, t_min = -inf, the hit nearest to its far-behind end), or +inf

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <random>
 
 #include "core/util/check.h"
 
@@ -144,6 +145,116 @@ TEST(MeshRendererTest, DeterministicAndCastRay) {
   EXPECT_TRUE(std::isinf(renderer.CastRay(ray)));  // behind the origin
   ray.t_min = -std::numeric_limits<double>::infinity();
   EXPECT_NEAR(renderer.CastRay(ray), -3.0, 1e-5);  // a full line sees it
+}
+
+// A closed, bumpy ball (shared vertices) and 400 small loose triangles
+// around it (unshared, as baked leaves): edges of every slope and size.
+TriangleMesh BallAndLeaves() {
+  TriangleMesh mesh;
+  const int bark = mesh.AddMaterial({"bark", Eigen::Vector3f(0.5f, 0.3f, 0.2f), true});
+  const int leaf = mesh.AddMaterial({"leaf", Eigen::Vector3f(0.1f, 0.7f, 0.2f), true});
+  constexpr int kRings = 24, kSegments = 40;
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> jitter(0.9, 1.1);
+  const int north = mesh.AddVertex(Eigen::Vector3f(0, 0, 1));
+  for (int r = 1; r < kRings; ++r) {
+    const double theta = M_PI * r / kRings;
+    for (int s = 0; s < kSegments; ++s) {
+      const double phi = 2 * M_PI * s / kSegments, radius = jitter(rng);
+      mesh.AddVertex(Eigen::Vector3d(radius * std::sin(theta) * std::cos(phi),
+                                     radius * std::sin(theta) * std::sin(phi),
+                                     radius * std::cos(theta))
+                         .cast<float>());
+    }
+  }
+  const int south = mesh.AddVertex(Eigen::Vector3f(0, 0, -1));
+  const auto at = [](int r, int s) { return 1 + (r - 1) * kSegments + (s % kSegments); };
+  for (int s = 0; s < kSegments; ++s) {
+    mesh.AddTriangle(north, at(1, s), at(1, s + 1), bark);
+    mesh.AddTriangle(south, at(kRings - 1, s + 1), at(kRings - 1, s), bark);
+    for (int r = 1; r + 1 < kRings; ++r) {
+      mesh.AddTriangle(at(r, s), at(r + 1, s), at(r + 1, s + 1), bark);
+      mesh.AddTriangle(at(r, s), at(r + 1, s + 1), at(r, s + 1), bark);
+    }
+  }
+  std::uniform_real_distribution<double> place(-1.6, 1.6), size(-0.08, 0.08);
+  for (int k = 0; k < 400; ++k) {
+    const Eigen::Vector3d center(place(rng), place(rng), place(rng));
+    int corners[3];
+    for (int& c : corners) {
+      c = mesh.AddVertex((center + Eigen::Vector3d(size(rng), size(rng), size(rng))).cast<float>());
+    }
+    mesh.AddTriangle(corners[0], corners[1], corners[2], leaf);
+  }
+  return mesh;
+}
+
+// Share of pixels whose values differ by more than 1e-6 in any channel.
+double ShareDiffering(const FloatImage& a, const FloatImage& b) {
+  EXPECT_EQ(a.values().size(), b.values().size());
+  int differing = 0;
+  for (int y = 0; y < a.height(); ++y) {
+    for (int x = 0; x < a.width(); ++x) {
+      bool differs = false;
+      for (int c = 0; c < a.channels(); ++c)
+        differs |= std::abs(a.at(x, y, c) - b.at(x, y, c)) > 1e-6;
+      differing += differs ? 1 : 0;
+    }
+  }
+  return static_cast<double>(differing) / (a.width() * a.height());
+}
+
+TEST(MeshRendererTest, RasterizedSamplesAreTheRays) {
+  const MeshRenderer renderer(BallAndLeaves());
+  MeshRenderOptions rasterized, cast;
+  cast.method = MeshRenderMethod::kRayCast;
+  const Eigen::Vector3d up = Eigen::Vector3d::UnitZ();
+  const std::pair<Camera, Rigid3d> views[] = {
+      {Camera::Pinhole(96, 80, 70.0),
+       LookAt(Eigen::Vector3d(4.5, 1.0, 0.8), Eigen::Vector3d::Zero(), up)},
+      {Camera(CameraModel::kPinhole, 64, 64, {90.0, 80.0, 30.0, 34.0}),
+       LookAt(Eigen::Vector3d(-2.0, -3.5, 2.5), Eigen::Vector3d(0.1, 0.0, 0.2), up)},
+      {Camera::Orthographic(72, 72, 18.0),
+       LookAt(Eigen::Vector3d(0.0, 0.5, 0.0), Eigen::Vector3d(1.0, 0.5, 0.1), up)}};
+  for (const auto& [camera, pose] : views) {
+    SCOPED_TRACE(CameraModelName(camera.model()));
+    for (int samples : {1, 3}) {
+      const FloatImage fast = renderer.RenderCoverage(camera, pose, samples);
+      const FloatImage rays =
+          renderer.RenderCoverage(camera, pose, samples, MeshRenderMethod::kRayCast);
+      EXPECT_GT(Sum(fast), 0.1 * camera.width() * camera.height());
+      // Only samples on an edge, to float precision, may differ (none here).
+      EXPECT_LE(ShareDiffering(fast, rays), 0.001);
+      EXPECT_NEAR(Sum(fast), Sum(rays), 0.5);
+      rasterized.samples_per_axis = cast.samples_per_axis = samples;
+      // The nearest triangle may differ where leaves cross the ball or each
+      // other (depths equal to Embree's float precision): 0.1-0.2 % here.
+      EXPECT_LE(ShareDiffering(renderer.RenderRgba(camera, pose, rasterized),
+                               renderer.RenderRgba(camera, pose, cast)),
+                0.004);
+    }
+  }
+  // Coverage and picture from one pass: the coverage as RenderCoverage, the
+  // picture as RenderRgba through the camera scaled 2x (its samples are the
+  // coverage's), up to crossings as above; by rays, the same.
+  for (MeshRenderMethod method : {MeshRenderMethod::kAuto, MeshRenderMethod::kRayCast}) {
+    const auto& [camera, pose] = views[0];
+    MeshRenderOptions shading;
+    shading.method = method;
+    const MeshRenderer::CoverageAndRgba both =
+        renderer.RenderCoverageAndRgba(camera, pose, 4, 2, shading);
+    EXPECT_EQ(both.coverage.values(), renderer.RenderCoverage(camera, pose, 4, method).values());
+    shading.samples_per_axis = 2;
+    const Camera larger = camera.Scaled(2.0, 2 * camera.width(), 2 * camera.height());
+    EXPECT_LE(ShareDiffering(both.rgba, renderer.RenderRgba(larger, pose, shading)), 0.004);
+    EXPECT_TRUE(renderer.RenderCoverageAndRgba(camera, pose, 4, 0, shading).rgba.empty());
+    EXPECT_THROW(renderer.RenderCoverageAndRgba(camera, pose, 4, 3, shading), InputError);
+  }
+  // A camera inside the leaves' cloud sees some behind it: rays are cast.
+  const Camera camera = Camera::Pinhole(48, 48, 30.0);
+  const Rigid3d inside = LookAt(Eigen::Vector3d(1.4, 0.0, 0.0), Eigen::Vector3d::Zero(), up);
+  EXPECT_EQ(renderer.RenderCoverage(camera, inside, 2).values(),
+            renderer.RenderCoverage(camera, inside, 2, MeshRenderMethod::kRayCast).values());
 }
 
 TEST(MeshRendererTest, EmptyMeshAndBadOptions) {

@@ -7,21 +7,41 @@
 
 namespace sylva {
 
+namespace {
+
+// Cells the grid may hold: at least this many, else 4 per point.
+constexpr double kMinCellBudget = 1 << 20;
+constexpr double kCellsPerPoint = 4.0;
+
+}  // namespace
+
 PointGrid::PointGrid(std::vector<Eigen::Vector3d> points, double cell_size)
     : points_(std::move(points)) {
+  if (points_.empty()) return;
   for (const auto& p : points_) box_.extend(p);
-  if (cell_size > 0) {
-    cell_size_ = cell_size;
-  } else if (!points_.empty()) {
-    cell_size_ = AutomaticCellSize(box_, points_.size());
+  cell_size_ = cell_size > 0 ? cell_size : AutomaticCellSize(box_, points_.size());
+  const double budget = std::max(kMinCellBudget, kCellsPerPoint * points_.size());
+  for (;;) {
+    const Eigen::Vector3d span = box_.sizes() / cell_size_;
+    const double cells = (span.x() + 2) * (span.y() + 2) * (span.z() + 2);
+    if (cells <= budget) break;
+    cell_size_ *= 1.01 * std::cbrt(cells / budget);
   }
+  cell_min_ = Cell(box_.min());
+  cell_max_ = Cell(box_.max());
+  dims_ = cell_max_ - cell_min_ + Eigen::Vector3i::Ones();
+  // Counting sort of the points by cell (stable: indices increase in a cell).
+  cell_start_.assign(static_cast<size_t>(dims_.prod()) + 1, 0);
+  std::vector<int64_t> cell_of(points_.size());
   for (size_t i = 0; i < points_.size(); ++i) {
-    cells_[Key(Cell(points_[i]))].push_back(static_cast<int>(i));
+    cell_of[i] = CellIndex(Cell(points_[i]));
+    ++cell_start_[cell_of[i] + 1];
   }
-  if (!points_.empty()) {
-    cell_min_ = Cell(box_.min());
-    cell_max_ = Cell(box_.max());
-  }
+  for (size_t k = 1; k < cell_start_.size(); ++k) cell_start_[k] += cell_start_[k - 1];
+  cell_points_.resize(points_.size());
+  std::vector<int> fill(cell_start_.begin(), cell_start_.end() - 1);
+  for (size_t i = 0; i < points_.size(); ++i)
+    cell_points_[fill[cell_of[i]]++] = static_cast<int>(i);
 }
 
 double PointGrid::AutomaticCellSize(const Box3d& box, size_t num_points) {
@@ -37,30 +57,30 @@ double PointGrid::AutomaticCellSize(const Box3d& box, size_t num_points) {
   return spacing > 0 ? 1.5 * spacing : 1.0;
 }
 
-int64_t PointGrid::Key(const Eigen::Vector3i& c) {
-  return (int64_t{c.x()} * 73856093) ^ (int64_t{c.y()} * 19349663) ^ (int64_t{c.z()} * 83492791);
-}
-
 void PointGrid::VisitShell(const Eigen::Vector3i& center, int ring, const Eigen::Vector3d& query,
                            int* best, double* best_distance) const {
-  // Only the part of the shell inside the cells the points occupy.
+  // Only the part of the shell inside the cells the points occupy, and of
+  // each row of the cube only its ends unless the row lies on the shell.
   const Eigen::Vector3i lo = (cell_min_ - center).cwiseMax(-ring);
   const Eigen::Vector3i hi = (cell_max_ - center).cwiseMin(ring);
+  const auto visit = [&](int dx, int dy, int dz) {
+    const int64_t cell = CellIndex(center + Eigen::Vector3i(dx, dy, dz));
+    for (int k = cell_start_[cell]; k < cell_start_[cell + 1]; ++k) {
+      const int idx = cell_points_[k];
+      const double d = (points_[idx] - query).norm();
+      if (d < *best_distance || (d == *best_distance && idx < *best)) {
+        *best_distance = d;
+        *best = idx;
+      }
+    }
+  };
   for (int dz = lo.z(); dz <= hi.z(); ++dz) {
     for (int dy = lo.y(); dy <= hi.y(); ++dy) {
-      for (int dx = lo.x(); dx <= hi.x(); ++dx) {
-        if (std::max({std::abs(dx), std::abs(dy), std::abs(dz)}) != ring) continue;
-        const Eigen::Vector3i cell = center + Eigen::Vector3i(dx, dy, dz);
-        const auto it = cells_.find(Key(cell));
-        if (it == cells_.end()) continue;
-        for (int idx : it->second) {
-          if (Cell(points_[idx]) != cell) continue;  // hash collision
-          const double d = (points_[idx] - query).norm();
-          if (d < *best_distance || (d == *best_distance && idx < *best)) {
-            *best_distance = d;
-            *best = idx;
-          }
-        }
+      if (std::abs(dz) == ring || std::abs(dy) == ring) {
+        for (int dx = lo.x(); dx <= hi.x(); ++dx) visit(dx, dy, dz);
+      } else {
+        if (lo.x() == -ring && hi.x() >= -ring) visit(-ring, dy, dz);
+        if (hi.x() == ring && lo.x() <= ring && ring > 0) visit(ring, dy, dz);
       }
     }
   }

@@ -1,11 +1,11 @@
 // Nearest-neighbour queries on a fixed set of 3D points, bucketed in a
-// uniform hash grid. Exact; the cell size adapts to the points' spread.
+// uniform grid over their bounds (a dense array of cells, each cell's
+// points contiguous). Exact; the cell size adapts to the points' spread.
 #ifndef SYLVA_CORE_GEOMETRY_POINT_GRID_H_
 #define SYLVA_CORE_GEOMETRY_POINT_GRID_H_
 
 #include <Eigen/Core>
 #include <cstdint>
-#include <unordered_map>
 #include <vector>
 
 #include "core/geometry/box.h"
@@ -14,7 +14,9 @@ namespace sylva {
 
 class PointGrid {
  public:
-  // The points are copied. `cell_size` (world units) 0 = automatic.
+  // The points are copied. `cell_size` (world units) 0 = automatic; it is
+  // enlarged where the bounds would need more than max(2^20, 4 x points)
+  // cells.
   explicit PointGrid(std::vector<Eigen::Vector3d> points, double cell_size = 0.0);
 
   // Index of the point nearest to `query` within `max_distance` (world
@@ -28,7 +30,11 @@ class PointGrid {
   Eigen::Vector3i Cell(const Eigen::Vector3d& p) const {
     return (p / cell_size_).array().floor().cast<int>();
   }
-  static int64_t Key(const Eigen::Vector3i& c);
+  // Index of a cell within cell_min_ .. cell_max_.
+  int64_t CellIndex(const Eigen::Vector3i& c) const {
+    const Eigen::Vector3i d = c - cell_min_;
+    return (int64_t{d.z()} * dims_.y() + d.y()) * dims_.x() + d.x();
+  }
   static double AutomaticCellSize(const Box3d& box, size_t num_points);
   void VisitShell(const Eigen::Vector3i& center, int ring, const Eigen::Vector3d& query, int* best,
                   double* best_distance) const;
@@ -38,7 +44,9 @@ class PointGrid {
   Box3d box_;
   Eigen::Vector3i cell_min_ = Eigen::Vector3i::Zero();  // cells spanned by box_
   Eigen::Vector3i cell_max_ = Eigen::Vector3i::Zero();
-  std::unordered_map<int64_t, std::vector<int>> cells_;
+  Eigen::Vector3i dims_ = Eigen::Vector3i::Zero();  // cell_max_ - cell_min_ + 1
+  std::vector<int> cell_start_;   // cell k's points: cell_points_[cell_start_[k], [k + 1])
+  std::vector<int> cell_points_;  // point indices, by cell, increasing within a cell
 };
 
 }  // namespace sylva

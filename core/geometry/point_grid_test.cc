@@ -51,5 +51,32 @@ TEST(PointGridTest, FlatAndLinearSetsGetUsefulCells) {
   EXPECT_EQ(PointGrid({Eigen::Vector3d::Ones()}).cell_size(), 1.0);
 }
 
+TEST(PointGridTest, TooFineCellsAreEnlargedAndStayExact) {
+  // 1 mm cells over a 100 m spread would need 10^15 cells.
+  RandomEngine rng(9);
+  std::vector<Eigen::Vector3d> points;
+  for (int i = 0; i < 2000; ++i) {
+    points.emplace_back(rng.Uniform(0, 100), rng.Uniform(0, 100), rng.Uniform(0, 100));
+  }
+  points.push_back(points[7]);  // a duplicate: the lower index wins
+  const PointGrid grid(points, 1e-3);
+  EXPECT_GT(grid.cell_size(), 0.5);
+  EXPECT_EQ(grid.Nearest(points[7], 1.0), 7);
+  for (int q = 0; q < 200; ++q) {
+    const Eigen::Vector3d query(rng.Uniform(-20, 120), rng.Uniform(-20, 120), rng.Uniform(0, 100));
+    int expected = -1;
+    double expected_distance = std::numeric_limits<double>::infinity();
+    for (size_t i = 0; i < points.size(); ++i) {
+      const double d = (points[i] - query).norm();
+      if (d < expected_distance) {
+        expected_distance = d;
+        expected = static_cast<int>(i);
+      }
+    }
+    EXPECT_EQ(grid.Nearest(query, 1e9), expected);
+    EXPECT_EQ(grid.Nearest(query, 1.01 * expected_distance), expected);
+  }
+}
+
 }  // namespace
 }  // namespace sylva

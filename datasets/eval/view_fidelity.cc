@@ -9,13 +9,20 @@
 namespace sylva {
 namespace {
 
-// Shaded pictures of the mesh are made at most this many pixels across:
+// Shaded pictures of the mesh are made from the coverage's own samples
+// (one pass), at least this many pixels across where those samples allow:
 // report.html shows them 256 px wide (they enter no score).
 constexpr int kRenderSize = 256;
-// Rays per pixel along each axis of the shaded pictures (2 x 2): enough to
-// smooth their edges for the eye; they enter no score (the coverage uses
-// ViewFidelityOptions::mesh_samples_per_axis).
-constexpr int kRenderSamplesPerAxis = 2;
+
+// How many times larger than the compared image the picture is: the
+// smallest divisor of the samples per axis that makes it kRenderSize
+// across, else all of them (one sample per picture pixel).
+int PictureScale(int compared_size, int samples_per_axis) {
+  for (int scale = 1; scale < samples_per_axis; ++scale) {
+    if (samples_per_axis % scale == 0 && compared_size * scale >= kRenderSize) return scale;
+  }
+  return samples_per_axis;
+}
 
 // A camera for the image downsampled by `factor` (box filter, partial blocks).
 Camera DownsampledCamera(const Camera& camera, int factor) {
@@ -58,23 +65,22 @@ void AddMeshViewFidelity(const TriangleMesh& mesh, const ImageSet& image_set,
   SYLVA_CHECK(static_cast<int>(views->size()) == image_set.NumViews());
   if (mesh.NumTriangles() == 0) return;
   const MeshRenderer renderer(mesh);
-  MeshRenderOptions shading;
-  shading.samples_per_axis = kRenderSamplesPerAxis;
+  const int samples = options.mesh_samples_per_axis;
   for (int v = 0; v < image_set.NumViews(); ++v) {
     ViewFidelity& view = (*views)[v];
-    const Camera& camera = image_set.CameraOf(v);
-    const Rigid3d& pose = image_set.views[v].cam_from_world;
-    view.mesh_coverage = renderer.RenderCoverage(DownsampledCamera(camera, view.downsample_factor),
-                                                 pose, options.mesh_samples_per_axis);
+    const Camera compared = DownsampledCamera(image_set.CameraOf(v), view.downsample_factor);
+    const int picture_scale =
+        options.render_pictures
+            ? PictureScale(std::max(compared.width(), compared.height()), samples)
+            : 0;
+    MeshRenderer::CoverageAndRgba rendered = renderer.RenderCoverageAndRgba(
+        compared, image_set.views[v].cam_from_world, samples, picture_scale, MeshRenderOptions());
+    view.mesh_coverage = std::move(rendered.coverage);
+    view.mesh_render = std::move(rendered.rgba);
     view.mesh_scores = CompareSilhouettes(view.mesh_coverage, view.observed,
                                           static_cast<float>(options.opacity_threshold),
                                           static_cast<float>(options.matte_threshold));
     view.has_mesh = true;
-    if (options.render_pictures) {
-      const int factor =
-          std::max(1, (std::max(camera.width(), camera.height()) + kRenderSize - 1) / kRenderSize);
-      view.mesh_render = renderer.RenderRgba(DownsampledCamera(camera, factor), pose, shading);
-    }
   }
 }
 

@@ -63,6 +63,19 @@ void BM_RenderCoverage(benchmark::State& state) {
 }
 BENCHMARK(BM_RenderCoverage)->Unit(benchmark::kMillisecond)->UseRealTime();
 
+// The same picture from Embree's coherent ray streams, parallel over rows
+// (what RenderCoverage did before it rasterized).
+void BM_RenderCoverageRayStreams(benchmark::State& state) {
+  const Scene& scene = GetScene();
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(scene.renderer.RenderCoverage(
+        scene.image_set.CameraOf(0), scene.image_set.views[0].cam_from_world, kSamplesPerAxis,
+        MeshRenderMethod::kRayCast));
+  }
+  SetRays(state);
+}
+BENCHMARK(BM_RenderCoverageRayStreams)->Unit(benchmark::kMillisecond)->UseRealTime();
+
 // Reference: one CastRay per sample, single-threaded; the coverage image.
 FloatImage ReferenceCoverage(const Scene& scene) {
   FloatImage coverage(kImageSize, kImageSize, 1, 0.0f);
