@@ -8,6 +8,7 @@
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <mutex>
 #include <vector>
 
 #include "core/geometry/box.h"
@@ -95,7 +96,9 @@ class MeshRenderer::Impl {
   int NumTriangles() const { return static_cast<int>(triangle_materials_.size()); }
 
  private:
-  void AddGeometry(const TriangleMesh& mesh);
+  // The Embree scene of the mesh, built once on first use (thread-safe).
+  RTCScene Scene() const;
+  void AddGeometry() const;
   // The rays of one image row and where each starts along its world ray;
   // reused from row to row.
   struct RowBuffers {
@@ -110,8 +113,9 @@ class MeshRenderer::Impl {
   static void ShadeRow(const RowBuffers& buffers, int samples, int row, const ShadeFn& shade,
                        FloatImage* image);
 
-  RTCDevice device_ = nullptr;
-  RTCScene scene_ = nullptr;
+  mutable std::once_flag scene_built_;
+  mutable RTCDevice device_ = nullptr;
+  mutable RTCScene scene_ = nullptr;
   std::vector<int> triangle_materials_;
   std::vector<Eigen::Vector3f> material_colors_;
   RasterMesh raster_mesh_;
@@ -135,15 +139,22 @@ MeshRenderer::Impl::Impl(const TriangleMesh& mesh) {
     const double pad = kBoundsPadding * bounds.diagonal().norm() + kBoundsPadding;
     padded_bounds_ = Box3d(bounds.min().array() - pad, bounds.max().array() + pad);
   }
-  device_ = rtcNewDevice(nullptr);
-  SYLVA_CHECK(device_ != nullptr) << "cannot create an Embree device";
-  scene_ = rtcNewScene(device_);
-  // Robust traversal: no cracks between triangles sharing an edge, so a
-  // tessellated surface's coverage is exact.
-  rtcSetSceneFlags(scene_, RTC_SCENE_FLAG_ROBUST);
-  if (mesh.NumTriangles() > 0) AddGeometry(mesh);
-  rtcCommitScene(scene_);
-  CheckEmbreeDevice(device_, "building the scene");
+}
+
+RTCScene MeshRenderer::Impl::Scene() const {
+  // Built at the first ray: rasterized pictures need none.
+  std::call_once(scene_built_, [this] {
+    device_ = rtcNewDevice(nullptr);
+    SYLVA_CHECK(device_ != nullptr) << "cannot create an Embree device";
+    scene_ = rtcNewScene(device_);
+    // Robust traversal: no cracks between triangles sharing an edge, so a
+    // tessellated surface's coverage is exact.
+    rtcSetSceneFlags(scene_, RTC_SCENE_FLAG_ROBUST);
+    if (NumTriangles() > 0) AddGeometry();
+    rtcCommitScene(scene_);
+    CheckEmbreeDevice(device_, "building the scene");
+  });
+  return scene_;
 }
 
 MeshRenderer::Impl::~Impl() {
@@ -151,7 +162,8 @@ MeshRenderer::Impl::~Impl() {
   if (device_ != nullptr) rtcReleaseDevice(device_);
 }
 
-void MeshRenderer::Impl::AddGeometry(const TriangleMesh& mesh) {
+void MeshRenderer::Impl::AddGeometry() const {
+  const RasterMesh& mesh = raster_mesh_;
   RTCGeometry geometry = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
   auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0,
                                                                RTC_FORMAT_FLOAT3, 3 * sizeof(float),
@@ -189,7 +201,7 @@ bool MeshRenderer::Impl::Intersect(const Ray3d& ray, Hit* hit) const {
   if (ray_hit.ray.tnear > ray_hit.ray.tfar) return false;  // misses the bounds
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
-  rtcIntersect1(scene_, &context, &ray_hit);
+  rtcIntersect1(Scene(), &context, &ray_hit);
   return HitFromRayHit(ray_hit, t_start, hit);
 }
 
@@ -222,12 +234,12 @@ void MeshRenderer::Impl::RenderRow(const Camera& camera, const Rigid3d& world_fr
   if (image->channels() == 1) {
     buffers->rays.resize(num_rays);
     for (size_t k = 0; k < num_rays; ++k) buffers->rays[k] = buffers->ray_hits[k].ray;
-    rtcOccluded1M(scene_, &context, buffers->rays.data(), static_cast<unsigned>(num_rays),
+    rtcOccluded1M(Scene(), &context, buffers->rays.data(), static_cast<unsigned>(num_rays),
                   sizeof(RTCRay));
     CoverRow(*buffers, samples, row, image);
     return;
   }
-  rtcIntersect1M(scene_, &context, buffers->ray_hits.data(), static_cast<unsigned>(num_rays),
+  rtcIntersect1M(Scene(), &context, buffers->ray_hits.data(), static_cast<unsigned>(num_rays),
                  sizeof(RTCRayHit));
   ShadeRow(*buffers, samples, row, shade, image);
 }

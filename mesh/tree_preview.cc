@@ -205,11 +205,25 @@ class TreePreviewRenderer::Impl {
 
   // The visible surface along a traced ray; false if it missed.
   bool Resolve(const RTCRayHit& ray_hit, bool smooth_normals, SurfacePoint* point) const;
-  bool Occluded(const Eigen::Vector3f& origin, const Eigen::Vector3f& direction) const;
-  Eigen::Vector3f Shade(const SurfacePoint& point, const TreePreviewOptions& options) const;
-  // Mean colour of the rays that hit, and the fraction that hit, of one pixel.
-  Eigen::Vector4f RenderPixel(const PreviewView& view, const Rigid3d& world_from_cam, int col,
-                              int row, const TreePreviewOptions& options) const;
+  // A visible point's light before its shadow ray: the sun's share (0 if
+  // none could arrive) and the sky's, and where a shadow ray would start.
+  struct Lighting {
+    Eigen::Vector3f albedo;
+    float sun = 0.0f, sky = 0.0f;
+    Eigen::Vector3f shadow_origin;
+  };
+  Lighting Light(const SurfacePoint& point, const TreePreviewOptions& options) const;
+  // One row of the picture: its rays, then the shadow rays of the points
+  // they hit, each as one coherent stream. `buffers` are reused.
+  struct RowBuffers {
+    std::vector<RTCRayHit> rays;
+    std::vector<Lighting> lights;
+    std::vector<char> hit;
+    std::vector<RTCRay> shadow_rays;
+    std::vector<int> shadowed_sample;
+  };
+  void RenderRow(const PreviewView& view, const Rigid3d& world_from_cam, int row,
+                 const TreePreviewOptions& options, RowBuffers* buffers, FloatImage* image) const;
 
   RTCDevice device_ = nullptr;
   RTCScene scene_ = nullptr;
@@ -399,17 +413,8 @@ bool TreePreviewRenderer::Impl::Resolve(const RTCRayHit& ray_hit, bool smooth_no
   return true;
 }
 
-bool TreePreviewRenderer::Impl::Occluded(const Eigen::Vector3f& origin,
-                                         const Eigen::Vector3f& direction) const {
-  RTCRay ray = EmbreeRay(origin, direction, 0.0f, std::numeric_limits<float>::infinity());
-  RTCIntersectContext context;
-  rtcInitIntersectContext(&context);
-  rtcOccluded1(scene_, &context, &ray);
-  return ray.tfar < 0.0f;  // Embree marks an occluded ray with tfar = -inf
-}
-
-Eigen::Vector3f TreePreviewRenderer::Impl::Shade(const SurfacePoint& point,
-                                                 const TreePreviewOptions& options) const {
+TreePreviewRenderer::Impl::Lighting TreePreviewRenderer::Impl::Light(
+    const SurfacePoint& point, const TreePreviewOptions& options) const {
   const Eigen::Vector3f sun = options.sun_direction.normalized().cast<float>();
   float cosine = point.shading_normal.dot(sun);
   float side = 1.0f;  // the side the sun light arrives from, along the geometric normal
@@ -420,46 +425,88 @@ Eigen::Vector3f TreePreviewRenderer::Impl::Shade(const SurfacePoint& point,
                                 : 0.0f;
     side = -1.0f;
   }
-  cosine = std::max(cosine, 0.0f);
-  if (cosine > 0.0f && options.shadows &&
-      Occluded(point.position + side * shadow_offset_ * point.geometric_normal, sun)) {
-    cosine = 0.0f;
-  }
-  const float sky = (1.0f - kSkyTilt) + kSkyTilt * point.shading_normal.z();
-  const float light = static_cast<float>(options.sun_intensity) * cosine +
-                      static_cast<float>(options.sky_intensity) * sky;
-  return light * point.albedo;
+  Lighting lighting;
+  lighting.albedo = point.albedo;
+  lighting.sun = static_cast<float>(options.sun_intensity) * std::max(cosine, 0.0f);
+  lighting.sky = static_cast<float>(options.sky_intensity) *
+                 ((1.0f - kSkyTilt) + kSkyTilt * point.shading_normal.z());
+  lighting.shadow_origin = point.position + side * shadow_offset_ * point.geometric_normal;
+  return lighting;
 }
 
-Eigen::Vector4f TreePreviewRenderer::Impl::RenderPixel(const PreviewView& view,
-                                                       const Rigid3d& world_from_cam, int col,
-                                                       int row,
-                                                       const TreePreviewOptions& options) const {
+void TreePreviewRenderer::Impl::RenderRow(const PreviewView& view, const Rigid3d& world_from_cam,
+                                          int row, const TreePreviewOptions& options,
+                                          RowBuffers* buffers, FloatImage* image) const {
   const int samples = options.samples_per_axis;
-  Eigen::Vector3f sum = Eigen::Vector3f::Zero();
-  int hits = 0;
-  RTCIntersectContext context;
-  rtcInitIntersectContext(&context);
-  for (int t = 0; t < samples; ++t) {
-    for (int s = 0; s < samples; ++s) {
-      const Eigen::Vector2d point_in_image(col + (s + 0.5) / samples, row + (t + 0.5) / samples);
-      const Ray3d ray_in_cam = view.camera.CamRayFromImg(point_in_image);
-      const Eigen::Vector3f origin = (world_from_cam * ray_in_cam.origin).cast<float>();
-      const Eigen::Vector3f direction =
-          (world_from_cam.rotation * ray_in_cam.direction).cast<float>();
-      // Orthographic rays start on the image plane.
-      RTCRayHit ray_hit =
-          EmbreeRayHit(origin, direction, 0.0f, std::numeric_limits<float>::infinity());
-      rtcIntersect1(scene_, &context, &ray_hit);
-      SurfacePoint point;
-      if (!Resolve(ray_hit, options.smooth_normals, &point)) continue;
-      sum += Shade(point, options);
-      ++hits;
+  const int per_pixel = samples * samples;
+  const size_t num_rays = static_cast<size_t>(image->width()) * per_pixel;
+  buffers->rays.resize(num_rays);
+  size_t r = 0;
+  for (int col = 0; col < image->width(); ++col) {
+    for (int t = 0; t < samples; ++t) {
+      for (int s = 0; s < samples; ++s, ++r) {
+        const Eigen::Vector2d point_in_image(col + (s + 0.5) / samples, row + (t + 0.5) / samples);
+        const Ray3d ray_in_cam = view.camera.CamRayFromImg(point_in_image);
+        const Eigen::Vector3f origin = (world_from_cam * ray_in_cam.origin).cast<float>();
+        const Eigen::Vector3f direction =
+            (world_from_cam.rotation * ray_in_cam.direction).cast<float>();
+        // Orthographic rays start on the image plane.
+        buffers->rays[r] =
+            EmbreeRayHit(origin, direction, 0.0f, std::numeric_limits<float>::infinity());
+      }
     }
   }
-  const float coverage = static_cast<float>(hits) / static_cast<float>(samples * samples);
-  if (hits > 0) sum /= static_cast<float>(hits);
-  return Eigen::Vector4f(sum.x(), sum.y(), sum.z(), coverage);
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+  rtcIntersect1M(scene_, &context, buffers->rays.data(), static_cast<unsigned>(num_rays),
+                 sizeof(RTCRayHit));
+  // Shade what the rays hit; a shadow ray for each point the sun can reach.
+  const Eigen::Vector3f sun = options.sun_direction.normalized().cast<float>();
+  buffers->lights.resize(num_rays);
+  buffers->hit.assign(num_rays, 0);
+  buffers->shadow_rays.clear();
+  buffers->shadowed_sample.clear();
+  for (size_t k = 0; k < num_rays; ++k) {
+    SurfacePoint point;
+    if (!Resolve(buffers->rays[k], options.smooth_normals, &point)) continue;
+    buffers->hit[k] = 1;
+    buffers->lights[k] = Light(point, options);
+    if (buffers->lights[k].sun > 0.0f && options.shadows) {
+      buffers->shadow_rays.push_back(EmbreeRay(buffers->lights[k].shadow_origin, sun, 0.0f,
+                                               std::numeric_limits<float>::infinity()));
+      buffers->shadowed_sample.push_back(static_cast<int>(k));
+    }
+  }
+  rtcInitIntersectContext(&context);
+  rtcOccluded1M(scene_, &context, buffers->shadow_rays.data(),
+                static_cast<unsigned>(buffers->shadow_rays.size()), sizeof(RTCRay));
+  for (size_t k = 0; k < buffers->shadow_rays.size(); ++k) {
+    // Embree marks an occluded ray with tfar = -inf.
+    if (buffers->shadow_rays[k].tfar < 0.0f) buffers->lights[buffers->shadowed_sample[k]].sun = 0;
+  }
+  // Each pixel: the mean colour of its rays that hit, and the share that hit.
+  for (int col = 0; col < image->width(); ++col) {
+    Eigen::Vector3f sum = Eigen::Vector3f::Zero();
+    int hits = 0;
+    for (int k = col * per_pixel; k < (col + 1) * per_pixel; ++k) {
+      if (!buffers->hit[k]) continue;
+      const Lighting& light = buffers->lights[k];
+      sum += (light.sun + light.sky) * light.albedo;
+      ++hits;
+    }
+    const float coverage = static_cast<float>(hits) / static_cast<float>(per_pixel);
+    if (hits > 0) sum /= static_cast<float>(hits);
+    Eigen::Vector4f pixel(sum.x(), sum.y(), sum.z(), coverage);
+    if (options.white_background) {
+      pixel.head<3>() = pixel.w() * pixel.head<3>() + Eigen::Vector3f::Constant(1.0f - pixel.w());
+      pixel.w() = 1.0f;
+    }
+    for (int c = 0; c < 3; ++c) {
+      image->at(col, row, c) = options.srgb ? SrgbFromLinear(pixel[c]) : pixel[c];
+    }
+    image->at(col, row, 3) = pixel.w();
+  }
 }
 
 FloatImage TreePreviewRenderer::Impl::Render(const PreviewView& view,
@@ -468,23 +515,13 @@ FloatImage TreePreviewRenderer::Impl::Render(const PreviewView& view,
   view.camera.Check("tree preview view '" + view.name + "'");
   FloatImage image(view.camera.width(), view.camera.height(), 4);
   const Rigid3d world_from_cam = view.cam_from_world.Inverse();
-  tbb::parallel_for(
-      tbb::blocked_range<int>(0, image.height()), [&](const tbb::blocked_range<int>& rows) {
-        for (int row = rows.begin(); row < rows.end(); ++row) {
-          for (int col = 0; col < image.width(); ++col) {
-            Eigen::Vector4f pixel = RenderPixel(view, world_from_cam, col, row, options);
-            if (options.white_background) {
-              pixel.head<3>() =
-                  pixel.w() * pixel.head<3>() + Eigen::Vector3f::Constant(1.0f - pixel.w());
-              pixel.w() = 1.0f;
-            }
-            for (int c = 0; c < 3; ++c) {
-              image.at(col, row, c) = options.srgb ? SrgbFromLinear(pixel[c]) : pixel[c];
-            }
-            image.at(col, row, 3) = pixel.w();
-          }
-        }
-      });
+  tbb::parallel_for(tbb::blocked_range<int>(0, image.height()),
+                    [&](const tbb::blocked_range<int>& rows) {
+                      RowBuffers buffers;
+                      for (int row = rows.begin(); row < rows.end(); ++row) {
+                        RenderRow(view, world_from_cam, row, options, &buffers, &image);
+                      }
+                    });
   return image;
 }
 
