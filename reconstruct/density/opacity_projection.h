@@ -1,6 +1,7 @@
 // Renders a density grid's opacity as seen from a view: the forward model of
 // the density system (1 - exp(-sum of optical depth x length) along exact
-// voxel traversals), used for fidelity reports and tests.
+// voxel traversals), used for fidelity reports and tests. Rays step over
+// empty bricks of 8^3 voxels and traverse the voxels of the others.
 #ifndef SYLVA_RECONSTRUCT_DENSITY_OPACITY_PROJECTION_H_
 #define SYLVA_RECONSTRUCT_DENSITY_OPACITY_PROJECTION_H_
 
@@ -16,7 +17,7 @@ namespace sylva {
 
 class OpacityProjector {
  public:
-  // Copies the grid's active voxels into a dense block of optical depths.
+  // Copies the grid's active voxels into dense bricks of optical depths.
   explicit OpacityProjector(const DensityGrid& grid);
 
   // Opacity per downsampled pixel of `sampling`: each pixel's rays are
@@ -30,8 +31,16 @@ class OpacityProjector {
   }
 
  private:
+  // The voxels of brick `brick` of bricks_ as a block of its own (the last
+  // bricks along an axis may be partial).
+  VoxelBlock BrickBlock(int64_t brick) const;
+  // Optical depth through the block along `ray` (per voxel length x length).
+  double OpticalDepth(const Ray3d& ray) const;
+
   VoxelBlock block_;
-  std::vector<float> optical_depth_;  // per voxel of block_, per voxel length
+  VoxelBlock bricks_;                 // block_ cut in bricks of kBrickSize^3 voxels
+  std::vector<int64_t> brick_start_;  // per brick: its first value in optical_depth_, -1 if empty
+  std::vector<float> optical_depth_;  // per voxel of the occupied bricks, per voxel length
 };
 
 }  // namespace sylva
