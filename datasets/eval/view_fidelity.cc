@@ -36,7 +36,9 @@ std::vector<ViewFidelity> ComputeDensityViewFidelity(const DensityGrid& grid,
                                                      const ImageSet& image_set,
                                                      const std::vector<FloatImage>& mattes,
                                                      const std::vector<bool>& held_out,
-                                                     const ViewFidelityOptions& options) {
+                                                     const ViewFidelityOptions& options,
+                                                     std::vector<FloatImage>* projections) {
+  if (projections != nullptr) projections->resize(image_set.NumViews());
   const OpacityProjector projector(grid);
   const Eigen::Vector3d center =
       grid.IsEmpty() ? grid.origin() : Eigen::Vector3d(grid.ActiveWorldBounds().center());
@@ -50,7 +52,11 @@ std::vector<ViewFidelity> ComputeDensityViewFidelity(const DensityGrid& grid,
     view.downsample_factor = sampling.factor;
     view.width = sampling.width();
     view.height = sampling.height();
-    view.predicted = projector.Render(image_set, v, sampling);
+    const bool known = projections != nullptr && (*projections)[v].width() == view.width &&
+                       (*projections)[v].height() == view.height &&
+                       (*projections)[v].channels() == 1;
+    view.predicted = known ? (*projections)[v] : projector.Render(image_set, v, sampling);
+    if (projections != nullptr) (*projections)[v] = view.predicted;
     view.observed = DownsampleBox(mattes[v], sampling.factor);
     view.scores = CompareSilhouettes(view.predicted, view.observed,
                                      static_cast<float>(options.opacity_threshold),

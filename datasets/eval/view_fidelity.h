@@ -69,12 +69,14 @@ struct FidelityGroup {
 
 // Projects `grid` into every view of `image_set` (one ray per downsampled
 // pixel, at options.pixels_per_voxel) and compares with `mattes` (full
-// resolution, one per view); `held_out` flags each view.
-std::vector<ViewFidelity> ComputeDensityViewFidelity(const DensityGrid& grid,
-                                                     const ImageSet& image_set,
-                                                     const std::vector<FloatImage>& mattes,
-                                                     const std::vector<bool>& held_out,
-                                                     const ViewFidelityOptions& options);
+// resolution, one per view); `held_out` flags each view. `projections`
+// (optional) carries the projections from an earlier call on the same grid,
+// cameras and options: a view's is used where it has the compared size,
+// else it is computed; on return it holds every view's.
+std::vector<ViewFidelity> ComputeDensityViewFidelity(
+    const DensityGrid& grid, const ImageSet& image_set, const std::vector<FloatImage>& mattes,
+    const std::vector<bool>& held_out, const ViewFidelityOptions& options,
+    std::vector<FloatImage>* projections = nullptr);
 
 // Renders `mesh` (Embree) from every view of `image_set` at the resolution
 // each view of `views` (ComputeDensityViewFidelity's) was compared at, and

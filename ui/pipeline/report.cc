@@ -345,13 +345,14 @@ std::string FidelityReport::BriefReport() const {
 
 FidelityReport ComputeFidelity(const DensityGrid& grid, const ImageSet& image_set,
                                const std::vector<FloatImage>& mattes,
-                               const std::vector<bool>& held_out, const ReportOptions& options) {
+                               const std::vector<bool>& held_out, const ReportOptions& options,
+                               std::vector<FloatImage>* projections) {
   FidelityReport report;
   report.voxel_size = grid.voxel_size();
   report.num_voxels = grid.NumActiveVoxels();
   report.bounds = grid.ActiveWorldBounds();
-  report.views =
-      ComputeDensityViewFidelity(grid, image_set, mattes, held_out, FidelityOptions(options));
+  report.views = ComputeDensityViewFidelity(grid, image_set, mattes, held_out,
+                                            FidelityOptions(options), projections);
   report.input = SummariseViews(report.views, false, false);
   report.held_out = SummariseViews(report.views, true, false);
   return report;

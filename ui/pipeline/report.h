@@ -59,10 +59,12 @@ struct FidelityReport {
 };
 
 // The report of the density's fidelity (ComputeDensityViewFidelity with
-// the Report options, and its input and held-out groups) and the grid's facts.
+// the Report options, and its input and held-out groups) and the grid's
+// facts. `projections`: as ComputeDensityViewFidelity's.
 FidelityReport ComputeFidelity(const DensityGrid& grid, const ImageSet& image_set,
                                const std::vector<FloatImage>& mattes,
-                               const std::vector<bool>& held_out, const ReportOptions& options);
+                               const std::vector<bool>& held_out, const ReportOptions& options,
+                               std::vector<FloatImage>* projections = nullptr);
 
 // Flags the views named `names` as priors (ViewFidelity::prior: a drawing's
 // made-up depth view) and leaves them out of every group's figures.

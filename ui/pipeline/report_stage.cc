@@ -3,7 +3,10 @@
 // separately), plus the tree's metrics as the mesh stage wrote them
 // (out/metrics.json) and preview pictures (leaves drawn as instances) ->
 // out/report.json, report.html and pictures under out/report/.
+#include <cstring>
+
 #include "core/io/vdb_io.h"
+#include "core/util/file_util.h"
 #include "mesh/gltf_export.h"
 #include "ui/pipeline/report.h"
 #include "ui/pipeline/stage_context.h"
@@ -25,6 +28,75 @@ void AddReportFigures(const FidelityReport& report, StageRun* run) {
   }
 }
 
+// cache/report_projections.bin: the density's projection into every view,
+// the report's slowest density figure, kept so that a run in which the
+// density did not change (a stroke edit, a new mesh option) reuses it.
+// Binary: the magic line, the key line, the count n (uint64), then per view
+// width and height (int32) and its floats, in this machine's byte order. A
+// missing, old or damaged file only means projecting again.
+constexpr char kProjectionsMagic[] = "sylva-report-projections/1\n";
+
+fs::path ProjectionsPath(const StageContext& context) {
+  return context.project.CacheDir() / "report_projections.bin";
+}
+
+// What the projections depend on: the density file, the cameras, the
+// views and the Report options.
+std::string ProjectionsKey(const StageContext& context, const ImageSet& image_set) {
+  std::string key = OptionsText(context.options, {"Report."});
+  key += ";" + FileKey(context.project, context.Out("density.vdb"));
+  for (const fs::path& file : context.project.CameraFiles()) {
+    key += ";" + FileKey(context.project, file);
+  }
+  for (const View& view : image_set.views) key += ";" + view.name;
+  return HexString(Fnv1a64(key));
+}
+
+std::vector<FloatImage> ReadProjections(const fs::path& path, const std::string& key) {
+  std::error_code ec;
+  if (!fs::is_regular_file(path, ec)) return {};
+  const std::string bytes = ReadFileToString(path);
+  const std::string head = kProjectionsMagic + key + "\n";
+  if (bytes.compare(0, head.size(), head) != 0) return {};
+  size_t at = head.size();
+  uint64_t n = 0;
+  if (bytes.size() < at + sizeof(n)) return {};
+  std::memcpy(&n, bytes.data() + at, sizeof(n));
+  at += sizeof(n);
+  std::vector<FloatImage> projections;
+  for (uint64_t k = 0; k < n; ++k) {
+    int32_t size[2];
+    if (bytes.size() - at < sizeof(size)) return {};
+    std::memcpy(size, bytes.data() + at, sizeof(size));
+    at += sizeof(size);
+    if (size[0] <= 0 || size[1] <= 0 ||
+        (bytes.size() - at) / sizeof(float) / size[0] < static_cast<uint64_t>(size[1])) {
+      return {};
+    }
+    FloatImage image(size[0], size[1], 1);
+    std::memcpy(image.data(), bytes.data() + at, image.values().size() * sizeof(float));
+    at += image.values().size() * sizeof(float);
+    projections.push_back(std::move(image));
+  }
+  if (at != bytes.size()) return {};
+  return projections;
+}
+
+void WriteProjections(const fs::path& path, const std::string& key,
+                      const std::vector<FloatImage>& projections) {
+  std::string bytes = kProjectionsMagic + key + "\n";
+  const uint64_t n = projections.size();
+  bytes.append(reinterpret_cast<const char*>(&n), sizeof(n));
+  for (const FloatImage& image : projections) {
+    const int32_t size[2] = {image.width(), image.height()};
+    bytes.append(reinterpret_cast<const char*>(size), sizeof(size));
+    bytes.append(reinterpret_cast<const char*>(image.data()),
+                 image.values().size() * sizeof(float));
+  }
+  fs::create_directories(path.parent_path());
+  AtomicWriteString(path, bytes);
+}
+
 }  // namespace
 
 StageRun RunReportStage(const StageContext& context) {
@@ -36,8 +108,14 @@ StageRun RunReportStage(const StageContext& context) {
   std::vector<bool> held_out;
   for (const View& view : image_set.views) held_out.push_back(context.project.IsHeldOut(view.name));
   clock.Lap("read");
+  const std::string projections_key = ProjectionsKey(context, image_set);
+  std::vector<FloatImage> projections;
+  if (!context.cold) projections = ReadProjections(ProjectionsPath(context), projections_key);
+  const bool reused = static_cast<int>(projections.size()) == image_set.NumViews();
   FidelityReport report =
-      ComputeFidelity(grid, image_set, mattes, held_out, context.options.report);
+      ComputeFidelity(grid, image_set, mattes, held_out, context.options.report, &projections);
+  if (!reused) WriteProjections(ProjectionsPath(context), projections_key, projections);
+  run.AddFigure("reused_projections", reused ? image_set.NumViews() : 0, "views");
   MarkPriorViews(context.project.prior_views(), &report);
   clock.Lap("density_fidelity");
   report.units = context.Units();

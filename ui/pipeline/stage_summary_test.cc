@@ -135,5 +135,43 @@ TEST(StageProfileTest, TextListsStepsWithTheirSubSteps) {
   EXPECT_EQ(ProfileText(profile), "read 0.125 s, solve 2 s (init 0.5, iterate 1.25)");
 }
 
+// The report keeps the density's projections (cache/report_projections.bin):
+// a run in which only the mesh changed reuses them and reports the same
+// density figures; a forced run, a new density or a damaged file projects
+// again.
+TEST_F(StageSummaryTest, TheReportReusesTheDensityProjectionsWhileTheDensityHolds) {
+  PipelineOptions options;
+  options.density.resolution = 24;
+  const auto report = [&](const PipelineOptions& with, bool force) {
+    return Pipeline(*project_, with, nullptr).Run(Stage::kReport, force).stages.back();
+  };
+  const StageRun first = report(options, false);
+  ASSERT_EQ(first.stage, Stage::kReport);
+  EXPECT_EQ(first.Figure("reused_projections"), 0.0);
+  PipelineOptions other_mesh = options;
+  other_mesh.leaves.leaf_aspect = 0.5;
+  const StageRun second = report(other_mesh, false);
+  EXPECT_EQ(second.Figure("reused_projections"), 4.0);
+  for (const char* figure : {"input_mean_iou", "held_out_mean_iou"}) {
+    ASSERT_TRUE(first.Figure(figure)) << figure;
+    EXPECT_EQ(second.Figure(figure), first.Figure(figure)) << figure;
+  }
+  EXPECT_NE(second.Figure("mesh_input_mean_iou"), std::nullopt);
+  EXPECT_EQ(report(options, true).Figure("reused_projections"), 0.0);  // forced: cold
+  const fs::path cache = project_->CacheDir() / "report_projections.bin";
+  ASSERT_TRUE(fs::is_regular_file(cache));
+  const auto size = fs::file_size(cache);
+  fs::resize_file(cache, size - 7);
+  const StageRun damaged = report(other_mesh, false);
+  EXPECT_EQ(damaged.Figure("reused_projections"), 0.0);
+  EXPECT_EQ(damaged.Figure("input_mean_iou"), first.Figure("input_mean_iou"));
+  EXPECT_EQ(fs::file_size(cache), size);  // written again
+  PipelineOptions other_density = other_mesh;
+  other_density.density.resolution = 28;
+  const StageRun new_density = report(other_density, false);
+  ASSERT_EQ(new_density.stage, Stage::kReport) << new_density.brief;
+  EXPECT_EQ(new_density.Figure("reused_projections"), 0.0);
+}
+
 }  // namespace
 }  // namespace sylva
