@@ -6,6 +6,7 @@
 #include <array>
 #include <cctype>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <sstream>
 
@@ -354,6 +355,11 @@ constexpr double kNearlyClosedGapFraction = 0.10;  // of the stroke's length
 constexpr double kGroundBandFraction = 0.05;       // of the drawing's height
 constexpr double kAboveMinPointFraction = 0.75;    // of the stroke's points
 constexpr double kAboveMarginFraction = 0.05;      // of the drawing's height
+// An outline drawn in pieces (drawing_io.h).
+constexpr double kOutlineMaxGapFraction = 0.4;    // of the drawing's larger side
+constexpr double kOutlineMinAreaFraction = 0.25;  // of the drawing's bounding box
+constexpr double kOutlineMinInkFraction = 0.6;    // of all strokes' length
+constexpr double kOutlineMinAspect = 0.25;        // width over height (not a trunk)
 
 double PolylineLength(const std::vector<Eigen::Vector2d>& points) {
   double length = 0;
@@ -451,11 +457,91 @@ bool IsQuickDrawCrown(const std::vector<SketchStroke>& strokes, size_t k,
   return above >= kAboveMinPointFraction * stroke.points.size();
 }
 
+// The pieces of an outline (drawing_io.h) joined into one closed crown
+// stroke, in place of the first of them; false (nothing changed) if the
+// strokes do not make one.
+bool JoinOutlinePieces(std::vector<SketchStroke>* strokes, const DrawingExtent& extent) {
+  const Eigen::Vector2d size = extent.max - extent.min;
+  const double reach = kOutlineMaxGapFraction * std::max(size.x(), size.y());
+  // From the lowest stroke end (a foot on the ground), walking away from it.
+  size_t first = 0;
+  bool reversed = false;  // walk the first stroke from its back end
+  double lowest = -std::numeric_limits<double>::infinity();
+  for (size_t k = 0; k < strokes->size(); ++k) {
+    for (bool from_back : {false, true}) {
+      const SketchStroke& s = (*strokes)[k];
+      const double y = from_back ? s.points.back().y() : s.points.front().y();
+      if (y > lowest) {
+        lowest = y;
+        first = k;
+        reversed = from_back;
+      }
+    }
+  }
+  std::vector<bool> used(strokes->size(), false);
+  std::vector<size_t> members = {first};
+  used[first] = true;
+  std::vector<Eigen::Vector2d> chain = (*strokes)[first].points;
+  if (reversed) std::reverse(chain.begin(), chain.end());
+  double ink = PolylineLength(chain), all_ink = 0.0;
+  for (const SketchStroke& s : *strokes) all_ink += PolylineLength(s.points);
+  for (;;) {
+    // The stroke whose nearer end is closest to the chain's end.
+    size_t next = strokes->size();
+    bool next_reversed = false;
+    double gap = reach;
+    for (size_t k = 0; k < strokes->size(); ++k) {
+      if (used[k]) continue;
+      for (bool from_back : {false, true}) {
+        const SketchStroke& s = (*strokes)[k];
+        const double d = (chain.back() - (from_back ? s.points.back() : s.points.front())).norm();
+        if (d < gap) {
+          gap = d;
+          next = k;
+          next_reversed = from_back;
+        }
+      }
+    }
+    if (next == strokes->size()) break;
+    std::vector<Eigen::Vector2d> piece = (*strokes)[next].points;
+    if (next_reversed) std::reverse(piece.begin(), piece.end());
+    chain.insert(chain.end(), piece.begin(), piece.end());
+    ink += PolylineLength(piece);
+    used[next] = true;
+    members.push_back(next);
+  }
+  Eigen::Vector2d low = chain.front(), high = chain.front();
+  for (const Eigen::Vector2d& p : chain) {
+    low = low.cwiseMin(p);
+    high = high.cwiseMax(p);
+  }
+  if (members.size() < 2 || ChordClosedArea(chain) < kOutlineMinAreaFraction * extent.Area() ||
+      ink < kOutlineMinInkFraction * all_ink ||
+      high.x() - low.x() < kOutlineMinAspect * (high.y() - low.y())) {
+    return false;
+  }
+  SketchStroke outline;
+  outline.points = DistinctPoints(chain, false);
+  outline.role = StrokeRole::kCrown;
+  outline.closed = true;
+  std::vector<SketchStroke> joined;
+  for (size_t k = 0; k < strokes->size(); ++k) {
+    if (k == *std::min_element(members.begin(), members.end())) joined.push_back(outline);
+    if (!used[k]) joined.push_back(std::move((*strokes)[k]));
+  }
+  *strokes = std::move(joined);
+  return true;
+}
+
 void ClassifyQuickDrawStrokes(std::vector<SketchStroke>* strokes) {
   const DrawingExtent extent = ExtentOf(*strokes);
   // Decide all before changing any: the rule looks at the other strokes.
   std::vector<bool> crown(strokes->size());
   for (size_t k = 0; k < strokes->size(); ++k) crown[k] = IsQuickDrawCrown(*strokes, k, extent);
+  if (std::none_of(crown.begin(), crown.end(), [](bool c) { return c; }) &&
+      JoinOutlinePieces(strokes, extent)) {
+    return;
+  }
   for (size_t k = 0; k < strokes->size(); ++k) {
     if (!crown[k]) continue;
     SketchStroke& stroke = (*strokes)[k];

@@ -67,6 +67,16 @@
 //       then closed = true) or at least 75 % of its points lie above the top
 //       of the strokes that stand on the ground (plus 5 % of the drawing's
 //       height; a cloud open where the trunk enters).
+//   When no stroke is a crown outline, the drawing may be one outline drawn
+//   in pieces (a conifer, or trunk and crown as one silhouette, left open at
+//   the ground and between strokes): the strokes are chained end to end,
+//   from the lowest stroke end, each time to the stroke whose nearer end is
+//   closest to the chain's end (within 40 % of the drawing's larger side).
+//   If the chain, closed by the chord back to its start (along the ground),
+//   encloses at least 25 % of the drawing's bounding box, holds at least
+//   60 % of the drawing's ink and is at least a quarter as wide as it is
+//   tall (two trunk lines are not a crown), it becomes one closed crown
+//   outline in place of its pieces.
 //   Every other stroke is a branch.
 #ifndef SYLVA_SKETCH_DRAWING_IO_H_
 #define SYLVA_SKETCH_DRAWING_IO_H_

@@ -381,14 +381,16 @@ TEST(ReadQuickDrawTest, ReadsAStrokeListInCanvasPixels) {
 
 // The roles the crown rule gives the strokes of each of the 15 real
 // doodles: C a closed crown outline, c an open one, b a branch. Checked by eye
-// on a rendering of the strokes: all right but doodle 12, whose crown is
-// drawn as one stroke with the trunk's right side plus two short strokes on
-// top (no stroke encloses 10 % of the drawing), so it has no crown. Doodle 5
-// is the whole tree in one closed stroke, doodle 6's crown stroke also draws
-// a trunk line: both whole strokes become crown outlines.
+// on a rendering of the strokes. Doodle 12 is the tree's silhouette drawn in
+// four open strokes (the left side from the ground, two short strokes on
+// top, the right side with the crown's lobes down to the ground; no stroke
+// encloses 10 % of the drawing): they are joined into one closed outline, in
+// that order. Doodle 5 is the whole tree
+// in one closed stroke, doodle 6's crown stroke also draws a trunk line: both
+// whole strokes become crown outlines.
 constexpr const char* kDoodleRoles[kQuickDrawTrees] = {
-    "Cbb", "bC", "bc",    "bbbbbbbbbbbC", "bbc",  "C",   "bc",  "bbc",
-    "bbC", "bc", "bbbCb", "bbbbbbbbbc",   "bbbb", "bbC", "bbcb"};
+    "Cbb", "bC", "bc",    "bbbbbbbbbbbC", "bbc", "C",   "bc",  "bbc",
+    "bbC", "bc", "bbbCb", "bbbbbbbbbc",   "C",   "bbC", "bbcb"};
 
 TEST(ReadQuickDrawTest, RealTreeDoodles) {
   const fs::path path = SketchData("quickdraw/tree.ndjson");
@@ -403,7 +405,37 @@ TEST(ReadQuickDrawTest, RealTreeDoodles) {
     EXPECT_EQ(roles, kDoodleRoles[index]) << "doodle " << index;
     with_crown += drawing.CountRole(StrokeRole::kCrown) > 0;
   }
-  EXPECT_EQ(with_crown, 14);
+  EXPECT_EQ(with_crown, 15);
+}
+
+// An outline drawn in pieces (drawing_io.h): a conifer's two sides, open at
+// the apex and along the ground, become one closed crown outline; two trunk
+// lines, or pieces too far apart, stay branches.
+TEST(ReadQuickDrawTest, AnOutlineInPiecesBecomesOneCrown) {
+  const fs::path path = WriteTestFile(
+      "pieces.ndjson",
+      R"({"word":"tree","drawing":[[[20,120],[250,20]],[[135,220],[25,250]],[[125,126],[3,0]]]})"
+      "\n"
+      R"({"word":"tree","drawing":[[[100,100],[250,40]],[[112,112],[40,250]]]})"
+      "\n"
+      R"({"word":"tree","drawing":[[[0,40],[250,10]],[[255,215],[250,10]]]})"
+      "\n");
+  const SketchDrawing conifer = ReadSketch(path, 0);
+  ASSERT_EQ(conifer.strokes.size(), 2u);
+  EXPECT_EQ(conifer.strokes[0].role, StrokeRole::kCrown);
+  EXPECT_TRUE(conifer.strokes[0].closed);
+  // From the lowest end (20, 250) up the left side, then the right side down.
+  ASSERT_EQ(conifer.strokes[0].points.size(), 4u);
+  ExpectPoint(conifer.strokes[0].points[0], 20, 250);
+  ExpectPoint(conifer.strokes[0].points[1], 120, 20);
+  ExpectPoint(conifer.strokes[0].points[2], 135, 25);
+  ExpectPoint(conifer.strokes[0].points[3], 220, 250);
+  EXPECT_EQ(conifer.strokes[1].role, StrokeRole::kBranch);  // the tip, left out of the chain
+  for (int index : {1, 2}) {  // a trunk's two lines; two sides 175 px apart at the top
+    const SketchDrawing drawing = ReadSketch(path, index);
+    EXPECT_EQ(drawing.CountRole(StrokeRole::kCrown), 0) << index;
+    EXPECT_EQ(drawing.strokes.size(), 2u) << index;
+  }
 }
 
 TEST(ReadQuickDrawTest, DamagedFilesNeverCrash) {
