@@ -105,6 +105,7 @@ void RasterizeTriangle(const std::vector<Projected>& projected, const Eigen::Vec
   const double area = e0.At(v0.x, v0.y);
   if (area == 0.0 || !std::isfinite(area)) return;  // edge-on: no ray hits it
   const bool positive = area > 0.0;
+  const double inverse_area = 1.0 / area;
   const double orientation = positive ? 1.0 : -1.0;
   // Most triangles of a tree (leaves, twigs) are a few samples across: test
   // their bounds' samples directly; wider ones find each row's span first.
@@ -139,7 +140,7 @@ void RasterizeTriangle(const std::vector<Projected>& projected, const Eigen::Vec
         if ((*sample_triangles)[k] < 0) (*sample_triangles)[k] = t;
         continue;
       }
-      const double key = (w0 * v0.key + w1 * v1.key + w2 * v2.key) / area;
+      const double key = (w0 * v0.key + w1 * v1.key + w2 * v2.key) * inverse_area;
       if (key < (*keys)[k]) {
         (*keys)[k] = key;
         (*sample_triangles)[k] = t;
