@@ -61,6 +61,9 @@ struct SketchDrawing {
   // The text of visible SVG <text> elements (annotations such as a
   // phyllotaxis pattern), one entry per element, trimmed.
   std::vector<std::string> texts;
+  // How the reader read what the drawing does not say (e.g. an outline
+  // joined from open pieces), one sentence each, for the user.
+  std::vector<std::string> notes;
 
   int CountRole(StrokeRole role) const;
   // Throws InputError naming `source` if the canvas size is not positive and

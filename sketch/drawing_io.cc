@@ -458,9 +458,9 @@ bool IsQuickDrawCrown(const std::vector<SketchStroke>& strokes, size_t k,
 }
 
 // The pieces of an outline (drawing_io.h) joined into one closed crown
-// stroke, in place of the first of them; false (nothing changed) if the
-// strokes do not make one.
-bool JoinOutlinePieces(std::vector<SketchStroke>* strokes, const DrawingExtent& extent) {
+// stroke, in place of the first of them; how many were joined (0: none,
+// nothing changed).
+int JoinOutlinePieces(std::vector<SketchStroke>* strokes, const DrawingExtent& extent) {
   const Eigen::Vector2d size = extent.max - extent.min;
   const double reach = kOutlineMaxGapFraction * std::max(size.x(), size.y());
   // From the lowest stroke end (a foot on the ground), walking away from it.
@@ -518,7 +518,7 @@ bool JoinOutlinePieces(std::vector<SketchStroke>* strokes, const DrawingExtent& 
   if (members.size() < 2 || ChordClosedArea(chain) < kOutlineMinAreaFraction * extent.Area() ||
       ink < kOutlineMinInkFraction * all_ink ||
       high.x() - low.x() < kOutlineMinAspect * (high.y() - low.y())) {
-    return false;
+    return 0;
   }
   SketchStroke outline;
   outline.points = DistinctPoints(chain, false);
@@ -530,17 +530,22 @@ bool JoinOutlinePieces(std::vector<SketchStroke>* strokes, const DrawingExtent& 
     if (!used[k]) joined.push_back(std::move((*strokes)[k]));
   }
   *strokes = std::move(joined);
-  return true;
+  return static_cast<int>(members.size());
 }
 
-void ClassifyQuickDrawStrokes(std::vector<SketchStroke>* strokes) {
+// Sets the strokes' roles by the rule in drawing_io.h; notes an outline
+// joined from pieces in `notes`.
+void ClassifyQuickDrawStrokes(std::vector<SketchStroke>* strokes, std::vector<std::string>* notes) {
   const DrawingExtent extent = ExtentOf(*strokes);
   // Decide all before changing any: the rule looks at the other strokes.
   std::vector<bool> crown(strokes->size());
   for (size_t k = 0; k < strokes->size(); ++k) crown[k] = IsQuickDrawCrown(*strokes, k, extent);
-  if (std::none_of(crown.begin(), crown.end(), [](bool c) { return c; }) &&
-      JoinOutlinePieces(strokes, extent)) {
-    return;
+  if (std::none_of(crown.begin(), crown.end(), [](bool c) { return c; })) {
+    if (const int joined = JoinOutlinePieces(strokes, extent)) {
+      notes->push_back("no stroke encloses a crown: " + std::to_string(joined) +
+                       " open strokes, joined end to end, are read as one closed outline");
+      return;
+    }
   }
   for (size_t k = 0; k < strokes->size(); ++k) {
     if (!crown[k]) continue;
@@ -590,7 +595,7 @@ SketchDrawing QuickDrawFromLine(const std::string& line, const std::string& sour
   }
   SYLVA_CHECK_INPUT(!drawing.strokes.empty(), source)
       << where << "no strokes of two or more distinct points";
-  ClassifyQuickDrawStrokes(&drawing.strokes);
+  ClassifyQuickDrawStrokes(&drawing.strokes, &drawing.notes);
   return drawing;
 }
 

@@ -431,10 +431,13 @@ TEST(ReadQuickDrawTest, AnOutlineInPiecesBecomesOneCrown) {
   ExpectPoint(conifer.strokes[0].points[2], 135, 25);
   ExpectPoint(conifer.strokes[0].points[3], 220, 250);
   EXPECT_EQ(conifer.strokes[1].role, StrokeRole::kBranch);  // the tip, left out of the chain
+  ASSERT_EQ(conifer.notes.size(), 1u);
+  EXPECT_TRUE(Contains(conifer.notes[0], "2 open strokes")) << conifer.notes[0];
   for (int index : {1, 2}) {  // a trunk's two lines; two sides 175 px apart at the top
     const SketchDrawing drawing = ReadSketch(path, index);
     EXPECT_EQ(drawing.CountRole(StrokeRole::kCrown), 0) << index;
     EXPECT_EQ(drawing.strokes.size(), 2u) << index;
+    EXPECT_TRUE(drawing.notes.empty()) << index;
   }
 }
 

@@ -4,6 +4,7 @@
 #include "core/io/image_io.h"
 #include "core/util/check.h"
 #include "core/util/file_util.h"
+#include "core/util/logging.h"
 #include "sketch/drawing_io.h"
 
 namespace sylva {
@@ -67,6 +68,9 @@ Project CreateSketchProject(const SketchSetup& setup, const SketchViewOptions& o
   std::vector<SketchDrawing> drawings;
   for (const fs::path& path : setup.drawings) {
     drawings.push_back(ReadSketch(path, setup.ndjson_index));
+    for (const std::string& note : drawings.back().notes) {
+      SYLVA_LOG(kInfo) << path.string() << ": " << note;
+    }
   }
   return CreateSketchProject(setup, drawings, options, registry);
 }
