@@ -67,23 +67,21 @@ int Ceil(double x) {
   return i < x ? i + 1 : i;
 }
 
-// Where a row of samples meets one edge's half-plane: the oriented edge
-// function is slope * x + offset(y), inside where >= 0.
+// Where a row of samples crosses one edge's line (x = px + run (y - py)),
+// and which side of it is inside: x >= the crossing (bound +1), x <= it
+// (-1), or no bound from a horizontal edge (0).
 struct EdgeSpan {
-  double slope = 0.0, inverse_slope = 0.0, dx = 0.0, px = 0.0, py = 0.0, dy = 0.0;
+  double px = 0.0, py = 0.0, run = 0.0;
+  int bound = 0;
 
   EdgeSpan() = default;
-  EdgeSpan(const Edge& edge, double orientation) {
-    const double sign = orientation * edge.sign;
-    slope = -sign * edge.dy;
-    inverse_slope = slope != 0.0 ? 1.0 / slope : 0.0;
-    dx = sign * edge.dx;
-    dy = sign * edge.dy;
-    px = edge.px;
-    py = edge.py;
+  EdgeSpan(const Edge& edge, double orientation) : px(edge.px), py(edge.py) {
+    // The inside's edge function grows with x by -orientation * sign * dy.
+    const double growth = -orientation * edge.sign * edge.dy;
+    bound = growth > 0.0 ? 1 : growth < 0.0 ? -1 : 0;
+    run = edge.dy != 0.0 ? edge.dx / edge.dy : 0.0;
   }
-  // The x where the edge crosses row y.
-  double CrossingX(double y) const { return -(dx * (y - py) + dy * px) * inverse_slope; }
+  double CrossingX(double y) const { return px + run * (y - py); }
 };
 
 // Rasterizes triangle `t` into the sample rows [row_begin, row_end).
@@ -111,9 +109,10 @@ void RasterizeTriangle(const std::vector<Projected>& projected, const Eigen::Vec
   // their bounds' samples directly; wider ones find each row's span first.
   const bool narrow = a1 - a0 < kNarrowSamples;
   EdgeSpan spans[3];
-  if (!narrow)
-    spans[0] = EdgeSpan(e0, orientation), spans[1] = EdgeSpan(e1, orientation),
-    spans[2] = EdgeSpan(e2, orientation);
+  if (!narrow) {
+    const Edge* edges[3] = {&e0, &e1, &e2};
+    for (int e = 0; e < 3; ++e) spans[e] = EdgeSpan(*edges[e], orientation);
+  }
   for (int b = b0; b <= b1; ++b) {
     const double y = grid.Y(b);
     const size_t row = static_cast<size_t>(b) * grid.width;
@@ -122,9 +121,9 @@ void RasterizeTriangle(const std::vector<Projected>& projected, const Eigen::Vec
     double low = a0, high = a1;
     for (int e = 0; e < 3 && !narrow; ++e) {
       const EdgeSpan& span = spans[e];
-      if (span.slope > 0.0) {
+      if (span.bound > 0) {
         low = std::max(low, span.CrossingX(y) * s - 1.5);
-      } else if (span.slope < 0.0) {
+      } else if (span.bound < 0) {
         high = std::min(high, span.CrossingX(y) * s + 0.5);
       }
     }

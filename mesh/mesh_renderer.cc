@@ -377,25 +377,28 @@ MeshRenderer::CoverageAndRgba MeshRenderer::RenderCoverageAndRgba(const Camera& 
       << "must be 0 or divide samples_per_axis " << samples_per_axis << ", got " << picture_scale;
   const Impl::ShadeFn shade = impl_->Lambert(shading);
   CoverageAndRgba result;
-  if (picture_scale == 0) {
-    result.coverage = RenderCoverage(camera, cam_from_world, samples_per_axis, shading.method);
-    return result;
-  }
-  const Camera picture_camera =
-      camera.Scaled(picture_scale, camera.width() * picture_scale, camera.height() * picture_scale);
-  const int picture_samples = samples_per_axis / picture_scale;
   std::vector<int> sample_triangles;
-  if (shading.method == MeshRenderMethod::kAuto && impl_->NumTriangles() > 0 &&
-      impl_->Rasterize(camera, cam_from_world, samples_per_axis, true, &sample_triangles)) {
+  if (shading.method == MeshRenderMethod::kAuto &&
+      impl_->Rasterize(camera, cam_from_world, samples_per_axis, picture_scale > 0,
+                       &sample_triangles)) {
     result.coverage = FloatImage(camera.width(), camera.height(), 1);
     impl_->ResolveSamples(sample_triangles, samples_per_axis, shade, &result.coverage);
-    result.rgba = FloatImage(picture_camera.width(), picture_camera.height(), 4);
-    impl_->ResolveSamples(sample_triangles, picture_samples, shade, &result.rgba);
+    if (picture_scale > 0) {
+      result.rgba = FloatImage(camera.width() * picture_scale, camera.height() * picture_scale, 4);
+      impl_->ResolveSamples(sample_triangles, samples_per_axis / picture_scale, shade,
+                            &result.rgba);
+    }
     return result;
   }
-  result.coverage = RenderCoverage(camera, cam_from_world, samples_per_axis, shading.method);
-  result.rgba =
-      impl_->Render(picture_camera, cam_from_world, picture_samples, 4, shading.method, shade);
+  // Rays: asked for, or where rasterizing would not be exact (not tried again).
+  result.coverage =
+      RenderCoverage(camera, cam_from_world, samples_per_axis, MeshRenderMethod::kRayCast);
+  if (picture_scale > 0) {
+    const Camera picture_camera = camera.Scaled(picture_scale, camera.width() * picture_scale,
+                                                camera.height() * picture_scale);
+    result.rgba = impl_->Render(picture_camera, cam_from_world, samples_per_axis / picture_scale, 4,
+                                MeshRenderMethod::kRayCast, shade);
+  }
   return result;
 }
 

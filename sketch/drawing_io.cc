@@ -461,6 +461,10 @@ bool IsQuickDrawCrown(const std::vector<SketchStroke>& strokes, size_t k,
 // stroke, in place of the first of them; how many were joined (0: none,
 // nothing changed).
 int JoinOutlinePieces(std::vector<SketchStroke>* strokes, const DrawingExtent& extent) {
+  const auto end_of = [&](size_t k, bool back) -> const Eigen::Vector2d& {
+    const std::vector<Eigen::Vector2d>& points = (*strokes)[k].points;
+    return back ? points.back() : points.front();
+  };
   const Eigen::Vector2d size = extent.max - extent.min;
   const double reach = kOutlineMaxGapFraction * std::max(size.x(), size.y());
   // From the lowest stroke end (a foot on the ground), walking away from it.
@@ -469,10 +473,8 @@ int JoinOutlinePieces(std::vector<SketchStroke>* strokes, const DrawingExtent& e
   double lowest = -std::numeric_limits<double>::infinity();
   for (size_t k = 0; k < strokes->size(); ++k) {
     for (bool from_back : {false, true}) {
-      const SketchStroke& s = (*strokes)[k];
-      const double y = from_back ? s.points.back().y() : s.points.front().y();
-      if (y > lowest) {
-        lowest = y;
+      if (end_of(k, from_back).y() > lowest) {
+        lowest = end_of(k, from_back).y();
         first = k;
         reversed = from_back;
       }
@@ -493,8 +495,7 @@ int JoinOutlinePieces(std::vector<SketchStroke>* strokes, const DrawingExtent& e
     for (size_t k = 0; k < strokes->size(); ++k) {
       if (used[k]) continue;
       for (bool from_back : {false, true}) {
-        const SketchStroke& s = (*strokes)[k];
-        const double d = (chain.back() - (from_back ? s.points.back() : s.points.front())).norm();
+        const double d = (chain.back() - end_of(k, from_back)).norm();
         if (d < gap) {
           gap = d;
           next = k;
@@ -524,9 +525,10 @@ int JoinOutlinePieces(std::vector<SketchStroke>* strokes, const DrawingExtent& e
   outline.points = DistinctPoints(chain, false);
   outline.role = StrokeRole::kCrown;
   outline.closed = true;
+  const size_t place = *std::min_element(members.begin(), members.end());
   std::vector<SketchStroke> joined;
   for (size_t k = 0; k < strokes->size(); ++k) {
-    if (k == *std::min_element(members.begin(), members.end())) joined.push_back(outline);
+    if (k == place) joined.push_back(outline);
     if (!used[k]) joined.push_back(std::move((*strokes)[k]));
   }
   *strokes = std::move(joined);
