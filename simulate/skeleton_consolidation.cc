@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <sstream>
 #include <unordered_map>
 #include <vector>
@@ -162,12 +163,14 @@ std::vector<char> TrimTwigs(const SkeletonGraph& skeleton, const DensityGrid& de
 // Step 2: zips stretches that run beside their parent axis. A bundle of
 // particles that flowed beside its parent to join it lower down traces the
 // parent's wood twice (on laser-scanned trees, limbs beside the trunk for a
-// fifth of its height, a few centimetres from it). Such an axis starts
-// instead where it leaves the parent: its first stretch, while within
-// `radius` of the parent axis and without side branches, goes, and the first
-// node beyond it joins the parent axis' nearest node at or above the old
-// junction. The parent's nodes between the old junction and the new one
-// carry the axis' strands too (its particles flowed down that wood).
+// fifth of its height, a few centimetres from it; in drawn crowns, limbs
+// beside a drawn trunk). Such an axis starts instead where it leaves the
+// parent: its first stretch, while within `radius` of the parent axis,
+// goes, and the first node beyond it joins the parent axis' nearest node at
+// or above the old junction. Side branches that grew from the stretch grow
+// from the parent's nearest node instead (they came off the same wood). The
+// parent's nodes between the old junction and each new one carry what joins
+// there (its particles flowed down that wood).
 // Axes are zipped trunk first, so a zipped parent is final before its
 // children; the result lists parents before children.
 SkeletonGraph ZipParallelStretches(const SkeletonGraph& skeleton, double radius, double max_spacing,
@@ -175,21 +178,26 @@ SkeletonGraph ZipParallelStretches(const SkeletonGraph& skeleton, double radius,
   // Samples at most half the radius apart, so that a stretch between two
   // samples cannot stray far beyond the radius unseen.
   const double spacing = std::min(max_spacing, 0.5 * radius);
-  const std::vector<BranchAxis> axes = skeleton.BranchAxes();
-  const std::vector<int> axis_of = skeleton.AxisOfNodes(axes);
+  // Each axis' nodes as they are now: side branches moved onto a parent
+  // split its edges where they join.
+  std::vector<BranchAxis> axes = skeleton.BranchAxes();
+  std::vector<int> axis_of = skeleton.AxisOfNodes(axes);
   const WoodSamples wood(skeleton, radius, spacing);
   const std::vector<std::vector<int>> children = skeleton.Children();
   SkeletonGraph result = skeleton;
   std::vector<char> removed(skeleton.NumNodes(), 0);
   for (size_t a = 1; a < axes.size(); ++a) {
-    const BranchAxis& axis = axes[a];
+    const BranchAxis axis = axes[a];
+    // A side branch of a zipped stretch now grows from the grandparent axis
+    // (its junction is gone): it is left as it is.
+    if (removed[axis[0]]) continue;
     const int parent_axis = axis_of[axis[0]];
     const auto beside_parent = [&](int owner) {
       return !removed[owner] && axis_of[owner] == parent_axis;
     };
-    // The first node whose edge leaves the parent (or carries a side branch).
+    // The first node whose edge leaves the parent.
     size_t leave = 1;
-    while (leave + 1 < axis.size() && children[axis[leave]].size() == 1) {
+    while (leave + 1 < axis.size()) {
       const std::vector<Eigen::Vector3d> samples = EdgeSamples(
           result.nodes[axis[leave - 1]].position, result.nodes[axis[leave]].position, spacing);
       const bool beside = std::all_of(samples.begin(), samples.end(), [&](const auto& p) {
@@ -199,24 +207,69 @@ SkeletonGraph ZipParallelStretches(const SkeletonGraph& skeleton, double radius,
       ++leave;
     }
     if (leave == 1) continue;
-    // The parent axis' nearest node at or above the junction, short of its
-    // tip (whose strands are the particles that started there, not the sum
-    // of children it would gain).
-    const BranchAxis& parent = axes[parent_axis];
-    size_t at = std::find(parent.begin(), parent.end(), axis[0]) - parent.begin();
-    size_t nearest = at;
-    const Eigen::Vector3d& free_end = result.nodes[axis[leave]].position;
-    for (size_t k = at; k + 1 < parent.size(); ++k) {
-      if (removed[parent[k]]) continue;
-      if ((result.nodes[parent[k]].position - free_end).norm() <
-          (result.nodes[parent[nearest]].position - free_end).norm()) {
-        nearest = k;
+    BranchAxis& parent = axes[parent_axis];
+    const size_t at = std::find(parent.begin(), parent.end(), axis[0]) - parent.begin();
+    // Adds `strands` to the parent from the old junction up to `k`.
+    const auto carry = [&](size_t k, int strands) {
+      for (size_t i = at + 1; i <= k; ++i) result.nodes[parent[i]].strands += strands;
+      return parent[k];
+    };
+    // The parent's nearest node to `point` at or above the junction, short
+    // of its tip (whose strands are the particles that started there, not
+    // the sum of children it would gain).
+    const auto nearest_node = [&](const Eigen::Vector3d& point) {
+      size_t nearest = at;
+      for (size_t k = at; k + 1 < parent.size(); ++k) {
+        if ((result.nodes[parent[k]].position - point).norm() <
+            (result.nodes[parent[nearest]].position - point).norm()) {
+          nearest = k;
+        }
       }
+      return nearest;
+    };
+    // The parent's nearest point to `point` above the junction: a node, or
+    // a new node splitting the edge it lies on (a side branch keeps the
+    // height it grew at).
+    const auto nearest_point = [&](const Eigen::Vector3d& point) {
+      size_t best_edge = at + 1;
+      double best_t = 0.0, best_d = std::numeric_limits<double>::infinity();
+      for (size_t k = at + 1; k < parent.size(); ++k) {
+        const Eigen::Vector3d& from = result.nodes[parent[k - 1]].position;
+        const Eigen::Vector3d edge = result.nodes[parent[k]].position - from;
+        const double t = std::clamp((point - from).dot(edge) / std::max(edge.squaredNorm(), 1e-300),
+                                    0.0, k + 1 < parent.size() ? 1.0 : 0.5);
+        const double d = (from + t * edge - point).norm();
+        if (d < best_d) best_edge = k, best_t = t, best_d = d;
+      }
+      constexpr double kAtNode = 1e-6;
+      if (best_t < kAtNode) return best_edge - 1;
+      if (best_t > 1 - kAtNode) return best_edge;
+      const SkeletonNode& upper = result.nodes[parent[best_edge]];
+      const SkeletonNode& lower = result.nodes[parent[best_edge - 1]];
+      const int split = result.AddNode((1 - best_t) * lower.position + best_t * upper.position,
+                                       (1 - best_t) * lower.radius + best_t * upper.radius,
+                                       upper.parent_idx, upper.order);
+      result.nodes[split].strands = result.nodes[parent[best_edge]].strands;
+      result.nodes[parent[best_edge]].parent_idx = split;
+      removed.push_back(0);
+      axis_of.push_back(parent_axis);
+      parent.insert(parent.begin() + best_edge, split);
+      return best_edge;
+    };
+    for (size_t k = 1; k < leave; ++k) {
+      int started_here = result.nodes[axis[k]].strands;  // particles seeded on the stretch
+      for (int child : children[axis[k]]) {
+        started_here -= result.nodes[child].strands;
+        if (child == axis[k + 1]) continue;
+        const size_t to = nearest_point(result.nodes[axis[k]].position);
+        result.nodes[child].parent_idx = carry(to, result.nodes[child].strands);
+      }
+      if (started_here > 0) carry(nearest_node(result.nodes[axis[k]].position), started_here);
+      removed[axis[k]] = 1;
     }
-    const int carried = result.nodes[axis[1]].strands;
-    for (size_t k = at + 1; k <= nearest; ++k) result.nodes[parent[k]].strands += carried;
-    for (size_t k = 1; k < leave; ++k) removed[axis[k]] = 1;
-    result.nodes[axis[leave]].parent_idx = parent[nearest];
+    const int free = axis[leave];
+    result.nodes[free].parent_idx =
+        carry(nearest_node(result.nodes[free].position), result.nodes[free].strands);
     ++*zipped_axes;
   }
   return ParentsFirst(WithoutNodes(result, removed));

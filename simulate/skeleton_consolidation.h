@@ -17,7 +17,8 @@
 //      within zip_radius_voxels of its parent axis (a bundle that flowed
 //      beside the trunk to join it lower down: the same wood traced twice,
 //      which step 1 cannot see from the branch's tip) starts where it
-//      leaves the parent instead;
+//      leaves the parent instead; side branches that grew from the stretch
+//      grow from the parent at the same height;
 //   3. bare sticks: thin axes of which more than max_empty_fraction runs
 //      through empty density (no opacity in the 3 x 3 x 3 voxels around) are
 //      removed with what they carry; the density is the evidence of wood or
@@ -28,13 +29,15 @@
 //      width, or that reached the base beside it).
 // On the 5 leafless synthetic trees of tests/bench/skeleton_probe.cc
 // (livewire graphs) this gave
-// 0.91-1.07 x the true length (1.69-1.90 x unconsolidated) at precision
+// 0.91-1.06 x the true length (1.69-1.90 x unconsolidated) at precision
 // 0.80-0.85; on the 4 ITSMe laser-scanned trees rendered to photos
-// 0.70-1.13 x at precision 0.96-1.00. Without step 2 those were 0.94-1.10 x
-// and 0.78-1.32 x: limbs traced beside the trunk for a fifth of its height
-// made buttressed tree 2 1.32 x, and hid that buttressed tree 1 misses a
-// third of its crown (recall 0.68 either way). Leafy crowns keep about
-// 3.2 x: in foliage the density cannot tell a twig from leaves.
+// 0.70-1.10 x at precision 0.96-1.00 (before side branches were zipped with
+// their stretch: 0.91-1.07 x and 0.70-1.13 x, the same precisions). Without
+// step 2 those were 0.94-1.10 x and 0.78-1.32 x: limbs traced beside the
+// trunk for a fifth of its height made buttressed tree 2 1.32 x, and hid
+// that buttressed tree 1 misses a third of its crown (recall 0.68 either
+// way). Leafy crowns keep about 3.2 x: in foliage the density cannot tell a
+// twig from leaves.
 // Every junction still carries the sum of its children (pipe model): the
 // strands of trimmed twigs move onto the wood that stays there (their
 // particles did flow into it), those of removed sticks and base branches

@@ -169,6 +169,43 @@ TEST(SkeletonConsolidationTest, ZippedLimbsDoNotJoinTheParentsTip) {
   ExpectStrandsAddUp(result);
 }
 
+// A twig that grew from the limb where the limb ran beside the trunk grew
+// from the trunk's wood: when the limb is zipped, the twig joins the trunk
+// at the height it grew at (a node splitting the trunk's edge there), and
+// the trunk carries its strands up to there.
+TEST(SkeletonConsolidationTest, TwigsOfAZippedStretchMoveToTheParent) {
+  SkeletonGraph skeleton = TrunkWithLimbBeside();
+  const Eigen::Vector3d twig_tip(-1, 0, 3.5);
+  skeleton.AddNode(twig_tip, 0, 5, 2);  // from the limb at 3 m
+  const int strands[] = {85, 85, 50, 50, 50, 35, 30, 30, 30, 5};
+  for (int i = 0; i < skeleton.NumNodes(); ++i) skeleton.nodes[i].strands = strands[i];
+  skeleton.AssignOrders();
+  ExpectStrandsAddUp(skeleton);
+  DensityGrid density = TrunkAndLimbDensity();
+  AddWood(skeleton.nodes[5].position, twig_tip, &density);
+  ConsolidationSummary summary;
+  const SkeletonGraph result =
+      ConsolidateSkeleton(skeleton, density, ConsolidationOptions(), &summary);
+  SCOPED_TRACE(summary.BriefReport());
+  EXPECT_NO_THROW(result.Check());
+  EXPECT_EQ(summary.zipped_axes, 1);
+  ASSERT_EQ(result.NumNodes(), 9);  // 10, less the limb's 2 beside the trunk, plus the split
+  ExpectStrandsAddUp(result);
+  for (int i = 0; i < result.NumNodes(); ++i) {
+    EXPECT_LT(result.nodes[i].parent_idx, i) << "parents come first";
+    const SkeletonNode& node = result.nodes[i];
+    if (node.position.isApprox(twig_tip)) {
+      EXPECT_TRUE(result.nodes[node.parent_idx].position.isApprox(Eigen::Vector3d(0, 0, 3)));
+      EXPECT_EQ(node.strands, 5);
+    }
+  }
+  // The trunk: 85 to 3 m (trunk, limb and twig), 80 to 6 m (trunk and limb).
+  for (const SkeletonNode& node : result.nodes) {
+    if (node.position.x() != 0 || node.position.z() == 10) continue;
+    EXPECT_EQ(node.strands, node.position.z() <= 3 ? 85 : 80) << node.position.z();
+  }
+}
+
 TEST(SkeletonConsolidationTest, DisabledStepsKeepEverything) {
   const Scene scene = MakeScene();
   const SkeletonGraph result =
