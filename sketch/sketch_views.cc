@@ -451,6 +451,13 @@ void AddInferredBranches(const SketchViewOptions& options, SketchView* view) {
 
 }  // namespace
 
+std::vector<Eigen::Vector2d> CrownOutlineOf(const FloatImage& matte, double crown_opacity) {
+  std::vector<Eigen::Vector2d> outline;
+  for (const cv::Point& p : CrownOutline(matte, crown_opacity))
+    outline.emplace_back(p.x + 0.5, p.y + 0.5);
+  return outline;
+}
+
 FloatImage OutlinedRegions(const SketchDrawing& drawing, int width, int height) {
   SYLVA_CHECK(width > 0 && height > 0);
   cv::Mat inside = cv::Mat::zeros(height, width, CV_8U);

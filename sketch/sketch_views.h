@@ -98,6 +98,11 @@ struct SketchViews {
 std::vector<Stroke> InferMajorBranches(const FloatImage& matte, const SketchViewOptions& options,
                                        const Eigen::Vector2d& trunk_top);
 
+// The outline of the largest region `matte` fills at half of crown_opacity
+// or more (the crown, as InferMajorBranches reads it), in view pixels
+// (pixel centres at halves); empty if there is none.
+std::vector<Eigen::Vector2d> CrownOutlineOf(const FloatImage& matte, double crown_opacity);
+
 // The regions the strokes of `drawing` outline (each closed by the chord
 // from its end to its start), drawn onto an image of width x height pixels
 // (the drawing's canvas stretched onto it): 1 inside, 0 outside. For crown

@@ -5,6 +5,7 @@
 #include <atomic>
 #include <csignal>
 #include <fstream>
+#include <iomanip>
 #include <iostream>
 #include <limits>
 #include <memory>
@@ -108,7 +109,14 @@ CommandSpec SketchSpec() {
           "parameters of the nearest exemplar (Sketch.exemplars), then self-similar\n"
           "propagation inside the drawn crown; the tree is meshed directly into OUT_DIR (no\n"
           "project, no report), with leaves at the spiral phyllotaxis nodes of its thin\n"
-          "branches (Leaves.phyllotaxis=spiral by default; Leaves.num_leaves=-1: none).",
+          "branches (Leaves.phyllotaxis=spiral by default; Leaves.num_leaves=-1: none).\n"
+          "With --Sketch.method=silhouette they come from the first drawing's crown outline by\n"
+          "Wither et al. 2009: a branch into each bump of the outline, leaving its parent at\n"
+          "the branching angle function's angle; smaller closed crown strokes are\n"
+          "sub-silhouettes whose branching is copied to their siblings; branches drawn over\n"
+          "the crown replace the inferred ones and lend them their shape; the branches are\n"
+          "placed around their parents by a Gibbs process (Sketch.silhouette_phyllotaxis);\n"
+          "meshed into OUT_DIR like mrf.",
           {{"index", "N", "the drawing of a Quick, Draw! .ndjson file (0-based line, default 0)"},
            kLogLevelFlag},
           2,
@@ -608,25 +616,35 @@ int RunPipeline(const ParsedArguments& args, const Stage* single_stage) {
 
 // `sylva sketch DRAWING... OUT_DIR`: a project of the drawings in
 // OUT_DIR/project, run, and its main outputs copied to OUT_DIR.
-// `sylva sketch ... --Sketch.method=mrf`: the tree is written to a staging
-// folder beside OUT_DIR, which becomes OUT_DIR only when complete.
-int SketchByMrf(const ParsedArguments& args, const std::vector<fs::path>& paths,
-                const PipelineOptions& options) {
+// `sylva sketch ... --Sketch.method=mrf|silhouette`: the tree is written to
+// a staging folder beside OUT_DIR, which becomes OUT_DIR only when complete.
+int SketchWithoutProject(const ParsedArguments& args, const std::vector<fs::path>& paths,
+                         const PipelineOptions& options) {
   const fs::path out = fs::absolute(args.positional.back());
   std::vector<SketchDrawing> drawings;
   const int index = args.GetInt("index", 0, 0, std::numeric_limits<int>::max());
   for (const fs::path& path : paths) drawings.push_back(ReadSketch(path, index));
-  const std::vector<TreeExemplar> exemplars = options.sketch_mrf.exemplars.empty()
-                                                  ? BuiltinExemplars()
-                                                  : LoadExemplars(options.sketch_mrf.exemplars);
-  const MrfSketchTree tree = MakeMrfSketchTree(drawings, options, exemplars);
+  SketchTree tree;
+  if (options.sketch_mrf.method == "mrf") {
+    const std::vector<TreeExemplar> exemplars = options.sketch_mrf.exemplars.empty()
+                                                    ? BuiltinExemplars()
+                                                    : LoadExemplars(options.sketch_mrf.exemplars);
+    tree = MakeMrfSketchTree(drawings, options, exemplars);
+  } else {
+    tree = MakeSilhouetteSketchTree(drawings, options);
+  }
   QsmModel qsm;
-  const QsmMeshing meshing = MeshMrfSketchTree(tree, options, &qsm);
-  std::cout << tree.brief << "\n" << meshing.brief << "\n";
+  const QsmMeshing meshing = MeshSketchTree(tree, options, &qsm);
+  const SilhouetteScores fit = FrontViewFit(tree, meshing, options);
+  std::ostringstream fit_line;
+  fit_line << std::fixed << std::setprecision(3) << "Front view: the tree covers the drawing "
+           << "(enclosed regions filled) at IoU " << fit.iou << " (precision " << fit.precision
+           << ", recall " << fit.recall << ").";
+  std::cout << tree.brief << "\n" << meshing.brief << "\n" << fit_line.str() << "\n";
   const fs::path staging = TempPathBeside(out);
   std::vector<fs::path> written;
   try {
-    written = WriteMrfSketchTree(tree, qsm, meshing, options, staging);
+    written = WriteSketchTree(tree, qsm, meshing, options, staging);
     std::error_code ec;
     fs::remove(out, ec);  // empty, checked before
     fs::rename(staging, out);
@@ -648,10 +666,11 @@ int CmdSketch(const ParsedArguments& args) {
   const std::vector<fs::path> drawings(args.positional.begin(), args.positional.end() - 1);
   {
     PipelineOptions options;
-    UseSkeletonTreeDefaults(&options);  // the MRF's tree; the flow's are the project's
+    UseSkeletonTreeDefaults(
+        &options);  // mrf's and silhouette's trees; the flow's are the project's
     OptionRegistry registry;
     SketchOptions(args, &options, &registry);
-    if (options.sketch_mrf.method == "mrf") return SketchByMrf(args, drawings, options);
+    if (options.sketch_mrf.method != "flow") return SketchWithoutProject(args, drawings, options);
   }
   Project project = InitSketchProject(out / "project", drawings, args);
   const PipelineOptions options = ResolveOptions(&project, args);

@@ -671,8 +671,10 @@ void RegisterSketch(SketchViewOptions* o, OptionRegistry* r) {
 void RegisterSketchMrf(SketchMrfOptions* o, OptionRegistry* r) {
   r->AddString("Sketch.method", &o->method,
                "how 'sylva sketch' makes the branches: flow (the drawing as views of a project, "
-               "the particle flow) or mrf (Chen 2008: drawn branches' depths by a Markov random "
-               "field, then self-similar propagation)");
+               "the particle flow), mrf (Chen 2008: drawn branches' depths by a Markov random "
+               "field, then self-similar propagation) or silhouette (Wither 2009: branches "
+               "inferred from the crown's silhouette and sub-silhouettes, placed in depth by a "
+               "Gibbs process)");
   r->AddString("Sketch.exemplars", &o->exemplars,
                "mrf: exemplar trees, comma-separated .mtg, QSM .csv or skeleton .json files; "
                "empty = four built-in species");
@@ -695,6 +697,35 @@ void RegisterSketchMrf(SketchMrfOptions* o, OptionRegistry* r) {
             "mrf: propagation generations when the drawing has no crown");
   r->AddInt("Sketch.max_segments", &o->mrf.max_segments, "segments",
             "mrf: propagation stops at this many segments");
+  SilhouetteTreeOptions* w = &o->silhouette;
+  r->AddDouble("Sketch.silhouette_baf_base_deg", &w->baf_base_deg, "degrees",
+               "silhouette: branching angle to the parent at its base (the BAF's first value)");
+  r->AddDouble("Sketch.silhouette_baf_tip_deg", &w->baf_tip_deg, "degrees",
+               "silhouette: branching angle to the parent at its tip (the BAF's last value)");
+  r->AddDouble("Sketch.silhouette_valley_depth", &w->valley_depth, "fraction of the outline's size",
+               "silhouette: concavities deeper than this split an outline into bumps");
+  r->AddDouble("Sketch.silhouette_cone_min_deg", &w->cone_min_deg, "degrees",
+               "silhouette: sub-silhouette cone of a sharp bump");
+  r->AddDouble("Sketch.silhouette_cone_max_deg", &w->cone_max_deg, "degrees",
+               "silhouette: sub-silhouette cone of a round bump");
+  r->AddInt("Sketch.silhouette_levels", &w->levels, "levels",
+            "silhouette: levels of branches below the trunk");
+  r->AddDouble(
+      "Sketch.silhouette_max_overlap", &w->max_overlap, "fraction of its area",
+      "silhouette: a branch added for coverage may overlap its siblings' crowns this much");
+  r->AddDouble("Sketch.silhouette_extra_branches", &w->extra_branches, "per drawn branch",
+               "silhouette: branches added around each parent to fill the crown in depth");
+  r->AddString("Sketch.silhouette_phyllotaxis", &w->phyllotaxis,
+               "silhouette: none, spiral (144 degrees), decussate (2 per node, 90 degrees) or "
+               "whorl3 (3 per node, 60 degrees)");
+  r->AddDouble("Sketch.silhouette_gibbs_alpha", &w->gibbs_alpha, "",
+               "silhouette: alpha of the closeness penalty 1 / (1 + alpha d)");
+  r->AddInt("Sketch.silhouette_gibbs_iterations", &w->gibbs_iterations, "trials",
+            "silhouette: depletion-replacement trials per parent");
+  r->AddInt("Sketch.silhouette_max_branches", &w->max_branches, "branches",
+            "silhouette: most branches (half of them in the drawing's plane)");
+  r->AddDouble("Sketch.silhouette_min_branch_share", &w->min_branch_share,
+               "fraction of the tree's height", "silhouette: shorter branches are not inferred");
 }
 
 void RegisterConcept(ConceptPlantOptions* o, OptionRegistry* r) {

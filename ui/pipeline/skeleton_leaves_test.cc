@@ -197,7 +197,7 @@ TEST(SkeletonLeavesTest, MrfSketchTreeGrowsPhyllotacticLeaves) {
       ReadSketch(kData / "sketches" / "openclipart" / "arbre_modern_bw_jean-vic_01.svg");
   const MrfSketchTree tree = MakeMrfSketchTree({drawing}, options, BuiltinExemplars());
   QsmModel qsm;
-  const QsmMeshing meshing = MeshMrfSketchTree(tree, options, &qsm);
+  const QsmMeshing meshing = MeshSketchTree(tree, options, &qsm);
   ExpectPhyllotacticLeaves(meshing, options);
 
   PipelineOptions leafless = options;

@@ -12,6 +12,7 @@
 #include "core/util/check.h"
 #include "datasets/synthetic/synthetic_tree.h"
 #include "mesh/allometry.h"
+#include "mesh/mesh_renderer.h"
 #include "sketch/stroke_graph.h"
 #include "ui/pipeline/pipeline_options.h"
 #include "ui/pipeline/qsm_meshing.h"
@@ -165,12 +166,72 @@ CrownTest CrownOf(const SketchDrawing& drawing, const SketchView& front, const I
   return [crown](const Eigen::Vector3d& p) { return crown.Contains(p); };
 }
 
+// Pipe-model radii scaled as for radius-less MTGs (qsm_meshing.h).
+void AssignSketchRadii(const PipelineOptions& options, SkeletonGraph* skeleton) {
+  AllometryOptions allometry = options.allometry;
+  allometry.trunk_radius = kDefaultTrunkRadiusFraction * options.sketch.tree_height;
+  allometry.min_radius = allometry.trunk_radius * kMinRadiusOfTrunk;
+  AssignPipeModelRadii(allometry, skeleton);
+}
+
+// A point of view 0 of `cameras` on the plane through the world origin
+// across its line of sight, as (across, up): (x, z) for the front view.
+Eigen::Vector2d OnFrontPlane(const ImageSet& cameras, const Eigen::Vector2d& pixel) {
+  const Ray3d ray = cameras.RayThroughPixel(0, pixel);
+  const Eigen::Vector3d p = ray.origin - ray.origin.dot(ray.direction) * ray.direction;
+  return {p.x(), p.z()};
+}
+
+// The silhouette method's inputs from view 0: the trunk (from the base up,
+// taken up to kLeaderShare of the crown's height), the drawn branches.
+constexpr double kLeaderShare = 0.8;
+// A branch stroke with an end this near the base (share of the drawn
+// height) stands on the ground: the trunk.
+constexpr double kTrunkFootShare = 0.03;
+// Closed crown strokes smaller than this share of the crown, with this
+// share of their points inside it, are sub-silhouettes.
+constexpr double kSubSilhouetteShare = 0.6;
+constexpr double kSubSilhouetteInside = 0.7;
+// The crown is the widest band of rows of a drawing's silhouette: rows at
+// least this share of the widest row's width.
+constexpr double kCrownBandShare = 0.35;
+
+// The matte without what hangs below the crown: the trunk and the ground
+// drawn with it. The crown is the band of wide rows (kCrownBandShare of
+// the widest) with the most silhouette; rows below it are cleared.
+FloatImage WithoutTrunk(const FloatImage& matte, double crown_opacity) {
+  std::vector<int> width(matte.height(), 0);
+  for (int y = 0; y < matte.height(); ++y) {
+    for (int x = 0; x < matte.width(); ++x) width[y] += matte.at(x, y) >= 0.5 * crown_opacity;
+  }
+  const int widest = *std::max_element(width.begin(), width.end());
+  int best_bottom = matte.height() - 1;
+  long best_area = -1;
+  for (int y = 0; y < matte.height();) {
+    if (width[y] < kCrownBandShare * widest) {
+      ++y;
+      continue;
+    }
+    long area = 0;
+    int end = y;
+    while (end < matte.height() && width[end] >= kCrownBandShare * widest) area += width[end++];
+    if (area > best_area) best_area = area, best_bottom = end - 1;
+    y = end;
+  }
+  FloatImage crown = matte;
+  for (int y = best_bottom + 1; y < matte.height(); ++y) {
+    for (int x = 0; x < matte.width(); ++x) crown.at(x, y) = 0.0f;
+  }
+  return crown;
+}
+
 }  // namespace
 
 void SketchMrfOptions::Check() const {
-  SYLVA_CHECK_INPUT(method == "flow" || method == "mrf", "Sketch.method")
-      << "expected flow or mrf, got '" << method << "'";
+  SYLVA_CHECK_INPUT(method == "flow" || method == "mrf" || method == "silhouette", "Sketch.method")
+      << "expected flow, mrf or silhouette, got '" << method << "'";
   mrf.Check();
+  silhouette.Check();
 }
 
 std::vector<TreeExemplar> BuiltinExemplars() {
@@ -243,12 +304,10 @@ MrfSketchTree MakeMrfSketchTree(const std::vector<SketchDrawing>& drawings,
   PutBackChains(drawn_tree, &tree.result);
   const double height = options.sketch.tree_height;
   tree.skeleton = SkeletonOfSegments(tree.result.tree, kMaxEdge * height);
-  AllometryOptions allometry = options.allometry;
-  // Pipe-model radii scaled as for radius-less MTGs (qsm_meshing.h).
-  allometry.trunk_radius = kDefaultTrunkRadiusFraction * height;
-  allometry.min_radius = allometry.trunk_radius * kMinRadiusOfTrunk;
-  AssignPipeModelRadii(allometry, &tree.skeleton);
+  AssignSketchRadii(options, &tree.skeleton);
   tree.drawing_cameras = views.drawing_cameras;
+  tree.front_view = views.cameras;
+  tree.front_matte = front.matte;
   std::ostringstream brief;
   brief << "Branches by MRF (Chen 2008): " << drawn_segments << " drawn segments, template '"
         << exemplar.name << "', " << tree.result.icm_sweeps << " ICM sweeps, "
@@ -256,21 +315,129 @@ MrfSketchTree MakeMrfSketchTree(const std::vector<SketchDrawing>& drawings,
         << " interpenetrations pushed apart; " << propagated << " segments propagated; "
         << tree.skeleton.NumNodes() << " skeleton nodes.";
   tree.brief = brief.str();
+  tree.position_source = "drawing (MRF depths, self-similar propagation)";
+  tree.branching_source = "drawing and self-similar propagation";
   return tree;
 }
 
-QsmMeshing MeshMrfSketchTree(const MrfSketchTree& tree, const PipelineOptions& options,
-                             QsmModel* qsm) {
+SketchTree MakeSilhouetteSketchTree(const std::vector<SketchDrawing>& drawings,
+                                    const PipelineOptions& options) {
+  SYLVA_CHECK(!drawings.empty()) << "needs a drawing";
+  const SketchDrawing& drawing = drawings[0];
+  const SketchViews views = MakeSketchViews({drawing}, options.sketch);
+  const SketchView& front = views.views[0];
+  Outline2 crown;
+  for (const Eigen::Vector2d& p : CrownOutlineOf(
+           WithoutTrunk(front.matte, options.sketch.crown_opacity), options.sketch.crown_opacity)) {
+    crown.push_back(OnFrontPlane(views.cameras, p));
+  }
+  SYLVA_CHECK_INPUT(crown.size() >= 8, drawing.source)
+      << "encloses no crown for the silhouette method (Sketch.method=silhouette)";
+  double crown_low = crown[0].y(), crown_high = crown[0].y();
+  for (const Eigen::Vector2d& p : crown) {
+    crown_low = std::min(crown_low, p.y()), crown_high = std::max(crown_high, p.y());
+  }
+  // The trunk: the branch stroke with an end at the base, from there up.
+  const Eigen::Vector2d base = OnFrontPlane(views.cameras, *front.strokes.root);
+  const double drawn_height = crown_high - base.y();
+  Outline2 trunk = {base};
+  int trunk_stroke = -1;
+  double nearest = kTrunkFootShare * drawn_height;
+  std::vector<Outline2> strokes;
+  for (const Stroke& stroke : front.strokes.strokes) {
+    Outline2 line;
+    for (const Eigen::Vector2d& p : stroke.points) line.push_back(OnFrontPlane(views.cameras, p));
+    if (line.size() < 2) continue;
+    if ((line.back() - base).norm() < (line.front() - base).norm()) {
+      std::reverse(line.begin(), line.end());
+    }
+    if ((line.front() - base).norm() <= nearest) {
+      nearest = (line.front() - base).norm();
+      trunk_stroke = static_cast<int>(strokes.size());
+    }
+    strokes.push_back(std::move(line));
+  }
+  // A drawing without branch strokes gets its views' inferred branches,
+  // which this method infers its own way: its trunk is vertical.
+  const int drawn_branch_strokes = static_cast<int>(
+      std::count_if(drawing.strokes.begin(), drawing.strokes.end(),
+                    [](const SketchStroke& s) { return s.role == StrokeRole::kBranch; }));
+  if (drawn_branch_strokes == 0) trunk_stroke = -1;
+  if (trunk_stroke >= 0) trunk = strokes[trunk_stroke];
+  const double leader = crown_low + kLeaderShare * (crown_high - crown_low);
+  if (trunk.back().y() < leader) trunk.emplace_back(trunk.back().x(), leader);
+  // Drawn branches: the other strokes, when the drawing has them (not the
+  // inferred ones of a drawing of the trunk alone).
+  std::vector<Outline2> drawn;
+  if (drawn_branch_strokes >= 2 && front.strokes.strokes.size() >= 2) {
+    for (size_t k = 0; k < strokes.size(); ++k) {
+      if (static_cast<int>(k) != trunk_stroke) drawn.push_back(strokes[k]);
+    }
+  }
+  // Sub-silhouettes: closed crown strokes well inside the crown's size.
+  std::vector<Outline2> sub_silhouettes;
+  const double crown_area = OutlineArea(crown);
+  for (const SketchStroke& stroke : drawing.strokes) {
+    if (stroke.role != StrokeRole::kCrown || stroke.points.size() < 3) continue;
+    Outline2 outline;
+    for (const Eigen::Vector2d& p : stroke.points) {
+      outline.push_back(OnFrontPlane(views.drawing_cameras, p));
+    }
+    const int inside = static_cast<int>(std::count_if(
+        outline.begin(), outline.end(), [&](const auto& p) { return InsideOutline(crown, p); }));
+    if (OutlineArea(outline) < kSubSilhouetteShare * crown_area &&
+        inside >= kSubSilhouetteInside * outline.size()) {
+      sub_silhouettes.push_back(outline);
+    }
+  }
+  SilhouetteTreeOptions silhouette = options.sketch_mrf.silhouette;
+  silhouette.seed = options.general.seed;
+  const SilhouetteStructure structure =
+      InferSilhouetteStructure(trunk, crown, sub_silhouettes, drawn, silhouette);
+  const SilhouetteTree placed =
+      PlaceSilhouetteTree(structure, kMaxEdge * options.sketch.tree_height, silhouette);
+  SketchTree tree;
+  tree.skeleton = placed.skeleton;
+  AssignSketchRadii(options, &tree.skeleton);
+  tree.drawing_cameras = views.drawing_cameras;
+  tree.front_view = views.cameras;
+  tree.front_matte = front.matte;
+  std::ostringstream brief;
+  brief << "Branches from silhouettes (Wither 2009): " << structure.branches.size() - 1
+        << " branches in the drawing's plane over " << silhouette.levels << " levels ("
+        << structure.drawn_branches << " drawn, " << structure.drawn_crowns
+        << " drawn sub-silhouettes, " << structure.coverage_branches << " added for coverage, "
+        << structure.copied_styles << " styles copied); " << placed.extra_branches
+        << " more placed in depth; phyllotaxis " << silhouette.phyllotaxis << "; "
+        << tree.skeleton.NumNodes() << " skeleton nodes.";
+  tree.brief = brief.str();
+  tree.position_source = "drawing (crown silhouettes; depth by a Gibbs process)";
+  tree.branching_source = "crown silhouettes and botanical rules (Wither 2009)";
+  return tree;
+}
+
+QsmMeshing MeshSketchTree(const SketchTree& tree, const PipelineOptions& options, QsmModel* qsm) {
   QsmMeshing meshing = MeshSkeletonTree(tree.skeleton, "m", kMergeFraction, options, qsm);
   // What the figures in qsm.csv, metrics.json and the report come from.
-  qsm->position_source = "drawing (MRF depths, self-similar propagation)";
-  qsm->branching_source = "drawing and self-similar propagation";
+  qsm->position_source = tree.position_source;
+  qsm->branching_source = tree.branching_source;
   return meshing;
 }
 
-std::vector<fs::path> WriteMrfSketchTree(const MrfSketchTree& tree, const QsmModel& qsm,
-                                         const QsmMeshing& meshing, const PipelineOptions& options,
-                                         const fs::path& out_dir) {
+SilhouetteScores FrontViewFit(const SketchTree& tree, const QsmMeshing& meshing,
+                              const PipelineOptions& options) {
+  TriangleMesh mesh = meshing.bark;
+  mesh.Append(meshing.leaves.Bake());
+  constexpr int kSamples = 2;
+  const FloatImage coverage = MeshRenderer(mesh).RenderCoverage(
+      tree.front_view.CameraOf(0), tree.front_view.views[0].cam_from_world, kSamples);
+  return CompareSilhouettes(coverage, tree.front_matte, 0.5f,
+                            0.5f * static_cast<float>(options.sketch.crown_opacity));
+}
+
+std::vector<fs::path> WriteSketchTree(const SketchTree& tree, const QsmModel& qsm,
+                                      const QsmMeshing& meshing, const PipelineOptions& options,
+                                      const fs::path& out_dir) {
   std::vector<fs::path> paths = WriteQsmMeshing(meshing, qsm, out_dir, options);
   WriteSkeletonJson(out_dir / "skeleton.json", tree.skeleton, "m");
   paths.push_back(out_dir / "skeleton.json");

@@ -1,5 +1,8 @@
-// A tree from a drawing by Chen et al. 2008 (sketch/branch_mrf.h) instead of
-// the particle flow: `sylva sketch DRAWING OUT_DIR --Sketch.method=mrf`.
+// A tree from a drawing without the particle flow, by Chen et al. 2008
+// (sketch/branch_mrf.h: `sylva sketch DRAWING OUT_DIR --Sketch.method=mrf`)
+// or by Wither et al. 2009 (sketch/silhouette_tree.h:
+// --Sketch.method=silhouette).
+// MRF:
 // The first drawing's branch strokes (drawn, or inferred from its crown as
 // in sketch_views.h) become a segment tree on the drawing's plane; the
 // template is the exemplar whose footprint is nearest; the MRF gives every
@@ -17,8 +20,10 @@
 
 #include "core/types/image_set.h"
 #include "core/types/skeleton_graph.h"
+#include "datasets/eval/silhouette_metrics.h"
 #include "sketch/branch_mrf.h"
 #include "sketch/drawing.h"
+#include "sketch/silhouette_tree.h"
 #include "sketch/sketch_views.h"
 
 namespace sylva {
@@ -28,9 +33,11 @@ struct QsmMeshing;
 struct QsmModel;
 
 struct SketchMrfOptions {
-  // "flow" (the drawing as views of a project, the particle flow) or "mrf".
+  // "flow" (the drawing as views of a project, the particle flow), "mrf" or
+  // "silhouette".
   std::string method = "flow";
   MrfOptions mrf;
+  SilhouetteTreeOptions silhouette;
   // Exemplar trees, comma-separated files: OpenAlea MTG (.mtg), TreeQSM
   // cylinder tables (.csv) or sylva skeletons (.json); empty = the built-in
   // species of the synthetic generator (BuiltinExemplars).
@@ -45,12 +52,22 @@ std::vector<TreeExemplar> BuiltinExemplars();
 // up = +Z); throws InputError naming a file that cannot be read.
 std::vector<TreeExemplar> LoadExemplars(const std::string& list);
 
-struct MrfSketchTree {
-  SkeletonGraph skeleton;  // with pipe-model radii, world units (m)
+// A tree made from drawings without a project.
+struct SketchTree {
+  SkeletonGraph skeleton;    // with pipe-model radii, world units (m)
+  ImageSet drawing_cameras;  // as sketch_cameras.json
+  // The first drawing's view (Sketch.image_size) and its matte: the drawing
+  // with its enclosed regions filled, the crown at Sketch.crown_opacity.
+  ImageSet front_view;
+  FloatImage front_matte;
+  std::string brief;
+  // Where its positions and branching come from (qsm.csv, metrics.json).
+  std::string position_source, branching_source;
+};
+
+struct MrfSketchTree : SketchTree {
   MrfResult result;
   std::string template_name;
-  ImageSet drawing_cameras;  // as sketch_cameras.json
-  std::string brief;
 };
 
 // The tree of `drawings` (the first one is used; more views are not yet
@@ -60,19 +77,32 @@ MrfSketchTree MakeMrfSketchTree(const std::vector<SketchDrawing>& drawings,
                                 const PipelineOptions& options,
                                 const std::vector<TreeExemplar>& exemplars);
 
+// The tree of `drawings` by Wither 2009 (the first drawing is used): its
+// crown outline (the largest region it encloses), its trunk (the branch
+// stroke standing on the ground, else a vertical line from the base; taken
+// up to 80 % of the crown's height), smaller closed crown strokes as
+// sub-silhouettes and the other branch strokes as drawn branches. Throws
+// InputError naming the drawing if it encloses no crown.
+SketchTree MakeSilhouetteSketchTree(const std::vector<SketchDrawing>& drawings,
+                                    const PipelineOptions& options);
+
 // tree.skeleton as a cylinder table (*qsm), meshed like a QSM with leaves
 // on its thin branches (MeshSkeletonTree, qsm_meshing.h: BranchMesh.*,
 // Leaves.*, whose command defaults UseSkeletonTreeDefaults gives).
-QsmMeshing MeshMrfSketchTree(const MrfSketchTree& tree, const PipelineOptions& options,
-                             QsmModel* qsm);
+QsmMeshing MeshSketchTree(const SketchTree& tree, const PipelineOptions& options, QsmModel* qsm);
+
+// How the meshed tree (bark and leaves) covers the drawing in its view: its
+// coverage (at least half of a pixel) against the front matte (at least
+// half the crown's opacity).
+SilhouetteScores FrontViewFit(const SketchTree& tree, const QsmMeshing& meshing,
+                              const PipelineOptions& options);
 
 // Writes OUT_DIR/skeleton.json, sketch_cameras.json and the tree meshed by
-// MeshMrfSketchTree (WriteQsmMeshing's files); returns the paths.
-std::vector<std::filesystem::path> WriteMrfSketchTree(const MrfSketchTree& tree,
-                                                      const QsmModel& qsm,
-                                                      const QsmMeshing& meshing,
-                                                      const PipelineOptions& options,
-                                                      const std::filesystem::path& out_dir);
+// MeshSketchTree (WriteQsmMeshing's files); returns the paths.
+std::vector<std::filesystem::path> WriteSketchTree(const SketchTree& tree, const QsmModel& qsm,
+                                                   const QsmMeshing& meshing,
+                                                   const PipelineOptions& options,
+                                                   const std::filesystem::path& out_dir);
 
 }  // namespace sylva
 
