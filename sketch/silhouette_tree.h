@@ -82,8 +82,9 @@ struct SilhouetteTreeOptions {
   // The sub-silhouette cone's angle, degrees: sharp bumps to round ones.
   double cone_min_deg = 20.0;
   double cone_max_deg = 110.0;
-  // Levels of branches below the trunk.
-  int levels = 3;
+  // Levels of branches below the trunk (3 left wide gaps in the crowns of
+  // the bundled drawings: front-view IoU median 0.27 against 0.42 with 4).
+  int levels = 4;
   // Coverage: a copied branch is rejected if its crown overlaps its
   // siblings' crowns by more than this share of its area.
   double max_overlap = 0.2;
@@ -101,7 +102,7 @@ struct SilhouetteTreeOptions {
   // (inference stops there), and the 3D tree places no extra branch beyond
   // the half and no branch at all beyond the whole (breadth first: the
   // last parents' finest twigs go first).
-  int max_branches = 1500;
+  int max_branches = 3000;
   uint64_t seed = 1;
 
   // Throws InputError naming the first invalid option (Sketch.silhouette_*).

@@ -2,6 +2,7 @@
 
 #include <tbb/global_control.h>
 
+#include <algorithm>
 #include <atomic>
 #include <csignal>
 #include <fstream>
@@ -670,6 +671,12 @@ int CmdSketch(const ParsedArguments& args) {
         &options);  // mrf's and silhouette's trees; the flow's are the project's
     OptionRegistry registry;
     SketchOptions(args, &options, &registry);
+    const bool leaf_length_given = std::any_of(
+        args.options.begin(), args.options.end(),
+        [](const auto& option) { return option.first.rfind("Leaves.leaf_length", 0) == 0; });
+    if (options.sketch_mrf.method == "silhouette" && !leaf_length_given) {
+      options.leaves.leaf_length_fraction = kSilhouetteLeafLengthFraction;
+    }
     if (options.sketch_mrf.method != "flow") return SketchWithoutProject(args, drawings, options);
   }
   Project project = InitSketchProject(out / "project", drawings, args);

@@ -77,6 +77,11 @@ MrfSketchTree MakeMrfSketchTree(const std::vector<SketchDrawing>& drawings,
                                 const PipelineOptions& options,
                                 const std::vector<TreeExemplar>& exemplars);
 
+// Leaves of a silhouette tree are this share of its height long unless
+// Leaves.leaf_length(_fraction) is given (the Leaves default, 1 %, left the
+// drawn crowns' finest sub-silhouettes mostly empty).
+constexpr double kSilhouetteLeafLengthFraction = 0.02;
+
 // The tree of `drawings` by Wither 2009 (the first drawing is used): its
 // crown outline (the largest region it encloses), its trunk (the branch
 // stroke standing on the ground, else a vertical line from the base; taken
