@@ -374,6 +374,79 @@ double EntryInto(const Outline2& parent, const Outline2& crown) {
   return 1.0;
 }
 
+// A parent's children while they are inferred: each with its end and
+// whether it was drawn.
+struct Children {
+  std::vector<SilhouetteBranch> branches;
+  std::vector<BumpEnd> ends;
+  std::vector<char> drawn;
+  void Add(SilhouetteBranch branch, const BumpEnd& end, bool is_drawn) {
+    branches.push_back(std::move(branch));
+    ends.push_back(end);
+    drawn.push_back(is_drawn);
+  }
+};
+
+// A drawn branch (section 3.3) replaces the inferred child whose ends are
+// nearest its own (or joins the children) and adds its angle to the BAF.
+void AddDrawn(const Outline2& parent, const Outline2& crown, const Outline2& line, Baf* baf,
+              Children* children) {
+  double distance = 0.0;
+  const double t = NearestFraction(parent, line.front(), &distance);
+  SilhouetteBranch child;
+  child.points = line;
+  if (distance > 0) child.points.insert(child.points.begin(), At(parent, t));
+  child.u = t;
+  child.drawn_shape = true;
+  const Outline2& placed = child.points;
+  Eigen::Vector2d tangent;
+  At(parent, t, &tangent);
+  baf->Add(t, std::acos(std::clamp(tangent.dot(InitialDirection(placed)), -1.0, 1.0)) / kDegrees);
+  const BumpEnd end{placed.back(), (placed.back() - placed[placed.size() - 2]).normalized(),
+                    DistanceToOutline(crown, placed.back())};
+  int match = -1;
+  double cost = std::numeric_limits<double>::infinity();
+  for (size_t c = 0; c < children->branches.size(); ++c) {
+    if (children->drawn[c]) continue;
+    const double k = (children->branches[c].points.front() - placed.front()).norm() +
+                     (children->branches[c].points.back() - placed.back()).norm();
+    if (k < cost) cost = k, match = static_cast<int>(c);
+  }
+  if (match < 0) {
+    children->Add(std::move(child), end, true);
+    return;
+  }
+  children->branches[match] = std::move(child);
+  children->ends[match] = end;
+  children->drawn[match] = true;
+}
+
+// The inferred children follow the BAF with the drawn angles, and take the
+// shape of the drawn child nearest them along the parent.
+void Restyle(const Outline2& parent, double entry, const Baf& baf, Children* children) {
+  std::vector<SilhouetteBranch>& branches = children->branches;
+  for (size_t c = 0; c < branches.size(); ++c) {
+    if (children->drawn[c]) continue;
+    SilhouetteBranch redone = ShortestBranch(parent, entry, baf, children->ends[c]);
+    if (redone.points.empty()) continue;
+    int nearest = -1;
+    double gap = std::numeric_limits<double>::infinity();
+    for (size_t k = 0; k < branches.size(); ++k) {
+      if (children->drawn[k] && std::abs(branches[k].u - redone.u) < gap) {
+        gap = std::abs(branches[k].u - redone.u), nearest = static_cast<int>(k);
+      }
+    }
+    const Outline2& shape = branches[nearest].points;
+    Eigen::Vector2d t_src, t_dst;
+    At(parent, branches[nearest].u, &t_src);
+    At(parent, redone.u, &t_dst);
+    const bool mirror = SideOf(t_src, shape.back() - shape.front()) !=
+                        SideOf(t_dst, redone.points.back() - redone.points.front());
+    redone.points = InSpanFrame(shape, shape, redone.points.front(), redone.points.back(), mirror);
+    branches[c] = std::move(redone);
+  }
+}
+
 class StructureBuilder {
  public:
   StructureBuilder(const SilhouetteTreeOptions& options, double height)
@@ -381,12 +454,13 @@ class StructureBuilder {
 
   SilhouetteStructure structure;
 
-  // The children of branch `p` inferred in its crown: bumps, drawn
-  // branches, coverage, sub-silhouettes.
+  // Whether the structure holds its share of options.max_branches.
   bool Full() const {
     return static_cast<int>(structure.branches.size()) >= options_.max_branches / 2;
   }
 
+  // The children of branch `p` inferred in its crown: bumps, drawn
+  // branches, coverage, sub-silhouettes.
   void InferChildren(int p, const std::vector<Outline2>& drawn) {
     if (Full()) return;
     const Outline2 parent = structure.branches[p].points;
@@ -394,81 +468,19 @@ class StructureBuilder {
     if (crown.size() < 3 || Length(parent) <= 0) return;
     const double entry = EntryInto(parent, crown);
     Baf baf(options_.baf_base_deg, options_.baf_tip_deg);
-    std::vector<SilhouetteBranch> children;
-    std::vector<BumpEnd> ends;
+    Children children;
     for (const BumpEnd& end : BumpEnds(crown, parent, entry, options_.valley_depth, min_length_)) {
       SilhouetteBranch child = ShortestBranch(parent, entry, baf, end);
       if (child.points.empty() || Length(child.points) < min_length_) continue;
-      children.push_back(std::move(child));
-      ends.push_back(end);
+      children.Add(std::move(child), end, false);
     }
-    // Drawn branches replace the inferred ones nearest them and add their
-    // angles to the BAF (section 3.3).
-    std::vector<int> drawn_of(children.size(), -1);
-    std::vector<Outline2> drawn_lines;
-    for (const Outline2& line : drawn) {
-      double distance = 0.0;
-      const double t = NearestFraction(parent, line.front(), &distance);
-      Outline2 placed = line;
-      if (distance > 0) placed.insert(placed.begin(), At(parent, t));
-      Eigen::Vector2d tangent;
-      At(parent, t, &tangent);
-      const Eigen::Vector2d leave = InitialDirection(placed);
-      baf.Add(t, std::acos(std::clamp(tangent.dot(leave), -1.0, 1.0)) / kDegrees);
-      int match = -1;
-      double cost = std::numeric_limits<double>::infinity();
-      for (size_t c = 0; c < children.size(); ++c) {
-        if (drawn_of[c] >= 0) continue;
-        const double k = (children[c].points.front() - placed.front()).norm() +
-                         (children[c].points.back() - placed.back()).norm();
-        if (k < cost) cost = k, match = static_cast<int>(c);
-      }
-      SilhouetteBranch child;
-      child.points = placed;
-      child.u = t;
-      child.drawn_shape = true;
-      if (match >= 0) {
-        drawn_of[match] = static_cast<int>(drawn_lines.size());
-        children[match] = child;
-        ends[match] =
-            BumpEnd{placed.back(), (placed.back() - placed[placed.size() - 2]).normalized(),
-                    DistanceToOutline(crown, placed.back())};
-      } else {
-        children.push_back(child);
-        ends.push_back(BumpEnd{placed.back(),
-                               (placed.back() - placed[placed.size() - 2]).normalized(),
-                               DistanceToOutline(crown, placed.back())});
-        drawn_of.push_back(static_cast<int>(drawn_lines.size()));
-      }
-      drawn_lines.push_back(placed);
-      ++structure.drawn_branches;
-    }
-    // The inferred siblings follow the new BAF and the nearest drawn shape.
-    if (!drawn_lines.empty()) {
-      for (size_t c = 0; c < children.size(); ++c) {
-        if (drawn_of[c] >= 0) continue;
-        SilhouetteBranch redone = ShortestBranch(parent, entry, baf, ends[c]);
-        if (redone.points.empty()) continue;
-        int nearest = -1;
-        double gap = std::numeric_limits<double>::infinity();
-        for (size_t k = 0; k < children.size(); ++k) {
-          if (drawn_of[k] >= 0 && std::abs(children[k].u - redone.u) < gap) {
-            gap = std::abs(children[k].u - redone.u), nearest = static_cast<int>(k);
-          }
-        }
-        const Outline2& shape = children[nearest].points;
-        Eigen::Vector2d t_src, t_dst;
-        At(parent, children[nearest].u, &t_src);
-        At(parent, redone.u, &t_dst);
-        const bool mirror = SideOf(t_src, shape.back() - shape.front()) !=
-                            SideOf(t_dst, redone.points.back() - redone.points.front());
-        redone.points =
-            InSpanFrame(shape, shape, redone.points.front(), redone.points.back(), mirror);
-        children[c] = std::move(redone);
-      }
+    if (!drawn.empty()) {
+      for (const Outline2& line : drawn) AddDrawn(parent, crown, line, &baf, &children);
+      Restyle(parent, entry, baf, &children);
+      structure.drawn_branches += static_cast<int>(drawn.size());
     }
     const int first_child = static_cast<int>(structure.branches.size());
-    for (SilhouetteBranch& child : children) {
+    for (SilhouetteBranch& child : children.branches) {
       child.parent = p;
       child.level = structure.branches[p].level + 1;
       child.crown = SubSilhouette(crown, child.points,
@@ -826,6 +838,79 @@ struct Placed {
 
 Eigen::Vector3d Embed(const Eigen::Vector2d& p) { return {p.x(), 0.0, p.y()}; }
 
+// The insertion points of the children `kids` of a parent (section 5.3):
+// theirs near the drawing's plane on their side (`source` their branch,
+// `theta_2d` their side), and `extra` more anywhere between the lowest and
+// highest child (source -1).
+std::vector<InsertionPoint> InsertionPoints(const std::vector<SilhouetteBranch>& branches,
+                                            const Outline2& parent, const std::vector<int>& kids,
+                                            int extra, std::mt19937_64* random,
+                                            std::vector<int>* source,
+                                            std::vector<double>* theta_2d) {
+  std::vector<InsertionPoint> points;
+  for (int c : kids) {
+    Eigen::Vector2d tangent;
+    At(parent, branches[c].u, &tangent);
+    const double theta = SideOf(tangent, InitialDirection(branches[c].points)) < 0 ? 0.0 : 180.0;
+    points.push_back({branches[c].u, theta, true, theta - 45.0, theta + 45.0});
+    source->push_back(c);
+    theta_2d->push_back(theta);
+  }
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  double u_low = 1.0, u_high = 0.0;
+  for (int c : kids) {
+    u_low = std::min(u_low, branches[c].u), u_high = std::max(u_high, branches[c].u);
+  }
+  for (int e = 0; e < extra; ++e) {
+    const double u = u_low + unit(*random) * (u_high - u_low);
+    // Around a leaning parent, on its upper half (a departure from the
+    // paper, whose extra branches go anywhere: on a limb they would hang).
+    Eigen::Vector2d tangent;
+    At(parent, u, &tangent);
+    double low = 0.0, high = 360.0;
+    if (std::abs(tangent.y()) < kUprightParent) {
+      const Eigen::Vector2d up = tangent.x() >= 0 ? Eigen::Vector2d(-tangent.y(), tangent.x())
+                                                  : Eigen::Vector2d(tangent.y(), -tangent.x());
+      const double theta_up = SideOf(tangent, up) < 0 ? 0.0 : 180.0;
+      low = theta_up - 90.0, high = theta_up + 90.0;
+    }
+    points.push_back({u, low + unit(*random) * (high - low), false, low, high});
+    source->push_back(-1);
+    theta_2d->push_back(0.0);
+  }
+  return points;
+}
+
+// The skeleton of the placed branches: each one's polyline, split where its
+// children join and into edges of at most max_edge.
+SkeletonGraph SkeletonOfPlaced(const std::vector<SilhouetteBranch>& branches,
+                               const std::vector<Placed>& placed, double max_edge) {
+  std::vector<std::vector<int>> placed_children(placed.size());
+  for (size_t q = 1; q < placed.size(); ++q) placed_children[placed[q].parent].push_back(q);
+  std::vector<int> junction_node(placed.size(), -1);
+  SkeletonGraph skeleton;
+  for (size_t q = 0; q < placed.size(); ++q) {
+    const SilhouetteBranch& branch = branches[placed[q].branch];
+    const Outline2& line = branch.points;
+    std::vector<std::pair<double, int>> stops;  // (fraction, placed child or -1)
+    const int pieces = std::max(1, static_cast<int>(std::ceil(Length(line) / max_edge)));
+    for (int k = 1; k <= pieces; ++k) stops.emplace_back(static_cast<double>(k) / pieces, -1);
+    for (int child : placed_children[q]) stops.emplace_back(placed[child].u, child);
+    std::sort(stops.begin(), stops.end());
+    int node = junction_node[q];
+    if (node < 0) node = skeleton.AddNode(placed[q].map * Embed(line.front()), 0.0, -1, 0);
+    double last = 0.0;
+    for (const auto& [t, child] : stops) {
+      if (t > last + 1e-9) {
+        node = skeleton.AddNode(placed[q].map * Embed(At(line, t)), 0.0, node, branch.level);
+        last = t;
+      }
+      if (child >= 0) junction_node[child] = node;
+    }
+  }
+  return skeleton;
+}
+
 }  // namespace
 
 SilhouetteTree PlaceSilhouetteTree(const SilhouetteStructure& structure, double max_edge,
@@ -843,60 +928,29 @@ SilhouetteTree PlaceSilhouetteTree(const SilhouetteStructure& structure, double 
     const std::vector<int>& kids = children[here.branch];
     if (kids.empty()) continue;
     const Outline2& parent = branches[here.branch].points;
-    // Insertion points: the drawn children near the drawing's plane on
-    // their side, the extra ones anywhere.
-    std::vector<InsertionPoint> points;
-    std::vector<int> source;  // the structure's branch each point places
-    std::vector<double> drawn_theta;
-    for (int c : kids) {
-      Eigen::Vector2d tangent;
-      At(parent, branches[c].u, &tangent);
-      const double theta = SideOf(tangent, InitialDirection(branches[c].points)) < 0 ? 0.0 : 180.0;
-      points.push_back({branches[c].u, theta, true, theta - 45.0, theta + 45.0});
-      source.push_back(c);
-      drawn_theta.push_back(theta);
-    }
     std::mt19937_64 random(options.seed * 0x9E3779B97F4A7C15ull + q);
-    std::uniform_real_distribution<double> unit(0.0, 1.0);
     const int extra = static_cast<int>(placed.size()) < options.max_branches / 2
                           ? static_cast<int>(std::lround(options.extra_branches * kids.size()))
                           : 0;
-    double u_low = 1.0, u_high = 0.0;
-    for (int c : kids)
-      u_low = std::min(u_low, branches[c].u), u_high = std::max(u_high, branches[c].u);
-    for (int e = 0; e < extra; ++e) {
-      const double u = u_low + unit(random) * (u_high - u_low);
-      // Around a leaning parent, on its upper half (a departure from the
-      // paper, whose extra branches go anywhere: on a limb they would hang).
-      Eigen::Vector2d tangent;
-      At(parent, u, &tangent);
-      double low = 0.0, high = 360.0;
-      if (std::abs(tangent.y()) < kUprightParent) {
-        const Eigen::Vector2d up = tangent.x() >= 0 ? Eigen::Vector2d(-tangent.y(), tangent.x())
-                                                    : Eigen::Vector2d(tangent.y(), -tangent.x());
-        const double theta_up = SideOf(tangent, up) < 0 ? 0.0 : 180.0;
-        low = theta_up - 90.0, high = theta_up + 90.0;
-      }
-      points.push_back({u, low + unit(random) * (high - low), false, low, high});
-      source.push_back(-1);
-      drawn_theta.push_back(0.0);
-    }
+    std::vector<int> source;
+    std::vector<double> theta_2d;
+    std::vector<InsertionPoint> points =
+        InsertionPoints(branches, parent, kids, extra, &random, &source, &theta_2d);
     PlaceByGibbs(options, options.seed + q, &points);
     for (size_t k = 0; k < points.size(); ++k) {
       if (static_cast<int>(placed.size()) >= options.max_branches) break;
-      // An extra branch copies the drawn sibling nearest its u.
       int c = source[k];
-      double theta_2d = drawn_theta[k];
+      double side = theta_2d[k];
       Eigen::Isometry3d local = Eigen::Isometry3d::Identity();
       if (c < 0) {
+        // An extra branch copies the drawn sibling nearest its u, moved
+        // along the parent to its u, keeping its angle to it.
         double gap = std::numeric_limits<double>::infinity();
         for (size_t d = 0; d < kids.size(); ++d) {
           if (std::abs(branches[kids[d]].u - points[k].u) < gap) {
-            gap = std::abs(branches[kids[d]].u - points[k].u), c = kids[d],
-            theta_2d = drawn_theta[d];
+            gap = std::abs(branches[kids[d]].u - points[k].u), c = kids[d], side = theta_2d[d];
           }
         }
-        // Moved along the parent to the new u, keeping its angle to it.
         Eigen::Vector2d t_old, t_new;
         const Eigen::Vector2d from = At(parent, branches[c].u, &t_old);
         const Eigen::Vector2d to = At(parent, points[k].u, &t_new);
@@ -906,41 +960,18 @@ SilhouetteTree PlaceSilhouetteTree(const SilhouetteStructure& structure, double 
                 Eigen::Translation3d(-Embed(from));
         ++tree.extra_branches;
       }
+      // Turned about the parent's tangent at the junction from its side of
+      // the drawing's plane to its theta.
       Eigen::Vector2d tangent;
       const Eigen::Vector2d junction = At(parent, points[k].u, &tangent);
       const Eigen::Isometry3d turn =
           Eigen::Translation3d(Embed(junction)) *
-          Eigen::AngleAxisd((points[k].theta - theta_2d) * kDegrees, Embed(tangent).normalized()) *
+          Eigen::AngleAxisd((points[k].theta - side) * kDegrees, Embed(tangent).normalized()) *
           Eigen::Translation3d(-Embed(junction));
       placed.push_back({c, static_cast<int>(q), points[k].u, here.map * turn * local});
     }
   }
-  // The skeleton: each placed branch's polyline, split where its children
-  // join and into edges of at most max_edge.
-  std::vector<std::vector<int>> placed_children(placed.size());
-  for (size_t q = 1; q < placed.size(); ++q) placed_children[placed[q].parent].push_back(q);
-  std::vector<int> junction_node(placed.size(), -1);
-  SkeletonGraph& skeleton = tree.skeleton;
-  for (size_t q = 0; q < placed.size(); ++q) {
-    const SilhouetteBranch& branch = branches[placed[q].branch];
-    const Outline2& line = branch.points;
-    const double length = Length(line);
-    std::vector<std::pair<double, int>> stops;  // (fraction, placed child or -1)
-    const int pieces = std::max(1, static_cast<int>(std::ceil(length / max_edge)));
-    for (int k = 1; k <= pieces; ++k) stops.emplace_back(static_cast<double>(k) / pieces, -1);
-    for (int child : placed_children[q]) stops.emplace_back(placed[child].u, child);
-    std::sort(stops.begin(), stops.end());
-    int node = junction_node[q];
-    if (node < 0) node = skeleton.AddNode(placed[q].map * Embed(line.front()), 0.0, -1, 0);
-    double last = 0.0;
-    for (const auto& [t, child] : stops) {
-      if (t > last + 1e-9) {
-        node = skeleton.AddNode(placed[q].map * Embed(At(line, t)), 0.0, node, branch.level);
-        last = t;
-      }
-      if (child >= 0) junction_node[child] = node;
-    }
-  }
+  tree.skeleton = SkeletonOfPlaced(branches, placed, max_edge);
   return tree;
 }
 

@@ -320,29 +320,30 @@ MrfSketchTree MakeMrfSketchTree(const std::vector<SketchDrawing>& drawings,
   return tree;
 }
 
-SketchTree MakeSilhouetteSketchTree(const std::vector<SketchDrawing>& drawings,
-                                    const PipelineOptions& options) {
-  SYLVA_CHECK(!drawings.empty()) << "needs a drawing";
-  const SketchDrawing& drawing = drawings[0];
-  const SketchViews views = MakeSketchViews({drawing}, options.sketch);
+namespace {
+
+// What the silhouette method reads from a drawing, on the front view's
+// plane (x across, z up).
+struct SilhouetteInputs {
+  Outline2 trunk, crown;
+  std::vector<Outline2> drawn, sub_silhouettes;
+};
+
+// The trunk: the branch stroke with an end at the base, from there up
+// (vertical without one), taken up to kLeaderShare of the crown's height;
+// the other branch strokes are drawn branches. A drawing without branch
+// strokes gets its views' inferred branches, which this method infers its
+// own way: they are not read.
+void ReadSilhouetteStrokes(const SketchDrawing& drawing, const SketchViews& views,
+                           SilhouetteInputs* inputs) {
   const SketchView& front = views.views[0];
-  Outline2 crown;
-  for (const Eigen::Vector2d& p : CrownOutlineOf(
-           WithoutTrunk(front.matte, options.sketch.crown_opacity), options.sketch.crown_opacity)) {
-    crown.push_back(OnFrontPlane(views.cameras, p));
-  }
-  SYLVA_CHECK_INPUT(crown.size() >= 8, drawing.source)
-      << "encloses no crown for the silhouette method (Sketch.method=silhouette)";
-  double crown_low = crown[0].y(), crown_high = crown[0].y();
-  for (const Eigen::Vector2d& p : crown) {
+  double crown_low = inputs->crown[0].y(), crown_high = inputs->crown[0].y();
+  for (const Eigen::Vector2d& p : inputs->crown) {
     crown_low = std::min(crown_low, p.y()), crown_high = std::max(crown_high, p.y());
   }
-  // The trunk: the branch stroke with an end at the base, from there up.
   const Eigen::Vector2d base = OnFrontPlane(views.cameras, *front.strokes.root);
-  const double drawn_height = crown_high - base.y();
-  Outline2 trunk = {base};
   int trunk_stroke = -1;
-  double nearest = kTrunkFootShare * drawn_height;
+  double nearest = kTrunkFootShare * (crown_high - base.y());
   std::vector<Outline2> strokes;
   for (const Stroke& stroke : front.strokes.strokes) {
     Outline2 line;
@@ -357,24 +358,24 @@ SketchTree MakeSilhouetteSketchTree(const std::vector<SketchDrawing>& drawings,
     }
     strokes.push_back(std::move(line));
   }
-  // A drawing without branch strokes gets its views' inferred branches,
-  // which this method infers its own way: its trunk is vertical.
   const int drawn_branch_strokes = static_cast<int>(
       std::count_if(drawing.strokes.begin(), drawing.strokes.end(),
                     [](const SketchStroke& s) { return s.role == StrokeRole::kBranch; }));
   if (drawn_branch_strokes == 0) trunk_stroke = -1;
-  if (trunk_stroke >= 0) trunk = strokes[trunk_stroke];
+  inputs->trunk = trunk_stroke >= 0 ? strokes[trunk_stroke] : Outline2{base};
   const double leader = crown_low + kLeaderShare * (crown_high - crown_low);
-  if (trunk.back().y() < leader) trunk.emplace_back(trunk.back().x(), leader);
-  // Drawn branches: the other strokes, when the drawing has them (not the
-  // inferred ones of a drawing of the trunk alone).
-  std::vector<Outline2> drawn;
+  if (inputs->trunk.back().y() < leader)
+    inputs->trunk.emplace_back(inputs->trunk.back().x(), leader);
   if (drawn_branch_strokes >= 2 && front.strokes.strokes.size() >= 2) {
     for (size_t k = 0; k < strokes.size(); ++k) {
-      if (static_cast<int>(k) != trunk_stroke) drawn.push_back(strokes[k]);
+      if (static_cast<int>(k) != trunk_stroke) inputs->drawn.push_back(strokes[k]);
     }
   }
-  // Sub-silhouettes: closed crown strokes well inside the crown's size.
+}
+
+// Sub-silhouettes: closed crown strokes well inside the crown's size.
+std::vector<Outline2> SubSilhouettesOf(const SketchDrawing& drawing, const SketchViews& views,
+                                       const Outline2& crown) {
   std::vector<Outline2> sub_silhouettes;
   const double crown_area = OutlineArea(crown);
   for (const SketchStroke& stroke : drawing.strokes) {
@@ -390,10 +391,30 @@ SketchTree MakeSilhouetteSketchTree(const std::vector<SketchDrawing>& drawings,
       sub_silhouettes.push_back(outline);
     }
   }
+  return sub_silhouettes;
+}
+
+}  // namespace
+
+SketchTree MakeSilhouetteSketchTree(const std::vector<SketchDrawing>& drawings,
+                                    const PipelineOptions& options) {
+  SYLVA_CHECK(!drawings.empty()) << "needs a drawing";
+  const SketchDrawing& drawing = drawings[0];
+  const SketchViews views = MakeSketchViews({drawing}, options.sketch);
+  const SketchView& front = views.views[0];
+  SilhouetteInputs inputs;
+  for (const Eigen::Vector2d& p : CrownOutlineOf(
+           WithoutTrunk(front.matte, options.sketch.crown_opacity), options.sketch.crown_opacity)) {
+    inputs.crown.push_back(OnFrontPlane(views.cameras, p));
+  }
+  SYLVA_CHECK_INPUT(inputs.crown.size() >= 8, drawing.source)
+      << "encloses no crown for the silhouette method (Sketch.method=silhouette)";
+  ReadSilhouetteStrokes(drawing, views, &inputs);
+  inputs.sub_silhouettes = SubSilhouettesOf(drawing, views, inputs.crown);
   SilhouetteTreeOptions silhouette = options.sketch_mrf.silhouette;
   silhouette.seed = options.general.seed;
-  const SilhouetteStructure structure =
-      InferSilhouetteStructure(trunk, crown, sub_silhouettes, drawn, silhouette);
+  const SilhouetteStructure structure = InferSilhouetteStructure(
+      inputs.trunk, inputs.crown, inputs.sub_silhouettes, inputs.drawn, silhouette);
   const SilhouetteTree placed =
       PlaceSilhouetteTree(structure, kMaxEdge * options.sketch.tree_height, silhouette);
   SketchTree tree;
