@@ -1150,8 +1150,9 @@ TEST_F(CliTest, SketchByMrfMakesATreeFromADrawing) {
 // `sylva sketch --Sketch.method=silhouette` (Wither 2009) on a Quick, Draw!
 // doodle (a crown outline and a trunk): the tree's outputs, a closed bark,
 // a tree inside the drawing (front-view precision) and deep (not flat),
-// the same tree twice, and a bad option refused before anything is
-// written. Measured: precision 0.97, depth / width about 1.1.
+// the same tree twice, and a bad option or a drawing without a crown
+// refused before anything is written. Measured: precision 0.94, depth /
+// width about 1.0.
 TEST_F(CliTest, SketchBySilhouetteMakesATreeFromADoodle) {
   const fs::path drawing =
       fs::path(SYLVA_SOURCE_DIR) / "datasets" / "sketches" / "quickdraw" / "tree.ndjson";
@@ -1198,6 +1199,16 @@ TEST_F(CliTest, SketchBySilhouetteMakesATreeFromADoodle) {
   EXPECT_TRUE(FailedNaming(run(refused, "--Sketch.silhouette_phyllotaxis=fibonacci"), kExitBadInput,
                            {"Sketch.silhouette_phyllotaxis"}));
   EXPECT_FALSE(fs::exists(refused));
+  // A drawing that encloses no crown (one stroke) is refused, naming it.
+  const fs::path line = work_ / "line.svg";
+  WriteFile(line,
+            "<svg xmlns='http://www.w3.org/2000/svg' width='100' height='100'>"
+            "<path d='M50 95 L50 10' stroke='black' fill='none'/></svg>");
+  const fs::path no_crown = work_ / "silhouette_no_crown";
+  EXPECT_TRUE(FailedNaming(
+      Sylva({"sketch", line.string(), no_crown.string(), "--Sketch.method=silhouette"}),
+      kExitBadInput, {"line.svg", "encloses no crown"}));
+  EXPECT_FALSE(fs::exists(no_crown));
 }
 
 TEST_F(CliTest, MeshStageWritesTheSkeletonForPlantModellers) {

@@ -192,6 +192,9 @@ constexpr double kTrunkFootShare = 0.03;
 // share of their points inside it, are sub-silhouettes.
 constexpr double kSubSilhouetteShare = 0.6;
 constexpr double kSubSilhouetteInside = 0.7;
+// A drawing encloses a crown if at least this share of its view is filled
+// at the crown's opacity.
+constexpr double kMinCrownShare = 0.01;
 // The crown is the widest band of rows of a drawing's silhouette: rows at
 // least this share of the widest row's width.
 constexpr double kCrownBandShare = 0.35;
@@ -407,8 +410,21 @@ SketchTree MakeSilhouetteSketchTree(const std::vector<SketchDrawing>& drawings,
            WithoutTrunk(front.matte, options.sketch.crown_opacity), options.sketch.crown_opacity)) {
     inputs.crown.push_back(OnFrontPlane(views.cameras, p));
   }
-  SYLVA_CHECK_INPUT(inputs.crown.size() >= 8, drawing.source)
-      << "encloses no crown for the silhouette method (Sketch.method=silhouette)";
+  // The crown is an enclosed region (filled at the crown's opacity), not
+  // the drawn lines alone (opaque; their anti-aliased edges are a sliver).
+  const float crown_opacity = static_cast<float>(options.sketch.crown_opacity);
+  int enclosed = 0;
+  for (int y = 0; y < front.matte.height(); ++y) {
+    for (int x = 0; x < front.matte.width(); ++x) {
+      const float v = front.matte.at(x, y);
+      enclosed += v >= 0.5f * crown_opacity && v <= crown_opacity + 1e-3f;
+    }
+  }
+  SYLVA_CHECK_INPUT(inputs.crown.size() >= 8 &&
+                        enclosed >= kMinCrownShare * front.matte.width() * front.matte.height(),
+                    drawing.source)
+      << "encloses no crown for the silhouette method (Sketch.method=silhouette needs a closed "
+         "outline of the crown; Sketch.method=flow makes a tree of branch strokes alone)";
   ReadSilhouetteStrokes(drawing, views, &inputs);
   inputs.sub_silhouettes = SubSilhouettesOf(drawing, views, inputs.crown);
   SilhouetteTreeOptions silhouette = options.sketch_mrf.silhouette;
