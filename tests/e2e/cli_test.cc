@@ -1190,6 +1190,11 @@ TEST_F(CliTest, SketchBySilhouetteMakesATreeFromADoodle) {
   for (const SkeletonNode& node : skeleton.nodes) box.extend(node.position);
   EXPECT_GT(skeleton.NumNodes(), 200);
   EXPECT_GE(box.sizes().y(), 0.5 * box.sizes().x()) << box.sizes().transpose();
+  // The doodle's trunk is a wide outline (about 1.5 m across at 10 m of
+  // height): the trunk is as thick as drawn, not the allometric 0.15 m.
+  const double trunk_radius = skeleton.nodes[skeleton.RootIdx()].radius;
+  EXPECT_GT(trunk_radius, 0.5);
+  EXPECT_LT(trunk_radius, 1.0);
 
   const fs::path again = work_ / "silhouette_again";
   ASSERT_TRUE(Succeeded(run(again, "")));
