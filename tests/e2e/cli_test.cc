@@ -1095,6 +1095,18 @@ TEST_F(CliTest, SketchMakesATreeFromADrawing) {
 // crown fills by propagation; the outputs are a tree's, the bark closed, the
 // tree projects onto the drawing and has depth, the same seed gives the same
 // skeleton, and a bad exemplar file is refused before anything is written.
+// The files `sylva sketch` writes without a project (mrf, silhouette): the
+// exports, a tree in the first preview, a closed 2-manifold bark.
+void ExpectSketchTreeOutputs(const fs::path& out, const SubprocessResult& result) {
+  for (const char* name : {"tree.glb", "tree.obj", "bark.obj", "skeleton.json", "qsm.csv",
+                           "metrics.json", "sketch_cameras.json", "preview_0.png", "tree.mtg"}) {
+    EXPECT_TRUE(fs::is_regular_file(out / name)) << name << "\n" << result.out;
+  }
+  ExpectTreePicture(out / "preview_0.png", 96);
+  const MeshCheck bark = CheckMesh(ReadObj(out / "bark.obj"), "", /*self_intersections=*/false);
+  EXPECT_TRUE(bark.IsClosedManifold()) << bark.BriefReport();
+}
+
 TEST_F(CliTest, SketchByMrfMakesATreeFromADrawing) {
   const fs::path drawing = fs::path(SYLVA_SOURCE_DIR) / "datasets" / "sketches" / "openclipart" /
                            "arbre_modern_bw_jean-vic_01.svg";
@@ -1112,13 +1124,7 @@ TEST_F(CliTest, SketchByMrfMakesATreeFromADrawing) {
   const SubprocessResult result = run(out, "");
   ASSERT_TRUE(Succeeded(result));
   EXPECT_TRUE(Contains(result.out, "Branches by MRF")) << result.out;
-  for (const char* name : {"tree.glb", "tree.obj", "bark.obj", "skeleton.json", "qsm.csv",
-                           "metrics.json", "sketch_cameras.json", "preview_0.png", "tree.mtg"}) {
-    EXPECT_TRUE(fs::is_regular_file(out / name)) << name << "\n" << result.out;
-  }
-  ExpectTreePicture(out / "preview_0.png", 96);
-  const MeshCheck bark = CheckMesh(ReadObj(out / "bark.obj"), "", /*self_intersections=*/false);
-  EXPECT_TRUE(bark.IsClosedManifold()) << bark.BriefReport();
+  ExpectSketchTreeOutputs(out, result);
 
   const SkeletonGraph skeleton = ReadSkeletonJson(out / "skeleton.json");
   const ImageSet cameras = ReadCameraFile(out / "sketch_cameras.json");
@@ -1173,13 +1179,7 @@ TEST_F(CliTest, SketchBySilhouetteMakesATreeFromADoodle) {
   const SubprocessResult result = run(out, "");
   ASSERT_TRUE(Succeeded(result));
   EXPECT_TRUE(Contains(result.out, "Branches from silhouettes (Wither 2009)")) << result.out;
-  for (const char* name : {"tree.glb", "tree.obj", "bark.obj", "skeleton.json", "qsm.csv",
-                           "metrics.json", "sketch_cameras.json", "preview_0.png", "tree.mtg"}) {
-    EXPECT_TRUE(fs::is_regular_file(out / name)) << name << "\n" << result.out;
-  }
-  ExpectTreePicture(out / "preview_0.png", 96);
-  const MeshCheck bark = CheckMesh(ReadObj(out / "bark.obj"), "", /*self_intersections=*/false);
-  EXPECT_TRUE(bark.IsClosedManifold()) << bark.BriefReport();
+  ExpectSketchTreeOutputs(out, result);
   // The front view's fit: the tree stays inside the drawing.
   const size_t at = result.out.find("(precision ");
   ASSERT_NE(at, std::string::npos) << result.out;
