@@ -7,6 +7,7 @@
 #include <opencv2/imgproc.hpp>
 #include <random>
 
+#include "core/geometry/polyline.h"
 #include "core/util/check.h"
 
 namespace sylva {
@@ -34,8 +35,27 @@ constexpr double kCloseness = 2.0, kPattern = 1.0;
 // A branch's initial direction: over this share of its length.
 constexpr double kInitialShare = 0.1;
 // A parent whose tangent's upward component is at least this is upright:
-// extra branches go all around it.
+// extra branches go all around it; around a leaning one, within this many
+// degrees of its upper side.
 constexpr double kUprightParent = 0.9;
+constexpr double kUpperHalfDeg = 90.0;
+// Outlines go to OpenCV's convexity defects in integer coordinates, this
+// many units across the outline's box.
+constexpr double kDefectScale = 4096.0;
+// A bump's apex lies past where the parent enters the crown by at least
+// this fraction of the parent.
+constexpr double kEntryMargin = 1e-3;
+// E is searched for on this many points over this share of the way from
+// the apex to the parent.
+constexpr int kInwardSteps = 48;
+constexpr double kInwardShare = 0.5;
+// Bases are tried on the parent past its entry into the crown, leaving
+// this share of that part at either end.
+constexpr double kBaseMargin = 0.05;
+// A branch with no outline in its cone gets a disc of at least this share
+// of its span around its end, as a polygon of kDiscPoints.
+constexpr double kDiscShare = 0.2;
+constexpr int kDiscPoints = 24;
 // A drawn branch whose nearer end is within this share of the tree's height
 // of the trunk grows from it.
 constexpr double kDrawnReach = 0.05;
@@ -77,15 +97,13 @@ double NearestFraction(const Outline2& line, const Eigen::Vector2d& p, double* d
   const double total = std::max(Length(line), 1e-300);
   double best = std::numeric_limits<double>::infinity(), best_t = 0.0, walked = 0.0;
   for (size_t i = 1; i < line.size(); ++i) {
-    const Eigen::Vector2d edge = line[i] - line[i - 1];
-    const double piece = edge.norm();
-    const double s =
-        piece > 0 ? std::clamp((p - line[i - 1]).dot(edge) / (piece * piece), 0.0, 1.0) : 0.0;
-    const double d = (line[i - 1] + s * edge - p).norm();
+    double s = 0.0;
+    const double d = SegmentDistance2(p, line[i - 1], line[i], &s);
+    const double piece = (line[i] - line[i - 1]).norm();
     if (d < best) best = d, best_t = (walked + s * piece) / total;
     walked += piece;
   }
-  if (distance) *distance = best;
+  if (distance) *distance = std::sqrt(best);
   return best_t;
 }
 
@@ -93,27 +111,19 @@ double NearestFraction(const Outline2& line, const Eigen::Vector2d& p, double* d
 double DistanceToOutline(const Outline2& outline, const Eigen::Vector2d& p) {
   double best = std::numeric_limits<double>::infinity();
   for (size_t i = 0, j = outline.size() - 1; i < outline.size(); j = i++) {
-    const Eigen::Vector2d edge = outline[i] - outline[j];
-    const double s =
-        std::clamp((p - outline[j]).dot(edge) / std::max(edge.squaredNorm(), 1e-300), 0.0, 1.0);
-    best = std::min(best, (outline[j] + s * edge - p).norm());
+    best = std::min(best, SegmentDistance2(p, outline[j], outline[i]));
   }
-  return best;
+  return std::sqrt(best);
 }
 
 // A cubic Hermite curve from p0 (tangent m0) to p1 (tangent m1).
 Outline2 Hermite(const Eigen::Vector2d& p0, const Eigen::Vector2d& m0, const Eigen::Vector2d& p1,
                  const Eigen::Vector2d& m1) {
-  Outline2 curve;
-  for (int k = 0; k <= kCurvePoints; ++k) {
-    const double t = static_cast<double>(k) / kCurvePoints, t2 = t * t, t3 = t2 * t;
-    curve.push_back((2 * t3 - 3 * t2 + 1) * p0 + (t3 - 2 * t2 + t) * m0 + (-2 * t3 + 3 * t2) * p1 +
-                    (t3 - t2) * m1);
-  }
-  return curve;
+  return HermiteCurve(p0, m0, p1, m1, kCurvePoints);
 }
 
-// Which cells of a grid over a crown's box are inside outlines.
+// Which cells of a grid over a crown's box are inside outlines (OpenCV's
+// polygon filling: a cell is inside if the outline covers its pixel).
 class Raster {
  public:
   explicit Raster(const Outline2& frame) {
@@ -125,15 +135,19 @@ class Raster {
     ny_ = static_cast<int>((high.y() - low.y()) / cell_) + 1;
   }
   std::vector<char> Cells(const Outline2& polygon) const {
-    std::vector<char> cells(static_cast<size_t>(nx_) * ny_, 0);
-    if (polygon.size() < 3) return cells;
-    for (int y = 0; y < ny_; ++y) {
-      for (int x = 0; x < nx_; ++x) {
-        cells[static_cast<size_t>(y) * nx_ + x] =
-            InsideOutline(polygon, origin_ + cell_ * Eigen::Vector2d(x + 0.5, y + 0.5));
+    cv::Mat cells = cv::Mat::zeros(ny_, nx_, CV_8U);
+    if (polygon.size() >= 3) {
+      constexpr int kShift = 8;  // fractional bits of the vertices
+      std::vector<cv::Point> points;
+      for (const Eigen::Vector2d& p : polygon) {
+        const Eigen::Vector2d c = (p - origin_) / cell_ - Eigen::Vector2d(0.5, 0.5);
+        points.emplace_back(static_cast<int>(std::lround(c.x() * (1 << kShift))),
+                            static_cast<int>(std::lround(c.y() * (1 << kShift))));
       }
+      cv::fillPoly(cells, std::vector<std::vector<cv::Point>>{points}, cv::Scalar(1), cv::LINE_8,
+                   kShift);
     }
-    return cells;
+    return std::vector<char>(cells.datastart, cells.dataend);
   }
 
  private:
@@ -194,7 +208,7 @@ std::vector<BumpEnd> BumpEnds(const Outline2& crown, const Outline2& parent, dou
   for (const Eigen::Vector2d& p : crown) low = low.cwiseMin(p), high = high.cwiseMax(p);
   const double size = (high - low).maxCoeff();
   if (size <= 0) return {};
-  const double scale = 4096.0 / size;
+  const double scale = kDefectScale / size;
   std::vector<cv::Point> points;
   for (const Eigen::Vector2d& p : crown) {
     points.emplace_back(static_cast<int>(std::lround((p.x() - low.x()) * scale)),
@@ -212,7 +226,8 @@ std::vector<BumpEnd> BumpEnds(const Outline2& crown, const Outline2& parent, dou
       defects.clear();  // a self-crossing outline: one bump
     }
     for (const cv::Vec4i& defect : defects) {
-      if (defect[3] / 256.0 > valley_depth * 4096.0) valleys.push_back(defect[2]);
+      // OpenCV's depths are fixed-point with 8 fractional bits.
+      if (defect[3] / 256.0 > valley_depth * kDefectScale) valleys.push_back(defect[2]);
     }
   }
   std::sort(valleys.begin(), valleys.end());
@@ -230,16 +245,15 @@ std::vector<BumpEnd> BumpEnds(const Outline2& crown, const Outline2& parent, dou
       const Eigen::Vector2d& q = crown[i % n];
       double d = 0.0;
       const double t = NearestFraction(parent, q, &d);
-      if (t <= entry + 1e-3 || d <= farthest) continue;
+      if (t <= entry + kEntryMargin || d <= farthest) continue;
       farthest = d, apex = q, foot = At(parent, t);
     }
     if (farthest < min_length) continue;
     // E: where the distance to the outline peaks on the way in.
     const Eigen::Vector2d inward = (foot - apex).normalized();
     BumpEnd best{apex, -inward, 0.0};
-    constexpr int kSteps = 48;
-    for (int s = 1; s <= kSteps; ++s) {
-      const Eigen::Vector2d p = apex + (0.5 * farthest * s / kSteps) * inward;
+    for (int s = 1; s <= kInwardSteps; ++s) {
+      const Eigen::Vector2d p = apex + (kInwardShare * farthest * s / kInwardSteps) * inward;
       if (!InsideOutline(crown, p)) continue;
       const double r = DistanceToOutline(crown, p);
       if (r > best.radius) best = {p, -inward, r};
@@ -256,7 +270,8 @@ SilhouetteBranch ShortestBranch(const Outline2& parent, double entry, const Baf&
   SilhouetteBranch best;
   double shortest = std::numeric_limits<double>::infinity();
   for (int i = 0; i <= kBaseSamples; ++i) {
-    const double t = entry + (1.0 - entry) * (0.05 + 0.9 * i / kBaseSamples);
+    const double t =
+        entry + (1.0 - entry) * (kBaseMargin + (1 - 2 * kBaseMargin) * i / kBaseSamples);
     Eigen::Vector2d tangent;
     const Eigen::Vector2d base = At(parent, t, &tangent);
     const Eigen::Vector2d span = end.end - base;
@@ -333,10 +348,10 @@ Outline2 SubSilhouette(const Outline2& crown, const Outline2& branch, double rad
   Outline2 outline;
   if (centre < 0) {
     // No outline in the cone (a branch inside the crown): a disc around E.
-    const double r = std::max(radius, 0.2 * d);
-    for (int k = 0; k < 24; ++k) {
-      outline.push_back(end +
-                        r * Eigen::Vector2d(std::cos(k * M_PI / 12), std::sin(k * M_PI / 12)));
+    const double r = std::max(radius, kDiscShare * d);
+    for (int k = 0; k < kDiscPoints; ++k) {
+      const double a = 2 * M_PI * k / kDiscPoints;
+      outline.push_back(end + r * Eigen::Vector2d(std::cos(a), std::sin(a)));
     }
     return outline;
   }
@@ -658,6 +673,9 @@ void SilhouetteTreeOptions::Check() const {
                         phyllotaxis == "decussate" || phyllotaxis == "whorl3",
                     "Sketch.silhouette_phyllotaxis")
       << "must be none, spiral, decussate or whorl3, got '" << phyllotaxis << "'";
+  SYLVA_CHECK_INPUT(drawn_spread_deg >= 0 && drawn_spread_deg <= 180,
+                    "Sketch.silhouette_drawn_spread_deg")
+      << "must be in [0, 180] degrees, got " << drawn_spread_deg;
   SYLVA_CHECK_INPUT(gibbs_alpha > 0, "Sketch.silhouette_gibbs_alpha")
       << "must be positive, got " << gibbs_alpha;
   SYLVA_CHECK_INPUT(gibbs_iterations >= 0 && gibbs_iterations <= 1000000,
@@ -839,12 +857,12 @@ struct Placed {
 Eigen::Vector3d Embed(const Eigen::Vector2d& p) { return {p.x(), 0.0, p.y()}; }
 
 // The insertion points of the children `kids` of a parent (section 5.3):
-// theirs near the drawing's plane on their side (`source` their branch,
+// theirs within `spread_deg` of the drawing's plane on their side (`source` their branch,
 // `theta_2d` their side), and `extra` more anywhere between the lowest and
 // highest child (source -1).
 std::vector<InsertionPoint> InsertionPoints(const std::vector<SilhouetteBranch>& branches,
                                             const Outline2& parent, const std::vector<int>& kids,
-                                            int extra, std::mt19937_64* random,
+                                            int extra, double spread_deg, std::mt19937_64* random,
                                             std::vector<int>* source,
                                             std::vector<double>* theta_2d) {
   std::vector<InsertionPoint> points;
@@ -852,7 +870,7 @@ std::vector<InsertionPoint> InsertionPoints(const std::vector<SilhouetteBranch>&
     Eigen::Vector2d tangent;
     At(parent, branches[c].u, &tangent);
     const double theta = SideOf(tangent, InitialDirection(branches[c].points)) < 0 ? 0.0 : 180.0;
-    points.push_back({branches[c].u, theta, true, theta - 45.0, theta + 45.0});
+    points.push_back({branches[c].u, theta, true, theta - spread_deg, theta + spread_deg});
     source->push_back(c);
     theta_2d->push_back(theta);
   }
@@ -872,7 +890,7 @@ std::vector<InsertionPoint> InsertionPoints(const std::vector<SilhouetteBranch>&
       const Eigen::Vector2d up = tangent.x() >= 0 ? Eigen::Vector2d(-tangent.y(), tangent.x())
                                                   : Eigen::Vector2d(tangent.y(), -tangent.x());
       const double theta_up = SideOf(tangent, up) < 0 ? 0.0 : 180.0;
-      low = theta_up - 90.0, high = theta_up + 90.0;
+      low = theta_up - kUpperHalfDeg, high = theta_up + kUpperHalfDeg;
     }
     points.push_back({u, low + unit(*random) * (high - low), false, low, high});
     source->push_back(-1);
@@ -934,8 +952,8 @@ SilhouetteTree PlaceSilhouetteTree(const SilhouetteStructure& structure, double 
                           : 0;
     std::vector<int> source;
     std::vector<double> theta_2d;
-    std::vector<InsertionPoint> points =
-        InsertionPoints(branches, parent, kids, extra, &random, &source, &theta_2d);
+    std::vector<InsertionPoint> points = InsertionPoints(
+        branches, parent, kids, extra, options.drawn_spread_deg, &random, &source, &theta_2d);
     PlaceByGibbs(options, options.seed + q, &points);
     for (size_t k = 0; k < points.size(); ++k) {
       if (static_cast<int>(placed.size()) >= options.max_branches) break;

@@ -38,8 +38,8 @@
 //   - 3D (section 5): the branches on each parent are placed around it by a
 //     Gibbs process over their insertion points (theta, u) on the unrolled
 //     parent (5.2): u stays where the drawing puts it, theta of the drawn
-//     (inferred) branches stays within 45 degrees of the drawing's plane on
-//     their side (5.3), and `extra_branches` more branches per drawn one
+//     (inferred) branches stays within `drawn_spread_deg` (45) of the
+//     drawing's plane on their side (5.3), and `extra_branches` more branches per drawn one
 //     (copies of the nearest sibling, any theta and u between the lowest and
 //     highest sibling) fill the crown in depth. The cost is the closeness
 //     penalty f = 1 / (1 + alpha d) of d = |(du, dtheta / 360)|^2, or with a
@@ -88,6 +88,9 @@ struct SilhouetteTreeOptions {
   // Coverage: a copied branch is rejected if its crown overlaps its
   // siblings' crowns by more than this share of its area.
   double max_overlap = 0.2;
+  // 3D: branches from the drawing turn at most this far out of its plane,
+  // degrees (the paper's 45: people draw the branches that spread sideways).
+  double drawn_spread_deg = 45.0;
   // 3D: more branches per drawn one on each parent, placed in depth.
   double extra_branches = 1.0;
   // "none" (closeness only), "spiral", "decussate" or "whorl3".

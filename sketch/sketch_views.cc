@@ -9,6 +9,7 @@
 #include <limits>
 #include <set>
 
+#include "core/geometry/polyline.h"
 #include "core/util/check.h"
 
 namespace sylva {
@@ -367,13 +368,7 @@ std::vector<cv::Point> CrownOutline(const FloatImage& matte, double crown_opacit
 Stroke HermiteStroke(const Eigen::Vector2d& p0, const Eigen::Vector2d& m0,
                      const Eigen::Vector2d& p1, const Eigen::Vector2d& m1) {
   constexpr int kSamples = 12;
-  Stroke stroke;
-  for (int k = 0; k <= kSamples; ++k) {
-    const double t = static_cast<double>(k) / kSamples, t2 = t * t, t3 = t2 * t;
-    stroke.points.push_back((2 * t3 - 3 * t2 + 1) * p0 + (t3 - 2 * t2 + t) * m0 +
-                            (-2 * t3 + 3 * t2) * p1 + (t3 - t2) * m1);
-  }
-  return stroke;
+  return Stroke{HermiteCurve(p0, m0, p1, m1, kSamples)};
 }
 
 }  // namespace

@@ -1,6 +1,6 @@
 // Small polyline helpers shared by the 2D attractor graphs and the 3D
-// particle traces: closest points on segments and Douglas-Peucker
-// simplification, for any fixed-size Eigen vector type.
+// particle traces: closest points on segments, Douglas-Peucker
+// simplification and Hermite curves, for any fixed-size Eigen vector type.
 #ifndef SYLVA_CORE_GEOMETRY_POLYLINE_H_
 #define SYLVA_CORE_GEOMETRY_POLYLINE_H_
 
@@ -89,6 +89,20 @@ void DouglasPeucker(int count, const PointAt& point, double tolerance, std::vect
     ranges.push_back({first, worst});
     ranges.push_back({worst, last});
   }
+}
+
+// `samples` + 1 points of the cubic Hermite curve from p0 (tangent m0) to
+// p1 (tangent m1), both ends included.
+template <typename Vector>
+std::vector<Vector> HermiteCurve(const Vector& p0, const Vector& m0, const Vector& p1,
+                                 const Vector& m1, int samples) {
+  std::vector<Vector> curve;
+  for (int k = 0; k <= samples; ++k) {
+    const double t = static_cast<double>(k) / samples, t2 = t * t, t3 = t2 * t;
+    curve.push_back((2 * t3 - 3 * t2 + 1) * p0 + (t3 - 2 * t2 + t) * m0 + (-2 * t3 + 3 * t2) * p1 +
+                    (t3 - t2) * m1);
+  }
+  return curve;
 }
 
 }  // namespace sylva

@@ -713,6 +713,8 @@ void RegisterSketchMrf(SketchMrfOptions* o, OptionRegistry* r) {
   r->AddDouble(
       "Sketch.silhouette_max_overlap", &w->max_overlap, "fraction of its area",
       "silhouette: a branch added for coverage may overlap its siblings' crowns this much");
+  r->AddDouble("Sketch.silhouette_drawn_spread_deg", &w->drawn_spread_deg, "degrees",
+               "silhouette: branches from the drawing turn at most this far out of its plane");
   r->AddDouble("Sketch.silhouette_extra_branches", &w->extra_branches, "per drawn branch",
                "silhouette: branches added around each parent to fill the crown in depth");
   r->AddString("Sketch.silhouette_phyllotaxis", &w->phyllotaxis,

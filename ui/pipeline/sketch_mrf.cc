@@ -189,9 +189,11 @@ constexpr double kLeaderShare = 0.8;
 // height) stands on the ground: the trunk.
 constexpr double kTrunkFootShare = 0.03;
 // Closed crown strokes smaller than this share of the crown, with this
-// share of their points inside it, are sub-silhouettes.
+// share of their perimeter inside it (kPerimeterSamples points), are
+// sub-silhouettes.
 constexpr double kSubSilhouetteShare = 0.6;
 constexpr double kSubSilhouetteInside = 0.7;
+constexpr int kPerimeterSamples = 100;
 // The drawn trunk's width is measured at these shares of the way from the
 // base to the crown, looking this many pixels aside for it. Wider than
 // kOutlinedTrunkLines lines, the trunk was drawn as outlines.
@@ -335,6 +337,7 @@ namespace {
 // plane (x across, z up).
 struct SilhouetteInputs {
   Outline2 trunk, crown;
+  double crown_low = 0.0, crown_high = 0.0;  // the crown's lowest and highest z
   std::vector<Outline2> drawn, sub_silhouettes;
 };
 
@@ -346,10 +349,7 @@ struct SilhouetteInputs {
 void ReadSilhouetteStrokes(const SketchDrawing& drawing, const SketchViews& views,
                            SilhouetteInputs* inputs) {
   const SketchView& front = views.views[0];
-  double crown_low = inputs->crown[0].y(), crown_high = inputs->crown[0].y();
-  for (const Eigen::Vector2d& p : inputs->crown) {
-    crown_low = std::min(crown_low, p.y()), crown_high = std::max(crown_high, p.y());
-  }
+  const double crown_low = inputs->crown_low, crown_high = inputs->crown_high;
   const Eigen::Vector2d base = OnFrontPlane(views.cameras, *front.strokes.root);
   int trunk_stroke = -1;
   double nearest = kTrunkFootShare * (crown_high - base.y());
@@ -393,10 +393,26 @@ std::vector<Outline2> SubSilhouettesOf(const SketchDrawing& drawing, const Sketc
     for (const Eigen::Vector2d& p : stroke.points) {
       outline.push_back(OnFrontPlane(views.drawing_cameras, p));
     }
-    const int inside = static_cast<int>(std::count_if(
-        outline.begin(), outline.end(), [&](const auto& p) { return InsideOutline(crown, p); }));
+    // The share of its perimeter inside the crown, from points evenly
+    // spaced along it (its vertices alone may be few: a rectangle).
+    Outline2 closed = outline;
+    closed.push_back(outline.front());
+    double perimeter = 0.0;
+    for (size_t i = 1; i < closed.size(); ++i) perimeter += (closed[i] - closed[i - 1]).norm();
+    int inside = 0;
+    for (int k = 0; k < kPerimeterSamples; ++k) {
+      double walk = perimeter * (k + 0.5) / kPerimeterSamples;
+      size_t i = 1;
+      while (i + 1 < closed.size() && walk > (closed[i] - closed[i - 1]).norm()) {
+        walk -= (closed[i] - closed[i - 1]).norm();
+        ++i;
+      }
+      const Eigen::Vector2d edge = closed[i] - closed[i - 1];
+      const double t = edge.norm() > 0 ? std::min(1.0, walk / edge.norm()) : 0.0;
+      inside += InsideOutline(crown, closed[i - 1] + t * edge);
+    }
     if (OutlineArea(outline) < kSubSilhouetteShare * crown_area &&
-        inside >= kSubSilhouetteInside * outline.size()) {
+        inside >= kSubSilhouetteInside * kPerimeterSamples) {
       sub_silhouettes.push_back(outline);
     }
   }
@@ -496,6 +512,11 @@ SketchTree MakeSilhouetteSketchTree(const std::vector<SketchDrawing>& drawings,
                     drawing.source)
       << "encloses no crown for the silhouette method (Sketch.method=silhouette needs a closed "
          "outline of the crown; Sketch.method=flow makes a tree of branch strokes alone)";
+  inputs.crown_low = inputs.crown_high = inputs.crown[0].y();
+  for (const Eigen::Vector2d& p : inputs.crown) {
+    inputs.crown_low = std::min(inputs.crown_low, p.y());
+    inputs.crown_high = std::max(inputs.crown_high, p.y());
+  }
   ReadSilhouetteStrokes(drawing, views, &inputs);
   inputs.sub_silhouettes = SubSilhouettesOf(drawing, views, inputs.crown);
   SilhouetteTreeOptions silhouette = options.sketch_mrf.silhouette;
@@ -507,12 +528,10 @@ SketchTree MakeSilhouetteSketchTree(const std::vector<SketchDrawing>& drawings,
   SketchTree tree;
   tree.skeleton = placed.skeleton;
   AssignSketchRadii(options, &tree.skeleton);
-  double crown_low = inputs.crown[0].y();
-  for (const Eigen::Vector2d& p : inputs.crown) crown_low = std::min(crown_low, p.y());
   const double line_width_px = options.sketch.line_width * options.sketch.image_size;
-  ThickenTrunk(DrawnTrunkRadius(front, views.cameras, inputs.trunk, crown_low, line_width_px,
+  ThickenTrunk(DrawnTrunkRadius(front, views.cameras, inputs.trunk, inputs.crown_low, line_width_px,
                                 options.sketch.crown_opacity),
-               crown_low, &tree.skeleton);
+               inputs.crown_low, &tree.skeleton);
   tree.drawing_cameras = views.drawing_cameras;
   tree.front_view = views.cameras;
   tree.front_matte = front.matte;
