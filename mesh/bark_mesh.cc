@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <list>
 #include <map>
 #include <numeric>
 #include <set>
@@ -59,6 +60,9 @@ constexpr double kCutGrowth = 1.12;
 // rings, which reach one radius beyond their centres.
 constexpr double kReachParentWidths = 2.0;
 constexpr double kReachLateralRadii = 4.0;
+// Relative slack of the bound by which NearestFreeQuad skips ring gaps,
+// for rounding (the bound must never exceed a quad's true distance).
+constexpr double kBoundSlack = 1e-9;
 
 // One way out of a joint: the chain of nodes from a joint node through
 // pass-through nodes (one child, not in a joint, not the root) to the next
@@ -88,6 +92,18 @@ double EnclosingSphereRadius(double r1, double r2, double gamma) {
   return std::max(r1 / std::sin(alpha), std::max(r1, r2));
 }
 
+// A joint's cuts pushed out until its rings are hull faces (or kMaxPushes):
+// a function of its members and of the chains leaving it (`exits` before the
+// pushes, paths only, is the rest of the key).
+struct GroupFit {
+  std::vector<int> members;
+  std::vector<std::vector<int>> paths;
+  std::vector<Exit> exits;
+  std::vector<char> bad;
+  bool faces = true;
+  int pushes = 0;
+};
+
 // What every meshing attempt shares: the skeleton, the options and what
 // follows from them alone.
 struct BarkTree {
@@ -111,6 +127,9 @@ struct BarkTree {
   int root = -1;
   double max_radius = 0.0;
   std::vector<int> axis_child;  // the child continuing each node's axis, else -1
+  // Joints fitted by earlier plans and attempts, by their members: most
+  // joints stay as they were from one attempt to the next.
+  mutable std::map<std::vector<int>, std::list<GroupFit>> fits;
 };
 
 // The settings of one meshing attempt: what the retry loop (MeshWithRetries)
@@ -153,6 +172,7 @@ class BarkAttempt {
         max_radius_(tree.max_radius),
         root_(tree.root),
         axis_child_(tree.axis_child),
+        fits_(tree.fits),
         forced_(settings.forced),
         repairs_(settings.repairs),
         overlapping_(settings.overlapping),
@@ -280,6 +300,7 @@ class BarkAttempt {
   // its laterals are thin against the parent, an attach junction.
   void StartPlan() {
     summary_ = BarkMeshSummary();
+    plan_fits_.clear();
     respread_ = false;
     overflow_.clear();
     group_.assign(skeleton_.NumNodes(), -1);
@@ -515,34 +536,61 @@ class BarkAttempt {
     kStop,    // ... and the joint overflowed
   };
 
-  // Fits the cuts of every joint (pushed out until the rings are hull
-  // faces), recording them in exits_; merges the worst-fitting chain of the
-  // first joint whose cuts do not fit.
+  // The fit of joint g (members ascending): the plan's (plan_fits_) while
+  // neither its members nor its chains changed, else the tree's if it fitted
+  // the same joint with the same chains before, else a new one.
+  const GroupFit& FitGroup(int g, const std::vector<int>& members) {
+    const auto planned = plan_fits_.find(g);
+    if (planned != plan_fits_.end() && planned->second->members == members) return *planned->second;
+    std::vector<Exit> exits = ExitsOf(g, members);
+    std::vector<std::vector<int>> paths;
+    for (const Exit& e : exits) paths.push_back(e.path);
+    std::list<GroupFit>& known = fits_[members];
+    const GroupFit* found = nullptr;
+    for (const GroupFit& fit : known) {
+      if (fit.paths == paths) found = &fit;
+    }
+    if (found == nullptr) {
+      GroupFit fit;
+      fit.members = members;
+      fit.paths = std::move(paths);
+      while (exits.size() >= 2 && !RingsAreHullFaces(exits, &fit.bad) && fit.pushes < kMaxPushes) {
+        for (size_t k = 0; k < exits.size(); ++k) {
+          if (!fit.bad[k]) continue;
+          exits[k].t *= kPushFactor;
+          Place(&exits[k]);
+        }
+        ++fit.pushes;
+      }
+      fit.faces = exits.size() < 2 || RingsAreHullFaces(exits, &fit.bad);
+      fit.exits = std::move(exits);
+      known.push_back(std::move(fit));
+      found = &known.back();
+    }
+    plan_fits_[g] = found;
+    return *found;
+  }
+
+  // Fits the cuts of every joint and records them in exits_, or merges the
+  // worst-fitting chain of the first joint whose cuts do not fit.
   Fit FitJoints() {
     std::map<int, std::vector<int>> groups;
     for (int i = 0; i < skeleton_.NumNodes(); ++i) {
       if (group_[i] >= 0) groups[Group(i)].push_back(i);
     }
+    std::vector<std::pair<int, const GroupFit*>> fits;
     for (auto& [g, members] : groups) {
-      std::vector<Exit> exits = ExitsOf(g, members);
-      std::vector<char> bad;
-      int pushes = 0;
-      while (exits.size() >= 2 && !RingsAreHullFaces(exits, &bad) && pushes < kMaxPushes) {
-        for (size_t k = 0; k < exits.size(); ++k) {
-          if (!bad[k]) continue;
-          exits[k].t *= kPushFactor;
-          Place(&exits[k]);
-        }
-        ++pushes;
+      const GroupFit& fit = FitGroup(g, members);
+      const auto [worst, worst_ratio] = WorstExit(fit.exits, fit.faces, fit.bad);
+      if (worst >= 0 && (worst_ratio > options_.max_cut_fraction || !fit.faces)) {
+        return MergeIntoJoint(g, fit.exits[worst].path);
       }
-      const bool faces = exits.size() < 2 || RingsAreHullFaces(exits, &bad);
-      const auto [worst, worst_ratio] = WorstExit(exits, faces, bad);
-      if (worst >= 0 && (worst_ratio > options_.max_cut_fraction || !faces)) {
-        return MergeIntoJoint(g, exits[worst].path);
-      }
-      if (pushes > 0) push_count_[g] = pushes;
-      exit_count_[g] = static_cast<int>(exits.size());
-      for (const Exit& e : exits) exits_[{e.path[0], e.path[1]}] = e;
+      fits.emplace_back(g, &fit);
+    }
+    for (const auto& [g, fit] : fits) {
+      if (fit->pushes > 0) push_count_[g] = fit->pushes;
+      exit_count_[g] = static_cast<int>(fit->exits.size());
+      for (const Exit& e : fit->exits) exits_[{e.path[0], e.path[1]}] = e;
     }
     return Fit::kFits;
   }
@@ -581,7 +629,16 @@ class BarkAttempt {
   }
 
   // A fallback merge (counted): the chain's nodes join the joint of `node`.
+  // The plan forgets the fits of joints with a chain through them.
   Fit MergeIntoJoint(int node, const std::vector<int>& path) {
+    const std::set<int> joining(path.begin(), path.end());
+    for (auto fit = plan_fits_.begin(); fit != plan_fits_.end();) {
+      bool through = false;
+      for (const std::vector<int>& chain : fit->second->paths) {
+        for (size_t k = 1; k < chain.size() && !through; ++k) through = joining.count(chain[k]) > 0;
+      }
+      fit = through ? plan_fits_.erase(fit) : std::next(fit);
+    }
     for (int member : path) Join(node, member);
     ++summary_.fallbacks;
     return JointOverflows(node) ? Fit::kStop : Fit::kMerged;
@@ -741,7 +798,7 @@ class BarkAttempt {
     const Eigen::Vector3d d = (Position(chain[1]) - origin).normalized();
     double along = 0.0;                // from the junction to the quad's centre, along d
     std::array<int, 2> quad = {0, 0};  // ring gap, side
-    if (!NearestFreeQuad(p, origin, d, mesh, &quad, &along)) return false;
+    if (!NearestFreeQuad(it->second, origin, d, mesh, &quad, &along)) return false;
     // One quad: wider strips (as wide as the lateral) leave the strip's
     // boundary edges off the hull too often (tried: 3-5 % of joints failed).
     *patch = PatchAt(p, quad[0], quad[1], 1);
@@ -764,13 +821,30 @@ class BarkAttempt {
     return false;
   }
 
-  // The free parent quad (ring gap i, side j) whose centre is nearest the
-  // ray from `origin` along unit `d`, ahead of it; `along`: the distance to
-  // that centre along d. False if every quad is taken or behind.
-  bool NearestFreeQuad(const PieceInfo& p, const Eigen::Vector3d& origin, const Eigen::Vector3d& d,
+  // The free parent quad (ring gap i, side j) of piece `piece` whose centre
+  // is nearest the ray from `origin` along unit `d`, ahead of it (ties: the
+  // lowest i, then j); `along`: the distance to that centre along d. False
+  // if every quad is taken or behind. Ring gaps are visited nearest first
+  // by a bound on their quads' distance (their rings lie in a ball), and
+  // the search stops at the first gap that cannot hold a nearer quad.
+  bool NearestFreeQuad(int piece, const Eigen::Vector3d& origin, const Eigen::Vector3d& d,
                        const TriangleMesh& mesh, std::array<int, 2>* quad, double* along) const {
-    double best = std::numeric_limits<double>::infinity();
+    const PieceInfo& p = pieces_[piece];
+    const std::vector<std::pair<Eigen::Vector3d, double>>& axis = RingAxisOf(piece, mesh);
+    std::vector<std::pair<double, int>> gaps;  // (bound on the distance, ring gap)
     for (int i = 0; i + 1 < p.rings; ++i) {
+      const Eigen::Vector3d middle = (axis[i].first + axis[i + 1].first) / 2;
+      const double ball = (axis[i].first - axis[i + 1].first).norm() / 2 +
+                          std::max(axis[i].second, axis[i + 1].second);
+      const Eigen::Vector3d m = middle - origin;
+      const double bound =
+          (m - m.dot(d) * d).norm() - ball * (1 + kBoundSlack) - kBoundSlack * (1 + origin.norm());
+      gaps.emplace_back(bound, i);
+    }
+    std::sort(gaps.begin(), gaps.end());
+    double best = std::numeric_limits<double>::infinity();
+    for (const auto& [bound, i] : gaps) {
+      if (bound > best) break;
       for (int j = 0; j < p.sides; ++j) {
         const Quad q = QuadAt(p, i, j);
         if (taken_.count(q.triangle)) continue;
@@ -779,7 +853,8 @@ class BarkAttempt {
         const double s = (c - origin).dot(d);
         if (s <= 0) continue;
         const double off = ((c - origin) - s * d).norm();
-        if (off < best) {
+        if (off < best ||
+            (off == best && std::make_pair(i, j) < std::make_pair((*quad)[0], (*quad)[1]))) {
           best = off;
           *along = s;
           *quad = {i, j};
@@ -1159,7 +1234,9 @@ class BarkAttempt {
   const std::vector<std::vector<int>>& children_;
   const double max_radius_;
   const int root_;
-  const std::vector<int>& axis_child_;  // the child continuing each node's axis
+  const std::vector<int>& axis_child_;                     // the child continuing each node's axis
+  std::map<std::vector<int>, std::list<GroupFit>>& fits_;  // BarkTree::fits
+  std::map<int, const GroupFit*> plan_fits_;  // of this plan's joints, by representative
   // The settings (AttemptSettings).
   const std::set<int> forced_;
   const std::set<int> repairs_;

@@ -1,6 +1,7 @@
 #include "mesh/mesh_checks.h"
 
 #include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_sort.h>
 
@@ -106,15 +107,20 @@ struct TriangleGrid {
   TriangleGrid(const TriangleMesh& mesh, const std::vector<int>& selected, double given_scale = 0) {
     const int n = static_cast<int>(selected.size());
     tris.resize(n), planes.resize(n), boxes.resize(n), ranges.resize(n);
+    tbb::parallel_for(tbb::blocked_range<int>(0, n, 4096),
+                      [&](const tbb::blocked_range<int>& part) {
+                        for (int i = part.begin(); i < part.end(); ++i) {
+                          const Eigen::Vector3i& f = mesh.triangles[selected[i]];
+                          for (int k = 0; k < 3; ++k) {
+                            tris[i][k] = mesh.vertices[f[k]].cast<double>();
+                            boxes[i].extend(tris[i][k]);
+                          }
+                          planes[i] = PlaneOf(tris[i]);
+                        }
+                      });
     Eigen::AlignedBox3d all;
     double extent_sum = 0.0;
     for (int i = 0; i < n; ++i) {
-      const Eigen::Vector3i& f = mesh.triangles[selected[i]];
-      for (int k = 0; k < 3; ++k) {
-        tris[i][k] = mesh.vertices[f[k]].cast<double>();
-        boxes[i].extend(tris[i][k]);
-      }
-      planes[i] = PlaneOf(tris[i]);
       all.extend(boxes[i]);
       extent_sum += boxes[i].sizes().maxCoeff();
     }
@@ -127,16 +133,32 @@ struct TriangleGrid {
       return std::clamp<int64_t>(static_cast<int64_t>(std::floor((v - all.min()[axis]) / cell)), 0,
                                  2 * kMaxCellsPerAxis - 1);
     };
-    for (int i = 0; i < n; ++i) {
-      for (int a = 0; a < 3; ++a) {
-        ranges[i][a] = cell_of(boxes[i].min()[a], a);
-        ranges[i][a + 3] = cell_of(boxes[i].max()[a], a);
-      }
-      for (int64_t x = ranges[i][0]; x <= ranges[i][3]; ++x)
-        for (int64_t y = ranges[i][1]; y <= ranges[i][4]; ++y)
-          for (int64_t z = ranges[i][2]; z <= ranges[i][5]; ++z)
-            entries.emplace_back(CellKey(x, y, z), i);
-    }
+    // Each triangle's cells, then its entries at its place in `entries`.
+    std::vector<int64_t> first_entry(n + 1, 0);
+    tbb::parallel_for(tbb::blocked_range<int>(0, n, 4096),
+                      [&](const tbb::blocked_range<int>& part) {
+                        for (int i = part.begin(); i < part.end(); ++i) {
+                          for (int a = 0; a < 3; ++a) {
+                            ranges[i][a] = cell_of(boxes[i].min()[a], a);
+                            ranges[i][a + 3] = cell_of(boxes[i].max()[a], a);
+                          }
+                          first_entry[i + 1] = (ranges[i][3] - ranges[i][0] + 1) *
+                                               (ranges[i][4] - ranges[i][1] + 1) *
+                                               (ranges[i][5] - ranges[i][2] + 1);
+                        }
+                      });
+    std::partial_sum(first_entry.begin(), first_entry.end(), first_entry.begin());
+    entries.resize(first_entry[n]);
+    tbb::parallel_for(tbb::blocked_range<int>(0, n, 4096),
+                      [&](const tbb::blocked_range<int>& part) {
+                        for (int i = part.begin(); i < part.end(); ++i) {
+                          int64_t e = first_entry[i];
+                          for (int64_t x = ranges[i][0]; x <= ranges[i][3]; ++x)
+                            for (int64_t y = ranges[i][1]; y <= ranges[i][4]; ++y)
+                              for (int64_t z = ranges[i][2]; z <= ranges[i][5]; ++z)
+                                entries[e++] = {CellKey(x, y, z), i};
+                        }
+                      });
     for (int a = 0; a < 3; ++a) last_cell[a] = cell_of(all.max()[a], a);
     tbb::parallel_sort(entries.begin(), entries.end());
   }
@@ -165,22 +187,32 @@ struct TriangleGrid {
   }
 
   // The triangles j > i (positions in `selected`) that share a cell with
-  // triangle i, ascending; with `all`, every j != i.
-  void Neighbours(int i, std::vector<int>* candidates, bool all = false) const {
+  // triangle i, ascending.
+  void Neighbours(int i, std::vector<int>* candidates) const {
     candidates->clear();
     for (int64_t x = ranges[i][0]; x <= ranges[i][3]; ++x)
       for (int64_t y = ranges[i][1]; y <= ranges[i][4]; ++y)
         for (int64_t z = ranges[i][2]; z <= ranges[i][5]; ++z) {
           // Entries of the cell past (cell, i): the cell's triangles j > i.
-          auto it = std::upper_bound(entries.begin(), entries.end(),
-                                     std::make_pair(CellKey(x, y, z), all ? -1 : i));
+          auto it =
+              std::upper_bound(entries.begin(), entries.end(), std::make_pair(CellKey(x, y, z), i));
           for (; it != entries.end() && it->first == CellKey(x, y, z); ++it) {
-            if (it->second != i) candidates->push_back(it->second);
+            candidates->push_back(it->second);
           }
         }
     std::sort(candidates->begin(), candidates->end());
     candidates->erase(std::unique(candidates->begin(), candidates->end()), candidates->end());
   }
+
+  // The pairs (i < j, positions in `selected`) that cross, among those that
+  // `wanted(i, j)` accepts, ascending. Each pair of triangles sharing cells
+  // is met once, in the first cell of the overlap of their cell ranges, so
+  // cells are walked in parallel without looking triangles up or removing
+  // duplicates.
+  template <typename Wanted>
+  std::vector<std::pair<int, int>> CrossingPairs(const TriangleMesh& mesh,
+                                                 const std::vector<int>& selected,
+                                                 const Wanted& wanted) const;
 };
 
 // Crossing pairs (indices into mesh.triangles, first < second by position in
@@ -202,6 +234,46 @@ bool GridPairCrosses(const TriangleMesh& mesh, const std::vector<int>& selected,
   return grid.boxes[i].intersects(grid.boxes[j]) &&
          !ShareVertex(mesh.triangles[selected[i]], mesh.triangles[selected[j]]) &&
          TrianglesCross(grid.tris[i], grid.planes[i], grid.tris[j], grid.planes[j], grid.scale);
+}
+
+template <typename Wanted>
+std::vector<std::pair<int, int>> TriangleGrid::CrossingPairs(const TriangleMesh& mesh,
+                                                             const std::vector<int>& selected,
+                                                             const Wanted& wanted) const {
+  std::vector<size_t> starts;  // of each cell's run of entries, then the end
+  for (size_t e = 0; e < entries.size(); ++e) {
+    if (e == 0 || entries[e].first != entries[e - 1].first) starts.push_back(e);
+  }
+  starts.push_back(entries.size());
+  tbb::enumerable_thread_specific<std::vector<std::pair<int, int>>> found;
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, starts.size() - 1, 64),
+                    [&](const tbb::blocked_range<size_t>& cells) {
+                      std::vector<std::pair<int, int>>& mine = found.local();
+                      for (size_t c = cells.begin(); c < cells.end(); ++c) {
+                        const uint64_t cell = entries[starts[c]].first;
+                        for (size_t p = starts[c]; p < starts[c + 1]; ++p) {
+                          const int i = entries[p].second;
+                          const std::array<int64_t, 6>& a = ranges[i];
+                          for (size_t q = p + 1; q < starts[c + 1]; ++q) {
+                            const int j = entries[q].second;  // > i: entries are sorted
+                            const std::array<int64_t, 6>& b = ranges[j];
+                            if (CellKey(std::max(a[0], b[0]), std::max(a[1], b[1]),
+                                        std::max(a[2], b[2])) != cell) {
+                              continue;  // met in an earlier cell
+                            }
+                            if (wanted(i, j) && GridPairCrosses(mesh, selected, *this, i, j)) {
+                              mine.emplace_back(i, j);
+                            }
+                          }
+                        }
+                      }
+                    });
+  std::vector<std::pair<int, int>> pairs;
+  for (const std::vector<std::pair<int, int>>& part : found) {
+    pairs.insert(pairs.end(), part.begin(), part.end());
+  }
+  std::sort(pairs.begin(), pairs.end());
+  return pairs;
 }
 
 int64_t SelfIntersections(const TriangleMesh& mesh, const std::vector<int>& selected,
@@ -230,17 +302,12 @@ int64_t SelfIntersections(const TriangleMesh& mesh, const std::vector<int>& sele
     }
     return count;
   }
-  std::vector<std::vector<int>> found(n);
-  tbb::parallel_for(tbb::blocked_range<int>(0, n, 256), [&](const tbb::blocked_range<int>& range) {
-    std::vector<int> candidates;
-    for (int i = range.begin(); i < range.end(); ++i) pairs_of(i, &candidates, &found[i]);
-  });
-  for (int i = 0; i < n; ++i) {
-    count += static_cast<int64_t>(found[i].size());
-    if (pairs == nullptr) continue;
-    for (int j : found[i]) pairs->emplace_back(selected[i], selected[j]);
+  const std::vector<std::pair<int, int>> found =
+      grid.CrossingPairs(mesh, selected, [](int, int) { return true; });
+  if (pairs != nullptr) {
+    for (const auto& [i, j] : found) pairs->emplace_back(selected[i], selected[j]);
   }
-  return count;
+  return static_cast<int64_t>(found.size());
 }
 
 // Triangles whose material is named `material` (all if empty).
@@ -297,31 +364,17 @@ std::vector<std::pair<int, int>> PairsWithFresh(const TriangleMesh& mesh,
   const std::vector<int> selected = NearTriangles(mesh, fresh);
   const TriangleGrid grid(mesh, selected, scale);
   std::vector<char> is_fresh(selected.size(), 0);
-  std::vector<int> fresh_positions;  // in `selected`
-  for (size_t i = 0, k = 0; i < selected.size(); ++i) {
-    if (k < fresh.size() && fresh[k] == selected[i]) {
+  for (size_t i = 0, k = 0; i < selected.size() && k < fresh.size(); ++i) {
+    if (fresh[k] == selected[i]) {
       is_fresh[i] = 1;
-      fresh_positions.push_back(static_cast<int>(i));
       ++k;
     }
   }
-  std::vector<std::vector<int>> found(fresh_positions.size());
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, fresh_positions.size(), 64),
-                    [&](const tbb::blocked_range<size_t>& range) {
-                      std::vector<int> candidates;
-                      for (size_t k = range.begin(); k < range.end(); ++k) {
-                        const int i = fresh_positions[k];
-                        grid.Neighbours(i, &candidates, /*all=*/true);
-                        for (int j : candidates) {
-                          if (is_fresh[j] && j < i) continue;  // tested from j
-                          if (GridPairCrosses(mesh, selected, grid, i, j)) found[k].push_back(j);
-                        }
-                      }
-                    });
-  std::vector<std::pair<int, int>> pairs;
-  for (size_t k = 0; k < found.size(); ++k) {
-    const int a = selected[fresh_positions[k]];
-    for (int j : found[k]) pairs.emplace_back(std::min(a, selected[j]), std::max(a, selected[j]));
+  std::vector<std::pair<int, int>> pairs =
+      grid.CrossingPairs(mesh, selected, [&](int i, int j) { return is_fresh[i] || is_fresh[j]; });
+  for (auto& [a, b] : pairs) {
+    a = selected[a];  // ascending with the positions
+    b = selected[b];
   }
   return pairs;
 }
