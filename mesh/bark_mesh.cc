@@ -104,6 +104,35 @@ struct GroupFit {
   int pushes = 0;
 };
 
+// A segment of a tube's axis with the radii at its ends.
+struct AxisSegment {
+  Eigen::Vector3d a, b;
+  double radius_a = 0.0, radius_b = 0.0;
+
+  bool operator==(const AxisSegment& o) const {
+    return a == o.a && b == o.b && radius_a == o.radius_a && radius_b == o.radius_b;
+  }
+};
+
+// A search for an attached lateral's first cut (BarkAttempt::FindAttachment)
+// and all it depends on: the lateral's chain and the laterals attached
+// along it (they widen its tube), its end cut, the parent quad it must see
+// and the parent's axis it must clear. Its result: the cut found.
+struct CutSearch {
+  std::vector<int> chain;
+  std::vector<size_t> piled;
+  double end_t = 0.0;  // < 0: no end cut
+  double along = 0.0;
+  std::vector<Eigen::Vector3d> face;
+  std::vector<AxisSegment> parent_axis;
+  double t = -1.0;  // the cut (found), < 0: none fits
+
+  bool SameSearch(const CutSearch& o) const {
+    return chain == o.chain && piled == o.piled && end_t == o.end_t && along == o.along &&
+           face == o.face && parent_axis == o.parent_axis;
+  }
+};
+
 // What every meshing attempt shares: the skeleton, the options and what
 // follows from them alone.
 struct BarkTree {
@@ -130,6 +159,8 @@ struct BarkTree {
   // Joints fitted by earlier plans and attempts, by their members: most
   // joints stay as they were from one attempt to the next.
   mutable std::map<std::vector<int>, std::list<GroupFit>> fits;
+  // Cut searches of earlier attempts, by the lateral's first two nodes.
+  mutable std::map<std::pair<int, int>, std::vector<CutSearch>> cut_searches;
 };
 
 // The settings of one meshing attempt: what the retry loop (MeshWithRetries)
@@ -173,6 +204,7 @@ class BarkAttempt {
         root_(tree.root),
         axis_child_(tree.axis_child),
         fits_(tree.fits),
+        cut_searches_(tree.cut_searches),
         forced_(settings.forced),
         repairs_(settings.repairs),
         overlapping_(settings.overlapping),
@@ -779,12 +811,6 @@ class BarkAttempt {
     return patch;
   }
 
-  // A segment of a tube's axis with the radii at its ends.
-  struct AxisSegment {
-    Eigen::Vector3d a, b;
-    double radius_a = 0.0, radius_b = 0.0;
-  };
-
   // Where a thin lateral from junction u along `chain` leaves the parent
   // tube: the parent quad its first edge crosses, and a cut `start` whose
   // ring sees that quad as the hull face opposite to it. False if none fits.
@@ -808,17 +834,37 @@ class BarkAttempt {
     const double lateral_radius = RingRadius(skeleton_.nodes[chain[1]].radius);
     const double reach = limit + kReachParentWidths * WidestRing(it->second, mesh) +
                          kReachLateralRadii * lateral_radius;
-    const std::vector<AxisSegment> parent_axis = ParentAxisNear(it->second, u, reach, mesh);
-    // The cut moves out along the lateral from just beyond the quad until
-    // its ring sees the quad, and the lateral clears the parent.
-    for (double t = along + kFirstCutRadii * lateral_radius; t <= limit; t *= kCutGrowth) {
-      start->t = t;
-      Place(start);
-      const BranchTube tube = MakeTube(chain, start, end);
-      if (tube.sides == 0) return false;
-      if (CutFits(tube, *start, face, parent_axis)) return true;
+    CutSearch search;
+    search.chain = chain;
+    for (int node : chain) search.piled.push_back(laterals_[node].size());
+    search.end_t = end ? end->t : -1.0;
+    search.along = along;
+    search.face = face.loop;
+    search.parent_axis = ParentAxisNear(it->second, u, reach, mesh);
+    std::vector<CutSearch>& known = cut_searches_[{u, chain[1]}];
+    const auto same = std::find_if(known.begin(), known.end(),
+                                   [&](const CutSearch& k) { return k.SameSearch(search); });
+    if (same != known.end()) {
+      search.t = same->t;
+    } else {
+      // The cut moves out along the lateral from just beyond the quad until
+      // its ring sees the quad, and the lateral clears the parent.
+      for (double t = along + kFirstCutRadii * lateral_radius; t <= limit; t *= kCutGrowth) {
+        start->t = t;
+        Place(start);
+        const BranchTube tube = MakeTube(chain, start, end);
+        if (tube.sides == 0) break;
+        if (CutFits(tube, *start, face, search.parent_axis)) {
+          search.t = t;
+          break;
+        }
+      }
+      known.push_back(search);
     }
-    return false;
+    if (search.t < 0) return false;
+    start->t = search.t;
+    Place(start);
+    return true;
   }
 
   // The free parent quad (ring gap i, side j) of piece `piece` whose centre
@@ -1236,6 +1282,7 @@ class BarkAttempt {
   const int root_;
   const std::vector<int>& axis_child_;                     // the child continuing each node's axis
   std::map<std::vector<int>, std::list<GroupFit>>& fits_;  // BarkTree::fits
+  std::map<std::pair<int, int>, std::vector<CutSearch>>& cut_searches_;  // BarkTree's
   std::map<int, const GroupFit*> plan_fits_;  // of this plan's joints, by representative
   // The settings (AttemptSettings).
   const std::set<int> forced_;
