@@ -44,6 +44,13 @@ struct TriPlane {
   double nn;
 };
 
+// Triangle t of `mesh` in double precision.
+Tri TriangleOf(const TriangleMesh& mesh, int t) {
+  const Eigen::Vector3i& f = mesh.triangles[t];
+  return {mesh.vertices[f[0]].cast<double>(), mesh.vertices[f[1]].cast<double>(),
+          mesh.vertices[f[2]].cast<double>()};
+}
+
 TriPlane PlaneOf(const Tri& t) {
   const Eigen::Vector3d n = (t[1] - t[0]).cross(t[2] - t[0]);
   return {n, n.norm()};
@@ -92,10 +99,9 @@ uint64_t CellKey(int64_t x, int64_t y, int64_t z) {
 // The selected triangles bucketed in a uniform grid: sorted (cell, triangle)
 // entries, each triangle's plane and box computed once.
 struct TriangleGrid {
-  std::vector<Tri> tris;
   std::vector<TriPlane> planes;
-  std::vector<Eigen::AlignedBox3d> boxes;
-  std::vector<std::array<int64_t, 6>> ranges;     // cells: min x y z, max x y z
+  std::vector<Eigen::AlignedBox3f> boxes;         // of the (float) vertices: exact
+  std::vector<std::array<int32_t, 6>> ranges;     // cells: min x y z, max x y z
   std::vector<std::pair<uint64_t, int>> entries;  // (cell, triangle), sorted
   double scale = 1.0;  // the extent the tests' tolerances are relative to
   Eigen::Vector3d origin = Eigen::Vector3d::Zero();
@@ -106,23 +112,21 @@ struct TriangleGrid {
   // selected triangles' extent (a part of a mesh tested like the whole).
   TriangleGrid(const TriangleMesh& mesh, const std::vector<int>& selected, double given_scale = 0) {
     const int n = static_cast<int>(selected.size());
-    tris.resize(n), planes.resize(n), boxes.resize(n), ranges.resize(n);
+    planes.resize(n), boxes.resize(n), ranges.resize(n);
     tbb::parallel_for(tbb::blocked_range<int>(0, n, 4096),
                       [&](const tbb::blocked_range<int>& part) {
                         for (int i = part.begin(); i < part.end(); ++i) {
                           const Eigen::Vector3i& f = mesh.triangles[selected[i]];
-                          for (int k = 0; k < 3; ++k) {
-                            tris[i][k] = mesh.vertices[f[k]].cast<double>();
-                            boxes[i].extend(tris[i][k]);
-                          }
-                          planes[i] = PlaneOf(tris[i]);
+                          for (int k = 0; k < 3; ++k) boxes[i].extend(mesh.vertices[f[k]]);
+                          planes[i] = PlaneOf(TriangleOf(mesh, selected[i]));
                         }
                       });
     Eigen::AlignedBox3d all;
     double extent_sum = 0.0;
     for (int i = 0; i < n; ++i) {
-      all.extend(boxes[i]);
-      extent_sum += boxes[i].sizes().maxCoeff();
+      const Eigen::AlignedBox3d box = boxes[i].cast<double>();
+      all.extend(box);
+      extent_sum += box.sizes().maxCoeff();
     }
     scale = std::max(all.sizes().maxCoeff(), 1e-30);
     cell = std::max(2.0 * extent_sum / n, scale / kMaxCellsPerAxis);
@@ -142,7 +146,7 @@ struct TriangleGrid {
                             ranges[i][a] = cell_of(boxes[i].min()[a], a);
                             ranges[i][a + 3] = cell_of(boxes[i].max()[a], a);
                           }
-                          first_entry[i + 1] = (ranges[i][3] - ranges[i][0] + 1) *
+                          first_entry[i + 1] = int64_t{ranges[i][3] - ranges[i][0] + 1} *
                                                (ranges[i][4] - ranges[i][1] + 1) *
                                                (ranges[i][5] - ranges[i][2] + 1);
                         }
@@ -228,12 +232,13 @@ bool ShareVertex(const Eigen::Vector3i& a, const Eigen::Vector3i& b) {
   return shared;
 }
 
-// Does triangle i of `grid` cross triangle j (positions in `selected`)?
+// Does triangle i of `grid` cross triangle j (positions in `selected`)? The
+// boxes' overlap is tested by the caller.
 bool GridPairCrosses(const TriangleMesh& mesh, const std::vector<int>& selected,
                      const TriangleGrid& grid, int i, int j) {
-  return grid.boxes[i].intersects(grid.boxes[j]) &&
-         !ShareVertex(mesh.triangles[selected[i]], mesh.triangles[selected[j]]) &&
-         TrianglesCross(grid.tris[i], grid.planes[i], grid.tris[j], grid.planes[j], grid.scale);
+  return !ShareVertex(mesh.triangles[selected[i]], mesh.triangles[selected[j]]) &&
+         TrianglesCross(TriangleOf(mesh, selected[i]), grid.planes[i],
+                        TriangleOf(mesh, selected[j]), grid.planes[j], grid.scale);
 }
 
 template <typename Wanted>
@@ -245,22 +250,41 @@ std::vector<std::pair<int, int>> TriangleGrid::CrossingPairs(const TriangleMesh&
     if (e == 0 || entries[e].first != entries[e - 1].first) starts.push_back(e);
   }
   starts.push_back(entries.size());
+  // A cell's triangles, their boxes and the lowest cell of their ranges,
+  // copied side by side for the pair loop.
+  struct Local {
+    std::vector<int> triangle;
+    std::vector<Eigen::AlignedBox3f> box;
+    std::vector<std::array<int32_t, 3>> low;
+  };
   tbb::enumerable_thread_specific<std::vector<std::pair<int, int>>> found;
+  tbb::enumerable_thread_specific<Local> locals;
   tbb::parallel_for(tbb::blocked_range<size_t>(0, starts.size() - 1, 64),
                     [&](const tbb::blocked_range<size_t>& cells) {
                       std::vector<std::pair<int, int>>& mine = found.local();
+                      Local& local = locals.local();
                       for (size_t c = cells.begin(); c < cells.end(); ++c) {
                         const uint64_t cell = entries[starts[c]].first;
-                        for (size_t p = starts[c]; p < starts[c + 1]; ++p) {
-                          const int i = entries[p].second;
-                          const std::array<int64_t, 6>& a = ranges[i];
-                          for (size_t q = p + 1; q < starts[c + 1]; ++q) {
-                            const int j = entries[q].second;  // > i: entries are sorted
-                            const std::array<int64_t, 6>& b = ranges[j];
+                        local.triangle.clear(), local.box.clear(), local.low.clear();
+                        for (size_t e = starts[c]; e < starts[c + 1]; ++e) {
+                          const int i = entries[e].second;
+                          local.triangle.push_back(i);
+                          local.box.push_back(boxes[i]);
+                          local.low.push_back({ranges[i][0], ranges[i][1], ranges[i][2]});
+                        }
+                        const size_t k = local.triangle.size();
+                        for (size_t p = 0; p < k; ++p) {
+                          const std::array<int32_t, 3>& a = local.low[p];
+                          for (size_t q = p + 1; q < k; ++q) {
+                            const std::array<int32_t, 3>& b = local.low[q];
+                            // Met in an earlier cell, or apart.
                             if (CellKey(std::max(a[0], b[0]), std::max(a[1], b[1]),
-                                        std::max(a[2], b[2])) != cell) {
-                              continue;  // met in an earlier cell
+                                        std::max(a[2], b[2])) != cell ||
+                                !local.box[p].intersects(local.box[q])) {
+                              continue;
                             }
+                            const int i = local.triangle[p],
+                                      j = local.triangle[q];  // i < j: entries sorted
                             if (wanted(i, j) && GridPairCrosses(mesh, selected, *this, i, j)) {
                               mine.emplace_back(i, j);
                             }
@@ -285,7 +309,9 @@ int64_t SelfIntersections(const TriangleMesh& mesh, const std::vector<int>& sele
   const auto pairs_of = [&](int i, std::vector<int>* candidates, std::vector<int>* found) {
     grid.Neighbours(i, candidates);
     for (int j : *candidates) {
-      if (GridPairCrosses(mesh, selected, grid, i, j)) found->push_back(j);
+      if (grid.boxes[i].intersects(grid.boxes[j]) && GridPairCrosses(mesh, selected, grid, i, j)) {
+        found->push_back(j);
+      }
     }
   };
   int64_t count = 0;
@@ -392,38 +418,46 @@ double TrianglesScale(const TriangleMesh& mesh) {
 
 namespace {
 
-uint64_t HashOf(const std::array<float, 9>& key) {
-  uint64_t hash = 0xcbf29ce484222325ULL;
-  for (float value : key) {
-    uint32_t bits;
-    std::memcpy(&bits, &value, sizeof(bits));
-    hash = (hash ^ bits) * 0x100000001b3ULL;
-    hash ^= hash >> 29;
+// A hash of triangle t's vertex positions (their bits), from `seed`.
+uint64_t HashOf(const TriangleMesh& mesh, int t, uint64_t seed) {
+  uint64_t hash = seed;
+  for (int k = 0; k < 3; ++k) {
+    for (int a = 0; a < 3; ++a) {
+      uint32_t bits;
+      std::memcpy(&bits, &mesh.vertices[mesh.triangles[t][k]][a], sizeof(bits));
+      hash = (hash ^ bits) * 0x100000001b3ULL;
+      hash ^= hash >> 29;
+    }
   }
   return hash;
 }
 
+}  // namespace
+
 // Each triangle of the new mesh's index in the old one (-1: new), matching
-// by key through the sorted hashes; a hash held by two triangles of either
-// mesh matches nothing.
-std::vector<int> MatchTriangles(const std::vector<std::array<float, 9>>& old_keys,
-                                const std::vector<std::pair<uint64_t, int>>& old_hashes,
-                                const std::vector<std::array<float, 9>>& keys,
-                                const std::vector<std::pair<uint64_t, int>>& hashes) {
-  std::vector<int> previous(keys.size(), -1);
-  const auto unique_at = [](const std::vector<std::pair<uint64_t, int>>& list, size_t i) {
-    return (i == 0 || list[i - 1].first != list[i].first) &&
-           (i + 1 == list.size() || list[i + 1].first != list[i].first);
+// the sorted hashes; a hash held by two triangles of either mesh matches
+// nothing.
+std::vector<int> CrossingTracker::Match(const std::vector<Hashed>& old_hashes,
+                                        const std::vector<Hashed>& hashes) {
+  std::vector<int> previous(hashes.size(), -1);
+  const auto same = [](const Hashed& x, const Hashed& y) {
+    return x.first == y.first && x.second == y.second;
+  };
+  const auto unique_at = [&](const std::vector<Hashed>& list, size_t i) {
+    return (i == 0 || !same(list[i - 1], list[i])) &&
+           (i + 1 == list.size() || !same(list[i + 1], list[i]));
+  };
+  const auto before = [](const Hashed& x, const Hashed& y) {
+    return x.first != y.first ? x.first < y.first : x.second < y.second;
   };
   for (size_t i = 0, j = 0; i < hashes.size() && j < old_hashes.size();) {
-    if (hashes[i].first < old_hashes[j].first) {
+    if (before(hashes[i], old_hashes[j])) {
       ++i;
-    } else if (old_hashes[j].first < hashes[i].first) {
+    } else if (before(old_hashes[j], hashes[i])) {
       ++j;
     } else {
-      const int t = hashes[i].second, u = old_hashes[j].second;
-      if (unique_at(hashes, i) && unique_at(old_hashes, j) && keys[t] == old_keys[u]) {
-        previous[t] = u;
+      if (unique_at(hashes, i) && unique_at(old_hashes, j)) {
+        previous[hashes[i].triangle] = old_hashes[j].triangle;
       }
       ++i, ++j;
     }
@@ -431,21 +465,18 @@ std::vector<int> MatchTriangles(const std::vector<std::array<float, 9>>& old_key
   return previous;
 }
 
-}  // namespace
-
 std::vector<std::pair<int, int>> CrossingTracker::Find(const TriangleMesh& mesh) {
   mesh.Check();
   const int n = mesh.NumTriangles();
-  std::vector<Key> keys(n);
-  std::vector<std::pair<uint64_t, int>> hashes(n);
-  tbb::parallel_for(0, n, [&](int t) {
-    for (int k = 0; k < 3; ++k) {
-      for (int a = 0; a < 3; ++a) keys[t][3 * k + a] = mesh.vertices[mesh.triangles[t][k]][a];
+  std::vector<Hashed> hashes(n);
+  tbb::parallel_for(tbb::blocked_range<int>(0, n, 4096), [&](const tbb::blocked_range<int>& part) {
+    for (int t = part.begin(); t < part.end(); ++t) {
+      hashes[t] = {HashOf(mesh, t, 0xcbf29ce484222325ULL), HashOf(mesh, t, 0x84222325cbf29ce4ULL),
+                   t};
     }
-    hashes[t] = {HashOf(keys[t]), t};
   });
   tbb::parallel_sort(hashes.begin(), hashes.end());
-  const std::vector<int> previous = MatchTriangles(keys_, hashes_, keys, hashes);
+  const std::vector<int> previous = Match(hashes_, hashes);
   const int64_t kept = n - std::count(previous.begin(), previous.end(), -1);
   const double scale = TrianglesScale(mesh);
   std::vector<std::pair<int, int>> pairs;
@@ -453,7 +484,7 @@ std::vector<std::pair<int, int>> CrossingTracker::Find(const TriangleMesh& mesh)
     SelfIntersections(mesh, AllTriangles(mesh), -1, &pairs);
     last_tested_ = n;
   } else {
-    std::vector<int> now_of(keys_.size(), -1);  // previous index -> index now
+    std::vector<int> now_of(hashes_.size(), -1);  // previous index -> index now
     std::vector<int> fresh;
     for (int t = 0; t < n; ++t) {
       if (previous[t] >= 0) now_of[previous[t]] = t;
@@ -469,7 +500,6 @@ std::vector<std::pair<int, int>> CrossingTracker::Find(const TriangleMesh& mesh)
     std::sort(pairs.begin(), pairs.end());
     last_tested_ = static_cast<int64_t>(fresh.size());
   }
-  keys_ = std::move(keys);
   hashes_ = std::move(hashes);
   pairs_ = pairs;
   scale_ = scale;

@@ -59,7 +59,8 @@ std::vector<std::pair<int, int>> FindSelfIntersections(const TriangleMesh& mesh,
 // FindSelfIntersections for a mesh built again and again with local changes
 // (the watertight bark's repair rounds re-mesh a few junctions each round):
 // a triangle identical to one of the previous mesh (the same three vertex
-// positions, bit for bit) keeps the crossings it had with the other
+// positions, bit for bit, as two 64-bit hashes of them tell) keeps the
+// crossings it had with the other
 // identical ones, and only the pairs with a new triangle are tested, on a
 // grid of the triangles that share a cell with a new one. Gives the pairs
 // FindSelfIntersections gives (all triangles), in its order; the first call,
@@ -71,11 +72,21 @@ class CrossingTracker {
   int64_t last_tested() const { return last_tested_; }
 
  private:
-  using Key = std::array<float, 9>;  // a triangle's vertex positions
-  // Of the previous mesh: each triangle's key, (hash of key, triangle)
-  // sorted, its crossings and its extent.
-  std::vector<Key> keys_;
-  std::vector<std::pair<uint64_t, int>> hashes_;
+  // Two hashes of a triangle's vertex positions, and the triangle.
+  struct Hashed {
+    uint64_t first = 0, second = 0;
+    int triangle = -1;
+    bool operator<(const Hashed& o) const {
+      return first != o.first     ? first < o.first
+             : second != o.second ? second < o.second
+                                  : triangle < o.triangle;
+    }
+  };
+  static std::vector<int> Match(const std::vector<Hashed>& old_hashes,
+                                const std::vector<Hashed>& hashes);
+  // Of the previous mesh: its triangles' hashes (sorted), its crossings and
+  // its extent.
+  std::vector<Hashed> hashes_;
   std::vector<std::pair<int, int>> pairs_;
   double scale_ = 0.0;
   int64_t last_tested_ = 0;
