@@ -4,6 +4,7 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <iterator>
 #include <limits>
 #include <list>
 #include <map>
@@ -60,6 +61,9 @@ constexpr double kCutGrowth = 1.12;
 // rings, which reach one radius beyond their centres.
 constexpr double kReachParentWidths = 2.0;
 constexpr double kReachLateralRadii = 4.0;
+// Rings of an attached lateral first sampled to see whether it clears its
+// parent (CutFits): most clear it within them.
+constexpr int kFirstRingsSampled = 6;
 // Relative slack of the bound by which NearestFreeQuad skips ring gaps,
 // for rounding (the bound must never exceed a quad's true distance).
 constexpr double kBoundSlack = 1e-9;
@@ -102,6 +106,7 @@ struct GroupFit {
   std::vector<char> bad;
   bool faces = true;
   int pushes = 0;
+  int misfit = -1;  // the exit whose chain the joint must take in, -1: it fits
 };
 
 // A segment of a tube's axis with the radii at its ends.
@@ -333,9 +338,11 @@ class BarkAttempt {
   void StartPlan() {
     summary_ = BarkMeshSummary();
     plan_fits_.clear();
+    through_.assign(skeleton_.NumNodes(), {});
     respread_ = false;
     overflow_.clear();
     group_.assign(skeleton_.NumNodes(), -1);
+    members_.clear();
     continuation_.assign(skeleton_.NumNodes(), -1);
     laterals_.assign(skeleton_.NumNodes(), {});
     for (int i = 0; i < skeleton_.NumNodes(); ++i) {
@@ -348,6 +355,7 @@ class BarkAttempt {
         }
       } else {
         group_[i] = i;
+        members_[i] = {i};
       }
     }
   }
@@ -406,10 +414,20 @@ class BarkAttempt {
   void Join(int a, int b) {  // b (a node, maybe in a group) joins a's group
     const int ga = Group(a);
     const int gb = Group(b);
+    plan_fits_.erase(ga);  // its members change
+    if (gb >= 0) plan_fits_.erase(gb);
+    std::vector<int>& members = members_.at(ga);
     if (gb < 0) {
       group_[b] = ga;
+      members.insert(std::lower_bound(members.begin(), members.end(), b), b);
     } else if (gb != ga) {
       group_[gb] = ga;
+      const std::vector<int> joining = std::move(members_.at(gb));
+      members_.erase(gb);
+      std::vector<int> both;
+      std::merge(members.begin(), members.end(), joining.begin(), joining.end(),
+                 std::back_inserter(both));
+      members = std::move(both);
     }
   }
   // The node after `here` on a chain that arrived from `before`, or -1 if
@@ -573,7 +591,7 @@ class BarkAttempt {
   // the same joint with the same chains before, else a new one.
   const GroupFit& FitGroup(int g, const std::vector<int>& members) {
     const auto planned = plan_fits_.find(g);
-    if (planned != plan_fits_.end() && planned->second->members == members) return *planned->second;
+    if (planned != plan_fits_.end()) return *planned->second;
     std::vector<Exit> exits = ExitsOf(g, members);
     std::vector<std::vector<int>> paths;
     for (const Exit& e : exits) paths.push_back(e.path);
@@ -595,28 +613,26 @@ class BarkAttempt {
         ++fit.pushes;
       }
       fit.faces = exits.size() < 2 || RingsAreHullFaces(exits, &fit.bad);
+      const auto [worst, worst_ratio] = WorstExit(exits, fit.faces, fit.bad);
+      if (worst >= 0 && (worst_ratio > options_.max_cut_fraction || !fit.faces)) fit.misfit = worst;
       fit.exits = std::move(exits);
       known.push_back(std::move(fit));
       found = &known.back();
     }
     plan_fits_[g] = found;
+    for (const std::vector<int>& chain : found->paths) {
+      for (size_t k = 1; k < chain.size(); ++k) through_[chain[k]].push_back(g);
+    }
     return *found;
   }
 
   // Fits the cuts of every joint and records them in exits_, or merges the
   // worst-fitting chain of the first joint whose cuts do not fit.
   Fit FitJoints() {
-    std::map<int, std::vector<int>> groups;
-    for (int i = 0; i < skeleton_.NumNodes(); ++i) {
-      if (group_[i] >= 0) groups[Group(i)].push_back(i);
-    }
     std::vector<std::pair<int, const GroupFit*>> fits;
-    for (auto& [g, members] : groups) {
+    for (const auto& [g, members] : members_) {
       const GroupFit& fit = FitGroup(g, members);
-      const auto [worst, worst_ratio] = WorstExit(fit.exits, fit.faces, fit.bad);
-      if (worst >= 0 && (worst_ratio > options_.max_cut_fraction || !fit.faces)) {
-        return MergeIntoJoint(g, fit.exits[worst].path);
-      }
+      if (fit.misfit >= 0) return MergeIntoJoint(g, fit.exits[fit.misfit].path);
       fits.emplace_back(g, &fit);
     }
     for (const auto& [g, fit] : fits) {
@@ -663,13 +679,9 @@ class BarkAttempt {
   // A fallback merge (counted): the chain's nodes join the joint of `node`.
   // The plan forgets the fits of joints with a chain through them.
   Fit MergeIntoJoint(int node, const std::vector<int>& path) {
-    const std::set<int> joining(path.begin(), path.end());
-    for (auto fit = plan_fits_.begin(); fit != plan_fits_.end();) {
-      bool through = false;
-      for (const std::vector<int>& chain : fit->second->paths) {
-        for (size_t k = 1; k < chain.size() && !through; ++k) through = joining.count(chain[k]) > 0;
-      }
-      fit = through ? plan_fits_.erase(fit) : std::next(fit);
+    for (int member : path) {
+      for (int g : through_[member]) plan_fits_.erase(g);
+      through_[member].clear();
     }
     for (int member : path) Join(node, member);
     ++summary_.fallbacks;
@@ -867,6 +879,10 @@ class BarkAttempt {
     return true;
   }
 
+  bool Taken(int quad_triangle) const {
+    return static_cast<size_t>(quad_triangle) < taken_.size() && taken_[quad_triangle];
+  }
+
   // The free parent quad (ring gap i, side j) of piece `piece` whose centre
   // is nearest the ray from `origin` along unit `d`, ahead of it (ties: the
   // lowest i, then j); `along`: the distance to that centre along d. False
@@ -893,7 +909,7 @@ class BarkAttempt {
       if (bound > best) break;
       for (int j = 0; j < p.sides; ++j) {
         const Quad q = QuadAt(p, i, j);
-        if (taken_.count(q.triangle)) continue;
+        if (Taken(q.triangle)) continue;
         Eigen::Vector3d c = Eigen::Vector3d::Zero();
         for (int v : q.v) c += mesh.vertices[v].cast<double>() / 4;
         const double s = (c - origin).dot(d);
@@ -940,9 +956,9 @@ class BarkAttempt {
   // cut ring's plane and every ring vertex in front of the face's planes.
   bool CutFits(const BranchTube& tube, const Exit& start, const PatchFace& face,
                const std::vector<AxisSegment>& parent_axis) const {
-    const std::vector<TubeRing> rings = SampleTubeRings(tube);
-    const TubeRing& ring = rings.front();
-    bool ok = LateralOutsideParent(rings, tube.sides, parent_axis);
+    std::vector<TubeRing> rings = SampleTubeRings(tube, 1);
+    const TubeRing ring = rings.front();
+    bool ok = true;
     for (const Eigen::Vector3d& v : face.loop) {
       ok = ok && (v - ring.center).dot(start.direction) < -face.clearance;
     }
@@ -952,7 +968,15 @@ class BarkAttempt {
                                                              std::sin(a) * ring.frame.binormal);
       for (const auto& pl : face.planes) ok = ok && pl[1].dot(v - pl[0]) > face.clearance;
     }
-    return ok;
+    // The lateral's rings from its start until one clears the parent: few
+    // are sampled first, all if they do not tell.
+    const int all = tube.NumRings();
+    for (int count = kFirstRingsSampled; ok; count = all) {
+      rings = SampleTubeRings(tube, count);
+      const Clearance clearance = LateralOutsideParent(rings, tube.sides, parent_axis);
+      if (clearance != Clearance::kUntold || count >= all) return clearance != Clearance::kInside;
+    }
+    return false;
   }
 
   // The ring centres and radii of piece `piece` (cached).
@@ -1062,12 +1086,17 @@ class BarkAttempt {
     return axis;
   }
 
-  // True if the lateral's rings (vertices) stay outside the parent tube,
+  // Whether the lateral's rings (vertices) stay outside the parent tube,
   // given by its ring axis, until the first ring entirely clear of it by the
   // parent's radius: a lateral leaving at a shallow angle, or towards a
   // parent that bends its way, runs inside the parent beyond its cut.
-  static bool LateralOutsideParent(const std::vector<TubeRing>& rings, int sides,
-                                   const std::vector<AxisSegment>& axis) {
+  enum class Clearance {
+    kOutside,  // a ring clears the parent, and none before entered it
+    kInside,   // a ring vertex lies inside the parent
+    kUntold,   // neither, by the last ring given (outside if that is the tip)
+  };
+  static Clearance LateralOutsideParent(const std::vector<TubeRing>& rings, int sides,
+                                        const std::vector<AxisSegment>& axis) {
     for (const TubeRing& ring : rings) {
       double clearest = std::numeric_limits<double>::infinity();
       for (int j = 0; j < sides; ++j) {
@@ -1085,12 +1114,12 @@ class BarkAttempt {
             radius = r;
           }
         }
-        if (margin <= kFaceClearance * radius) return false;
+        if (margin <= kFaceClearance * radius) return Clearance::kInside;
         clearest = std::min(clearest, margin / std::max(radius, 1e-300));
       }
-      if (clearest > 1.0) return true;
+      if (clearest > 1.0) return Clearance::kOutside;
     }
-    return true;
+    return Clearance::kUntold;
   }
 
   struct JointRing {
@@ -1177,7 +1206,9 @@ class BarkAttempt {
     for (int di = -1; di <= 1; ++di) {
       for (int dj = -1; dj <= width; ++dj) {
         if (patch.i + di < 0 || patch.i + di + 1 >= parent.rings) continue;
-        taken_.insert(QuadAt(parent, patch.i + di, patch.j + dj).triangle);
+        const int t = QuadAt(parent, patch.i + di, patch.j + dj).triangle;
+        if (taken_.size() <= static_cast<size_t>(t)) taken_.resize(mesh->NumTriangles(), 0);
+        taken_[t] = 1;
       }
     }
     if (removed_.size() < static_cast<size_t>(mesh->NumTriangles())) {
@@ -1210,8 +1241,15 @@ class BarkAttempt {
       }
     }
     const int n = static_cast<int>(ids.size());
-    std::map<int, int> local;
-    for (int i = 0; i < n; ++i) local[ids[i]] = i;
+    // A mesh vertex's point (the last, if rings share it).
+    std::vector<std::pair<int, int>> points(n);
+    for (int i = 0; i < n; ++i) points[i] = {ids[i], i};
+    std::sort(points.begin(), points.end());
+    const auto local = [&points](int id) {
+      return std::prev(std::upper_bound(points.begin(), points.end(),
+                                        std::make_pair(id, std::numeric_limits<int>::max())))
+          ->second;
+    };
     Eigen::AlignedBox3d box;
     for (int v : ids) box.extend(mesh->vertices[v].cast<double>());
     const double size = box.sizes().maxCoeff();
@@ -1229,17 +1267,19 @@ class BarkAttempt {
       p[i] = mesh->vertices[ids[i]].cast<double>() +
              kJitter * size * Eigen::Vector3d(next(), next(), next());
     }
-    std::set<std::pair<int, int>> used;
+    // Directed edges (a, b) taken, at a * n + b.
+    std::vector<char> taken(static_cast<size_t>(n) * n, 0);
+    const auto used = [&](int a, int b) -> char& { return taken[static_cast<size_t>(a) * n + b]; };
     std::vector<std::pair<int, int>> needs;
     for (const JointRing& ring : rings) {
       const int s = static_cast<int>(ring.vertices.size());
       for (int j = 0; j < s; ++j) {
-        const int a = local[ring.vertices[j]], b = local[ring.vertices[(j + 1) % s]];
+        const int a = local(ring.vertices[j]), b = local(ring.vertices[(j + 1) % s]);
         if (ring.reversed) {
-          used.insert({a, b});
+          used(a, b) = 1;
           needs.push_back({b, a});
         } else {
-          used.insert({b, a});
+          used(b, a) = 1;
           needs.push_back({a, b});
         }
       }
@@ -1249,7 +1289,7 @@ class BarkAttempt {
     while (!needs.empty()) {
       const auto [a, b] = needs.back();
       needs.pop_back();
-      if (used.count({a, b})) continue;
+      if (used(a, b)) continue;
       if (triangles.size() > max_triangles) return false;
       const bool same_ring = ring_of[a] == ring_of[b];
       int best = -1;
@@ -1259,13 +1299,11 @@ class BarkAttempt {
       }
       if (best < 0) return false;
       const int c = best;
-      if (used.count({b, c}) || used.count({c, a})) return false;
-      used.insert({a, b});
-      used.insert({b, c});
-      used.insert({c, a});
+      if (used(b, c) || used(c, a)) return false;
+      used(a, b) = used(b, c) = used(c, a) = 1;
       triangles.emplace_back(a, b, c);
-      if (!used.count({c, b})) needs.push_back({c, b});
-      if (!used.count({a, c})) needs.push_back({a, c});
+      if (!used(c, b)) needs.push_back({c, b});
+      if (!used(a, c)) needs.push_back({a, c});
     }
     for (const Eigen::Vector3i& t : triangles) {
       mesh->AddTriangle(ids[t[0]], ids[t[1]], ids[t[2]], material_);
@@ -1283,7 +1321,9 @@ class BarkAttempt {
   const std::vector<int>& axis_child_;                     // the child continuing each node's axis
   std::map<std::vector<int>, std::list<GroupFit>>& fits_;  // BarkTree::fits
   std::map<std::pair<int, int>, std::vector<CutSearch>>& cut_searches_;  // BarkTree's
-  std::map<int, const GroupFit*> plan_fits_;  // of this plan's joints, by representative
+  std::map<int, const GroupFit*> plan_fits_;
+  std::vector<std::vector<int>> through_;  // joints (plan_fits_) with a chain through each node  //
+                                           // of this plan's joints, by representative
   // The settings (AttemptSettings).
   const std::set<int> forced_;
   const std::set<int> repairs_;
@@ -1292,9 +1332,10 @@ class BarkAttempt {
   std::set<int> spread_;  // grows where joints grow too large
   // The plan.
   BarkMeshSummary summary_;
-  std::vector<int> continuation_;           // axis child of attach junctions, else -1
-  std::vector<std::vector<int>> laterals_;  // attached laterals of attach junctions
-  std::vector<int> group_;                  // union-find parent of joint nodes, -1 elsewhere
+  std::vector<int> continuation_;            // axis child of attach junctions, else -1
+  std::vector<std::vector<int>> laterals_;   // attached laterals of attach junctions
+  std::vector<int> group_;                   // union-find parent of joint nodes, -1 elsewhere
+  std::map<int, std::vector<int>> members_;  // of each joint (ascending), by representative
   std::map<std::pair<int, int>, Exit> exits_;
   std::map<int, int> push_count_;
   std::map<int, int> exit_count_;
@@ -1305,7 +1346,7 @@ class BarkAttempt {
   // Ring centres and radii of pieces (by index) laterals attach to.
   mutable std::map<int, std::vector<std::pair<Eigen::Vector3d, double>>> ring_axes_;
   std::map<int, int> attach_piece_;  // attach junction -> the piece through it
-  std::set<int> taken_;              // first triangles of used quads
+  std::vector<char> taken_;          // by triangle: first triangles of used quads
   std::vector<char> removed_;        // triangles replaced by attachment joints
   std::vector<int> failed_attach_;   // attach junctions with a lateral left unattached
   std::map<int, std::vector<JointRing>> joint_rings_;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 #include "core/util/check.h"
@@ -162,6 +163,10 @@ double PolygonAreaRadiusScale(int sides) {
 }
 
 std::vector<TubeRing> SampleTubeRings(const BranchTube& tube) {
+  return SampleTubeRings(tube, std::numeric_limits<int>::max());
+}
+
+std::vector<TubeRing> SampleTubeRings(const BranchTube& tube, int max_rings) {
   const CubicBSpline spline(tube.control_points);
   std::vector<double> parameters;
   parameters.reserve(tube.NumRings());
@@ -173,10 +178,16 @@ std::vector<TubeRing> SampleTubeRings(const BranchTube& tube) {
   std::vector<Eigen::Vector3d> tangents;
   tangents.reserve(parameters.size());
   for (double u : parameters) tangents.push_back(TangentAt(spline, u));
-  const std::vector<CurveFrame> frames = ParallelTransportFrames(tangents);
+  // The first frame's normal looks at every tangent, the others at those
+  // before them.
+  const Eigen::Vector3d initial_normal = InitialNormal(tangents);
+  if (tangents.size() > static_cast<size_t>(std::max(max_rings, 1))) {
+    tangents.resize(std::max(max_rings, 1));
+  }
+  const std::vector<CurveFrame> frames = ParallelTransportFrames(tangents, initial_normal);
   const double area_scale =
       tube.circle_area && tube.sides >= 3 ? PolygonAreaRadiusScale(tube.sides) : 1.0;
-  std::vector<TubeRing> rings(parameters.size());
+  std::vector<TubeRing> rings(frames.size());
   for (size_t i = 0; i < rings.size(); ++i) {
     int k;
     double t;

@@ -131,6 +131,8 @@ struct TubeRing {
 // transport, radii interpolated linearly in u between the control points (and
 // scaled by PolygonAreaRadiusScale(sides) if tube.circle_area).
 std::vector<TubeRing> SampleTubeRings(const BranchTube& tube);
+// Its first `max_rings` rings (at least one), the same as the whole tube's.
+std::vector<TubeRing> SampleTubeRings(const BranchTube& tube, int max_rings);
 
 // Appends the closed tube through `rings` (at least 2) with `sides` sides:
 // ring vertex j at center + radius (cos(2 pi j / sides) N + sin(...) B),
