@@ -298,7 +298,11 @@ class BarkAttempt {
           std::lower_bound(junctions.begin(), junctions.end(), c.x() - reach,
                            [](const Junction& junction, double x) { return junction.x < x; });
       for (auto it = first; it != junctions.end() && it->x <= c.x() + reach; ++it) {
-        const double ratio = (c - Position(it->node)).norm() / it->ring;
+        // Too far along an axis to be nearer (with a margin for rounding).
+        const Eigen::Vector3d d = c - Position(it->node);
+        const double bound = best_ratio * it->ring * (1 + kBoundSlack);
+        if (std::abs(d.y()) > bound || std::abs(d.z()) > bound) continue;
+        const double ratio = d.norm() / it->ring;
         if (ratio < best_ratio || (ratio == best_ratio && best >= 0 && it->node < best)) {
           best_ratio = ratio;
           best = it->node;

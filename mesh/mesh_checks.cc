@@ -3,7 +3,6 @@
 #include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
-#include <tbb/parallel_sort.h>
 
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -26,6 +25,9 @@ constexpr int64_t kMaxCellsPerAxis = 1 << 20;
 // A box over more cells than this is taken to touch the grid (a superset
 // is harmless where Touches is used).
 constexpr int64_t kMaxCellsPerQuery = 64;
+// Grids of at most this many cells get a bitmap of their occupied cells
+// (16 MB) where many boxes are looked up.
+constexpr uint64_t kMaxDenseCells = uint64_t{1} << 27;
 
 using Tri = std::array<Eigen::Vector3d, 3>;
 
@@ -91,6 +93,30 @@ bool TrianglesCross(const Tri& a, const TriPlane& plane_a, const Tri& b, const T
   return EdgesCrossTriangle(a, b, plane_b, scale) || EdgesCrossTriangle(b, a, plane_a, scale);
 }
 
+// Sorts `items` by key(item) (< 2^bits), stably: LSD radix passes of 16
+// bits.
+template <typename T, typename Key>
+void RadixSort(std::vector<T>* items, int bits, const Key& key) {
+  constexpr int kDigit = 16;
+  constexpr uint64_t kMask = (uint64_t{1} << kDigit) - 1;
+  std::vector<T> scratch(items->size());
+  std::vector<size_t> count(kMask + 2);
+  for (int shift = 0; shift < bits; shift += kDigit) {
+    std::fill(count.begin(), count.end(), 0);
+    for (const T& item : *items) ++count[((key(item) >> shift) & kMask) + 1];
+    std::partial_sum(count.begin(), count.end(), count.begin());
+    for (const T& item : *items) scratch[count[(key(item) >> shift) & kMask]++] = item;
+    items->swap(scratch);
+  }
+}
+
+// Bits needed to write values below `n` (n >= 1).
+int BitsBelow(uint64_t n) {
+  int bits = 0;
+  while (bits < 64 && (n - 1) >> bits) ++bits;
+  return bits;
+}
+
 // A grid cell's integer coordinates (each < 2^21) packed into one key.
 uint64_t CellKey(int64_t x, int64_t y, int64_t z) {
   return static_cast<uint64_t>(x) | static_cast<uint64_t>(y) << 21 | static_cast<uint64_t>(z) << 42;
@@ -107,6 +133,7 @@ struct TriangleGrid {
   Eigen::Vector3d origin = Eigen::Vector3d::Zero();
   double cell = 1.0;
   std::array<int64_t, 3> last_cell = {0, 0, 0};
+  std::vector<uint64_t> occupied;  // MarkOccupied's bitmap, if made
 
   // `scale` > 0: the tests' tolerances are relative to it, not to the
   // selected triangles' extent (a part of a mesh tested like the whole).
@@ -164,7 +191,13 @@ struct TriangleGrid {
                         }
                       });
     for (int a = 0; a < 3; ++a) last_cell[a] = cell_of(all.max()[a], a);
-    tbb::parallel_sort(entries.begin(), entries.end());
+    // By cell (z, then y, then x: the keys' order), each cell's triangles
+    // ascending as they were entered.
+    const uint64_t nx = last_cell[0] + 1, ny = last_cell[1] + 1, nz = last_cell[2] + 1;
+    constexpr uint64_t kAxis = (uint64_t{1} << 21) - 1;
+    RadixSort(&entries, BitsBelow(nx * ny * nz), [&](const std::pair<uint64_t, int>& e) {
+      return (e.first & kAxis) + nx * (((e.first >> 21) & kAxis) + ny * (e.first >> 42));
+    });
   }
 
   // Whether `box` overlaps a cell that holds a triangle (or, for a box over
@@ -183,11 +216,32 @@ struct TriangleGrid {
     for (int64_t x = low[0]; x <= high[0]; ++x)
       for (int64_t y = low[1]; y <= high[1]; ++y)
         for (int64_t z = low[2]; z <= high[2]; ++z) {
+          if (!occupied.empty()) {
+            const uint64_t c = DenseCell(x, y, z);
+            if (occupied[c >> 6] >> (c & 63) & 1) return true;
+            continue;
+          }
           const auto it = std::lower_bound(entries.begin(), entries.end(),
                                            std::make_pair(CellKey(x, y, z), -1));
           if (it != entries.end() && it->first == CellKey(x, y, z)) return true;
         }
     return false;
+  }
+
+  // Marks the cells holding triangles in a bitmap over the grid (if it has
+  // at most kMaxDenseCells cells), for Touches to read.
+  void MarkOccupied() {
+    const uint64_t cells = (last_cell[0] + 1) * (last_cell[1] + 1) * uint64_t(last_cell[2] + 1);
+    if (cells > kMaxDenseCells) return;
+    occupied.assign((cells + 63) / 64, 0);
+    constexpr uint64_t kAxis = (uint64_t{1} << 21) - 1;
+    for (const auto& [key, triangle] : entries) {
+      const uint64_t c = DenseCell(key & kAxis, (key >> 21) & kAxis, key >> 42);
+      occupied[c >> 6] |= uint64_t{1} << (c & 63);
+    }
+  }
+  uint64_t DenseCell(uint64_t x, uint64_t y, uint64_t z) const {
+    return x + (last_cell[0] + 1) * (y + (last_cell[1] + 1) * z);
   }
 
   // The triangles j > i (positions in `selected`) that share a cell with
@@ -361,7 +415,8 @@ std::vector<int> AllTriangles(const TriangleMesh& mesh) {
 // The triangles of `mesh` whose boxes share a cell of `fresh`'s grid with a
 // triangle of `fresh` (which are among them), ascending.
 std::vector<int> NearTriangles(const TriangleMesh& mesh, const std::vector<int>& fresh) {
-  const TriangleGrid fresh_grid(mesh, fresh);
+  TriangleGrid fresh_grid(mesh, fresh);
+  fresh_grid.MarkOccupied();
   std::vector<char> near(mesh.NumTriangles(), 0);
   tbb::parallel_for(tbb::blocked_range<int>(0, mesh.NumTriangles(), 4096),
                     [&](const tbb::blocked_range<int>& range) {
@@ -475,7 +530,13 @@ std::vector<std::pair<int, int>> CrossingTracker::Find(const TriangleMesh& mesh)
                    t};
     }
   });
-  tbb::parallel_sort(hashes.begin(), hashes.end());
+  // Sorted by the first hash (triangles ascending on ties), then ties by
+  // the second.
+  RadixSort(&hashes, 64, [](const Hashed& h) { return h.first; });
+  for (size_t i = 0, j; i < hashes.size(); i = j) {
+    for (j = i + 1; j < hashes.size() && hashes[j].first == hashes[i].first;) ++j;
+    if (j - i > 1) std::sort(hashes.begin() + i, hashes.begin() + j);
+  }
   const std::vector<int> previous = Match(hashes_, hashes);
   const int64_t kept = n - std::count(previous.begin(), previous.end(), -1);
   const double scale = TrianglesScale(mesh);
