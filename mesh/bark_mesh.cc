@@ -279,9 +279,9 @@ class BarkAttempt {
           }
         } else if (o.kind == BarkTriangleOrigin::kJoint && k == 0 && o.node != joint.node) {
           for (const auto& [key, e] : exits_) {
-            const int end = e.path.back();
+            const int end = e->path.back();
             if (Group(key.first) == o.node && group_[end] >= 0 && Group(end) == joint.node &&
-                static_cast<int>(e.path.size()) <= kMaxMergedChainNodes) {
+                static_cast<int>(e->path.size()) <= kMaxMergedChainNodes) {
               merges->insert(key);
             }
           }
@@ -642,7 +642,7 @@ class BarkAttempt {
     for (const auto& [g, fit] : fits) {
       if (fit->pushes > 0) push_count_[g] = fit->pushes;
       exit_count_[g] = static_cast<int>(fit->exits.size());
-      for (const Exit& e : fit->exits) exits_[{e.path[0], e.path[1]}] = e;
+      for (const Exit& e : fit->exits) exits_[{e.path[0], e.path[1]}] = &e;
     }
     return Fit::kFits;
   }
@@ -670,11 +670,11 @@ class BarkAttempt {
   // such chain is merged into its joint.
   Fit FitSharedChains() {
     for (const auto& [key, e] : exits_) {
-      const int n = static_cast<int>(e.path.size());
-      const auto other = exits_.find({e.path[n - 1], e.path[n - 2]});
+      const int n = static_cast<int>(e->path.size());
+      const auto other = exits_.find({e->path[n - 1], e->path[n - 2]});
       if (other == exits_.end()) continue;
-      if (e.t + other->second.t > options_.max_cut_fraction * e.Length()) {
-        return MergeIntoJoint(key.first, e.path);
+      if (e->t + other->second->t > options_.max_cut_fraction * e->Length()) {
+        return MergeIntoJoint(key.first, e->path);
       }
     }
     return Fit::kFits;
@@ -1140,7 +1140,7 @@ class BarkAttempt {
     // A joint left with a single exit is no joint: that tube gets a cap.
     const bool start_cut = group_[u] >= 0 && exit_count_[Group(u)] >= 2;
     const bool end_cut = group_[w] >= 0 && exit_count_[Group(w)] >= 2;
-    const Exit* end = end_cut ? &exits_.at({w, chain[last_index - 1]}) : nullptr;
+    const Exit* end = end_cut ? exits_.at({w, chain[last_index - 1]}) : nullptr;
     Exit attach_cut;
     Patch patch;
     const bool attached = attach && FindAttachment(chain, *mesh, end, &patch, &attach_cut);
@@ -1148,7 +1148,7 @@ class BarkAttempt {
       ++summary_.unattached;
       if (!overlapping_.count(u)) failed_attach_.push_back(u);
     }
-    const Exit* start = start_cut ? &exits_.at({u, chain[1]}) : (attached ? &attach_cut : nullptr);
+    const Exit* start = start_cut ? exits_.at({u, chain[1]}) : (attached ? &attach_cut : nullptr);
     const BranchTube tube = MakeTube(chain, start, end);
     if (tube.sides == 0) return;
     const PieceInfo info = AppendPiece(chain, tube, start != nullptr, end_cut, mesh);
@@ -1340,7 +1340,7 @@ class BarkAttempt {
   std::vector<std::vector<int>> laterals_;   // attached laterals of attach junctions
   std::vector<int> group_;                   // union-find parent of joint nodes, -1 elsewhere
   std::map<int, std::vector<int>> members_;  // of each joint (ascending), by representative
-  std::map<std::pair<int, int>, Exit> exits_;
+  std::map<std::pair<int, int>, const Exit*> exits_;  // in the joints' fits (BarkTree::fits)
   std::map<int, int> push_count_;
   std::map<int, int> exit_count_;
   bool respread_ = false;
