@@ -21,7 +21,7 @@ constexpr int kMaxBuckets = 64;
 constexpr double kDegenerateEigenFraction = 1e-3;
 // The 3D field is filled lazily in bricks of kBrickSize^3 samples, under
 // kBrickLocks striped locks.
-constexpr int kBrickSize = 8;
+constexpr int kBrickSize = 2;
 constexpr int kBrickLocks = 64;
 
 int LongerSide(int width, int height) { return std::max(width, height); }
@@ -219,8 +219,19 @@ AttractorDirectionField::AttractorDirectionField(const ImageSet& image_set,
     views_.push_back({v, view.cam_from_world.rotation.inverse().toRotationMatrix(),
                       view.ProjectionCenter(), camera.IsOrthographic(), camera.FocalLengthX(),
                       camera.FocalLengthY(), camera.width(), camera.height(),
-                      DirectionField2D(graph, options)});
+                      DirectionField2D(graph, options), nullptr, Rigid3d(),
+                      Eigen::Matrix3d::Zero()});
   }
+  // image_set_ (a copy) holds the cameras the views project with.
+  intersect_ = options.combine == "intersect";
+  for (ViewField& view : views_) {
+    view.camera = &image_set_.CameraOf(view.view_idx);
+    view.cam_from_world = image_set_.views[view.view_idx].cam_from_world;
+    const Eigen::Vector3d axis = view.world_from_cam.col(2);
+    view.projector = Eigen::Matrix3d::Identity() - axis * axis.transpose();
+    all_planes_ += view.projector;
+  }
+  all_planes_solve_ = SolvePlanes(all_planes_);
 
   // Sample points at origin + spacing * (i, j, k), covering the bounds grown
   // by one spacing.
@@ -277,29 +288,41 @@ const DirectionField2D* AttractorDirectionField::Field2D(int view_idx) const {
   return nullptr;
 }
 
+AttractorDirectionField::PlaneSolve AttractorDirectionField::SolvePlanes(
+    const Eigen::Matrix3d& planes) {
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver;
+  solver.computeDirect(planes);
+  return {solver.eigenvalues(), solver.eigenvectors()};
+}
+
 Eigen::Vector3d AttractorDirectionField::Lifted(const Eigen::Vector3d& point_in_world) const {
   Eigen::Vector3d sum = Eigen::Vector3d::Zero();
   Eigen::Matrix3d planes = Eigen::Matrix3d::Zero();   // sum of the image-plane projectors
   Eigen::Matrix3d normals = Eigen::Matrix3d::Zero();  // sum of w n n^T ("intersect")
+  bool every_view = true;
   for (const ViewField& view : views_) {
-    Eigen::Vector2d pixel;
-    if (!image_set_.Project(view.view_idx, point_in_world, &pixel)) continue;
+    // ImageSet::Project with the view's camera at hand.
+    const Eigen::Vector3d point_in_cam = view.cam_from_world * point_in_world;
+    const Eigen::Vector2d pixel = view.camera->IsInFront(point_in_cam)
+                                      ? view.camera->ImgFromCam(point_in_cam)
+                                      : Eigen::Vector2d(-1, -1);
     if (!(pixel.x() >= 0 && pixel.y() >= 0 && pixel.x() <= view.width &&
           pixel.y() <= view.height)) {
+      every_view = false;
       continue;
     }
-    const Eigen::Vector3d viewing = view.orthographic ? Eigen::Vector3d(view.world_from_cam.col(2))
-                                                      : (point_in_world - view.center).normalized();
     // The lifted vectors lie in the image plane, normal to the optical axis.
-    const Eigen::Vector3d axis = view.world_from_cam.col(2);
-    planes += Eigen::Matrix3d::Identity() - axis * axis.transpose();
+    planes += view.projector;
     const Eigen::Vector2d f = view.field.At(pixel);
     const double length = f.norm();
     if (!(length > 0)) continue;
     const Eigen::Vector3d lifted =
         (view.world_from_cam * Eigen::Vector3d(f.x() / view.fx, f.y() / view.fy, 0)).normalized();
     sum += length * lifted;
-    if (options_.combine == "intersect") {
+    if (intersect_) {
+      const Eigen::Vector3d viewing = view.orthographic
+                                          ? Eigen::Vector3d(view.world_from_cam.col(2))
+                                          : (point_in_world - view.center).normalized();
       const Eigen::Vector3d normal = viewing.cross(lifted);
       const double n = normal.norm();
       if (n > 0) normals += length * (normal / n) * (normal / n).transpose();
@@ -309,18 +332,17 @@ Eigen::Vector3d AttractorDirectionField::Lifted(const Eigen::Vector3d& point_in_
   // The least-squares mean: the v whose projections onto the image planes
   // best match the lifted vectors, (sum P_k) v = sum l_k; a pseudo-inverse
   // where a direction is seen by no view.
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> plane_solver;
-  plane_solver.computeDirect(planes);
-  const Eigen::Vector3d plane_values = plane_solver.eigenvalues();
+  const PlaneSolve plane_solve = every_view ? all_planes_solve_ : SolvePlanes(planes);
+  const Eigen::Vector3d& plane_values = plane_solve.values;
   Eigen::Vector3d mean = Eigen::Vector3d::Zero();
   for (int k = 0; k < 3; ++k) {
     if (plane_values(k) > kDegenerateEigenFraction * plane_values.sum()) {
-      const Eigen::Vector3d e = plane_solver.eigenvectors().col(k);
+      const Eigen::Vector3d e = plane_solve.vectors.col(k);
       mean += e * (e.dot(sum) / plane_values(k));
     }
   }
   if (mean.norm() > 1) mean.normalize();
-  if (options_.combine == "average") return mean;
+  if (!intersect_) return mean;
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver;
   solver.computeDirect(normals);
   const Eigen::Vector3d values = solver.eigenvalues();  // ascending

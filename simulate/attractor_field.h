@@ -49,7 +49,7 @@
 // 3D field is sampled on a regular grid over the tree's bounds and
 // interpolated trilinearly: its cost per particle step is a constant,
 // independent of the number of views and particles. The grid is filled
-// lazily, one brick of 8^3 samples the first time a particle needs it
+// lazily, one brick of 2^3 samples the first time a particle needs it
 // (particles visit the crown and the paths to the base, a fraction of the
 // box); a sample's value does not depend on when it is filled, so the field
 // is the same as one sampled whole.
@@ -180,11 +180,25 @@ class AttractorDirectionField : public DirectionField {
     double fx, fy;
     int width, height;
     DirectionField2D field;
+    const Camera* camera = nullptr;  // image_set_'s
+    Rigid3d cam_from_world;
+    Eigen::Matrix3d projector;  // onto the image plane: I - z z^T, z the optical axis
   };
+  // The eigen decomposition of a sum of the views' projectors (Lifted).
+  struct PlaneSolve {
+    Eigen::Vector3d values = Eigen::Vector3d::Zero();
+    Eigen::Matrix3d vectors = Eigen::Matrix3d::Identity();
+  };
+  static PlaneSolve SolvePlanes(const Eigen::Matrix3d& planes);
 
   ImageSet image_set_;
   AttractorFieldOptions options_;
   std::vector<ViewField> views_;
+  bool intersect_ = false;  // options_.combine == "intersect"
+  // The sum of every view's projector and its decomposition: most points
+  // are seen by every view.
+  Eigen::Matrix3d all_planes_ = Eigen::Matrix3d::Zero();
+  PlaneSolve all_planes_solve_;
   Eigen::Vector3d origin_ = Eigen::Vector3d::Zero();  // centre of sample (0, 0, 0)
   double spacing_ = 1.0;
   Eigen::Vector3i dims_ = Eigen::Vector3i::Ones();
