@@ -234,6 +234,33 @@ TEST(BranchMeshTest, CurvedAxisFollowsItsSplineAtTheRadius) {
   EXPECT_NEAR(SignedVolume(mesh), expected, 0.01 * expected);
 }
 
+TEST(BranchMeshTest, FirstRingsAreTheWholeTubesFirstRings) {
+  // Straight for six edges, then bending: the frames' initial normal comes
+  // from the bend, beyond the first rings, and must be the same.
+  SkeletonGraph skeleton;
+  int parent = -1;
+  for (int i = 0; i <= 10; ++i) {
+    const double bend = i <= 6 ? 0.0 : 0.3 * (i - 6) * (i - 6);
+    parent = skeleton.AddNode(Eigen::Vector3d(bend, 0.1 * bend, i), 0.2, parent, 0);
+  }
+  BranchMeshOptions options;
+  options.rings_per_segment = 3;
+  const std::vector<BranchTube> tubes = PlanBranchTubes(skeleton, options);
+  ASSERT_EQ(tubes.size(), 1u);
+  const std::vector<TubeRing> all = SampleTubeRings(tubes[0]);
+  ASSERT_EQ(static_cast<int>(all.size()), tubes[0].NumRings());
+  for (int count : {1, 2, 6, 17, 1000}) {
+    const std::vector<TubeRing> first = SampleTubeRings(tubes[0], count);
+    ASSERT_EQ(first.size(), std::min(all.size(), static_cast<size_t>(count)));
+    for (size_t i = 0; i < first.size(); ++i) {
+      EXPECT_EQ(first[i].center, all[i].center) << "ring " << i << " of " << count;
+      EXPECT_EQ(first[i].frame.normal, all[i].frame.normal);
+      EXPECT_EQ(first[i].frame.binormal, all[i].frame.binormal);
+      EXPECT_EQ(first[i].radius, all[i].radius);
+    }
+  }
+}
+
 TEST(BranchMeshTest, BranchedSkeletonGivesOneClosedTubePerAxis) {
   const SkeletonGraph skeleton = BranchedSkeleton();
   BranchMeshSummary summary;
