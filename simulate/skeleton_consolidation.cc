@@ -168,111 +168,151 @@ std::vector<char> TrimTwigs(const SkeletonGraph& skeleton, const DensityGrid& de
 // parent: its first stretch, while within `radius` of the parent axis,
 // goes, and the first node beyond it joins the parent axis' nearest node at
 // or above the old junction. Side branches that grew from the stretch grow
-// from the parent's nearest node instead (they came off the same wood). The
-// parent's nodes between the old junction and each new one carry what joins
-// there (its particles flowed down that wood).
+// from the parent's nearest point instead, at the height they grew at (a
+// new node splits the parent's edge there). The parent's nodes between the
+// old junction and each new one carry what joins there (its particles
+// flowed down that wood).
 // Axes are zipped trunk first, so a zipped parent is final before its
 // children; the result lists parents before children.
-SkeletonGraph ZipParallelStretches(const SkeletonGraph& skeleton, double radius, double max_spacing,
-                                   int* zipped_axes) {
-  // Samples at most half the radius apart, so that a stretch between two
-  // samples cannot stray far beyond the radius unseen.
-  const double spacing = std::min(max_spacing, 0.5 * radius);
-  // Each axis' nodes as they are now: side branches moved onto a parent
-  // split its edges where they join.
-  std::vector<BranchAxis> axes = skeleton.BranchAxes();
-  std::vector<int> axis_of = skeleton.AxisOfNodes(axes);
-  const WoodSamples wood(skeleton, radius, spacing);
-  const std::vector<std::vector<int>> children = skeleton.Children();
-  SkeletonGraph result = skeleton;
-  std::vector<char> removed(skeleton.NumNodes(), 0);
-  for (size_t a = 1; a < axes.size(); ++a) {
-    const BranchAxis axis = axes[a];
-    // A side branch of a zipped stretch now grows from the grandparent axis
-    // (its junction is gone): it is left as it is.
-    if (removed[axis[0]]) continue;
-    const int parent_axis = axis_of[axis[0]];
+class StretchZipper {
+ public:
+  StretchZipper(const SkeletonGraph& skeleton, double radius, double max_spacing)
+      // Samples at most half the radius apart, so that a stretch between two
+      // samples cannot stray far beyond the radius unseen.
+      : spacing_(std::min(max_spacing, 0.5 * radius)),
+        wood_(skeleton, radius, spacing_),
+        children_(skeleton.Children()),
+        axes_(skeleton.BranchAxes()),
+        axis_of_(skeleton.AxisOfNodes(axes_)),
+        result_(skeleton),
+        removed_(skeleton.NumNodes(), 0) {}
+
+  SkeletonGraph Zip(int* zipped_axes) {
+    for (size_t a = 1; a < axes_.size(); ++a) {
+      // A side branch of a zipped stretch now grows from the grandparent
+      // axis (its junction is gone): it is left as it is.
+      if (removed_[axes_[a][0]]) continue;
+      if (ZipAxis(axes_[a])) ++*zipped_axes;
+    }
+    return ParentsFirst(WithoutNodes(result_, removed_));
+  }
+
+ private:
+  // Zips `axis` (a copy: its parent's node list may grow) if its first edge
+  // runs beside its parent axis.
+  bool ZipAxis(const BranchAxis axis) {
+    parent_axis_ = axis_of_[axis[0]];
+    const size_t leave = FirstNodeLeaving(axis);
+    if (leave == 1) return false;
+    const BranchAxis& parent = axes_[parent_axis_];
+    at_ = std::find(parent.begin(), parent.end(), axis[0]) - parent.begin();
+    for (size_t k = 1; k < leave; ++k) {
+      int started_here = result_.nodes[axis[k]].strands;  // particles seeded on the stretch
+      for (int child : children_[axis[k]]) {
+        started_here -= result_.nodes[child].strands;
+        if (child == axis[k + 1]) continue;
+        const size_t to = NearestPoint(result_.nodes[axis[k]].position);
+        result_.nodes[child].parent_idx = Carry(to, result_.nodes[child].strands);
+      }
+      if (started_here > 0) Carry(NearestNode(result_.nodes[axis[k]].position), started_here);
+      removed_[axis[k]] = 1;
+    }
+    const int free = axis[leave];
+    result_.nodes[free].parent_idx =
+        Carry(NearestNode(result_.nodes[free].position), result_.nodes[free].strands);
+    return true;
+  }
+
+  // The first node of `axis` whose edge leaves the parent axis' wood.
+  size_t FirstNodeLeaving(const BranchAxis& axis) const {
     const auto beside_parent = [&](int owner) {
-      return !removed[owner] && axis_of[owner] == parent_axis;
+      return !removed_[owner] && axis_of_[owner] == parent_axis_;
     };
-    // The first node whose edge leaves the parent.
     size_t leave = 1;
     while (leave + 1 < axis.size()) {
       const std::vector<Eigen::Vector3d> samples = EdgeSamples(
-          result.nodes[axis[leave - 1]].position, result.nodes[axis[leave]].position, spacing);
+          result_.nodes[axis[leave - 1]].position, result_.nodes[axis[leave]].position, spacing_);
       const bool beside = std::all_of(samples.begin(), samples.end(), [&](const auto& p) {
-        return wood.AnyWithin(p, beside_parent);
+        return wood_.AnyWithin(p, beside_parent);
       });
       if (!beside) break;
       ++leave;
     }
-    if (leave == 1) continue;
-    BranchAxis& parent = axes[parent_axis];
-    const size_t at = std::find(parent.begin(), parent.end(), axis[0]) - parent.begin();
-    // Adds `strands` to the parent from the old junction up to `k`.
-    const auto carry = [&](size_t k, int strands) {
-      for (size_t i = at + 1; i <= k; ++i) result.nodes[parent[i]].strands += strands;
-      return parent[k];
-    };
-    // The parent's nearest node to `point` at or above the junction, short
-    // of its tip (whose strands are the particles that started there, not
-    // the sum of children it would gain).
-    const auto nearest_node = [&](const Eigen::Vector3d& point) {
-      size_t nearest = at;
-      for (size_t k = at; k + 1 < parent.size(); ++k) {
-        if ((result.nodes[parent[k]].position - point).norm() <
-            (result.nodes[parent[nearest]].position - point).norm()) {
-          nearest = k;
-        }
-      }
-      return nearest;
-    };
-    // The parent's nearest point to `point` above the junction: a node, or
-    // a new node splitting the edge it lies on (a side branch keeps the
-    // height it grew at).
-    const auto nearest_point = [&](const Eigen::Vector3d& point) {
-      size_t best_edge = at + 1;
-      double best_t = 0.0, best_d = std::numeric_limits<double>::infinity();
-      for (size_t k = at + 1; k < parent.size(); ++k) {
-        const Eigen::Vector3d& from = result.nodes[parent[k - 1]].position;
-        const Eigen::Vector3d edge = result.nodes[parent[k]].position - from;
-        const double t = std::clamp((point - from).dot(edge) / std::max(edge.squaredNorm(), 1e-300),
-                                    0.0, k + 1 < parent.size() ? 1.0 : 0.5);
-        const double d = (from + t * edge - point).norm();
-        if (d < best_d) best_edge = k, best_t = t, best_d = d;
-      }
-      constexpr double kAtNode = 1e-6;
-      if (best_t < kAtNode) return best_edge - 1;
-      if (best_t > 1 - kAtNode) return best_edge;
-      const SkeletonNode& upper = result.nodes[parent[best_edge]];
-      const SkeletonNode& lower = result.nodes[parent[best_edge - 1]];
-      const int split = result.AddNode((1 - best_t) * lower.position + best_t * upper.position,
-                                       (1 - best_t) * lower.radius + best_t * upper.radius,
-                                       upper.parent_idx, upper.order);
-      result.nodes[split].strands = result.nodes[parent[best_edge]].strands;
-      result.nodes[parent[best_edge]].parent_idx = split;
-      removed.push_back(0);
-      axis_of.push_back(parent_axis);
-      parent.insert(parent.begin() + best_edge, split);
-      return best_edge;
-    };
-    for (size_t k = 1; k < leave; ++k) {
-      int started_here = result.nodes[axis[k]].strands;  // particles seeded on the stretch
-      for (int child : children[axis[k]]) {
-        started_here -= result.nodes[child].strands;
-        if (child == axis[k + 1]) continue;
-        const size_t to = nearest_point(result.nodes[axis[k]].position);
-        result.nodes[child].parent_idx = carry(to, result.nodes[child].strands);
-      }
-      if (started_here > 0) carry(nearest_node(result.nodes[axis[k]].position), started_here);
-      removed[axis[k]] = 1;
-    }
-    const int free = axis[leave];
-    result.nodes[free].parent_idx =
-        carry(nearest_node(result.nodes[free].position), result.nodes[free].strands);
-    ++*zipped_axes;
+    return leave;
   }
-  return ParentsFirst(WithoutNodes(result, removed));
+
+  // Adds `strands` to the parent from the old junction up to its node k;
+  // returns that node.
+  int Carry(size_t k, int strands) {
+    const BranchAxis& parent = axes_[parent_axis_];
+    for (size_t i = at_ + 1; i <= k; ++i) result_.nodes[parent[i]].strands += strands;
+    return parent[k];
+  }
+
+  // The parent's nearest node to `point` at or above the junction, short of
+  // its tip (whose strands are the particles that started there, not the
+  // sum of children it would gain).
+  size_t NearestNode(const Eigen::Vector3d& point) const {
+    const BranchAxis& parent = axes_[parent_axis_];
+    size_t nearest = at_;
+    for (size_t k = at_; k + 1 < parent.size(); ++k) {
+      if ((result_.nodes[parent[k]].position - point).norm() <
+          (result_.nodes[parent[nearest]].position - point).norm()) {
+        nearest = k;
+      }
+    }
+    return nearest;
+  }
+
+  // The parent's nearest point to `point` above the junction: a node, or a
+  // new node splitting the edge it lies on (a side branch keeps the height
+  // it grew at).
+  size_t NearestPoint(const Eigen::Vector3d& point) {
+    BranchAxis& parent = axes_[parent_axis_];
+    size_t best_edge = at_ + 1;
+    double best_t = 0.0, best_d = std::numeric_limits<double>::infinity();
+    for (size_t k = at_ + 1; k < parent.size(); ++k) {
+      const Eigen::Vector3d& from = result_.nodes[parent[k - 1]].position;
+      const Eigen::Vector3d edge = result_.nodes[parent[k]].position - from;
+      const double t = std::clamp((point - from).dot(edge) / std::max(edge.squaredNorm(), 1e-300),
+                                  0.0, k + 1 < parent.size() ? 1.0 : 0.5);
+      const double d = (from + t * edge - point).norm();
+      if (d < best_d) best_edge = k, best_t = t, best_d = d;
+    }
+    constexpr double kAtNode = 1e-6;
+    if (best_t < kAtNode) return best_edge - 1;
+    if (best_t > 1 - kAtNode) return best_edge;
+    const SkeletonNode& upper = result_.nodes[parent[best_edge]];
+    const SkeletonNode& lower = result_.nodes[parent[best_edge - 1]];
+    const int split = result_.AddNode((1 - best_t) * lower.position + best_t * upper.position,
+                                      (1 - best_t) * lower.radius + best_t * upper.radius,
+                                      upper.parent_idx, upper.order);
+    result_.nodes[split].strands = result_.nodes[parent[best_edge]].strands;
+    result_.nodes[parent[best_edge]].parent_idx = split;
+    removed_.push_back(0);
+    axis_of_.push_back(parent_axis_);
+    parent.insert(parent.begin() + best_edge, split);
+    return best_edge;
+  }
+
+  const double spacing_;
+  const WoodSamples wood_;
+  const std::vector<std::vector<int>> children_;
+  // Each axis' nodes as they are now: side branches moved onto a parent
+  // split its edges where they join.
+  std::vector<BranchAxis> axes_;
+  std::vector<int> axis_of_;
+  SkeletonGraph result_;
+  std::vector<char> removed_;
+  // The axis being zipped: its parent axis, and the index of its junction
+  // on that axis.
+  int parent_axis_ = -1;
+  size_t at_ = 0;
+};
+
+SkeletonGraph ZipParallelStretches(const SkeletonGraph& skeleton, double radius, double max_spacing,
+                                   int* zipped_axes) {
+  return StretchZipper(skeleton, radius, max_spacing).Zip(zipped_axes);
 }
 
 // Steps 3 and 4 on the trimmed and zipped skeleton (changed in place).
