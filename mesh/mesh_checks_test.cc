@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
+#include <random>
 
 #include "mesh/branch_mesh.h"
 
@@ -114,6 +116,36 @@ TEST(MeshChecksTest, FindsCrossingTubesAndNotSeparateOnes) {
   EXPECT_EQ(CheckMesh(crossing, "", false).self_intersections, -1);
   // An unknown material selects nothing.
   EXPECT_EQ(CheckMesh(crossing, "leaves").triangles, 0);
+}
+
+// The whole-mesh search walks the grid's cells and meets each pair in the
+// first cell both share; the ordered search (a few pairs wanted) looks each
+// triangle's cells up. On a soup of triangles from a hair's width to half
+// the soup's size, some sharing vertices, both find the same pairs.
+TEST(MeshChecksTest, CellWalkFindsWhatTheOrderedSearchFinds) {
+  std::mt19937 random(7);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  TriangleMesh soup;
+  soup.AddMaterial({"bark", Eigen::Vector3f(0.5f, 0.5f, 0.5f), false});
+  for (int t = 0; t < 3000; ++t) {
+    const float size = 0.002f * std::pow(250.0f, unit(random));  // 0.002 to 0.5
+    const Eigen::Vector3f corner(unit(random), unit(random), unit(random));
+    int a = soup.AddVertex(corner);
+    if (t % 5 == 0 && t > 0) a = static_cast<int>(random() % soup.NumVertices());
+    const int b = soup.AddVertex(soup.vertices[a] +
+                                 size * Eigen::Vector3f(unit(random), unit(random), unit(random)));
+    const int c = soup.AddVertex(soup.vertices[a] +
+                                 size * Eigen::Vector3f(unit(random), unit(random), unit(random)));
+    soup.AddTriangle(a, b, c, 0);
+  }
+  const std::vector<std::pair<int, int>> walked = FindSelfIntersections(soup);
+  const std::vector<std::pair<int, int>> ordered =
+      FindSelfIntersections(soup, "", std::numeric_limits<int64_t>::max());
+  EXPECT_GT(walked.size(), 1000u);
+  EXPECT_EQ(walked, ordered);
+  EXPECT_EQ(CheckMesh(soup).self_intersections, static_cast<int64_t>(walked.size()));
+  CrossingTracker tracker;
+  EXPECT_EQ(tracker.Find(soup), walked);
 }
 
 // The bark's repair rounds mesh the tree again with a few junctions
