@@ -33,6 +33,14 @@ struct DensityOptions {
   // A pixel is foreground for the visual hull if its matte value exceeds
   // this (alpha, unitless).
   double hull_alpha_threshold = 0.05;
+  // A photo's foreground reaching the image's edge means the tree goes on
+  // beyond the frame: the automatic bounds leave that side of its frustum
+  // open for the views that frame the tree whole (a synthetic crown cut at
+  // the top in 3 of 8 views: 4.41 m tall instead of 6.32, held-out density
+  // IoU 0.536 -> 0.865 with it), or warn ("frame-cut") where none does.
+  // False: the frames always bound the tree (drawings: their edge is the
+  // drawing's, not a camera's).
+  bool open_frame_cuts = true;
 
   // Wrong mattes (reconstruct/density/view_consensus.h): at most this share
   // of the views may be wrong, in [0, 0.5): the consensus hull keeps voxels

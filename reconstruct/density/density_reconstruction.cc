@@ -316,8 +316,14 @@ std::string DensitySummary::BriefReport() const {
   out << ", grid " << grid_dims.x() << "x" << grid_dims.y() << "x" << grid_dims.z() << " (voxel "
       << voxel_size << "; " << std::lround(100.0 * thin_share)
       << " % of the mattes' centre lines thinner), " << (automatic_bounds ? "visual-hull" : "given")
-      << " bounds; " << num_carved_voxels << " voxels after carving, " << num_rows
-      << " pixel rays, " << num_nonzeros << " non-zeros";
+      << " bounds";
+  if (!frame_cut_views.empty()) {
+    out << " (" << frame_cut_views.size() << " views cut the tree at the frame's edge"
+        << (cut_by_every_frame ? ", and no view frames it whole: bounded by the frames)"
+                               : ": left open there)");
+  }
+  out << "; " << num_carved_voxels << " voxels after carving, " << num_rows << " pixel rays, "
+      << num_nonzeros << " non-zeros";
   if (num_unexplained_pixels > 0) out << ", " << num_unexplained_pixels << " unexplained fg pixels";
   out << ". Least squares";
   if (num_warm_voxels > 0) out << " (warm start: " << num_warm_voxels << " voxels)";
@@ -351,13 +357,27 @@ std::vector<int> ChooseViewsAndBounds(const ImageSet& all_views,
   if (trusted_views.size() != masks.size()) masks = Pick(masks, trusted_views);
   summary->num_views = static_cast<int>(trusted_views.size());
   summary->automatic_bounds = options.bounds.isEmpty();
-  summary->bounds =
-      summary->automatic_bounds
-          ? WithMargin(
-                VisualHullBounds(SubsetOf(all_views, trusted_views), masks, options.hull_resolution,
-                                 progress.SubTask("density: bounds", 0.03, 0.05)),
-                options)
-          : options.bounds;
+  if (!summary->automatic_bounds) {
+    summary->bounds = options.bounds;
+    return trusted_views;
+  }
+  const ImageSet trusted = SubsetOf(all_views, trusted_views);
+  FrameCuts cuts;
+  summary->bounds = WithMargin(VisualHullBounds(trusted, masks, options.hull_resolution,
+                                                progress.SubTask("density: bounds", 0.03, 0.05),
+                                                options.open_frame_cuts ? &cuts : nullptr),
+                               options);
+  for (int v : cuts.views) summary->frame_cut_views.push_back(trusted.views[v].name);
+  summary->cut_by_every_frame = cuts.beyond_every_frame;
+  if (cuts.beyond_every_frame) {
+    std::ostringstream message;
+    message << "the tree reaches the edge of the frame in " << cuts.views.size() << " of "
+            << trusted.NumViews()
+            << " views and no view frames it whole: the frames bound the reconstruction, and "
+               "what lies beyond them is left out (step back, or add a view that frames the "
+               "whole tree)";
+    summary->warnings.push_back({"frame-cut", message.str()});
+  }
   return trusted_views;
 }
 

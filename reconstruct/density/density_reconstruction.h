@@ -64,6 +64,11 @@ struct DensitySummary {
   std::vector<Warning> warnings;
   bool automatic_bounds = true;
   Box3d bounds;  // world units
+  // Views whose foreground reaches their image's edge (the tree goes on
+  // beyond the frame): their frusta are left open there, unless no view
+  // frames the tree whole (then a "frame-cut" warning).
+  std::vector<std::string> frame_cut_views;
+  bool cut_by_every_frame = false;
   Eigen::Vector3i grid_dims = Eigen::Vector3i::Zero();
   int resolution = 0;       // voxels along the longest side (Density.resolution or refined)
   double thin_share = 0.0;  // of the mattes' centre lines thinner than a voxel at it

@@ -151,6 +151,43 @@ TEST(DensityReconstructionTest, AutomaticBoundsContainTheObjectSnugly) {
   EXPECT_LT(summary.bounds.volume(), 1.6 * object.volume());
 }
 
+// Photos of real trees often cut the crown off at the frame. Three of eight
+// views here see only the lower half of the scene (their images cropped at
+// the top): the other views bound the crown there, so it is kept whole
+// (it used to be cut at the cropped views' frames, silently: the crown lost
+// its top). Only when every view cuts it on one side are the frames its
+// bounds, with a "frame-cut" warning.
+TEST(DensityReconstructionTest, ACrownCutBySomeFramesIsKeptWhole) {
+  const DensityGrid truth = TrueDensity();
+  constexpr int kSize = 96, kCut = 40;  // rows cropped off the top
+  ImageSet set = RingViews(8, kSize);
+  const double focal = 1.4 * kSize;
+  set.cameras[2] = Camera(CameraModel::kPinhole, kSize, kSize - kCut,
+                          {focal, focal, kSize / 2.0, kSize / 2.0 - kCut});
+  for (int v : {0, 3, 6}) set.views[v].camera_id = 2;
+  DensityOptions options;
+  options.resolution = 32;
+  DensitySummary summary;
+  const std::vector<FloatImage> mattes = RenderMattes(truth, set);
+  const DensityGrid grid = ReconstructDensity(set, mattes, options, nullptr, &summary);
+  SCOPED_TRACE(summary.BriefReport());
+  const Box3d object = truth.ActiveWorldBounds();
+  EXPECT_EQ(summary.frame_cut_views, (std::vector<std::string>{"v0.png", "v3.png", "v6.png"}));
+  EXPECT_FALSE(summary.cut_by_every_frame);
+  EXPECT_TRUE(summary.warnings.empty());
+  EXPECT_TRUE(summary.bounds.contains(object))
+      << summary.bounds.min().transpose() << " / " << summary.bounds.max().transpose();
+  EXPECT_GT(grid.ActiveWorldBounds().max().z(), object.max().z() - 0.15);
+
+  // Every view cut at the top: the frames bound the crown, and say so.
+  for (View& view : set.views) view.camera_id = 2;
+  DensitySummary every;
+  ReconstructDensity(set, RenderMattes(truth, set), options, nullptr, &every);
+  EXPECT_TRUE(every.cut_by_every_frame) << every.BriefReport();
+  ASSERT_EQ(every.warnings.size(), 1u);
+  EXPECT_EQ(every.warnings[0].code, "frame-cut");
+}
+
 // Where two grids on different lattices agree on occupancy (opacity above
 // `threshold`): recall = share of the truth's occupied voxel centres that are
 // occupied in `grid`; precision = share of `grid`'s occupied voxel centres

@@ -15,17 +15,34 @@ namespace sylva {
 // Binary foreground mask (1 where matte > alpha_threshold) of a matte.
 FloatImage ForegroundMask(const FloatImage& matte, double alpha_threshold);
 
+// Views whose foreground reaches the edge of their image: the object goes
+// on beyond that frame.
+struct FrameCuts {
+  std::vector<int> views;  // indices into the image set
+  // Every view cuts the object (or those that do not leave it unbounded):
+  // no view frames it whole, so the frames bound it and what lies beyond
+  // them is left out.
+  bool beyond_every_frame = false;
+};
+
 // Intersection of the frusta through each mask's foreground bounding
 // rectangle; a bounded box, or InputError if the views do not bound the
-// object (e.g. all parallel) or do not intersect.
-Box3d FrustumIntersectionBounds(const ImageSet& image_set, const std::vector<FloatImage>& masks);
+// object (e.g. all parallel) or do not intersect. Where the foreground
+// reaches the image's edge, the frustum is left open on that side (the
+// object goes on beyond the frame; the views that frame it whole bound it
+// there), unless every view is cut so: then every side is closed and
+// `cuts` says so. Null `cuts`: every side is closed (the frames always
+// bound the object).
+Box3d FrustumIntersectionBounds(const ImageSet& image_set, const std::vector<FloatImage>& masks,
+                                FrameCuts* cuts = nullptr);
 
 // The visual hull's bounding box: frustum intersection refined by carving a
 // grid of `resolution` voxels (longest side) with the masks' summed-area
 // tables. Conservative: contains every point that projects to foreground in
-// all views that see it. Throws InputError if nothing survives.
+// all views that see it (a point beyond a view's frame is not seen by it).
+// Throws InputError if nothing survives.
 Box3d VisualHullBounds(const ImageSet& image_set, const std::vector<FloatImage>& masks,
-                       int resolution, const ProgressTask& progress);
+                       int resolution, const ProgressTask& progress, FrameCuts* cuts = nullptr);
 
 }  // namespace sylva
 

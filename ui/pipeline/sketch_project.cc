@@ -58,6 +58,8 @@ void SetSketchDefaults(OptionRegistry* registry) {
   registry->Set("Skeleton.base", "0,0,0", source);
   // Front-view mesh IoU 0.31-0.52 -> 0.60-0.75 on four Quick, Draw! trees.
   registry->Set("Leaves.twig_reach", "10", source);
+  // A drawing's edge is the drawing's extent, not a camera's frame.
+  registry->Set("Density.open_frame_cuts", "false", source);
 }
 
 Project CreateSketchProject(const SketchSetup& setup, const SketchViewOptions& options,
