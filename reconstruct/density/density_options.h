@@ -34,10 +34,11 @@ struct DensityOptions {
   // this (alpha, unitless).
   double hull_alpha_threshold = 0.05;
   // A photo's foreground reaching the image's edge means the tree goes on
-  // beyond the frame: the automatic bounds leave that side of its frustum
-  // open for the views that frame the tree whole (a synthetic crown cut at
-  // the top in 3 of 8 views: 4.41 m tall instead of 6.32, held-out density
-  // IoU 0.536 -> 0.865 with it), or warn ("frame-cut") where none does.
+  // beyond the frame (and may be wider there): such a photo does not bound
+  // the automatic bounds (nor the view-consensus test's), the photos that
+  // frame the tree whole do, or, where none does, a "frame-cut" warning says
+  // the frames bound it (a synthetic crown cut at the top in 3 of 8 views:
+  // 4.41 m tall instead of 6.32, held-out density IoU 0.536 -> 0.857).
   // False: the frames always bound the tree (drawings: their edge is the
   // drawing's, not a camera's).
   bool open_frame_cuts = true;

@@ -89,10 +89,14 @@ void ChooseTrustedViews(const ImageSet& image_set, const std::vector<FloatImage>
   }
   SYLVA_CHECK_INPUT(!plausible.empty(), "mattes") << "every matte is empty (no foreground)";
   // The frusta of the plausible views bound the consensus test (a wrong but
-  // non-empty matte only loosens them).
+  // non-empty matte only loosens them), those of photos that cut the tree
+  // not, as for the bounds (else the views that frame it whole would
+  // disagree with the cut ones).
+  FrameCuts cuts;
   const Box3d frustum_bounds =
       options.bounds.isEmpty()
-          ? FrustumIntersectionBounds(SubsetOf(image_set, plausible), Pick(masks, plausible))
+          ? FrustumIntersectionBounds(SubsetOf(image_set, plausible), Pick(masks, plausible),
+                                      options.open_frame_cuts ? &cuts : nullptr)
           : options.bounds;
   const ViewConsensus consensus =
       AssessViewConsensus(image_set, masks, frustum_bounds, options, screened, progress);
@@ -320,7 +324,7 @@ std::string DensitySummary::BriefReport() const {
   if (!frame_cut_views.empty()) {
     out << " (" << frame_cut_views.size() << " views cut the tree at the frame's edge"
         << (cut_by_every_frame ? ", and no view frames it whole: bounded by the frames)"
-                               : ": left open there)");
+                               : ": bounded by the others)");
   }
   out << "; " << num_carved_voxels << " voxels after carving, " << num_rows << " pixel rays, "
       << num_nonzeros << " non-zeros";

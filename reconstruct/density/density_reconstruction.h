@@ -65,8 +65,8 @@ struct DensitySummary {
   bool automatic_bounds = true;
   Box3d bounds;  // world units
   // Views whose foreground reaches their image's edge (the tree goes on
-  // beyond the frame): their frusta are left open there, unless no view
-  // frames the tree whole (then a "frame-cut" warning).
+  // beyond the frame): they do not bound the grid, unless no view frames
+  // the tree whole (then a "frame-cut" warning).
   std::vector<std::string> frame_cut_views;
   bool cut_by_every_frame = false;
   Eigen::Vector3i grid_dims = Eigen::Vector3i::Zero();

@@ -155,11 +155,11 @@ TEST(DensityReconstructionTest, AutomaticBoundsContainTheObjectSnugly) {
 // views here see only the lower half of the scene (their images cropped at
 // the top): the other views bound the crown there, so it is kept whole
 // (it used to be cut at the cropped views' frames, silently: the crown lost
-// its top). Only when every view cuts it on one side are the frames its
-// bounds, with a "frame-cut" warning.
+// its top), also when five of eight are cut. Only when every view cuts it
+// are the frames its bounds, with a "frame-cut" warning.
 TEST(DensityReconstructionTest, ACrownCutBySomeFramesIsKeptWhole) {
   const DensityGrid truth = TrueDensity();
-  constexpr int kSize = 96, kCut = 40;  // rows cropped off the top
+  constexpr int kSize = 96, kCut = 52;  // rows cropped off the top
   ImageSet set = RingViews(8, kSize);
   const double focal = 1.4 * kSize;
   set.cameras[2] = Camera(CameraModel::kPinhole, kSize, kSize - kCut,
@@ -178,6 +178,16 @@ TEST(DensityReconstructionTest, ACrownCutBySomeFramesIsKeptWhole) {
   EXPECT_TRUE(summary.bounds.contains(object))
       << summary.bounds.min().transpose() << " / " << summary.bounds.max().transpose();
   EXPECT_GT(grid.ActiveWorldBounds().max().z(), object.max().z() - 0.15);
+
+  // Most views cut: the three that frame it whole are not outvoted (the cut
+  // views do not bound the view consensus either).
+  for (int v : {1, 4}) set.views[v].camera_id = 2;
+  DensitySummary most;
+  const DensityGrid most_grid =
+      ReconstructDensity(set, RenderMattes(truth, set), options, nullptr, &most);
+  EXPECT_TRUE(most.distrusted_views.empty()) << most.BriefReport();
+  EXPECT_EQ(most.frame_cut_views.size(), 5u);
+  EXPECT_GT(most_grid.ActiveWorldBounds().max().z(), object.max().z() - 0.15);
 
   // Every view cut at the top: the frames bound the crown, and say so.
   for (View& view : set.views) view.camera_id = 2;

@@ -1,7 +1,6 @@
 #include "reconstruct/density/visual_hull.h"
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 
 #include "core/geometry/convex_polytope.h"
@@ -61,31 +60,29 @@ void ClipInCamera(const View& view, const Eigen::Vector3d& normal_in_cam, double
                  normal_in_cam.dot(view.cam_from_world.translation) + offset);
 }
 
-// The sides of a foreground rectangle on the image's edge (left, right,
-// top, bottom): the object may go on beyond them.
-std::array<bool, 4> SidesOnTheEdge(const Camera& camera, const PixelRect& rect) {
-  return {rect.x0 <= 0, rect.x1 >= camera.width(), rect.y0 <= 0, rect.y1 >= camera.height()};
+// Whether the foreground rectangle reaches the image's edge: the object
+// goes on beyond the frame, and there it may be wider than the rectangle.
+bool OnTheEdge(const Camera& camera, const PixelRect& rect) {
+  return rect.x0 <= 0 || rect.x1 >= camera.width() || rect.y0 <= 0 || rect.y1 >= camera.height();
 }
 
-// Clips by the frustum through `rect`, except on the sides marked `open`.
 void ClipByFrustum(const ImageSet& image_set, int view_idx, const PixelRect& rect,
-                   const std::array<bool, 4>& open, double near_distance,
-                   ConvexPolytope* polytope) {
+                   double near_distance, ConvexPolytope* polytope) {
   const View& view = image_set.views[view_idx];
   const Camera& camera = image_set.CameraOf(view);
   const Eigen::AlignedBox2d r = NormalizedRect(camera, rect);
-  const bool ortho = camera.IsOrthographic();
-  // Normal and offset of each side's plane in the camera frame.
-  const std::array<std::pair<Eigen::Vector3d, double>, 4> sides = {{
-      {{1, 0, ortho ? 0 : -r.min().x()}, ortho ? -r.min().x() : 0},
-      {{-1, 0, ortho ? 0 : r.max().x()}, ortho ? r.max().x() : 0},
-      {{0, 1, ortho ? 0 : -r.min().y()}, ortho ? -r.min().y() : 0},
-      {{0, -1, ortho ? 0 : r.max().y()}, ortho ? r.max().y() : 0},
-  }};
-  for (int k = 0; k < 4; ++k) {
-    if (!open[k]) ClipInCamera(view, sides[k].first, sides[k].second, polytope);
+  if (camera.IsOrthographic()) {
+    ClipInCamera(view, {1, 0, 0}, -r.min().x(), polytope);
+    ClipInCamera(view, {-1, 0, 0}, r.max().x(), polytope);
+    ClipInCamera(view, {0, 1, 0}, -r.min().y(), polytope);
+    ClipInCamera(view, {0, -1, 0}, r.max().y(), polytope);
+    return;
   }
-  if (!ortho) ClipInCamera(view, {0, 0, 1}, -near_distance, polytope);
+  ClipInCamera(view, {1, 0, -r.min().x()}, 0, polytope);
+  ClipInCamera(view, {-1, 0, r.max().x()}, 0, polytope);
+  ClipInCamera(view, {0, 1, -r.min().y()}, 0, polytope);
+  ClipInCamera(view, {0, -1, r.max().y()}, 0, polytope);
+  ClipInCamera(view, {0, 0, 1}, -near_distance, polytope);
 }
 
 // A box surely containing the object: around the camera centres, scaled by
@@ -137,28 +134,29 @@ FloatImage ForegroundMask(const FloatImage& matte, double alpha_threshold) {
 Box3d FrustumIntersectionBounds(const ImageSet& image_set, const std::vector<FloatImage>& masks,
                                 FrameCuts* cuts) {
   const Box3d initial = InitialBox(image_set);
-  ConvexPolytope closed(initial), open(initial);
+  ConvexPolytope closed(initial), uncut(initial);  // by every view, by the uncut ones
   const double near_distance = 1e-9 * initial.diagonal().norm();
   FrameCuts found;
   for (int v = 0; v < image_set.NumViews(); ++v) {
     const PixelRect rect = ForegroundRect(masks[v]);
     SYLVA_CHECK_INPUT(!rect.empty, image_set.views[v].name) << "matte is empty (no foreground)";
-    std::array<bool, 4> on_edge = {false, false, false, false};
-    if (cuts != nullptr) on_edge = SidesOnTheEdge(image_set.CameraOf(v), rect);
-    ClipByFrustum(image_set, v, rect, {false, false, false, false}, near_distance, &closed);
-    ClipByFrustum(image_set, v, rect, on_edge, near_distance, &open);
-    if (std::count(on_edge.begin(), on_edge.end(), true) > 0) found.views.push_back(v);
+    ClipByFrustum(image_set, v, rect, near_distance, &closed);
+    if (cuts != nullptr && OnTheEdge(image_set.CameraOf(v), rect)) {
+      found.views.push_back(v);
+    } else {
+      ClipByFrustum(image_set, v, rect, near_distance, &uncut);
+    }
   }
   SYLVA_CHECK_INPUT(!closed.IsEmpty(), "mattes")
       << "the views' foreground regions do not intersect in space: cameras and mattes are "
          "inconsistent";
-  const Box3d open_bounds = open.Bounds();
+  const Box3d uncut_bounds = uncut.Bounds();
   // Views that frame the whole object bound it where others are cut.
   found.beyond_every_frame =
       !found.views.empty() && (static_cast<int>(found.views.size()) == image_set.NumViews() ||
-                               Touches(open_bounds, initial));
+                               Touches(uncut_bounds, initial));
   if (cuts != nullptr) *cuts = found;
-  if (!found.views.empty() && !found.beyond_every_frame) return open_bounds;
+  if (!found.views.empty() && !found.beyond_every_frame) return uncut_bounds;
   const Box3d bounds = closed.Bounds();
   SYLVA_CHECK_INPUT(!Touches(bounds, initial), "Density.bounds")
       << "the views do not bound the tree in depth (too few views, or all looking the same "

@@ -27,12 +27,12 @@ struct FrameCuts {
 
 // Intersection of the frusta through each mask's foreground bounding
 // rectangle; a bounded box, or InputError if the views do not bound the
-// object (e.g. all parallel) or do not intersect. Where the foreground
-// reaches the image's edge, the frustum is left open on that side (the
-// object goes on beyond the frame; the views that frame it whole bound it
-// there), unless every view is cut so: then every side is closed and
-// `cuts` says so. Null `cuts`: every side is closed (the frames always
-// bound the object).
+// object (e.g. all parallel) or do not intersect. A view whose foreground
+// reaches its image's edge bounds nothing here (the object goes on beyond
+// its frame, where it may be wider than the foreground rectangle: only the
+// carving uses that view, where it sees), unless every view is cut so:
+// then all bound it and `cuts` says so. Null `cuts`: every view bounds it
+// (the frames always bound the object).
 Box3d FrustumIntersectionBounds(const ImageSet& image_set, const std::vector<FloatImage>& masks,
                                 FrameCuts* cuts = nullptr);
 
