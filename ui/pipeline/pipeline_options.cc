@@ -120,9 +120,9 @@ void RegisterDensity(DensityOptions* o, OptionRegistry* r) {
   r->AddDouble("Density.hull_alpha_threshold", &o->hull_alpha_threshold, "alpha",
                "matte value above which a pixel is foreground for the visual hull");
   r->AddBool("Density.open_frame_cuts", &o->open_frame_cuts,
-             "where a photo's foreground reaches its edge the tree goes on beyond the frame: "
-             "the bounds stay open there for the views that frame it whole (warning "
-             "frame-cut where none does); false = the frames bound the tree");
+             "a photo whose foreground reaches its edge (the tree goes on beyond the frame) "
+             "does not bound the grid; the photos that frame the tree whole do (warning "
+             "frame-cut where none does); false = every frame bounds the tree");
   r->AddDouble("Density.view_outlier_fraction", &o->view_outlier_fraction, "share of views",
                "at most this share of the mattes may be wrong: the consensus hull that tests "
                "every view tolerates that many dissenting views (0 = trust every view)");
