@@ -60,9 +60,12 @@ void ClipInCamera(const View& view, const Eigen::Vector3d& normal_in_cam, double
                  normal_in_cam.dot(view.cam_from_world.translation) + offset);
 }
 
-// Whether the foreground rectangle reaches the image's edge: the object
-// goes on beyond the frame, and there it may be wider than the rectangle.
+// Whether the foreground rectangle reaches a photo's edge: the object goes
+// on beyond the frame, and there it may be wider than the rectangle. An
+// orthographic view is a drawing (or a rendering made to frame the object):
+// its edge is the drawing's, never a cut.
 bool OnTheEdge(const Camera& camera, const PixelRect& rect) {
+  if (camera.IsOrthographic()) return false;
   return rect.x0 <= 0 || rect.x1 >= camera.width() || rect.y0 <= 0 || rect.y1 >= camera.height();
 }
 

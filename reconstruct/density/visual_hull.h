@@ -31,8 +31,9 @@ struct FrameCuts {
 // reaches its image's edge bounds nothing here (the object goes on beyond
 // its frame, where it may be wider than the foreground rectangle: only the
 // carving uses that view, where it sees), unless every view is cut so:
-// then all bound it and `cuts` says so. Null `cuts`: every view bounds it
-// (the frames always bound the object).
+// then all bound it and `cuts` says so. Orthographic views (drawings) are
+// never cut. Null `cuts`: every view bounds it (the frames always bound the
+// object).
 Box3d FrustumIntersectionBounds(const ImageSet& image_set, const std::vector<FloatImage>& masks,
                                 FrameCuts* cuts = nullptr);
 
