@@ -64,8 +64,9 @@ constexpr double kReachLateralRadii = 4.0;
 // Rings of an attached lateral first sampled to see whether it clears its
 // parent (CutFits): most clear it within them.
 constexpr int kFirstRingsSampled = 6;
-// Relative slack of the bound by which NearestFreeQuad skips ring gaps,
-// for rounding (the bound must never exceed a quad's true distance).
+// Relative slack of the bounds by which NearestFreeQuad skips ring gaps and
+// CrossingJunctions skips junctions, for rounding (a bound must never
+// exceed the true distance).
 constexpr double kBoundSlack = 1e-9;
 
 // One way out of a joint: the chain of nodes from a joint node through
@@ -1271,9 +1272,11 @@ class BarkAttempt {
       p[i] = mesh->vertices[ids[i]].cast<double>() +
              kJitter * size * Eigen::Vector3d(next(), next(), next());
     }
-    // Directed edges (a, b) taken, at a * n + b.
-    std::vector<char> taken(static_cast<size_t>(n) * n, 0);
-    const auto used = [&](int a, int b) -> char& { return taken[static_cast<size_t>(a) * n + b]; };
+    // Directed edges (a, b) in use, at a * n + b.
+    std::vector<char> used_edges(static_cast<size_t>(n) * n, 0);
+    const auto used = [&](int a, int b) -> char& {
+      return used_edges[static_cast<size_t>(a) * n + b];
+    };
     std::vector<std::pair<int, int>> needs;
     for (const JointRing& ring : rings) {
       const int s = static_cast<int>(ring.vertices.size());

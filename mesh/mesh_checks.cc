@@ -193,11 +193,8 @@ struct TriangleGrid {
     for (int a = 0; a < 3; ++a) last_cell[a] = cell_of(all.max()[a], a);
     // By cell (z, then y, then x: the keys' order), each cell's triangles
     // ascending as they were entered.
-    const uint64_t nx = last_cell[0] + 1, ny = last_cell[1] + 1, nz = last_cell[2] + 1;
-    constexpr uint64_t kAxis = (uint64_t{1} << 21) - 1;
-    RadixSort(&entries, BitsBelow(nx * ny * nz), [&](const std::pair<uint64_t, int>& e) {
-      return (e.first & kAxis) + nx * (((e.first >> 21) & kAxis) + ny * (e.first >> 42));
-    });
+    RadixSort(&entries, BitsBelow(NumCells()),
+              [&](const std::pair<uint64_t, int>& e) { return DenseCellOfKey(e.first); });
   }
 
   // Whether `box` overlaps a cell that holds a triangle (or, for a box over
@@ -231,17 +228,23 @@ struct TriangleGrid {
   // Marks the cells holding triangles in a bitmap over the grid (if it has
   // at most kMaxDenseCells cells), for Touches to read.
   void MarkOccupied() {
-    const uint64_t cells = (last_cell[0] + 1) * (last_cell[1] + 1) * uint64_t(last_cell[2] + 1);
-    if (cells > kMaxDenseCells) return;
-    occupied.assign((cells + 63) / 64, 0);
-    constexpr uint64_t kAxis = (uint64_t{1} << 21) - 1;
+    if (NumCells() > kMaxDenseCells) return;
+    occupied.assign((NumCells() + 63) / 64, 0);
     for (const auto& [key, triangle] : entries) {
-      const uint64_t c = DenseCell(key & kAxis, (key >> 21) & kAxis, key >> 42);
+      const uint64_t c = DenseCellOfKey(key);
       occupied[c >> 6] |= uint64_t{1} << (c & 63);
     }
   }
+  // The grid's cells, numbered x fastest then y then z (the keys' order).
+  uint64_t NumCells() const {
+    return uint64_t(last_cell[0] + 1) * (last_cell[1] + 1) * (last_cell[2] + 1);
+  }
   uint64_t DenseCell(uint64_t x, uint64_t y, uint64_t z) const {
     return x + (last_cell[0] + 1) * (y + (last_cell[1] + 1) * z);
+  }
+  uint64_t DenseCellOfKey(uint64_t key) const {
+    constexpr uint64_t kAxis = (uint64_t{1} << 21) - 1;  // CellKey's bits per axis
+    return DenseCell(key & kAxis, (key >> 21) & kAxis, key >> 42);
   }
 
   // The triangles j > i (positions in `selected`) that share a cell with

@@ -216,21 +216,17 @@ AttractorDirectionField::AttractorDirectionField(const ImageSet& image_set,
       graph.height = camera.height();
     }
     const View& view = image_set.views[v];
-    views_.push_back({v, view.cam_from_world.rotation.inverse().toRotationMatrix(),
-                      view.ProjectionCenter(), camera.IsOrthographic(), camera.FocalLengthX(),
-                      camera.FocalLengthY(), camera.width(), camera.height(),
-                      DirectionField2D(graph, options), nullptr, Rigid3d(),
-                      Eigen::Matrix3d::Zero()});
+    const Eigen::Matrix3d world_from_cam =
+        view.cam_from_world.rotation.inverse().toRotationMatrix();
+    const Eigen::Vector3d axis = world_from_cam.col(2);
+    // The view projects with image_set_'s camera (the copy this field keeps).
+    views_.push_back({v, world_from_cam, view.ProjectionCenter(), camera.IsOrthographic(),
+                      camera.FocalLengthX(), camera.FocalLengthY(), camera.width(), camera.height(),
+                      DirectionField2D(graph, options), &image_set_.CameraOf(v),
+                      view.cam_from_world, Eigen::Matrix3d::Identity() - axis * axis.transpose()});
+    all_planes_ += views_.back().projector;
   }
-  // image_set_ (a copy) holds the cameras the views project with.
   intersect_ = options.combine == "intersect";
-  for (ViewField& view : views_) {
-    view.camera = &image_set_.CameraOf(view.view_idx);
-    view.cam_from_world = image_set_.views[view.view_idx].cam_from_world;
-    const Eigen::Vector3d axis = view.world_from_cam.col(2);
-    view.projector = Eigen::Matrix3d::Identity() - axis * axis.transpose();
-    all_planes_ += view.projector;
-  }
   all_planes_solve_ = SolvePlanes(all_planes_);
 
   // Sample points at origin + spacing * (i, j, k), covering the bounds grown
