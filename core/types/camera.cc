@@ -176,6 +176,7 @@ Eigen::Vector2d Camera::DistortionOffset(const Eigen::Vector2d& uv,
 }
 
 Eigen::Vector2d Camera::Distort(const Eigen::Vector2d& undistorted) const {
+  if (!HasDistortion()) return undistorted;  // the same as adding a zero offset
   return undistorted + DistortionOffset(undistorted, nullptr);
 }
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "core/util/check.h"
 
@@ -39,16 +40,31 @@ FloatImage DownsampleBox(const FloatImage& image, int factor) {
 SummedAreaTable::SummedAreaTable(const FloatImage& image)
     : width_(image.width()),
       height_(image.height()),
-      table_(static_cast<size_t>(width_ + 1) * (height_ + 1), 0.0) {
+      table_(static_cast<size_t>(width_ + 1) * (height_ + 1), 0.0),
+      nonzero_(table_.size(), 0) {
   SYLVA_CHECK(image.channels() == 1);
+  SYLVA_CHECK(static_cast<int64_t>(width_) * height_ <= std::numeric_limits<int32_t>::max());
+  const size_t stride = width_ + 1;
   for (int y = 0; y < height_; ++y) {
     double row_sum = 0.0;
+    int32_t row_count = 0;
     for (int x = 0; x < width_; ++x) {
-      row_sum += image.at(x, y);
-      table_[static_cast<size_t>(y + 1) * (width_ + 1) + x + 1] =
-          table_[static_cast<size_t>(y) * (width_ + 1) + x + 1] + row_sum;
+      const float value = image.at(x, y);
+      row_sum += value;
+      row_count += value != 0.0f;
+      const size_t i = (y + 1) * stride + x + 1;
+      table_[i] = table_[i - stride] + row_sum;
+      nonzero_[i] = nonzero_[i - stride] + row_count;
     }
   }
+}
+
+bool SummedAreaTable::AllZero(int x0, int y0, int x1, int y1) const {
+  SYLVA_DCHECK(0 <= x0 && x0 <= x1 && x1 <= width_ && 0 <= y0 && y0 <= y1 && y1 <= height_);
+  const size_t stride = width_ + 1;
+  return nonzero_[y1 * stride + x1] - nonzero_[y0 * stride + x1] - nonzero_[y1 * stride + x0] +
+             nonzero_[y0 * stride + x0] ==
+         0;
 }
 
 double SummedAreaTable::Sum(int x0, int y0, int x1, int y1) const {

@@ -4,6 +4,7 @@
 #define SYLVA_CORE_TYPES_FLOAT_IMAGE_H_
 
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 namespace sylva {
@@ -57,6 +58,9 @@ class SummedAreaTable {
   // coordinates, COLMAP convention), clipped to the image. Returns -1 if the
   // rectangle lies entirely outside the image.
   double BoxMean(double x0, double y0, double x1, double y1) const;
+  // True if every pixel of [x0, x1) x [y0, y1) (pixel indices, inside the
+  // image) is exactly 0; counted in integers, so exact.
+  bool AllZero(int x0, int y0, int x1, int y1) const;
   int width() const { return width_; }
   int height() const { return height_; }
 
@@ -65,7 +69,8 @@ class SummedAreaTable {
 
   int width_ = 0;
   int height_ = 0;
-  std::vector<double> table_;  // (width+1) x (height+1), table_[0][*] = 0
+  std::vector<double> table_;     // (width+1) x (height+1), table_[0][*] = 0
+  std::vector<int32_t> nonzero_;  // the same table of the count of non-zero pixels
 };
 
 }  // namespace sylva

@@ -38,6 +38,17 @@ TEST(FloatImageTest, SummedAreaTableMatchesDirectMeans) {
   EXPECT_EQ(table.BoxMean(20, 20, 30, 30), -1.0);
 }
 
+TEST(FloatImageTest, AllZeroSeesTheFaintestPixel) {
+  FloatImage image(9, 7, 1, 0.0f);
+  image.at(6, 5) = 1e-30f;  // lost in a sum of doubles beside large values
+  image.at(0, 0) = 1e6f;
+  const SummedAreaTable table(image);
+  EXPECT_TRUE(table.AllZero(1, 1, 6, 5));   // ends just before the faint pixel
+  EXPECT_FALSE(table.AllZero(1, 1, 7, 6));  // holds it
+  EXPECT_FALSE(table.AllZero(0, 0, 1, 1));
+  EXPECT_TRUE(table.AllZero(3, 3, 3, 3));  // empty range
+}
+
 TEST(FloatImageTest, ChannelExtraction) {
   FloatImage rgba(2, 1, 4);
   rgba.at(1, 0, 3) = 0.25f;

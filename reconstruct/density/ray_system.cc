@@ -51,13 +51,91 @@ struct RowChunk {
   int64_t unexplained = 0;
 };
 
+// Edge, in voxels, of the cells of ReachablePixels.
+constexpr int kCellVoxels = 4;
+
+// Per downsampled pixel of a view: whether its rays may cross an unknown
+// voxel. Each cell of kCellVoxels^3 voxels holding an unknown marks the
+// pixels that meet the bounding rectangle of its 8 projected corners, one
+// pixel wider on each side; a pinhole's (or an orthographic camera's) image
+// of a box lies inside that rectangle, so a pixel left unmarked has no ray
+// through an unknown, and its row would be empty. Behind the camera, or with
+// lens distortion (its image of a box may bulge past the corners'
+// rectangle), every pixel is marked.
+std::vector<char> ReachablePixels(const ImageSet& image_set, int view_idx,
+                                  const ViewSampling& sampling, const VoxelBlock& block,
+                                  const std::vector<char>& occupied_cells,
+                                  const Eigen::Vector3i& cell_dims) {
+  const int width = sampling.width(), height = sampling.height();
+  std::vector<char> marked(static_cast<size_t>(width) * height, 0);
+  const Camera& camera = image_set.CameraOf(view_idx);
+  if (camera.HasDistortion()) {
+    std::fill(marked.begin(), marked.end(), 1);
+    return marked;
+  }
+  const ViewProjector projector(image_set, view_idx);
+  const double cell_size = kCellVoxels * block.voxel_size;
+  for (int z = 0; z < cell_dims.z(); ++z) {
+    for (int y = 0; y < cell_dims.y(); ++y) {
+      for (int x = 0; x < cell_dims.x(); ++x) {
+        if (!occupied_cells[(static_cast<size_t>(z) * cell_dims.y() + y) * cell_dims.x() + x]) {
+          continue;
+        }
+        Eigen::AlignedBox2d rect;
+        for (int corner = 0; corner < 8; ++corner) {
+          const Eigen::Vector3d offset(x + (corner & 1), y + ((corner >> 1) & 1),
+                                       z + ((corner >> 2) & 1));
+          Eigen::Vector2d pixel;
+          if (!projector.Project(block.lower_corner + cell_size * offset, &pixel)) {
+            std::fill(marked.begin(), marked.end(), 1);
+            return marked;
+          }
+          rect.extend(pixel);
+        }
+        const int x0 =
+            std::max(0, static_cast<int>(std::floor(rect.min().x() / sampling.factor)) - 1);
+        const int y0 =
+            std::max(0, static_cast<int>(std::floor(rect.min().y() / sampling.factor)) - 1);
+        const int x1 =
+            std::min(width - 1, static_cast<int>(std::floor(rect.max().x() / sampling.factor)) + 1);
+        const int y1 = std::min(height - 1,
+                                static_cast<int>(std::floor(rect.max().y() / sampling.factor)) + 1);
+        for (int py = y0; py <= y1; ++py) {
+          std::fill(marked.begin() + static_cast<size_t>(py) * width + x0,
+                    marked.begin() + static_cast<size_t>(py) * width + std::max(x0, x1 + 1), 1);
+        }
+      }
+    }
+  }
+  return marked;
+}
+
+// Cells of kCellVoxels^3 voxels of `block` that hold an unknown.
+std::vector<char> OccupiedCells(const VoxelBlock& block,
+                                const std::vector<int32_t>& column_of_voxel,
+                                Eigen::Vector3i* cell_dims) {
+  *cell_dims = (block.dims.array() + kCellVoxels - 1) / kCellVoxels;
+  std::vector<char> occupied(static_cast<size_t>(cell_dims->prod()), 0);
+  for (int64_t i = 0; i < block.NumVoxels(); ++i) {
+    if (column_of_voxel[i] < 0) continue;
+    const Eigen::Vector3i cell = block.VoxelFromLinear(i) / kCellVoxels;
+    occupied[(static_cast<size_t>(cell.z()) * cell_dims->y() + cell.y()) * cell_dims->x() +
+             cell.x()] = 1;
+  }
+  return occupied;
+}
+
 void BuildChunk(const ImageSet& image_set, int view_idx, const ViewSampling& sampling,
-                const FloatImage& matte, int pixel_y, const VoxelBlock& block,
-                const std::vector<int32_t>& column_of_voxel, double max_pixel_opacity,
-                double foreground_alpha, double min_row_weight, RowChunk* chunk) {
+                const FloatImage& matte, const std::vector<char>& reachable, int pixel_y,
+                const VoxelBlock& block, const std::vector<int32_t>& column_of_voxel,
+                double max_pixel_opacity, double foreground_alpha, double min_row_weight,
+                RowChunk* chunk) {
   std::vector<std::pair<int32_t, float>> row;
   for (int pixel_x = 0; pixel_x < sampling.width(); ++pixel_x) {
-    PixelRow(image_set, view_idx, sampling, pixel_x, pixel_y, block, column_of_voxel, &row);
+    row.clear();
+    if (reachable[static_cast<size_t>(pixel_y) * sampling.width() + pixel_x]) {
+      PixelRow(image_set, view_idx, sampling, pixel_x, pixel_y, block, column_of_voxel, &row);
+    }
     const double alpha = matte.at(pixel_x, pixel_y);
     if (row.empty()) {
       chunk->unexplained += alpha > foreground_alpha;
@@ -86,12 +164,18 @@ RaySystem BuildRaySystem(const ImageSet& image_set, const std::vector<ViewSampli
   for (int v = 0; v < image_set.NumViews(); ++v) {
     for (int y = 0; y < sampling[v].height(); ++y) chunk_keys.emplace_back(v, y);
   }
+  Eigen::Vector3i cell_dims;
+  const std::vector<char> occupied_cells = OccupiedCells(block, column_of_voxel, &cell_dims);
+  std::vector<std::vector<char>> reachable(image_set.NumViews());
+  tbb::parallel_for(0, image_set.NumViews(), [&](int v) {
+    reachable[v] = ReachablePixels(image_set, v, sampling[v], block, occupied_cells, cell_dims);
+  });
   std::vector<RowChunk> chunks(chunk_keys.size());
   tbb::parallel_for(size_t{0}, chunk_keys.size(), [&](size_t i) {
     progress.CheckCancelled();
     const auto [v, y] = chunk_keys[i];
-    BuildChunk(image_set, v, sampling[v], downsampled_mattes[v], y, block, column_of_voxel,
-               max_pixel_opacity, foreground_alpha, min_row_weight, &chunks[i]);
+    BuildChunk(image_set, v, sampling[v], downsampled_mattes[v], reachable[v], y, block,
+               column_of_voxel, max_pixel_opacity, foreground_alpha, min_row_weight, &chunks[i]);
   });
   RaySystem system;
   system.matrix.num_cols = num_columns;

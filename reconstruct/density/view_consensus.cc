@@ -1,5 +1,7 @@
 #include "reconstruct/density/view_consensus.h"
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <cmath>
 #include <iomanip>
@@ -53,20 +55,6 @@ std::vector<char> ConsensusHull(const FootprintVotes& votes, int allowed, int64_
     }
   }
   return hull;
-}
-
-// Share of the hull's voxels (that view v sees) which v's mask carves away.
-double CarvedShare(const ImageSet& image_set, const std::vector<SummedAreaTable>& tables, int v,
-                   const VoxelBlock& block, const std::vector<char>& hull,
-                   const ProgressTask& progress) {
-  const FootprintVotes votes =
-      CountFootprintVetoes(image_set, tables, {v}, block, 0.0, &hull, progress);
-  int64_t seen = 0, vetoed = 0;
-  for (size_t i = 0; i < hull.size(); ++i) {
-    seen += votes.seen[i];
-    vetoed += votes.vetoes[i];
-  }
-  return seen > 0 ? static_cast<double>(vetoed) / seen : 0.0;
 }
 
 // Share of the mask's foreground that no voxel of the hull projects onto:
@@ -177,11 +165,20 @@ ViewConsensus AssessViewConsensus(const ImageSet& image_set, const std::vector<F
         CountFootprintVetoes(image_set, tables, voting, block, 0.0, nullptr, progress);
     const std::vector<char> hull =
         ConsensusHull(votes, consensus.allowed_dissent, &consensus.consensus_voxels);
+    // Share of the hull's voxels (that a view sees) which its mask carves
+    // away, for every view in one pass; then each view's unexplained
+    // foreground, views in parallel.
+    const ViewVetoCounts counts =
+        CountVetoesPerView(image_set, tables, voting, block, 0.0, hull, progress);
+    tbb::parallel_for(size_t{0}, voting.size(), [&](size_t k) {
+      progress.CheckCancelled();
+      const int v = voting[k];
+      consensus.carved_share[v] =
+          counts.seen[k] > 0 ? static_cast<double>(counts.vetoes[k]) / counts.seen[k] : 0.0;
+      consensus.unexplained_share[v] = UnexplainedShare(image_set, masks[v], v, block, hull);
+    });
     std::vector<double> carved, unexplained;
     for (int v : voting) {
-      progress.CheckCancelled();
-      consensus.carved_share[v] = CarvedShare(image_set, tables, v, block, hull, progress);
-      consensus.unexplained_share[v] = UnexplainedShare(image_set, masks[v], v, block, hull);
       carved.push_back(consensus.carved_share[v]);
       unexplained.push_back(consensus.unexplained_share[v]);
     }

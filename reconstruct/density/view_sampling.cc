@@ -1,6 +1,7 @@
 #include "reconstruct/density/view_sampling.h"
 
 #include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -13,8 +14,9 @@
 namespace sylva {
 namespace {
 
-// Z slices per parallel task in MinFootprintMeans; each task reuses its
-// previous lattice layer, so larger chunks project fewer points twice.
+// Z slices per parallel task in MinFootprintMeans; each task projects its
+// slices' corner layers once per view, so larger chunks project fewer
+// points twice.
 constexpr int kSlicesPerTask = 4;
 
 }  // namespace
@@ -47,7 +49,10 @@ ViewSampling MakeViewSampling(const ImageSet& image_set, int view_idx,
 ViewProjector::ViewProjector(const ImageSet& image_set, int view_idx)
     : camera_(&image_set.CameraOf(view_idx)),
       rotation_(image_set.views.at(view_idx).cam_from_world.rotation.toRotationMatrix()),
-      translation_(image_set.views.at(view_idx).cam_from_world.translation) {}
+      translation_(image_set.views.at(view_idx).cam_from_world.translation),
+      plain_pinhole_(!camera_->IsOrthographic() && !camera_->HasDistortion()),
+      focal_(camera_->FocalLengthX(), camera_->FocalLengthY()),
+      principal_point_(camera_->PrincipalPoint()) {}
 
 namespace {
 
@@ -109,6 +114,55 @@ std::vector<SummedAreaTable> MakeSummedAreaTables(const std::vector<FloatImage>&
 
 namespace {
 
+// Columns of kBlockSide x kBlockSide voxels (through a task's z slices)
+// whose footprints in a view cover only zero pixels: the bounding rectangle
+// of every corner the column's voxels project (a superset of each voxel's
+// footprint), widened to the pixels BoxMean could sample (it samples at
+// least one pixel), lies inside the image and holds no non-zero pixel. Each
+// voxel of such a column has a footprint mean of exactly 0 there, found
+// with one look-up instead of one per voxel.
+constexpr int kBlockSide = 4;
+
+void MarkZeroColumns(const std::vector<CornerLayer>& layers, const VoxelBlock& block,
+                     const SummedAreaTable& table, std::vector<char>* zero) {
+  const int nx = block.dims.x(), ny = block.dims.y();
+  const int bx = (nx + kBlockSide - 1) / kBlockSide, by = (ny + kBlockSide - 1) / kBlockSide;
+  zero->assign(static_cast<size_t>(bx) * by, 0);
+  for (int cy = 0; cy < by; ++cy) {
+    for (int cx = 0; cx < bx; ++cx) {
+      float x0 = std::numeric_limits<float>::max(), y0 = x0;
+      float x1 = std::numeric_limits<float>::lowest(), y1 = x1;
+      bool valid = true;
+      for (const CornerLayer& layer : layers) {
+        for (int y = cy * kBlockSide; valid && y <= std::min(ny, (cy + 1) * kBlockSide); ++y) {
+          for (int x = cx * kBlockSide; x <= std::min(nx, (cx + 1) * kBlockSide); ++x) {
+            const size_t i = static_cast<size_t>(y) * (nx + 1) + x;
+            if (!layer.valid[i]) {
+              valid = false;
+              break;
+            }
+            const Eigen::Vector2f& p = layer.pixels[i];
+            x0 = std::min(x0, p.x());
+            x1 = std::max(x1, p.x());
+            y0 = std::min(y0, p.y());
+            y1 = std::max(y1, p.y());
+          }
+        }
+      }
+      if (!valid) continue;
+      // BoxMean samples pixels [ceil(x0 - 0.5), max(ceil(x1 - 0.5), that + 1)):
+      // within [i0, i1 + 1) below. i0 >= 1 keeps every voxel's box from
+      // reading as outside the image (BoxMean's -1) at the left and top.
+      const int i0 = static_cast<int>(std::ceil(x0 - 0.5f)),
+                i1 = static_cast<int>(std::ceil(x1 - 0.5f));
+      const int j0 = static_cast<int>(std::ceil(y0 - 0.5f)),
+                j1 = static_cast<int>(std::ceil(y1 - 0.5f));
+      if (i0 < 1 || j0 < 1 || i1 + 1 > table.width() || j1 + 1 > table.height()) continue;
+      (*zero)[static_cast<size_t>(cy) * bx + cx] = table.AllZero(i0, j0, i1 + 1, j1 + 1);
+    }
+  }
+}
+
 // Calls visit(view, linear voxel index, footprint mean) for every voxel of
 // `block` and every view of `views` that sees it (the voxel in front of the
 // camera and its footprint at least partly inside the image). All calls for
@@ -123,23 +177,31 @@ void ForEachFootprint(const ImageSet& image_set, const std::vector<SummedAreaTab
   for (int v = 0; v < image_set.NumViews(); ++v) projectors.emplace_back(image_set, v);
   const int nx = block.dims.x(), ny = block.dims.y(), nz = block.dims.z();
   const int num_tasks = (nz + kSlicesPerTask - 1) / kSlicesPerTask;
+  const int columns_x = (nx + kBlockSide - 1) / kBlockSide;
   tbb::parallel_for(0, num_tasks, [&](int task) {
     progress.CheckCancelled();
-    CornerLayer lower, upper;
+    const int z_begin = task * kSlicesPerTask, z_end = std::min(nz, z_begin + kSlicesPerTask);
+    std::vector<CornerLayer> layers(z_end - z_begin + 1);
+    std::vector<char> zero;
     for (int v : views) {
-      const int z_begin = task * kSlicesPerTask, z_end = std::min(nz, z_begin + kSlicesPerTask);
-      ProjectCornerLayer(projectors[v], block, z_begin, &lower);
+      for (int l = 0; l <= z_end - z_begin; ++l) {
+        ProjectCornerLayer(projectors[v], block, z_begin + l, &layers[l]);
+      }
+      MarkZeroColumns(layers, block, tables[v], &zero);
       for (int z = z_begin; z < z_end; ++z) {
-        ProjectCornerLayer(projectors[v], block, z + 1, &upper);
+        const CornerLayer& lower = layers[z - z_begin];
+        const CornerLayer& upper = layers[z - z_begin + 1];
         for (int y = 0; y < ny; ++y) {
+          const char* zero_row = zero.data() + static_cast<size_t>(y / kBlockSide) * columns_x;
           for (int x = 0; x < nx; ++x) {
             const int64_t i = block.LinearIndex({x, y, z});
             if (!visit.Wants(i)) continue;
-            const double mean = FootprintMean(lower, upper, nx + 1, x, y, tables[v]);
+            const double mean = zero_row[x / kBlockSide]
+                                    ? 0.0
+                                    : FootprintMean(lower, upper, nx + 1, x, y, tables[v]);
             if (mean >= 0.0) visit(v, i, mean);
           }
         }
-        std::swap(lower, upper);
       }
     }
   });
@@ -184,6 +246,25 @@ struct VetoVisitor {
   void operator()(int, int64_t i, double mean) const {
     ++votes->seen[i];
     if (mean <= threshold) ++votes->vetoes[i];
+  }
+};
+
+// Counts per view (indexed by image_set view) in each thread's own arrays:
+// integer sums, so the total does not depend on scheduling.
+struct PerViewVisitor {
+  const std::vector<char>* wanted;
+  double threshold;
+  tbb::enumerable_thread_specific<ViewVetoCounts>* counts;
+  size_t num_views;
+  bool Wants(int64_t i) const { return (*wanted)[i]; }
+  void operator()(int v, int64_t, double mean) const {
+    ViewVetoCounts& local = counts->local();
+    if (local.seen.empty()) {
+      local.seen.assign(num_views, 0);
+      local.vetoes.assign(num_views, 0);
+    }
+    ++local.seen[v];
+    if (mean <= threshold) ++local.vetoes[v];
   }
 };
 
@@ -237,6 +318,29 @@ FootprintVotes CountFootprintVetoes(const ImageSet& image_set,
   ForEachFootprint(image_set, tables, views, block, progress,
                    VetoVisitor{wanted, threshold, &votes});
   return votes;
+}
+
+ViewVetoCounts CountVetoesPerView(const ImageSet& image_set,
+                                  const std::vector<SummedAreaTable>& tables,
+                                  const std::vector<int>& views, const VoxelBlock& block,
+                                  double threshold, const std::vector<char>& wanted,
+                                  const ProgressTask& progress) {
+  SYLVA_CHECK(static_cast<int64_t>(wanted.size()) == block.NumVoxels());
+  const size_t num_views = image_set.NumViews();
+  tbb::enumerable_thread_specific<ViewVetoCounts> counts;
+  ForEachFootprint(image_set, tables, views, block, progress,
+                   PerViewVisitor{&wanted, threshold, &counts, num_views});
+  ViewVetoCounts total;
+  total.seen.assign(views.size(), 0);
+  total.vetoes.assign(views.size(), 0);
+  for (const ViewVetoCounts& local : counts) {
+    if (local.seen.empty()) continue;
+    for (size_t k = 0; k < views.size(); ++k) {
+      total.seen[k] += local.seen[views[k]];
+      total.vetoes[k] += local.vetoes[views[k]];
+    }
+  }
+  return total;
 }
 
 }  // namespace sylva

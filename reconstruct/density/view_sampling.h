@@ -38,7 +38,9 @@ ViewSampling MakeViewSampling(const ImageSet& image_set, int view_idx,
                               double pixels_per_voxel, int rays_per_axis);
 
 // Projects world points into one view with the pose as a matrix (faster
-// than going through the quaternion for every point).
+// than going through the quaternion for every point), and for a pinhole
+// camera without distortion with its intrinsics at hand (the same
+// arithmetic as Camera::ImgFromCam, without its calls).
 class ViewProjector {
  public:
   ViewProjector(const ImageSet& image_set, int view_idx);
@@ -46,7 +48,13 @@ class ViewProjector {
   bool Project(const Eigen::Vector3d& point_in_world, Eigen::Vector2d* point_in_image) const {
     const Eigen::Vector3d point_in_cam = rotation_ * point_in_world + translation_;
     if (!camera_->IsInFront(point_in_cam)) return false;
-    *point_in_image = camera_->ImgFromCam(point_in_cam);
+    if (plain_pinhole_) {
+      *point_in_image = Eigen::Vector2d(focal_.x() * (point_in_cam.x() / point_in_cam.z()),
+                                        focal_.y() * (point_in_cam.y() / point_in_cam.z())) +
+                        principal_point_;
+    } else {
+      *point_in_image = camera_->ImgFromCam(point_in_cam);
+    }
     return true;
   }
 
@@ -54,6 +62,8 @@ class ViewProjector {
   const Camera* camera_;
   Eigen::Matrix3d rotation_;
   Eigen::Vector3d translation_;
+  bool plain_pinhole_ = false;  // not orthographic, no distortion
+  Eigen::Vector2d focal_, principal_point_;
 };
 
 // Summed-area tables of single-channel images, built in parallel.
@@ -95,6 +105,19 @@ FootprintVotes CountFootprintVetoes(const ImageSet& image_set,
                                     const std::vector<int>& views, const VoxelBlock& block,
                                     double threshold, const std::vector<char>* wanted,
                                     const ProgressTask& progress);
+
+// Per view of `views`: how many voxels of `block` where `wanted` is non-zero
+// (one entry per voxel) it sees, and how many of those it vetoes (mean <=
+// `threshold`); both indexed like `views`. One pass for every view.
+struct ViewVetoCounts {
+  std::vector<int64_t> seen;
+  std::vector<int64_t> vetoes;
+};
+ViewVetoCounts CountVetoesPerView(const ImageSet& image_set,
+                                  const std::vector<SummedAreaTable>& tables,
+                                  const std::vector<int>& views, const VoxelBlock& block,
+                                  double threshold, const std::vector<char>& wanted,
+                                  const ProgressTask& progress);
 
 }  // namespace sylva
 

@@ -1,0 +1,191 @@
+// The density stage's shortcuts give what the direct computations give:
+// footprint columns found all-zero with one look-up (view_sampling.cc), the
+// per-view veto counts of one pass, and the pixels the ray system skips
+// because no unknown is in their reach (ray_system.cc).
+#include "reconstruct/density/view_sampling.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "reconstruct/density/ray_system.h"
+
+namespace sylva {
+namespace {
+
+// Pinhole views around a block, close enough that a voxel spans pixels.
+ImageSet RingViews(int num_views, int size) {
+  ImageSet set;
+  set.cameras[1] = Camera::Pinhole(size, size, 1.2 * size);
+  for (int v = 0; v < num_views; ++v) {
+    const double azimuth = 2 * M_PI * v / num_views + 0.3;
+    const double elevation = 0.15 + 0.25 * (v % 3);
+    const Eigen::Vector3d center(4 * std::cos(azimuth) * std::cos(elevation),
+                                 4 * std::sin(azimuth) * std::cos(elevation),
+                                 1.0 + 4 * std::sin(elevation));
+    View view;
+    view.image_id = v + 1;
+    view.name = "v" + std::to_string(v) + ".png";
+    view.camera_id = 1;
+    view.cam_from_world = LookAt(center, Eigen::Vector3d(0, 0, 1.0), Eigen::Vector3d::UnitZ());
+    set.views.push_back(view);
+  }
+  return set;
+}
+
+VoxelBlock Block(int n) {
+  VoxelBlock block;
+  block.voxel_size = 2.0 / n;
+  block.lower_corner = Eigen::Vector3d(-1.0, -1.0, 0.0);
+  block.dims = Eigen::Vector3i::Constant(n);
+  return block;
+}
+
+// Mattes with large empty regions (where the shortcut applies), soft values
+// and isolated specks (which it must not miss): a disc with a soft rim, a
+// stripe, and single faint pixels scattered over the background.
+std::vector<FloatImage> Mattes(int num_views, int size) {
+  std::vector<FloatImage> mattes;
+  for (int v = 0; v < num_views; ++v) {
+    FloatImage matte(size, size, 1, 0.0f);
+    const double cx = size * (0.45 + 0.02 * v), cy = size * 0.5, r = size * 0.22;
+    for (int y = 0; y < size; ++y) {
+      for (int x = 0; x < size; ++x) {
+        const double d = std::hypot(x + 0.5 - cx, y + 0.5 - cy);
+        if (d < r) matte.at(x, y) = static_cast<float>(std::min(1.0, (r - d) / 4.0));
+        if (std::abs(x - size / 3) < 2 && y > size / 2) matte.at(x, y) = 0.8f;
+        if ((x * 7 + y * 13 + v) % 97 == 0) matte.at(x, y) = 1e-6f;
+      }
+    }
+    mattes.push_back(matte);
+  }
+  return mattes;
+}
+
+// A voxel's footprint mean in view v computed directly: the bounding
+// rectangle of its 8 projected corners, -1 if a corner is behind the camera.
+double DirectFootprintMean(const ImageSet& set, int v, const SummedAreaTable& table,
+                           const VoxelBlock& block, int64_t i) {
+  const ViewProjector projector(set, v);
+  const Eigen::Vector3i ijk = block.VoxelFromLinear(i);
+  float x0 = std::numeric_limits<float>::max(), y0 = x0;
+  float x1 = std::numeric_limits<float>::lowest(), y1 = x1;
+  for (int corner = 0; corner < 8; ++corner) {
+    const Eigen::Vector3i c = ijk + Eigen::Vector3i(corner & 1, (corner >> 1) & 1, corner >> 2);
+    Eigen::Vector2d pixel;
+    if (!projector.Project(block.lower_corner + block.voxel_size * c.cast<double>(), &pixel)) {
+      return -1.0;
+    }
+    const Eigen::Vector2f p = pixel.cast<float>();
+    x0 = std::min(x0, p.x());
+    x1 = std::max(x1, p.x());
+    y0 = std::min(y0, p.y());
+    y1 = std::max(y1, p.y());
+  }
+  return table.BoxMean(x0, y0, x1, y1);
+}
+
+TEST(ViewSamplingTest, FootprintMeansMatchDirectMeans) {
+  const int views = 5, size = 96;
+  const ImageSet set = RingViews(views, size);
+  const std::vector<SummedAreaTable> tables = MakeSummedAreaTables(Mattes(views, size));
+  const VoxelBlock block = Block(20);
+  // One view at a time (a minimum over views would hide one view's error).
+  int64_t zero = 0, positive = 0;
+  for (int v = 0; v < views; ++v) {
+    const std::vector<int> one = {v};
+    const std::vector<float> fast =
+        MinFootprintMeans(set, tables, block, ProgressTask(nullptr, "test"), &one);
+    for (int64_t i = 0; i < block.NumVoxels(); ++i) {
+      const double direct = std::max(0.0, DirectFootprintMean(set, v, tables[v], block, i));
+      // The same value, or exactly zero where the summed-area table's
+      // difference over an empty rectangle leaves rounding dust.
+      if (fast[i] == 0.0f) {
+        ASSERT_LT(std::abs(direct), 1e-12) << "view " << v << " voxel " << i;
+        ++zero;
+      } else {
+        ASSERT_EQ(fast[i], static_cast<float>(direct)) << "view " << v << " voxel " << i;
+        ++positive;
+      }
+    }
+  }
+  // Both kinds are present, so both paths were taken.
+  EXPECT_GT(zero, views * block.NumVoxels() / 10);
+  EXPECT_GT(positive, views * block.NumVoxels() / 20);
+}
+
+TEST(ViewSamplingTest, PerViewVetoesMatchOneViewAtATime) {
+  const int views = 4, size = 80;
+  const ImageSet set = RingViews(views, size);
+  const std::vector<SummedAreaTable> tables = MakeSummedAreaTables(Mattes(views, size));
+  const VoxelBlock block = Block(16);
+  std::vector<char> wanted(block.NumVoxels(), 0);
+  for (int64_t i = 0; i < block.NumVoxels(); i += 3) wanted[i] = 1;
+  const std::vector<int> all = {0, 1, 2, 3};
+  const ViewVetoCounts counts =
+      CountVetoesPerView(set, tables, all, block, 0.0, wanted, ProgressTask(nullptr, "test"));
+  for (int v = 0; v < views; ++v) {
+    const FootprintVotes votes =
+        CountFootprintVetoes(set, tables, {v}, block, 0.0, &wanted, ProgressTask(nullptr, "test"));
+    int64_t seen = 0, vetoes = 0;
+    for (int64_t i = 0; i < block.NumVoxels(); ++i) {
+      seen += votes.seen[i];
+      vetoes += votes.vetoes[i];
+    }
+    EXPECT_EQ(counts.seen[v], seen) << "view " << v;
+    EXPECT_EQ(counts.vetoes[v], vetoes) << "view " << v;
+    EXPECT_GT(vetoes, 0);
+    EXPECT_LT(vetoes, seen);
+  }
+}
+
+TEST(ViewSamplingTest, RaySystemSkipsOnlyPixelsThatReachNoUnknown) {
+  const int views = 3, size = 64;
+  const ImageSet set = RingViews(views, size);
+  const std::vector<FloatImage> mattes = Mattes(views, size);
+  const VoxelBlock block = Block(24);
+  // Unknowns: a small ball off-centre, so most pixels reach none.
+  std::vector<int32_t> column_of_voxel(block.NumVoxels(), -1);
+  int32_t columns = 0;
+  for (int64_t i = 0; i < block.NumVoxels(); ++i) {
+    const Eigen::Vector3d p = block.VoxelCenter(block.VoxelFromLinear(i));
+    if ((p - Eigen::Vector3d(0.3, -0.2, 1.2)).norm() < 0.35) column_of_voxel[i] = columns++;
+  }
+  std::vector<ViewSampling> sampling;
+  for (int v = 0; v < views; ++v) sampling.push_back(ViewSampling{2, 2, size, size});
+  std::vector<FloatImage> small;
+  for (const FloatImage& matte : mattes) small.push_back(DownsampleBox(matte, 2));
+  const RaySystem system = BuildRaySystem(set, sampling, small, block, column_of_voxel, columns,
+                                          0.99, 0.5, 0.01, ProgressTask(nullptr, "test"));
+  // Every pixel traced: the rows that are not empty, in order.
+  int64_t row = 0, skipped = 0;
+  std::vector<std::pair<int32_t, float>> entries;
+  for (int v = 0; v < views; ++v) {
+    for (int y = 0; y < sampling[v].height(); ++y) {
+      for (int x = 0; x < sampling[v].width(); ++x) {
+        PixelRow(set, v, sampling[v], x, y, block, column_of_voxel, &entries);
+        if (entries.empty()) {
+          ++skipped;
+          continue;
+        }
+        ASSERT_LT(row, system.matrix.NumRows());
+        const int64_t begin = system.matrix.row_offsets[row];
+        ASSERT_EQ(system.matrix.row_offsets[row + 1] - begin, static_cast<int64_t>(entries.size()))
+            << "view " << v << " pixel " << x << "," << y;
+        const double weight = std::max(1.0 - small[v].at(x, y), 0.01);
+        for (size_t k = 0; k < entries.size(); ++k) {
+          EXPECT_EQ(system.matrix.cols[begin + k], entries[k].first);
+          EXPECT_EQ(system.matrix.values[begin + k],
+                    static_cast<float>(entries[k].second * weight));
+        }
+        ++row;
+      }
+    }
+  }
+  EXPECT_EQ(row, system.matrix.NumRows());
+  EXPECT_GT(skipped, row);  // most pixels reach no unknown
+}
+
+}  // namespace
+}  // namespace sylva
