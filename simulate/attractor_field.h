@@ -49,10 +49,10 @@
 // 3D field is sampled on a regular grid over the tree's bounds and
 // interpolated trilinearly: its cost per particle step is a constant,
 // independent of the number of views and particles. The grid is filled
-// lazily, one brick of 2^3 samples the first time a particle needs it
-// (particles visit the crown and the paths to the base, a fraction of the
-// box); a sample's value does not depend on when it is filled, so the field
-// is the same as one sampled whole.
+// lazily, each sample the first time a particle needs it (particles visit
+// the crown and the paths to the base, a fraction of the box); a sample's
+// value does not depend on when it is filled, so the field is the same as
+// one sampled whole.
 #ifndef SYLVA_SIMULATE_ATTRACTOR_FIELD_H_
 #define SYLVA_SIMULATE_ATTRACTOR_FIELD_H_
 
@@ -156,7 +156,7 @@ class AttractorDirectionField : public DirectionField {
 
   ~AttractorDirectionField() override;
 
-  // Trilinear interpolation of the sampled field (filling the bricks it
+  // Trilinear interpolation of the sampled field (filling the samples it
   // reads). Thread-safe.
   Eigen::Vector3d Direction(const Eigen::Vector3d& point_in_world) const override;
   // The lifted and combined direction computed exactly at a point (no 3D
@@ -165,9 +165,9 @@ class AttractorDirectionField : public DirectionField {
 
   int NumViewsWithGraphs() const { return static_cast<int>(views_.size()); }
   Eigen::Vector3i SampleDims() const { return dims_; }
-  // Bricks of samples filled so far, and in all (for tests and profiles).
-  int FilledBricks() const;
-  int NumBricks() const { return brick_dims_.prod(); }
+  // Samples filled so far, and in all (for tests and profiles).
+  int FilledSamples() const;
+  int NumSamples() const { return dims_.prod(); }
   // The 2D field of view `view_idx`, or null if it has no graph.
   const DirectionField2D* Field2D(int view_idx) const;
 
@@ -177,7 +177,9 @@ class AttractorDirectionField : public DirectionField {
     Eigen::Matrix3d world_from_cam;  // rotation
     Eigen::Vector3d center;          // projection centre (pinhole)
     bool orthographic;
+    bool plain_pinhole;  // no distortion: projected here, as Camera::ImgFromCam does
     double fx, fy;
+    Eigen::Vector2d principal_point;
     int width, height;
     DirectionField2D field;
     const Camera* camera = nullptr;  // image_set_'s
@@ -202,17 +204,16 @@ class AttractorDirectionField : public DirectionField {
   Eigen::Vector3d origin_ = Eigen::Vector3d::Zero();  // centre of sample (0, 0, 0)
   double spacing_ = 1.0;
   Eigen::Vector3i dims_ = Eigen::Vector3i::Ones();
-  // The sample (i, j, k), filling its brick first if needed.
+  // The sample (i, j, k), filling it first if needed.
   const Eigen::Vector3f& Sample(int i, int j, int k) const;
-  void FillBrick(int brick) const;
+  void FillSample(int i, int j, int k, size_t index) const;
 
-  // Lazily filled samples, x fastest; a brick's samples are written once,
-  // under its lock, before its flag is set (release), and read after the
-  // flag is seen (acquire).
+  // Lazily filled samples, x fastest; a sample is written once, under its
+  // lock, before its flag is set (release), and read after the flag is seen
+  // (acquire).
   mutable std::vector<Eigen::Vector3f> samples_;
-  Eigen::Vector3i brick_dims_ = Eigen::Vector3i::Ones();
-  std::unique_ptr<std::atomic<bool>[]> brick_filled_;
-  mutable std::unique_ptr<std::mutex[]> brick_locks_;  // striped: brick % kBrickLocks
+  std::unique_ptr<std::atomic<bool>[]> filled_;
+  mutable std::unique_ptr<std::mutex[]> fill_locks_;  // striped: sample index % kFillLocks
 };
 
 }  // namespace sylva

@@ -180,13 +180,12 @@ TEST(AttractorDirectionField, FillsOnlyTheBricksItIsAskedAboutWithTheSameValues)
         ProjectedSegment(set, v, Eigen::Vector3d(0.2, 0.1, 0.8), Eigen::Vector3d::Zero()));
   }
   const AttractorDirectionField lazy(set, graphs, bounds, options);
-  EXPECT_EQ(lazy.FilledBricks(), 0);
+  EXPECT_EQ(lazy.FilledSamples(), 0);
   const Eigen::Vector3d x(0.31, -0.22, 0.47);
   const Eigen::Vector3d at_x = lazy.Direction(x);
-  EXPECT_GE(lazy.FilledBricks(), 1);
-  EXPECT_LE(lazy.FilledBricks(), 8);  // the bricks of one cell's corners
-  EXPECT_LT(lazy.FilledBricks(), lazy.NumBricks());
-  // Filled in another order (every brick first), the field is the same.
+  EXPECT_EQ(lazy.FilledSamples(), 8);  // one cell's corners
+  EXPECT_LT(lazy.FilledSamples(), lazy.NumSamples());
+  // Filled in another order (every sample first), the field is the same.
   const AttractorDirectionField whole(set, graphs, bounds, options);
   for (double z = -1.0; z <= 1.0; z += 0.05) whole.Direction(Eigen::Vector3d(-0.9, 0.9, z));
   EXPECT_EQ(whole.Direction(x), at_x);

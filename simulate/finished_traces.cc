@@ -46,15 +46,16 @@ void FinishedTraces::AddEdge(const TraceGraph& graph, int child) {
   const double spacing = join_distance_ / kSamplesPerJoinDistance;
   const double reach = join_distance_ + spacing / 2;
   const int samples = static_cast<int>(std::ceil((b - a).norm() / spacing)) + 1;
-  scratch_.clear();
+  if (stamps_.empty()) stamps_.assign(heads_.size(), 0);
+  const int32_t serial = ++serial_;
   for (int s = 0; s < samples; ++s) {
     const Eigen::Vector3d p = a + (b - a) * (static_cast<double>(s) / (samples - 1));
-    ForEachCell(p.array() - reach, p.array() + reach,
-                [&](int64_t cell) { scratch_.push_back(cell); });
+    ForEachCell(p.array() - reach, p.array() + reach, [&](int64_t cell) {
+      if (stamps_[cell] == serial) return;
+      stamps_[cell] = serial;
+      Insert(cell, child);
+    });
   }
-  std::sort(scratch_.begin(), scratch_.end());
-  scratch_.erase(std::unique(scratch_.begin(), scratch_.end()), scratch_.end());
-  for (int64_t cell : scratch_) Insert(cell, child);
 }
 
 void FinishedTraces::AddCells(const Eigen::Vector3d& lower, const Eigen::Vector3d& upper,

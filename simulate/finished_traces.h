@@ -67,7 +67,10 @@ class FinishedTraces {
   };
   std::vector<int32_t> heads_;
   std::vector<Entry> entries_;
-  std::vector<int64_t> scratch_;  // cells of the edge being added
+  // Per cell, the serial of the last long edge added to it (a long edge's
+  // samples overlap many of the same cells; each gets the edge once).
+  std::vector<int32_t> stamps_;
+  int32_t serial_ = 0;
 };
 
 }  // namespace sylva

@@ -81,14 +81,22 @@ SimFrame FrameOf(const DensityGrid& density, Eigen::Vector3i* min_ijk, Eigen::Ve
 // `count` positions (sim frame), each uniform inside a voxel drawn with
 // probability proportional to its opacity, listed in the grid's voxel order
 // (spatially coherent, so particles close in space are close in memory).
-// Streams over the voxels twice instead of storing them.
+// The grid is walked once; its voxels of non-zero opacity are then summed
+// and assigned from a compact copy, in the same order.
 std::vector<Eigen::Vector3d> SeedPositions(const DensityGrid& density,
                                            const Eigen::Vector3i& min_ijk, int count,
                                            uint64_t seed) {
-  double total = 0.0;
-  density.ForEachActive([&](const Eigen::Vector3i&, float alpha) {
-    if (alpha > 0) total += alpha;
+  struct Voxel {
+    Eigen::Vector3i ijk;
+    float alpha;
+  };
+  std::vector<Voxel> voxels;
+  voxels.reserve(density.NumActiveVoxels());
+  density.ForEachActive([&](const Eigen::Vector3i& ijk, float alpha) {
+    if (alpha > 0) voxels.push_back({ijk, alpha});
   });
+  double total = 0.0;
+  for (const Voxel& voxel : voxels) total += voxel.alpha;
   SYLVA_CHECK_INPUT(total > 0, "density") << "every active voxel has zero opacity";
   // Per seed: where it falls in the cumulative opacity, and its offset in
   // its voxel; drawn in seed order, then sorted by the former.
@@ -111,14 +119,14 @@ std::vector<Eigen::Vector3d> SeedPositions(const DensityGrid& density,
   size_t next = 0;
   double cumulative = 0.0;
   Eigen::Vector3d last_voxel = Eigen::Vector3d::Zero();
-  density.ForEachActive([&](const Eigen::Vector3i& ijk, float alpha) {
-    if (!(alpha > 0)) return;
-    cumulative += alpha;
-    last_voxel = (ijk - min_ijk).cast<double>();
+  for (const Voxel& voxel : voxels) {
+    cumulative += voxel.alpha;
+    last_voxel = (voxel.ijk - min_ijk).cast<double>();
     for (; next < seeds.size() && seeds[next].cumulative < cumulative; ++next) {
       positions[next] = last_voxel + seeds[next].offset;
     }
-  });
+    if (next == seeds.size()) break;
+  }
   // Rounding may leave a draw at the very end of the sum: the last voxel.
   for (; next < seeds.size(); ++next) positions[next] = last_voxel + seeds[next].offset;
   return positions;

