@@ -34,6 +34,7 @@
 #include <vector>
 
 #include "core/io/image_io.h"
+#include "core/util/memory.h"
 #include "tests/bench/agreement.h"
 #include "tests/e2e/subprocess.h"
 #include "ui/pipeline/pipeline.h"
@@ -308,4 +309,7 @@ int Main(int argc, char** argv) {
 }  // namespace
 }  // namespace sylva
 
-int main(int argc, char** argv) { return sylva::Main(argc, argv); }
+int main(int argc, char** argv) {
+  sylva::KeepFreedMemoryForReuse();  // as the sylva binary does
+  return sylva::Main(argc, argv);
+}

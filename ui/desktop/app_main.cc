@@ -19,6 +19,7 @@
 #include <exception>
 #include <iostream>
 
+#include "core/util/memory.h"
 #include "ui/desktop/main_window.h"
 #include "ui/desktop/run_controller.h"
 #include "ui/desktop/sketch_canvas.h"
@@ -40,6 +41,7 @@ int Usage(const QString& problem) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  sylva::KeepFreedMemoryForReuse();
   QApplication app(argc, argv);
   QApplication::setApplicationName("sylva-app");
   QApplication::setOrganizationName("sylva");
