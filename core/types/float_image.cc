@@ -75,10 +75,15 @@ double SummedAreaTable::Sum(int x0, int y0, int x1, int y1) const {
 
 double SummedAreaTable::BoxMean(double x0, double y0, double x1, double y1) const {
   // Pixel i has its centre at i + 0.5: it is inside [x0, x1) iff x0 <= i + 0.5 < x1.
-  int i0 = static_cast<int>(std::ceil(x0 - 0.5));
-  int i1 = static_cast<int>(std::ceil(x1 - 0.5));
-  int j0 = static_cast<int>(std::ceil(y0 - 0.5));
-  int j1 = static_cast<int>(std::ceil(y1 - 0.5));
+  // Clamped just outside the image before the conversion to int (a far-out
+  // coordinate would overflow it); the tests below see the same.
+  const auto pixel = [](double coordinate, int size) {
+    return static_cast<int>(std::clamp(std::ceil(coordinate - 0.5), -1.0, size + 1.0));
+  };
+  int i0 = pixel(x0, width_);
+  int i1 = pixel(x1, width_);
+  int j0 = pixel(y0, height_);
+  int j1 = pixel(y1, height_);
   if (i1 <= 0 || j1 <= 0 || i0 >= width_ || j0 >= height_) return -1.0;
   // A footprint smaller than a pixel still samples the pixel it falls in.
   if (i1 <= i0) i1 = i0 + 1;

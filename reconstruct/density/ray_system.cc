@@ -92,14 +92,16 @@ std::vector<char> ReachablePixels(const ImageSet& image_set, int view_idx,
           }
           rect.extend(pixel);
         }
-        const int x0 =
-            std::max(0, static_cast<int>(std::floor(rect.min().x() / sampling.factor)) - 1);
-        const int y0 =
-            std::max(0, static_cast<int>(std::floor(rect.min().y() / sampling.factor)) - 1);
-        const int x1 =
-            std::min(width - 1, static_cast<int>(std::floor(rect.max().x() / sampling.factor)) + 1);
-        const int y1 = std::min(height - 1,
-                                static_cast<int>(std::floor(rect.max().y() / sampling.factor)) + 1);
+        // Downsampled pixels, clamped before the conversion (a corner just in
+        // front of a pinhole projects arbitrarily far out).
+        const auto pixel_of = [&](double coordinate, int size) {
+          return static_cast<int>(
+              std::clamp(std::floor(coordinate / sampling.factor), -2.0, size + 1.0));
+        };
+        const int x0 = std::max(0, pixel_of(rect.min().x(), width) - 1);
+        const int y0 = std::max(0, pixel_of(rect.min().y(), height) - 1);
+        const int x1 = std::min(width - 1, pixel_of(rect.max().x(), width) + 1);
+        const int y1 = std::min(height - 1, pixel_of(rect.max().y(), height) + 1);
         for (int py = y0; py <= y1; ++py) {
           std::fill(marked.begin() + static_cast<size_t>(py) * width + x0,
                     marked.begin() + static_cast<size_t>(py) * width + std::max(x0, x1 + 1), 1);

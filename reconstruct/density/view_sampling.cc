@@ -153,10 +153,12 @@ void MarkZeroColumns(const std::vector<CornerLayer>& layers, const VoxelBlock& b
       // BoxMean samples pixels [ceil(x0 - 0.5), max(ceil(x1 - 0.5), that + 1)):
       // within [i0, i1 + 1) below. i0 >= 1 keeps every voxel's box from
       // reading as outside the image (BoxMean's -1) at the left and top.
-      const int i0 = static_cast<int>(std::ceil(x0 - 0.5f)),
-                i1 = static_cast<int>(std::ceil(x1 - 0.5f));
-      const int j0 = static_cast<int>(std::ceil(y0 - 0.5f)),
-                j1 = static_cast<int>(std::ceil(y1 - 0.5f));
+      // (In double, as BoxMean rounds; clamped before the conversion, as a
+      // corner just in front of a pinhole projects arbitrarily far out.)
+      const auto pixel_of = [](float coordinate) {
+        return static_cast<int>(std::clamp(std::ceil(double{coordinate} - 0.5), -1e9, 1e9));
+      };
+      const int i0 = pixel_of(x0), i1 = pixel_of(x1), j0 = pixel_of(y0), j1 = pixel_of(y1);
       if (i0 < 1 || j0 < 1 || i1 + 1 > table.width() || j1 + 1 > table.height()) continue;
       (*zero)[static_cast<size_t>(cy) * bx + cx] = table.AllZero(i0, j0, i1 + 1, j1 + 1);
     }
