@@ -236,11 +236,44 @@ int ContinuationByOrder(const SkeletonGraph& skeleton, int node, const std::vect
 
 // Largest horizontal distance between two of `points`, by brute force
 // (O(n^2): 0.1 s for 10^4 crown nodes).
+// The points' 2D convex hull in the horizontal plane (Andrew's monotone
+// chain), collinear boundary points kept: the farthest pair is among them.
+std::vector<Eigen::Vector2d> HorizontalHull(const std::vector<Eigen::Vector3d>& points) {
+  std::vector<Eigen::Vector2d> sorted;
+  sorted.reserve(points.size());
+  for (const Eigen::Vector3d& p : points) sorted.push_back(p.head<2>());
+  std::sort(sorted.begin(), sorted.end(), [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+    return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y());
+  });
+  sorted.erase(std::unique(sorted.begin(), sorted.end()), sorted.end());
+  if (sorted.size() < 3) return sorted;
+  const auto cross = [](const Eigen::Vector2d& o, const Eigen::Vector2d& a,
+                        const Eigen::Vector2d& b) {
+    return (a.x() - o.x()) * (b.y() - o.y()) - (a.y() - o.y()) * (b.x() - o.x());
+  };
+  std::vector<Eigen::Vector2d> hull;
+  for (int pass = 0; pass < 2; ++pass) {  // lower chain, then upper
+    const size_t start = hull.size();
+    for (size_t k = 0; k < sorted.size(); ++k) {
+      const Eigen::Vector2d& p = pass == 0 ? sorted[k] : sorted[sorted.size() - 1 - k];
+      while (hull.size() >= start + 2 && cross(hull[hull.size() - 2], hull.back(), p) < 0) {
+        hull.pop_back();
+      }
+      hull.push_back(p);
+    }
+  }
+  return hull;
+}
+
+// The largest horizontal distance between two points: between two points of
+// their horizontal hull (O(n log n + h^2) instead of O(n^2): a skeleton of
+// 10^5 particles has 10^5 crown nodes).
 double HorizontalDiameter(const std::vector<Eigen::Vector3d>& points) {
+  const std::vector<Eigen::Vector2d> hull = HorizontalHull(points);
   double best = 0.0;
-  for (size_t i = 0; i < points.size(); ++i) {
-    for (size_t j = i + 1; j < points.size(); ++j) {
-      best = std::max(best, (points[i] - points[j]).head<2>().squaredNorm());
+  for (size_t i = 0; i < hull.size(); ++i) {
+    for (size_t j = i + 1; j < hull.size(); ++j) {
+      best = std::max(best, (hull[i] - hull[j]).squaredNorm());
     }
   }
   return std::sqrt(best);

@@ -152,6 +152,41 @@ DensityGrid UniformBox() {
   return grid;
 }
 
+// A crown of many twigs, some on a straight line and repeated (collinear and
+// coincident points), some on an ellipse longer along y (its widest pair, top
+// and bottom, lie on different chains of the hull): the width is the largest
+// horizontal distance between two crown nodes, as the pairwise definition
+// gives it.
+TEST(TreeMetricsTest, CrownWidthIsTheWidestPairOfManyNodes) {
+  SkeletonGraph tree;
+  int node = tree.AddNode({0, 0, 0}, 0.2, -1, 0);
+  const int fork = tree.AddNode({0, 0, 1}, 0.1, node, 0);
+  tree.AddNode({0, 0, 3}, 0.08, fork, 0);
+  RandomEngine random(7, 0);
+  for (int k = 0; k < 600; ++k) {
+    Eigen::Vector3d tip;
+    if (k % 3 == 0) {
+      tip = Eigen::Vector3d(-1.0 + 0.01 * (k % 200), 0.5, 2.0);  // a line, points repeated
+    } else if (k % 3 == 1) {
+      const double angle = random.Uniform(0, 2 * M_PI);
+      tip = Eigen::Vector3d(0.9 * std::cos(angle), 2.5 * std::sin(angle), random.Uniform(1.5, 3));
+    } else {
+      tip = Eigen::Vector3d(random.Uniform(-1, 1), random.Uniform(-0.8, 0.8), 2.5);
+    }
+    tree.AddNode(tip, 0.01, fork, 1);
+  }
+  const TreeMetricsReport report = ComputeTreeMetrics(tree, nullptr, "m");
+  double widest = 0.0;
+  for (const SkeletonNode& a : tree.nodes) {
+    for (const SkeletonNode& b : tree.nodes) {
+      if (a.position.z() < 1.0 || b.position.z() < 1.0) continue;  // the crown starts at the fork
+      widest = std::max(widest, (a.position - b.position).head<2>().norm());
+    }
+  }
+  EXPECT_GT(widest, 2.0);
+  EXPECT_EQ(report.crown_width, widest);
+}
+
 TEST(TreeMetricsTest, DensityCrownVolumeStartsAtTheCrownBase) {
   // The hand-built Y's crown starts at z = 2: the uniform box counts from
   // z = 2 up: 2 x 2 x 2 m^3.
