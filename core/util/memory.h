@@ -12,7 +12,9 @@ namespace sylva {
 // stage's time on the demo. With blocks up to glibc's largest threshold
 // (32 MiB) taken from the heap and the heap never trimmed, `sylva run` after
 // a density edit took 60k page faults instead of 92k and 10 % less CPU time.
-// Programs call it first thing in main(); a no-op where glibc is not used.
+// The cost: a process keeps its peak heap until it exits (the app too,
+// between runs; later runs reuse it). Programs call it first thing in
+// main(); a no-op where glibc is not used.
 void KeepFreedMemoryForReuse();
 
 }  // namespace sylva
