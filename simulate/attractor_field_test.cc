@@ -169,7 +169,7 @@ TEST(AttractorDirectionField, LiftingTwoOrthographicViewsRecoversA3dDirection) {
             2.0);
 }
 
-TEST(AttractorDirectionField, FillsOnlyTheBricksItIsAskedAboutWithTheSameValues) {
+TEST(AttractorDirectionField, FillsOnlyTheSamplesItIsAskedAboutWithTheSameValues) {
   const ImageSet set = TwoOrthographicViews();
   const Eigen::AlignedBox3d bounds(Eigen::Vector3d(-1, -1, -1), Eigen::Vector3d(1, 1, 1));
   AttractorFieldOptions options;

@@ -82,15 +82,10 @@ std::vector<char> ReachablePixels(const ImageSet& image_set, int view_idx,
           continue;
         }
         Eigen::AlignedBox2d rect;
-        for (int corner = 0; corner < 8; ++corner) {
-          const Eigen::Vector3d offset(x + (corner & 1), y + ((corner >> 1) & 1),
-                                       z + ((corner >> 2) & 1));
-          Eigen::Vector2d pixel;
-          if (!projector.Project(block.lower_corner + cell_size * offset, &pixel)) {
-            std::fill(marked.begin(), marked.end(), 1);
-            return marked;
-          }
-          rect.extend(pixel);
+        if (!projector.ProjectCube(block.lower_corner + cell_size * Eigen::Vector3d(x, y, z),
+                                   cell_size, &rect)) {
+          std::fill(marked.begin(), marked.end(), 1);
+          return marked;
         }
         // Downsampled pixels, clamped before the conversion (a corner just in
         // front of a pinhole projects arbitrarily far out).

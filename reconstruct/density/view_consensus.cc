@@ -71,21 +71,23 @@ double UnexplainedShare(const ImageSet& image_set, const FloatImage& mask, int v
   const ViewProjector projector(image_set, v);
   for (int64_t i = 0; i < block.NumVoxels(); ++i) {
     if (!hull[i]) continue;
-    Eigen::AlignedBox2d rect;
     const Eigen::Vector3d lower =
         block.lower_corner + block.voxel_size * block.VoxelFromLinear(i).cast<double>();
-    bool in_front = true;
-    for (int corner = 0; corner < 8 && in_front; ++corner) {
-      const Eigen::Vector3d offset(corner & 1, (corner >> 1) & 1, (corner >> 2) & 1);
-      Eigen::Vector2d pixel = Eigen::Vector2d::Zero();
-      in_front = projector.Project(lower + block.voxel_size * offset, &pixel);
-      rect.extend(pixel / sampling.factor);
-    }
-    if (!in_front) continue;
-    const int x0 = std::max(0, static_cast<int>(std::floor(rect.min().x())));
-    const int y0 = std::max(0, static_cast<int>(std::floor(rect.min().y())));
-    const int x1 = std::min(small.width(), static_cast<int>(std::ceil(rect.max().x())));
-    const int y1 = std::min(small.height(), static_cast<int>(std::ceil(rect.max().y())));
+    Eigen::AlignedBox2d rect;
+    if (!projector.ProjectCube(lower, block.voxel_size, &rect)) continue;
+    // In downsampled pixels, clamped before the conversion (a corner just in
+    // front of a pinhole projects arbitrarily far out).
+    const auto pixel_of = [](double coordinate, int size) {
+      return static_cast<int>(std::clamp(coordinate, -1.0, size + 1.0));
+    };
+    const Eigen::AlignedBox2d small_rect(rect.min() / sampling.factor,
+                                         rect.max() / sampling.factor);
+    const int x0 = std::max(0, pixel_of(std::floor(small_rect.min().x()), small.width()));
+    const int y0 = std::max(0, pixel_of(std::floor(small_rect.min().y()), small.height()));
+    const int x1 =
+        std::min(small.width(), pixel_of(std::ceil(small_rect.max().x()), small.width()));
+    const int y1 =
+        std::min(small.height(), pixel_of(std::ceil(small_rect.max().y()), small.height()));
     for (int y = y0; y < y1; ++y) {
       for (int x = x0; x < x1; ++x) covered.at(x, y) = 1.0f;
     }

@@ -5,6 +5,7 @@
 #define SYLVA_RECONSTRUCT_DENSITY_VIEW_SAMPLING_H_
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <cstdint>
 #include <vector>
 
@@ -54,6 +55,19 @@ class ViewProjector {
                         principal_point_;
     } else {
       *point_in_image = camera_->ImgFromCam(point_in_cam);
+    }
+    return true;
+  }
+  // The bounding rectangle of the projections of the 8 corners of the cube
+  // of edge `size` whose lowest corner is `lower` (world units); false if a
+  // corner is behind a pinhole camera.
+  bool ProjectCube(const Eigen::Vector3d& lower, double size, Eigen::AlignedBox2d* rect) const {
+    rect->setEmpty();
+    for (int corner = 0; corner < 8; ++corner) {
+      const Eigen::Vector3d offset(corner & 1, (corner >> 1) & 1, (corner >> 2) & 1);
+      Eigen::Vector2d pixel;
+      if (!Project(lower + size * offset, &pixel)) return false;
+      rect->extend(pixel);
     }
     return true;
   }
