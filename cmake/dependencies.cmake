@@ -9,6 +9,8 @@ find_package(Threads REQUIRED)
 find_package(Eigen3 3.4 REQUIRED NO_MODULE)
 find_package(nlohmann_json 3.10 REQUIRED)
 find_package(OpenImageIO REQUIRED)
+# PNG, read and written directly (core/io/png_codec.h): libpng 1.6 (libpng-dev).
+find_package(PNG 1.6 REQUIRED)
 
 # OpenVDB ships a find module, not a config file; it needs Boost.Iostreams.
 list(APPEND CMAKE_MODULE_PATH /usr/lib/x86_64-linux-gnu/cmake/OpenVDB)

@@ -1,5 +1,6 @@
-// Fuzz target: Photos and mattes through the image reader (core/io/image_io.h, OpenImageIO); PNG by
-// extension, any format by content.
+// Fuzz target: Photos and mattes through the image reader (core/io/image_io.h:
+// PNG through libpng, the rest through OpenImageIO); PNG by extension, any
+// format by content.
 //
 // The header is read and checked for every input; the pixels only for images
 // of at most kMaxPixels. A 21-byte input can claim to be a WebP of

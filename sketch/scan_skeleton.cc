@@ -9,63 +9,15 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "core/util/thinning.h"
+
 namespace sylva::scan {
 namespace {
 
-// The 8 neighbours clockwise from north (Zhang & Suen's P2 ... P9); bit k of
-// a neighbour code is neighbour k.
-constexpr int kDx[8] = {0, 1, 1, 1, 0, -1, -1, -1};
-constexpr int kDy[8] = {-1, -1, 0, 1, 1, 1, 0, -1};
-// Edge-adjacent neighbours first: a chain walked this way takes the corner
-// pixel of a staircase instead of cutting it, so no pixel is left behind.
+// Edge-adjacent neighbours first (core/util/thinning.h numbers them): a
+// chain walked this way takes the corner pixel of a staircase instead of
+// cutting it, so no pixel is left behind.
 constexpr int kWalkOrder[8] = {0, 2, 4, 6, 1, 3, 5, 7};
-
-bool Bit(int code, int k) { return (code >> (k & 7)) & 1; }
-
-// 0 -> 1 transitions around the neighbours: the number of branches that
-// leave a pixel (1 at an end, 2 along a line, >= 3 at a junction).
-int CrossingNumber(int code) {
-  int transitions = 0;
-  for (int k = 0; k < 8; ++k) transitions += !Bit(code, k) && Bit(code, k + 1);
-  return transitions;
-}
-
-// Zhang & Suen's deletion test for sub-iteration `pass` (0 or 1).
-bool Deletable(int code, int pass) {
-  const int count = __builtin_popcount(code);
-  const bool p2 = Bit(code, 0), p4 = Bit(code, 2), p6 = Bit(code, 4), p8 = Bit(code, 6);
-  const bool m1 = pass == 0 ? (p2 && p4 && p6) : (p2 && p4 && p8);
-  const bool m2 = pass == 0 ? (p4 && p6 && p8) : (p2 && p6 && p8);
-  return CrossingNumber(code) == 1 && count >= 2 && count <= 6 && !m1 && !m2;
-}
-
-// Flat-index offsets of the 8 neighbours in an image with `step` bytes a row.
-std::array<int, 8> Offsets(size_t step) {
-  std::array<int, 8> offsets;
-  for (int k = 0; k < 8; ++k) offsets[k] = kDy[k] * static_cast<int>(step) + kDx[k];
-  return offsets;
-}
-
-int NeighbourCode(const uchar* data, int index, const std::array<int, 8>& offsets) {
-  int code = 0;
-  for (int k = 0; k < 8; ++k) code |= (data[index + offsets[k]] != 0) << k;
-  return code;
-}
-
-// Removes the pixels of `candidates` that sub-iteration `pass` deletes (all
-// at once, as Zhang & Suen's parallel rule says); returns them.
-std::vector<int> ThinningPass(const std::vector<int>& candidates, int pass,
-                              const std::array<int, 8>& offsets,
-                              const std::array<std::array<bool, 256>, 2>& deletable, uchar* data) {
-  std::vector<int> deleted;
-  for (int index : candidates) {
-    if (data[index] && deletable[pass][NeighbourCode(data, index, offsets)]) {
-      deleted.push_back(index);
-    }
-  }
-  for (int index : deleted) data[index] = 0;
-  return deleted;
-}
 
 // Union-find root with path halving.
 int Root(std::vector<int>& parent, int i) {
@@ -99,7 +51,7 @@ class SkeletonTracer {
   SkeletonTracer(const cv::Mat& skeleton, double junction_cluster_px)
       : cluster_px_(junction_cluster_px) {
     cv::copyMakeBorder(skeleton != 0, padded_, 1, 1, 1, 1, cv::BORDER_CONSTANT, 0);
-    offsets_ = Offsets(padded_.step);
+    offsets_ = NeighbourOffsets(padded_.step);
     node_of_.assign(padded_.total(), -1);
     visited_.assign(padded_.total(), false);
   }
@@ -323,50 +275,22 @@ Eigen::Vector2d EndDirection(const SkeletonEdge& edge, int node, double look_bac
 
 }  // namespace
 
+cv::Mat SauvolaInk(const cv::Mat& grey, int window, double k, double range) {
+  const cv::Size box(window, window);
+  cv::Mat mean, square_mean, deviation;
+  cv::boxFilter(grey, mean, CV_32F, box, cv::Point(-1, -1), true, cv::BORDER_REPLICATE);
+  cv::sqrBoxFilter(grey, square_mean, CV_32F, box, cv::Point(-1, -1), true, cv::BORDER_REPLICATE);
+  cv::sqrt(square_mean - mean.mul(mean), deviation);
+  cv::Mat threshold = mean.mul(1.0 + static_cast<float>(k) * (deviation / range - 1.0));
+  threshold.convertTo(threshold, grey.depth());
+  cv::Mat ink;
+  cv::compare(grey, threshold, ink, cv::CMP_LE);
+  return ink;
+}
+
 cv::Mat ThinZhangSuen(const cv::Mat& ink) {
   cv::Mat image = (ink != 0);  // a fresh continuous CV_8U copy, 255 on ink
-  uchar* data = image.ptr<uchar>();
-  const std::array<int, 8> offsets = Offsets(image.step);
-  std::array<std::array<bool, 256>, 2> deletable;
-  for (int code = 0; code < 256; ++code) {
-    for (int pass = 0; pass < 2; ++pass) deletable[pass][code] = Deletable(code, pass);
-  }
-  // Candidates: ink pixels off the image border with paper among their
-  // neighbours (only those can ever be deleted); `listed` avoids repeats.
-  const int cols = image.cols, rows = image.rows;
-  const auto inside = [&](int index) {
-    const int x = index % cols, y = index / cols;
-    return x > 0 && y > 0 && x < cols - 1 && y < rows - 1;
-  };
-  std::vector<uchar> listed(image.total(), 0);
-  std::vector<int> candidates;
-  const int total = static_cast<int>(image.total());
-  for (int index = 0; index < total; ++index) {
-    if (data[index] && inside(index) && NeighbourCode(data, index, offsets) != 255) {
-      candidates.push_back(index);
-      listed[index] = 1;
-    }
-  }
-  for (bool changed = true; changed;) {
-    changed = false;
-    for (int pass = 0; pass < 2; ++pass) {
-      const std::vector<int> deleted = ThinningPass(candidates, pass, offsets, deletable, data);
-      changed |= !deleted.empty();
-      // Deleting a pixel exposes its ink neighbours to the paper.
-      candidates.erase(std::remove_if(candidates.begin(), candidates.end(),
-                                      [&](int index) { return !data[index]; }),
-                       candidates.end());
-      for (int index : deleted) {
-        for (int offset : offsets) {
-          const int n = index + offset;
-          if (data[n] && !listed[n] && inside(n)) {
-            listed[n] = 1;
-            candidates.push_back(n);
-          }
-        }
-      }
-    }
-  }
+  sylva::ThinZhangSuen(image.cols, image.rows, image.step, image.ptr<uchar>());
   return image;
 }
 

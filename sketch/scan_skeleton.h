@@ -13,7 +13,14 @@
 
 namespace sylva::scan {
 
-// Zhang & Suen 1984 thinning, the same result as
+// Sauvola's threshold T = m (1 + k (s / R - 1)) from the mean m and standard
+// deviation s of the grey levels (CV_8U) in a `window` x `window` box
+// (borders replicated, sums in float); 255 on ink (grey <= T), 0 on paper.
+// The same result as cv::ximgproc::niBlackThreshold(BINARIZATION_SAUVOLA,
+// THRESH_BINARY_INV), whose module is not linked (core/util/thinning.h).
+cv::Mat SauvolaInk(const cv::Mat& grey, int window, double k, double range);
+
+// Zhang & Suen 1984 thinning (core/util/thinning.h), the same result as
 // cv::ximgproc::thinning(ink, THINNING_ZHANGSUEN) (the image's border pixels
 // are never removed), but each sub-iteration visits only the pixels on the
 // ink's current boundary instead of the whole image: the cost follows the

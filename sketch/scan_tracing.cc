@@ -8,7 +8,6 @@
 #include <utility>
 
 #include <opencv2/imgproc.hpp>
-#include <opencv2/ximgproc.hpp>
 
 #include "core/io/image_io.h"
 #include "core/util/check.h"
@@ -92,10 +91,7 @@ cv::Mat Binarise(const cv::Mat& grey, const ScanTracingOptions& options) {
   const int shorter = std::min(grey.rows, grey.cols);
   int window = static_cast<int>(std::lround(options.sauvola_window_fraction * shorter)) | 1;
   window = std::max(window, kMinSauvolaWindowPx);
-  cv::Mat ink;
-  cv::ximgproc::niBlackThreshold(grey, ink, 255, cv::THRESH_BINARY_INV, window, options.sauvola_k,
-                                 cv::ximgproc::BINARIZATION_SAUVOLA, kSauvolaRange);
-  return ink;
+  return scan::SauvolaInk(grey, window, options.sauvola_k, kSauvolaRange);
 }
 
 // Line width 2 d - 1 from the median distance d (pixels to the paper) over

@@ -8,8 +8,12 @@
 #include <fstream>
 
 #include <opencv2/imgproc.hpp>
+#include <opencv2/ximgproc.hpp>
 
+#include "core/io/image_io.h"
 #include "core/util/check.h"
+#include "core/util/random.h"
+#include "sketch/scan_skeleton.h"
 
 namespace sylva {
 namespace {
@@ -246,6 +250,64 @@ TEST(ScanTracingTest, RealTreeSketchNetSketch) {
   std::vector<cv::Point2f> polygon;
   for (const Eigen::Vector2d& p : crown->points) polygon.emplace_back(p.x(), p.y());
   EXPECT_GT(std::abs(cv::contourArea(polygon)), 0.3 * 608 * 608);
+}
+
+// sylva binarises and thins drawings itself (scan_skeleton.h) instead of
+// linking OpenCV's contrib module: the same ink and skeleton, pixel for
+// pixel, as cv::ximgproc's Sauvola and Zhang-Suen, on the real sketch, on
+// a photo of a tree and on noisy pages (random grey, with strokes), at the
+// tracer's window and others.
+TEST(ScanTracingTest, SauvolaAndThinningAreOpenCvContribs) {
+  std::vector<cv::Mat> pages;
+  for (const char* file : {"datasets/sketches/treesketchnet/2_camera_right.png",
+                           "datasets/tuxpaint-trees/birch.png"}) {
+    const FloatImage image = ReadImage(std::filesystem::path(SYLVA_SOURCE_DIR) / file);
+    cv::Mat grey(image.height(), image.width(), CV_8U);
+    for (int y = 0; y < image.height(); ++y) {
+      for (int x = 0; x < image.width(); ++x) {
+        grey.at<uchar>(y, x) = cv::saturate_cast<uchar>(255.0f * image.at(x, y, 0));
+      }
+    }
+    pages.push_back(grey);
+  }
+  RandomEngine random(7);
+  const auto pick = [&](int lo, int hi) {
+    return lo + static_cast<int>(random.UniformInt(hi - lo + 1));
+  };
+  for (int k = 0; k < 3; ++k) {
+    cv::Mat page(181 + 40 * k, 233, CV_8U);
+    for (int y = 0; y < page.rows; ++y) {
+      for (int x = 0; x < page.cols; ++x) {
+        page.at<uchar>(y, x) = static_cast<uchar>(pick(k == 0 ? 0 : 150, 255));
+      }
+    }
+    for (int line = 0; line < 12; ++line) {
+      const cv::Point a(pick(0, page.cols - 1), pick(0, page.rows - 1));
+      const cv::Point b(pick(0, page.cols - 1), pick(0, page.rows - 1));
+      Line(page, a, b, pick(1, 9));
+    }
+    pages.push_back(page);
+  }
+  int64_t ink_pixels = 0, skeleton_pixels = 0;
+  for (const cv::Mat& page : pages) {
+    for (const int window : {15, 31, 61}) {
+      for (const double k : {0.1, 0.34}) {
+        cv::Mat expected;
+        cv::ximgproc::niBlackThreshold(page, expected, 255, cv::THRESH_BINARY_INV, window, k,
+                                       cv::ximgproc::BINARIZATION_SAUVOLA, 128.0);
+        const cv::Mat ink = scan::SauvolaInk(page, window, k, 128.0);
+        ASSERT_EQ(cv::countNonZero(ink != expected), 0) << page.size() << " window " << window;
+        ink_pixels += cv::countNonZero(ink);
+        cv::Mat thinned;
+        cv::ximgproc::thinning(ink, thinned, cv::ximgproc::THINNING_ZHANGSUEN);
+        const cv::Mat skeleton = scan::ThinZhangSuen(ink);
+        ASSERT_EQ(cv::countNonZero(skeleton != thinned), 0) << page.size() << " window " << window;
+        skeleton_pixels += cv::countNonZero(skeleton);
+      }
+    }
+  }
+  EXPECT_GT(ink_pixels, 100000);
+  EXPECT_GT(skeleton_pixels, 10000);
 }
 
 }  // namespace

@@ -1,16 +1,19 @@
 #include "core/io/image_io.h"
 
-#include <OpenImageIO/imageio.h>
+#include <dlfcn.h>
 
 #include <algorithm>
 #include <array>
 #include <cctype>
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
 #include <fstream>
 #include <iterator>
 #include <string_view>
 
+#include "core/io/oiio_plugin.h"
+#include "core/io/png_codec.h"
 #include "core/util/check.h"
 #include "core/util/file_util.h"
 
@@ -22,23 +25,6 @@ using std::string_view_literals::operator""sv;
 // Two 8-bit levels: tolerance for "R = G = B" in mattes saved as RGB.
 constexpr float kGrayTolerance = 2.0f / 255.0f;
 
-// OpenImageIO's messages may hold several lines (one per decoder complaint);
-// an error is one line: "first; second".
-std::string OneLine(std::string reason) {
-  while (!reason.empty() && reason.back() == '\n') reason.pop_back();
-  for (size_t at = reason.find('\n'); at != std::string::npos; at = reason.find('\n', at))
-    reason.replace(at, 1, "; ");
-  return reason;
-}
-
-// OpenImageIO converts pixels on a thread pool of its own; sylva reads and
-// writes many small images in parallel already (TBB), where that pool only
-// adds hand-offs between threads. Called before every read and write.
-void UseCallingThreadOnly() {
-  static const bool done = OIIO::attribute("threads", 1);
-  (void)done;
-}
-
 uint32_t BigEndian32(const unsigned char* bytes) {
   return (uint32_t{bytes[0]} << 24) | (uint32_t{bytes[1]} << 16) | (uint32_t{bytes[2]} << 8) |
          uint32_t{bytes[3]};
@@ -46,10 +32,8 @@ uint32_t BigEndian32(const unsigned char* bytes) {
 
 // A PNG's chunk structure (the signature, then chunks of length, type, data
 // and CRC from IHDR to IEND, each within the file), checked before
-// OpenImageIO decodes it: a truncated or damaged PNG gets one clear error
-// naming where it breaks. (OpenImageIO 2.4's PNG reader also leaks its
-// error message when libpng reads past the end of a file; it never sees such
-// a file now.)
+// libpng decodes it: a truncated or damaged PNG gets one clear error naming
+// where it breaks.
 void CheckPngChunks(std::ifstream& file, const fs::path& path, uint64_t size) {
   std::array<unsigned char, 8> bytes{};
   uint64_t at = 8;  // after the signature
@@ -117,65 +101,97 @@ const char* ImageFormat(const fs::path& path) {
   return match->format;
 }
 
-std::unique_ptr<OIIO::ImageInput> OpenImage(const fs::path& path) {
-  UseCallingThreadOnly();
+// The module that reads and writes images other than PNG (oiio_plugin.h),
+// loaded on first use: $SYLVA_OIIO_PLUGIN if set, else where the build put
+// it, else beside the running program. Error if none loads.
+const SylvaOiioPlugin* LoadOiioPlugin() {
+  std::vector<fs::path> candidates;
   std::error_code ec;
-  SYLVA_CHECK_INPUT(fs::is_regular_file(path, ec), path.string()) << "image file not found";
-  const char* format = ImageFormat(path);
-  auto input = OIIO::ImageInput::create(format);
-  SYLVA_CHECK(input != nullptr) << "OpenImageIO has no " << format << " reader";
-  // Keep alpha unassociated (straight): sylva's images never hold
-  // premultiplied colour (OpenImageIO would premultiply PNG/TIFF by default).
-  OIIO::ImageSpec config;
-  config.attribute("oiio:UnassociatedAlpha", 1);
-  OIIO::ImageSpec spec;
-  if (!input->open(path.string(), spec, config)) {
-    std::string reason = input->geterror();
-    const std::string global = OIIO::geterror();
-    if (!global.empty()) reason += (reason.empty() ? "" : "\n") + global;
-    reason = OneLine(reason);
-    if (reason.empty()) reason = "damaged " + std::string(format) + " file";
-    SYLVA_INPUT_ERROR(path.string()) << "cannot read image: " << reason;
+  if (const char* chosen = std::getenv("SYLVA_OIIO_PLUGIN")) {
+    candidates.emplace_back(chosen);
+  } else {
+    candidates.emplace_back(SYLVA_OIIO_PLUGIN_PATH);
+    const fs::path program = fs::read_symlink("/proc/self/exe", ec);
+    if (!ec) candidates.push_back(program.parent_path() / "libsylva_oiio.so");
   }
-  return input;
+  std::string looked;
+  const SylvaOiioPlugin* plugin = nullptr;
+  for (const fs::path& candidate : candidates) {
+    looked += (looked.empty() ? "" : ", ") + candidate.string();
+    if (!fs::is_regular_file(candidate, ec)) continue;
+    void* module = dlopen(candidate.c_str(), RTLD_NOW | RTLD_LOCAL);
+    SYLVA_CHECK(module != nullptr) << "cannot load " << candidate << ": " << dlerror();
+    const auto entry = reinterpret_cast<SylvaOiioPluginEntry>(dlsym(module, "sylva_oiio_plugin"));
+    SYLVA_CHECK(entry != nullptr) << candidate << " is not sylva's OpenImageIO module";
+    plugin = entry();
+    SYLVA_CHECK(plugin != nullptr && plugin->version == SYLVA_OIIO_PLUGIN_VERSION)
+        << candidate << " is another version of sylva's OpenImageIO module";
+    break;
+  }
+  SYLVA_CHECK(plugin != nullptr)
+      << "sylva's OpenImageIO module (libsylva_oiio.so) is missing (looked for " << looked
+      << "): images other than PNG cannot be read or written";
+  return plugin;
 }
 
-ImageHeader HeaderFromSpec(const OIIO::ImageSpec& spec) {
-  ImageHeader header;
-  header.width = spec.width;
-  header.height = spec.height;
-  header.channels = spec.nchannels;
-  header.alpha_channel = spec.alpha_channel;
-  if (header.alpha_channel < 0 && (spec.nchannels == 2 || spec.nchannels == 4)) {
-    header.alpha_channel = spec.nchannels - 1;
-  }
-  return header;
+const SylvaOiioPlugin& OiioPlugin() {
+  static const SylvaOiioPlugin* const plugin = LoadOiioPlugin();
+  return *plugin;
 }
+
+ImageHeader HeaderOf(const SylvaOiioHeader& header) {
+  return {header.width, header.height, header.channels, header.alpha_channel};
+}
+
+void CheckHasPixels(const ImageHeader& header, const fs::path& path) {
+  SYLVA_CHECK_INPUT(header.width > 0 && header.height > 0 && header.channels > 0, path.string())
+      << "image has no pixels";
+}
+
+// The format of the image at `path` (InputError if it is missing or none
+// sylva reads).
+const char* CheckedImageFormat(const fs::path& path) {
+  std::error_code ec;
+  SYLVA_CHECK_INPUT(fs::is_regular_file(path, ec), path.string()) << "image file not found";
+  return ImageFormat(path);
+}
+
+bool IsPng(const char* format) { return std::string_view(format) == "png"; }
 
 }  // namespace
 
 ImageHeader ReadImageHeader(const fs::path& path) {
-  auto input = OpenImage(path);
-  const ImageHeader header = HeaderFromSpec(input->spec());
-  SYLVA_CHECK_INPUT(header.width > 0 && header.height > 0 && header.channels > 0, path.string())
-      << "image has no pixels";
-  return header;
+  const char* format = CheckedImageFormat(path);
+  if (IsPng(format)) return ReadPngHeader(path);
+  SylvaOiioHeader header{};
+  char error[512] = {};
+  SYLVA_CHECK_INPUT(
+      OiioPlugin().read_header(path.c_str(), format, &header, error, sizeof(error)) != 0,
+      path.string())
+      << error;
+  const ImageHeader result = HeaderOf(header);
+  CheckHasPixels(result, path);
+  return result;
 }
 
 FloatImage ReadImage(const fs::path& path) {
-  auto input = OpenImage(path);
-  const ImageHeader header = HeaderFromSpec(input->spec());
-  SYLVA_CHECK_INPUT(header.width > 0 && header.height > 0 && header.channels > 0, path.string())
-      << "image has no pixels";
-  FloatImage image(header.width, header.height, header.channels);
-  const bool ok = input->read_image(0, 0, 0, header.channels, OIIO::TypeDesc::FLOAT, image.data());
-  // Some decoders succeed on damaged data and only leave a message: libjpeg
-  // fills a truncated JPEG with grey ("Premature end of JPEG file"). A photo
-  // with such a message is refused too.
-  const std::string reason = OneLine(input->geterror());
-  input->close();
-  SYLVA_CHECK_INPUT(ok && reason.empty(), path.string())
-      << "cannot decode image: " << (reason.empty() ? "read failed" : reason);
+  const char* format = CheckedImageFormat(path);
+  FloatImage image;
+  if (IsPng(format)) {
+    image = ReadPng(path);
+  } else {
+    const SylvaOiioAllocate allocate = [](void* context, const SylvaOiioHeader* header) {
+      auto* image = static_cast<FloatImage*>(context);
+      *image = FloatImage(header->width, header->height, header->channels);
+      return image->data();
+    };
+    SylvaOiioHeader header{};
+    char error[512] = {};
+    SYLVA_CHECK_INPUT(OiioPlugin().read(path.c_str(), format, allocate, &image, &header, error,
+                                        sizeof(error)) != 0,
+                      path.string())
+        << error;
+  }
   for (float& value : image.values()) {
     SYLVA_CHECK_INPUT(std::isfinite(value), path.string()) << "image contains NaN or infinity";
   }
@@ -228,27 +244,21 @@ FloatImage ReadMatte(const fs::path& path) {
 
 void WriteImage(const fs::path& path, const FloatImage& image, PixelFormat format) {
   SYLVA_CHECK(!image.empty()) << "writing an empty image to " << path;
-  OIIO::TypeDesc type = OIIO::TypeDesc::UINT8;
-  if (format == PixelFormat::kUint16) type = OIIO::TypeDesc::UINT16;
-  if (format == PixelFormat::kFloat) type = OIIO::TypeDesc::FLOAT;
-  UseCallingThreadOnly();
+  std::string extension = path.extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(),
+                 [](unsigned char c) { return std::tolower(c); });
   AtomicWriteWith(path, [&](const fs::path& temp) {
-    auto output = OIIO::ImageOutput::create(temp.string());
-    SYLVA_CHECK(output != nullptr) << "no image writer for " << path << ": " << OIIO::geterror();
-    OIIO::ImageSpec spec(image.width(), image.height(), image.channels(), type);
-    if (image.channels() == 2 || image.channels() == 4) spec.alpha_channel = image.channels() - 1;
-    // The pixels are straight alpha; without this OpenImageIO would divide the
-    // colour by alpha when writing PNG (which stores unassociated alpha).
-    spec.attribute("oiio:UnassociatedAlpha", 1);
-    // zlib's fastest level: about 3x faster to write than the default (6),
-    // and masks and renders compress nearly as well (PNG only).
-    spec.attribute("png:compressionLevel", 1);
-    SYLVA_CHECK(output->open(temp.string(), spec))
-        << "cannot write " << path << ": " << output->geterror();
-    const bool ok = output->write_image(OIIO::TypeDesc::FLOAT, image.data());
-    const std::string reason = ok ? std::string() : output->geterror();
-    output->close();
-    SYLVA_CHECK(ok) << "cannot write " << path << ": " << reason;
+    if (extension == ".png" && format != PixelFormat::kFloat) {
+      WritePng(temp, image, format);
+      return;
+    }
+    const int sample = format == PixelFormat::kUint16  ? kSylvaOiioUint16
+                       : format == PixelFormat::kFloat ? kSylvaOiioFloat
+                                                       : kSylvaOiioUint8;
+    char error[512] = {};
+    SYLVA_CHECK(OiioPlugin().write(temp.c_str(), image.data(), image.width(), image.height(),
+                                   image.channels(), sample, error, sizeof(error)) != 0)
+        << "cannot write " << path << ": " << error;
   });
 }
 

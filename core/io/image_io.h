@@ -1,5 +1,6 @@
-// Photos and mattes through OpenImageIO (PNG, JPEG, TIFF, EXR, ...; 8/16-bit
-// integer or float). Pixel values are converted to float in [0, 1]. Pixels
+// Photos and mattes: PNG through libpng (png_codec.h), JPEG, TIFF, OpenEXR
+// and BMP through OpenImageIO, loaded when first needed (oiio_plugin.h); 8/16-
+// bit integer or float. Pixel values are converted to float in [0, 1]. Pixels
 // are read as stored: EXIF orientation is not applied (COLMAP does not apply
 // it either, so cameras and pixels stay consistent).
 // Alpha is straight (unassociated) both ways: colour is never premultiplied

@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdio>
+#include <cstdlib>
 
 #include "core/util/check.h"
 #include "core/util/file_util.h"
@@ -200,6 +202,27 @@ TEST(ImageIoTest, TruncatedJpegIsRefused) {
   } catch (const InputError& error) {
     EXPECT_NE(std::string(error.what()).find(path.string()), std::string::npos) << error.what();
   }
+}
+
+// Without the OpenImageIO module a JPEG photo is an error that names the
+// module and where it was looked for (in a fresh process: the module loads
+// once per process).
+TEST(ImageIoDeathTest, MissingOpenImageIoModuleIsNamed) {
+  GTEST_FLAG_SET(death_test_style, "threadsafe");
+  const fs::path photo = fs::path(SYLVA_SOURCE_DIR) / "datasets/opencv-alphamat-plant/plant.jpg";
+  EXPECT_EXIT(
+      {
+        setenv("SYLVA_OIIO_PLUGIN", "/nonexistent/libsylva_oiio.so", 1);
+        try {
+          ReadImage(photo);
+        } catch (const Error& error) {
+          std::fprintf(stderr, "%s\n", error.what());
+          std::exit(3);
+        }
+        std::exit(0);
+      },
+      testing::ExitedWithCode(3),
+      "libsylva_oiio.so. is missing .looked for /nonexistent/libsylva_oiio.so.");
 }
 
 TEST(ImageIoTest, FindMatteFileBySameRelativeName) {

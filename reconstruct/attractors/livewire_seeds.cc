@@ -1,7 +1,5 @@
 #include "reconstruct/attractors/livewire_seeds.h"
 
-#include <opencv2/ximgproc.hpp>
-
 #include <algorithm>
 #include <cmath>
 #include <functional>
@@ -9,6 +7,7 @@
 #include <utility>
 
 #include "core/util/random.h"
+#include "core/util/thinning.h"
 
 namespace sylva {
 namespace {
@@ -48,8 +47,8 @@ std::vector<cv::Point> FarthestPointSeeds(const cv::Mat& mask, const cv::Point& 
 // End points of the mask's skeleton (thinning), farthest from the target
 // first.
 std::vector<cv::Point> SkeletonTipSeeds(const cv::Mat& mask, const cv::Point& target, int count) {
-  cv::Mat skeleton;
-  cv::ximgproc::thinning(mask * 255, skeleton, cv::ximgproc::THINNING_ZHANGSUEN);
+  cv::Mat skeleton = (mask != 0);  // a fresh continuous copy, 255 on the mask
+  ThinZhangSuen(skeleton.cols, skeleton.rows, skeleton.step, skeleton.ptr<uchar>());
   cv::Mat distance(mask.size(), CV_32FC1, cv::Scalar(std::numeric_limits<float>::infinity()));
   LowerGeodesicDistance(mask, {target}, &distance);
   std::vector<std::pair<float, cv::Point>> tips;
