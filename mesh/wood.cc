@@ -35,21 +35,37 @@ TriangleMesh MeshSeparateTwigs(const SkeletonGraph& grown, const TwigSummary& tw
 
 }  // namespace
 
-Wood MeshWood(const SkeletonGraph& skeleton, const DensityGrid& density,
-              const WoodOptions& options) {
+GrownSkeleton GrowWoodSkeleton(const SkeletonGraph& skeleton, const DensityGrid& density,
+                               const WoodOptions& options) {
+  GrownSkeleton grown;
+  if (!options.twigs) {
+    grown.skeleton = skeleton;
+    return grown;
+  }
+  grown.skeleton = GrowTwigs(skeleton, density, options.twig, &grown.twigs);
+  grown.brief = grown.twigs.BriefReport() + " ";
+  return grown;
+}
+
+Wood MeshGrownWood(GrownSkeleton grown, const WoodOptions& options) {
   Wood wood;
   std::ostringstream brief;
-  TwigSummary twigs;
-  wood.skeleton = options.twigs ? GrowTwigs(skeleton, density, options.twig, &twigs) : skeleton;
-  if (options.twigs) brief << twigs.BriefReport() << " ";
-  if (options.twigs && options.twig_mesh.Separate(twigs.twigs)) {
-    wood.twigs = MeshSeparateTwigs(wood.skeleton, twigs, options, &brief);
-    wood.bark = MeshBark(RemoveTwigs(wood.skeleton, twigs), options, &wood.bark_summary, &brief);
+  brief << grown.brief;
+  wood.skeleton = std::move(grown.skeleton);
+  if (options.twigs && options.twig_mesh.Separate(grown.twigs.twigs)) {
+    wood.twigs = MeshSeparateTwigs(wood.skeleton, grown.twigs, options, &brief);
+    wood.bark =
+        MeshBark(RemoveTwigs(wood.skeleton, grown.twigs), options, &wood.bark_summary, &brief);
   } else {
     wood.bark = MeshBark(wood.skeleton, options, &wood.bark_summary, &brief);
   }
   wood.brief = brief.str();
   return wood;
+}
+
+Wood MeshWood(const SkeletonGraph& skeleton, const DensityGrid& density,
+              const WoodOptions& options) {
+  return MeshGrownWood(GrowWoodSkeleton(skeleton, density, options), options);
 }
 
 }  // namespace sylva

@@ -41,9 +41,22 @@ struct Wood {
   std::string brief;  // the twigs' and the bark's summaries
 };
 
-// Grows the twigs (options.twigs; density drives their number, see
-// GrowTwigs) and meshes the bark and, if separate, the twig tubes.
-// Throws InputError for bad options or skeletons.
+// The skeleton the wood is meshed on (and the leaves grow on): the input
+// with its twigs, if options.twigs (density drives their number, see
+// GrowTwigs), and what growing them did.
+struct GrownSkeleton {
+  SkeletonGraph skeleton;
+  TwigSummary twigs;
+  std::string brief;  // the twigs' summary, or empty
+};
+GrownSkeleton GrowWoodSkeleton(const SkeletonGraph& skeleton, const DensityGrid& density,
+                               const WoodOptions& options);
+
+// Meshes the bark of a grown skeleton and, if separate, the twig tubes.
+Wood MeshGrownWood(GrownSkeleton grown, const WoodOptions& options);
+
+// Both steps: grows the twigs and meshes the wood. Throws InputError for
+// bad options or skeletons.
 Wood MeshWood(const SkeletonGraph& skeleton, const DensityGrid& density,
               const WoodOptions& options);
 

@@ -214,14 +214,18 @@ std::vector<double> InitialSolution(const RaySystem& system, const std::vector<f
 void SolveNonNegative(const RaySystem& system, const DensityOptions& options,
                       double absolute_tolerance, const ProgressTask& progress,
                       std::vector<double>* x, DensitySummary* summary) {
-  const SparseRows transposed = system.matrix.Transposed();
   const CglsOptions cgls{options.max_iterations, options.tolerance, absolute_tolerance};
   if (options.solver == "projected") {
     ProgressTask task = progress.SubTask("density: least squares", 0.0, 1.0);
-    summary->solves.push_back(
-        SolveProjectedGradient(system.matrix, transposed, system.rhs, cgls, x, &task));
+    // A warm start (absolute_tolerance > 0) may need no step: the solve then
+    // builds A's transpose only if it takes one.
+    const SparseRows transposed =
+        absolute_tolerance > 0 ? SparseRows() : system.matrix.Transposed();
+    summary->solves.push_back(SolveProjectedGradient(
+        system.matrix, absolute_tolerance > 0 ? nullptr : &transposed, system.rhs, cgls, x, &task));
     return;
   }
+  const SparseRows transposed = system.matrix.Transposed();
   std::vector<char> free(x->size(), 1);
   const int passes = 1 + options.nonnegative_passes;
   for (int pass = 0; pass < passes; ++pass) {

@@ -128,17 +128,40 @@ double DeterministicSum(size_t size, const Body& body) {
 }
 
 // Inverse squared column norms of A (1 for empty columns): the Jacobi
-// preconditioner of A^T A, which equalises voxels crossed by many or few rays.
-std::vector<double> InverseColumnNorms(const SparseRows& transposed) {
-  std::vector<double> metric(transposed.NumRows(), 1.0);
-  for (int64_t j = 0; j < transposed.NumRows(); ++j) {
-    double norm2 = 0.0;
-    for (int64_t k = transposed.row_offsets[j]; k < transposed.row_offsets[j + 1]; ++k) {
-      norm2 += double{transposed.values[k]} * transposed.values[k];
+// preconditioner of A^T A, which equalises voxels crossed by many or few
+// rays. From A's transpose if given, else by one serial pass over A's rows
+// (each column's sum in row order: the same as over the transpose's row).
+std::vector<double> InverseColumnNorms(const SparseRows& a, const SparseRows* transposed) {
+  std::vector<double> norm2(a.num_cols, 0.0);
+  if (transposed != nullptr) {
+    for (int64_t j = 0; j < transposed->NumRows(); ++j) {
+      for (int64_t k = transposed->row_offsets[j]; k < transposed->row_offsets[j + 1]; ++k) {
+        norm2[j] += double{transposed->values[k]} * transposed->values[k];
+      }
     }
-    if (norm2 > 0) metric[j] = 1.0 / norm2;
+  } else {
+    for (int64_t k = 0; k < a.NumNonZeros(); ++k) {
+      norm2[a.cols[k]] += double{a.values[k]} * a.values[k];
+    }
+  }
+  std::vector<double> metric(a.num_cols, 1.0);
+  for (int64_t j = 0; j < a.num_cols; ++j) {
+    if (norm2[j] > 0) metric[j] = 1.0 / norm2[j];
   }
   return metric;
+}
+
+// y = A^T x by one serial scatter over A's rows: each entry sums its terms
+// in row order, as transposed.Multiply does, so the result is the same to
+// the bit; it saves building the transpose where one product is all a
+// solve needs.
+void MultiplyTransposed(const SparseRows& a, const std::vector<double>& x, std::vector<double>* y) {
+  y->assign(a.num_cols, 0.0);
+  for (int64_t row = 0; row < a.NumRows(); ++row) {
+    for (int64_t k = a.row_offsets[row]; k < a.row_offsets[row + 1]; ++k) {
+      (*y)[a.cols[k]] += a.values[k] * x[row];
+    }
+  }
 }
 
 // One fused pass: the projected step d = max(x - alpha m g, 0) - x in the
@@ -169,19 +192,24 @@ constexpr double kMaxStep = 1e10;
 
 }  // namespace
 
-CglsSummary SolveProjectedGradient(const SparseRows& a, const SparseRows& transposed,
+CglsSummary SolveProjectedGradient(const SparseRows& a, const SparseRows* transposed,
                                    const std::vector<double>& b, const CglsOptions& options,
                                    std::vector<double>* x, ProgressTask* progress) {
   SYLVA_CHECK(static_cast<int64_t>(b.size()) == a.NumRows());
   SYLVA_CHECK(static_cast<int64_t>(x->size()) == a.num_cols);
   for (double& value : *x) value = std::max(value, 0.0);
   CglsSummary summary;
-  const std::vector<double> metric = InverseColumnNorms(transposed);
+  const std::vector<double> metric = InverseColumnNorms(a, transposed);
   std::vector<double> r, g, g_next, d(x->size()), ad;
   a.Multiply(*x, &r);
   for (size_t i = 0; i < r.size(); ++i) r[i] -= b[i];  // r = A x - b
   summary.initial_residual_norm = std::sqrt(Dot(r, r));
-  transposed.Multiply(r, &g);
+  SparseRows built;  // the transpose, if not given, once the solve iterates
+  if (transposed != nullptr) {
+    transposed->Multiply(r, &g);
+  } else {
+    MultiplyTransposed(a, r, &g);
+  }
   double alpha = 1.0;  // step length in the metric
   double initial_projected = -1.0, projected = 0.0;
   for (;;) {
@@ -202,7 +230,11 @@ CglsSummary SolveProjectedGradient(const SparseRows& a, const SparseRows& transp
                         }
                       });
     for (size_t i = 0; i < r.size(); ++i) r[i] += lambda * ad[i];
-    transposed.Multiply(r, &g_next);
+    if (transposed == nullptr) {
+      built = a.Transposed();
+      transposed = &built;
+    }
+    transposed->Multiply(r, &g_next);
     // Barzilai-Borwein in the metric: alpha = s.M^-1 s / s.y, s = lambda d,
     // y = g_next - g.
     const double ss = DeterministicSum(d.size(), [&](size_t j) { return d[j] * d[j] / metric[j]; });

@@ -66,7 +66,12 @@ CglsSummary SolveCgls(const SparseRows& a, const SparseRows& transposed,
 // increases. One product with A and one with A^T per iteration, like CGLS.
 // Converged when the projected gradient |P(x - g) - x| falls below
 // tolerance times its initial value, or below options.absolute_tolerance.
-CglsSummary SolveProjectedGradient(const SparseRows& a, const SparseRows& transposed,
+//
+// `transposed` is a.Transposed(), or null: then the solve builds it only if
+// it takes a step (the starting gradient is the same without it, to the
+// bit). A warm start that has already converged (the app's density edits)
+// saves the transpose: 0.05 s and 80 MB of fresh memory on 5 M non-zeros.
+CglsSummary SolveProjectedGradient(const SparseRows& a, const SparseRows* transposed,
                                    const std::vector<double>& b, const CglsOptions& options,
                                    std::vector<double>* x, ProgressTask* progress);
 

@@ -205,7 +205,8 @@ ReferenceResult ReferenceDensity(const Scene& scene, const VoxelBlock& block,
     }
   }
   const CglsOptions solve{options.max_iterations, options.tolerance};
-  SolveProjectedGradient(a, a.Transposed(), b, solve, &x, nullptr);
+  const SparseRows transposed = a.Transposed();
+  SolveProjectedGradient(a, &transposed, b, solve, &x, nullptr);
   ReferenceResult result;
   result.opacity.assign(block.NumVoxels(), 0.0f);
   for (int64_t i = 0; i < block.NumVoxels(); ++i) {

@@ -8,6 +8,9 @@
 // order; each figure labelled measured or prior), and the skeleton for plant
 // modellers: out/tree.lpy and out/tree_turtle.lpy (L-Py axioms, absolute
 // @M/LineTo and relative F/+/ forms) and out/tree.mtg (OpenAlea's MTG).
+#include <tbb/parallel_invoke.h>
+
+#include <chrono>
 #include <sstream>
 
 #include "core/io/image_io.h"
@@ -32,6 +35,58 @@ void AddMeshFigures(const TreeGeometry& geometry, const TreeMetricsReport& metri
   run->AddFigure("height", metrics.height, metrics.units);
   run->AddFigure("crown_width", metrics.crown_width, metrics.units);
   run->AddFigure("tips", metrics.num_tips, "tips");
+}
+
+// Writes the mesh stage's outputs (their paths in `outputs`, in this order)
+// and returns the tree's metrics. Three independent, mostly serial groups
+// run side by side (each file is written by one of them; `steps` gets their
+// times, which overlap): the baked mesh's OBJ; the glTF and the bark's OBJ;
+// the metrics with the skeleton's formats.
+TreeMetricsReport WriteMeshOutputs(const StageContext& context, const SkeletonGraph& skeleton,
+                                   const DensityGrid& density, const TreeGeometry& geometry,
+                                   std::vector<fs::path>* outputs, std::vector<StageStep>* steps) {
+  const std::string units = context.Units();
+  GltfExportOptions gltf;
+  gltf.extras["units"] = units;
+  gltf.extras["branch_radii"] = "allometric prior (pipe model), not a measurement";
+  gltf.instance_leaves = context.options.geometry.instance_leaves;
+  // Positions follow the photos' density; the branching is the particle
+  // flow's (a prior); the radii are allometric (skeleton.radius_source).
+  const SkeletonSources sources = SkeletonSources::Reconstruction();
+  *outputs = {context.Out("tree.glb"),        context.Out("tree.obj"),     context.Out("bark.obj"),
+              context.Out("qsm.csv"),         context.Out("metrics.json"), context.Out("tree.lpy"),
+              context.Out("tree_turtle.lpy"), context.Out("tree.mtg")};
+  const std::vector<fs::path>& out = *outputs;
+  TreeMetricsReport metrics;
+  double seconds[3] = {};
+  const auto timed = [&seconds](int k, const auto& work) {
+    return [&seconds, k, &work] {
+      const auto start = std::chrono::steady_clock::now();
+      work();
+      seconds[k] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    };
+  };
+  const auto baked_obj = [&] { WriteObj(out[1], geometry.Baked()); };
+  const auto glb_and_bark = [&] {
+    WriteGlb(out[0], geometry.Wood(), geometry.leaves, gltf);
+    WriteObj(out[2], geometry.bark);
+  };
+  const auto metrics_and_skeleton = [&] {
+    metrics = ComputeTreeMetrics(skeleton, &density, units, context.options.tree_metrics, sources);
+    QsmModel qsm = QsmFromSkeleton(skeleton, units);
+    qsm.position_source = sources.positions;
+    qsm.branching_source = sources.branching;
+    WriteQsmCsv(out[3], qsm);
+    WriteTreeMetricsJson(out[4], metrics);
+    WriteLpy(out[5], {skeleton}, LpyForm::kAbsolute, units);
+    WriteLpy(out[6], {skeleton}, LpyForm::kTurtle, units);
+    WriteMtg(out[7], {skeleton}, units);
+  };
+  tbb::parallel_invoke(timed(0, baked_obj), timed(1, glb_and_bark), timed(2, metrics_and_skeleton));
+  steps->push_back({"tree_obj", seconds[0], {}});
+  steps->push_back({"glb_and_bark_obj", seconds[1], {}});
+  steps->push_back({"metrics_and_skeleton_formats", seconds[2], {}});
+  return metrics;
 }
 
 }  // namespace
@@ -59,41 +114,13 @@ StageRun RunMeshStage(const StageContext& context) {
                         geometry_options.leaf_image.empty() ? nullptr : &image_leaf);
   clock.Lap("geometry").steps = std::move(geometry.profile);
   run.brief = geometry.brief;
-  const TriangleMesh mesh = geometry.Baked();
-  clock.Lap("bake");
   progress.Update(0.8);
-  GltfExportOptions gltf;
-  gltf.extras["units"] = context.Units();
-  gltf.extras["branch_radii"] = "allometric prior (pipe model), not a measurement";
-  const std::string units = context.Units();
-  // Positions follow the photos' density; the branching is the particle
-  // flow's (a prior); the radii are allometric (skeleton.radius_source).
-  const SkeletonSources sources = SkeletonSources::Reconstruction();
+  std::vector<StageStep> output_steps;
   const TreeMetricsReport metrics =
-      ComputeTreeMetrics(skeleton, &density, units, context.options.tree_metrics, sources);
-  clock.Lap("metrics");
-  gltf.instance_leaves = geometry_options.instance_leaves;
-  run.outputs = {context.Out("tree.glb"),        context.Out("tree.obj"),
-                 context.Out("bark.obj"),        context.Out("qsm.csv"),
-                 context.Out("metrics.json"),    context.Out("tree.lpy"),
-                 context.Out("tree_turtle.lpy"), context.Out("tree.mtg")};
-  WriteGlb(run.outputs[0], geometry.Wood(), geometry.leaves, gltf);
-  clock.Lap("write_glb");
-  WriteObj(run.outputs[1], mesh);
-  clock.Lap("write_obj");
-  WriteObj(run.outputs[2], geometry.bark);
-  clock.Lap("write_bark_obj");
-  QsmModel qsm = QsmFromSkeleton(skeleton, units);
-  qsm.position_source = sources.positions;
-  qsm.branching_source = sources.branching;
-  WriteQsmCsv(run.outputs[3], qsm);
-  WriteTreeMetricsJson(run.outputs[4], metrics);
-  WriteLpy(run.outputs[5], {skeleton}, LpyForm::kAbsolute, units);
-  WriteLpy(run.outputs[6], {skeleton}, LpyForm::kTurtle, units);
-  WriteMtg(run.outputs[7], {skeleton}, units);
-  clock.Lap("write_skeleton_formats");
+      WriteMeshOutputs(context, skeleton, density, geometry, &run.outputs, &output_steps);
+  clock.Lap("outputs").steps = std::move(output_steps);
   std::ostringstream brief;
-  brief << " Metrics (out/metrics.json): height " << metrics.height << " " << units
+  brief << " Metrics (out/metrics.json): height " << metrics.height << " " << metrics.units
         << ", crown base " << metrics.crown_base_height << ", crown width " << metrics.crown_width
         << " (measured), " << metrics.num_tips
         << " tips (prior); cylinders in out/qsm.csv; L-Py and MTG in out/tree.lpy, "

@@ -1,6 +1,9 @@
 #include "ui/pipeline/tree_building.h"
 
+#include <tbb/parallel_invoke.h>
+
 #include <algorithm>
+#include <chrono>
 #include <memory>
 #include <sstream>
 
@@ -142,24 +145,46 @@ TreeGeometry BuildTreeGeometry(const SkeletonGraph& skeleton, const DensityGrid&
                                const PipelineOptions& options, const LeafShape* shape) {
   TreeGeometry geometry;
   StepClock clock(&geometry.profile);
-  Wood wood = MeshWood(skeleton, density, WoodOptionsOf(options));
-  clock.Lap("wood");
-  geometry.bark = std::move(wood.bark);
-  geometry.twigs = std::move(wood.twigs);
-  geometry.bark_summary = wood.bark_summary;
-  std::ostringstream brief;
-  brief << wood.brief;
-  SubdivideBark(options.geometry, &geometry.bark, &brief);
-  if (options.geometry.bark_subdivision > 0) clock.Lap("subdivide");
+  const WoodOptions wood_options = WoodOptionsOf(options);
+  const GrownSkeleton grown = GrowWoodSkeleton(skeleton, density, wood_options);
+  if (wood_options.twigs) clock.Lap("twigs");
+  // The bark and the leaves are independent (each deterministic, the leaves
+  // with their own random stream) and mostly serial: made side by side.
   const LeafOptions leaf_options = LeafOptionsOf(options);
-  if (leaf_options.num_leaves < 0) {  // a leafless plant
+  const bool leafless = leaf_options.num_leaves < 0;
+  LeafSummary leaf_summary;
+  double wood_seconds = 0.0, leaf_seconds = 0.0;
+  const auto seconds_since = [](std::chrono::steady_clock::time_point start) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  };
+  std::ostringstream wood_brief;
+  tbb::parallel_invoke(
+      [&] {
+        const auto start = std::chrono::steady_clock::now();
+        Wood wood = MeshGrownWood(grown, wood_options);  // a copy: the leaves read `grown`
+        geometry.bark = std::move(wood.bark);
+        geometry.twigs = std::move(wood.twigs);
+        geometry.bark_summary = wood.bark_summary;
+        wood_brief << wood.brief;
+        SubdivideBark(options.geometry, &geometry.bark, &wood_brief);
+        wood_seconds = seconds_since(start);
+      },
+      [&] {
+        if (leafless) return;
+        const auto start = std::chrono::steady_clock::now();
+        geometry.leaves = GenerateLeafInstances(grown.skeleton, density, input_views, mattes,
+                                                leaf_options, &leaf_summary, shape);
+        leaf_seconds = seconds_since(start);
+      });
+  StageStep& both = clock.Lap("wood_and_leaves");  // side by side: their times overlap
+  both.Add("wood", wood_seconds);
+  if (!leafless) both.Add("leaves", leaf_seconds);
+  std::ostringstream brief;
+  brief << wood_brief.str();
+  if (leafless) {
     brief << " No leaves (Leaves.num_leaves=-1).";
   } else {
-    LeafSummary leaf_summary;
-    geometry.leaves = GenerateLeafInstances(wood.skeleton, density, input_views, mattes,
-                                            leaf_options, &leaf_summary, shape);
     brief << " " << leaf_summary.BriefReport();
-    clock.Lap("leaves");
   }
   geometry.brief = brief.str();
   return geometry;
