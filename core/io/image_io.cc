@@ -22,6 +22,10 @@ namespace {
 
 using std::string_view_literals::operator""sv;
 
+// The largest image sylva decodes: 2^28 pixels (268 megapixels; 3 GB of
+// floats in RGB), beyond any camera's photo.
+constexpr int64_t kMaxImagePixels = int64_t{1} << 28;
+
 // Two 8-bit levels: tolerance for "R = G = B" in mattes saved as RGB.
 constexpr float kGrayTolerance = 2.0f / 255.0f;
 
@@ -158,6 +162,16 @@ const char* CheckedImageFormat(const fs::path& path) {
 
 bool IsPng(const char* format) { return std::string_view(format) == "png"; }
 
+// An image of more pixels than kMaxImagePixels is refused before its pixels
+// are allocated: a few megabytes of compressed PNG or JPEG can state
+// 30,000 x 30,000 pixels, whose floats (11 GB) took a machine down.
+void CheckDecodable(const ImageHeader& header, const fs::path& path) {
+  SYLVA_CHECK_INPUT(int64_t{header.width} * header.height <= kMaxImagePixels, path.string())
+      << "image of " << header.width << " x " << header.height
+      << " pixels is larger than sylva decodes (" << kMaxImagePixels / 1000000
+      << " megapixels); downscale it";
+}
+
 }  // namespace
 
 ImageHeader ReadImageHeader(const fs::path& path) {
@@ -178,19 +192,28 @@ FloatImage ReadImage(const fs::path& path) {
   const char* format = CheckedImageFormat(path);
   FloatImage image;
   if (IsPng(format)) {
+    CheckDecodable(ReadPngHeader(path), path);
     image = ReadPng(path);
   } else {
+    struct Target {
+      FloatImage* image;
+      bool too_large = false;
+    } target{&image};
     const SylvaOiioAllocate allocate = [](void* context, const SylvaOiioHeader* header) {
-      auto* image = static_cast<FloatImage*>(context);
-      *image = FloatImage(header->width, header->height, header->channels);
-      return image->data();
+      auto* into = static_cast<Target*>(context);
+      if (int64_t{header->width} * header->height > kMaxImagePixels) {
+        into->too_large = true;
+        return static_cast<float*>(nullptr);
+      }
+      *into->image = FloatImage(header->width, header->height, header->channels);
+      return into->image->data();
     };
     SylvaOiioHeader header{};
     char error[512] = {};
-    SYLVA_CHECK_INPUT(OiioPlugin().read(path.c_str(), format, allocate, &image, &header, error,
-                                        sizeof(error)) != 0,
-                      path.string())
-        << error;
+    const bool ok = OiioPlugin().read(path.c_str(), format, allocate, &target, &header, error,
+                                      sizeof(error)) != 0;
+    if (target.too_large) CheckDecodable(HeaderOf(header), path);
+    SYLVA_CHECK_INPUT(ok, path.string()) << error;
   }
   for (float& value : image.values()) {
     SYLVA_CHECK_INPUT(std::isfinite(value), path.string()) << "image contains NaN or infinity";

@@ -27,7 +27,8 @@ struct ImageHeader {
 ImageHeader ReadImageHeader(const std::filesystem::path& path);
 
 // Reads all channels. Throws InputError naming the file if it is missing,
-// unreadable, truncated or contains non-finite values.
+// unreadable, truncated, larger than 2^28 pixels (refused before decoding)
+// or contains non-finite values.
 FloatImage ReadImage(const std::filesystem::path& path);
 
 // Reads a matte as one channel of alpha in [0, 1]:

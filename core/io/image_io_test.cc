@@ -1,6 +1,7 @@
 #include "core/io/image_io.h"
 
 #include <gtest/gtest.h>
+#include <zlib.h>
 
 #include <algorithm>
 #include <cstdio>
@@ -201,6 +202,50 @@ TEST(ImageIoTest, TruncatedJpegIsRefused) {
     FAIL() << "a truncated JPEG was read";
   } catch (const InputError& error) {
     EXPECT_NE(std::string(error.what()).find(path.string()), std::string::npos) << error.what();
+  }
+}
+
+// A small file can state a huge image (a compressed PNG, a JPEG header):
+// above 2^28 pixels it is refused from its header, before any pixel is
+// allocated, through libpng and through OpenImageIO alike. Its header still
+// reads.
+TEST(ImageIoTest, HugeImagesAreRefusedBeforeDecoding) {
+  const auto chunk = [](const std::string& type, const std::string& data) {
+    std::string bytes;
+    for (int shift : {24, 16, 8, 0}) bytes += static_cast<char>((data.size() >> shift) & 0xff);
+    const std::string body = type + data;
+    const uLong crc =
+        crc32(0, reinterpret_cast<const Bytef*>(body.data()), static_cast<uInt>(body.size()));
+    bytes += body;
+    for (int shift : {24, 16, 8, 0}) bytes += static_cast<char>((crc >> shift) & 0xff);
+    return bytes;
+  };
+  // 20,000 x 20,000 RGB, 8 bits: 400 megapixels in 70 bytes.
+  const std::string ihdr("\x00\x00\x4e\x20\x00\x00\x4e\x20\x08\x02\x00\x00\x00", 13);
+  const fs::path png = TestDir() / "huge.png";
+  AtomicWriteString(png, "\x89PNG\r\n\x1a\n" + chunk("IHDR", ihdr) +
+                             chunk("IDAT", std::string("\x78\x01", 2)) + chunk("IEND", ""));
+  // The seed JPEG (12 x 9) with its frame header saying 20,000 x 20,000.
+  std::string jpeg = ReadFileToString(fs::path(SYLVA_SOURCE_DIR) / "fuzz/seeds/photo.jpg");
+  const size_t sof = jpeg.find("\xff\xc0");
+  ASSERT_NE(sof, std::string::npos);
+  jpeg.replace(sof + 5, 4, std::string("\x4e\x20\x4e\x20", 4));
+  const fs::path huge_jpeg = TestDir() / "huge.jpg";
+  AtomicWriteString(huge_jpeg, jpeg);
+  for (const fs::path& path : {png, huge_jpeg}) {
+    SCOPED_TRACE(path.string());
+    const ImageHeader header = ReadImageHeader(path);
+    EXPECT_EQ(header.width, 20000);
+    EXPECT_EQ(header.height, 20000);
+    try {
+      ReadImage(path);
+      FAIL() << "a 400-megapixel image was decoded";
+    } catch (const InputError& error) {
+      EXPECT_EQ(error.source(), path.string());
+      EXPECT_NE(std::string(error.what()).find("20000 x 20000 pixels is larger than sylva decodes"),
+                std::string::npos)
+          << error.what();
+    }
   }
 }
 
