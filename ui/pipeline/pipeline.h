@@ -83,7 +83,9 @@ class Pipeline {
   }
 
  private:
-  StageRun Execute(Stage stage, bool cold = false);
+  // `report_projections`: for the report stage (StageContext).
+  StageRun Execute(Stage stage, bool cold = false,
+                   const ReportProjections* report_projections = nullptr);
   // Reads the held-out views' mattes (only the report reads them) so a bad
   // one fails the run before any stage writes.
   void CheckHeldOutMattes() const;

@@ -97,7 +97,24 @@ void WriteProjections(const fs::path& path, const std::string& key,
   AtomicWriteString(path, bytes);
 }
 
+std::vector<bool> HeldOutViews(const StageContext& context, const ImageSet& image_set) {
+  std::vector<bool> held_out;
+  for (const View& view : image_set.views) held_out.push_back(context.project.IsHeldOut(view.name));
+  return held_out;
+}
+
 }  // namespace
+
+ReportProjections MakeReportProjections(const StageContext& context) {
+  const DensityGrid grid = ReadDensityGrid(context.RequireOutput("density.vdb", "density"));
+  const ImageSet image_set = context.project.LoadCameras();
+  const std::vector<FloatImage> mattes = context.LoadMattes(image_set, "report: reading mattes");
+  ReportProjections made;
+  made.key = ProjectionsKey(context, image_set);
+  ComputeFidelity(grid, image_set, mattes, HeldOutViews(context, image_set), context.options.report,
+                  &made.images);
+  return made;
+}
 
 StageRun RunReportStage(const StageContext& context) {
   StageRun run;
@@ -105,17 +122,28 @@ StageRun RunReportStage(const StageContext& context) {
   const DensityGrid grid = ReadDensityGrid(context.RequireOutput("density.vdb", "density"));
   const ImageSet image_set = context.project.LoadCameras();
   const std::vector<FloatImage> mattes = context.LoadMattes(image_set, "report: reading mattes");
-  std::vector<bool> held_out;
-  for (const View& view : image_set.views) held_out.push_back(context.project.IsHeldOut(view.name));
+  const std::vector<bool> held_out = HeldOutViews(context, image_set);
   clock.Lap("read");
+  // The projections made in this run beside the stages before (the same
+  // ones this stage would make), else those of an earlier run with the
+  // same density (cache/report_projections.bin), else made here.
   const std::string projections_key = ProjectionsKey(context, image_set);
+  const int num_views = image_set.NumViews();
   std::vector<FloatImage> projections;
-  if (!context.cold) projections = ReadProjections(ProjectionsPath(context), projections_key);
-  const bool reused = static_cast<int>(projections.size()) == image_set.NumViews();
+  const ReportProjections* made = context.report_projections;
+  const bool made_before = made != nullptr && made->key == projections_key &&
+                           static_cast<int>(made->images.size()) == num_views;
+  if (made_before) {
+    projections = made->images;
+  } else if (!context.cold) {
+    projections = ReadProjections(ProjectionsPath(context), projections_key);
+  }
+  const bool reused = !made_before && static_cast<int>(projections.size()) == num_views;
   FidelityReport report =
       ComputeFidelity(grid, image_set, mattes, held_out, context.options.report, &projections);
   if (!reused) WriteProjections(ProjectionsPath(context), projections_key, projections);
-  run.AddFigure("reused_projections", reused ? image_set.NumViews() : 0, "views");
+  run.AddFigure("reused_projections", reused ? num_views : 0, "views");
+  run.AddFigure("projections_made_before", made_before ? num_views : 0, "views");
   MarkPriorViews(context.project.prior_views(), &report);
   clock.Lap("density_fidelity");
   report.units = context.Units();

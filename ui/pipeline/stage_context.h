@@ -91,6 +91,13 @@ struct StageRun {
 // significant digits); "" without figures.
 std::string FiguresText(const std::vector<StageFigure>& figures);
 
+// The density's projection into every view, as the report stage makes it,
+// under the key the report stage files it by (report_stage.cc).
+struct ReportProjections {
+  std::string key;
+  std::vector<FloatImage> images;
+};
+
 struct StageContext {
   const Project& project;
   const PipelineOptions& options;
@@ -100,6 +107,10 @@ struct StageContext {
   // graphs of unchanged views), so the outputs depend only on the inputs.
   // Set for forced runs (`sylva run --force`).
   bool cold = false;
+  // The report stage's density projections, made in this run while the
+  // stages between the density and the report ran (Pipeline::Run), or null.
+  // The report stage takes them when their key is its own.
+  const ReportProjections* report_projections = nullptr;
 
   std::filesystem::path Out(const std::string& name) const { return project.OutDir() / name; }
   // An earlier stage's output; InputError naming it if it does not exist.
@@ -130,6 +141,10 @@ StageRun RunAttractStage(const StageContext& context);
 StageRun RunSkeletonStage(const StageContext& context);
 StageRun RunMeshStage(const StageContext& context);
 StageRun RunReportStage(const StageContext& context);
+// The report stage's density projections for the density.vdb that is there
+// now (needs no output of the stages after the density). Throws what the
+// report stage would throw.
+ReportProjections MakeReportProjections(const StageContext& context);
 
 // The attractor graphs the attract stage wrote, one per view of `views`
 // (empty where a view has none), from out/attractors/attractors.json.

@@ -138,7 +138,9 @@ TEST(StageProfileTest, TextListsStepsWithTheirSubSteps) {
 // The report keeps the density's projections (cache/report_projections.bin):
 // a run in which only the mesh changed reuses them and reports the same
 // density figures; a forced run, a new density or a damaged file projects
-// again.
+// again. A run in which the density and the report both run makes them
+// beside the stages in between (projections_made_before), with the same
+// figures as the report makes them alone.
 TEST_F(StageSummaryTest, TheReportReusesTheDensityProjectionsWhileTheDensityHolds) {
   PipelineOptions options;
   options.density.resolution = 24;
@@ -148,16 +150,29 @@ TEST_F(StageSummaryTest, TheReportReusesTheDensityProjectionsWhileTheDensityHold
   const StageRun first = report(options, false);
   ASSERT_EQ(first.stage, Stage::kReport);
   EXPECT_EQ(first.Figure("reused_projections"), 0.0);
+  EXPECT_EQ(first.Figure("projections_made_before"), 4.0);
   PipelineOptions other_mesh = options;
   other_mesh.leaves.leaf_aspect = 0.5;
   const StageRun second = report(other_mesh, false);
   EXPECT_EQ(second.Figure("reused_projections"), 4.0);
+  EXPECT_EQ(second.Figure("projections_made_before"), 0.0);
   for (const char* figure : {"input_mean_iou", "held_out_mean_iou"}) {
     ASSERT_TRUE(first.Figure(figure)) << figure;
     EXPECT_EQ(second.Figure(figure), first.Figure(figure)) << figure;
   }
   EXPECT_NE(second.Figure("mesh_input_mean_iou"), std::nullopt);
-  EXPECT_EQ(report(options, true).Figure("reused_projections"), 0.0);  // forced: cold
+  const StageRun forced = report(options, true);  // cold: nothing of an earlier run
+  EXPECT_EQ(forced.Figure("reused_projections"), 0.0);
+  EXPECT_EQ(forced.Figure("projections_made_before"), 4.0);
+  // The report stage alone (nothing runs before it, no cache) projects itself.
+  fs::remove(project_->CacheDir() / "report_projections.bin");
+  const StageRun alone = Pipeline(*project_, options, nullptr).RunStage(Stage::kReport);
+  EXPECT_EQ(alone.Figure("projections_made_before"), 0.0);
+  EXPECT_EQ(alone.Figure("reused_projections"), 0.0);
+  for (const char* figure : {"input_mean_iou", "held_out_mean_iou"}) {
+    EXPECT_EQ(forced.Figure(figure), first.Figure(figure)) << figure;
+    EXPECT_EQ(alone.Figure(figure), first.Figure(figure)) << figure;
+  }
   const fs::path cache = project_->CacheDir() / "report_projections.bin";
   ASSERT_TRUE(fs::is_regular_file(cache));
   const auto size = fs::file_size(cache);
@@ -171,6 +186,7 @@ TEST_F(StageSummaryTest, TheReportReusesTheDensityProjectionsWhileTheDensityHold
   const StageRun new_density = report(other_density, false);
   ASSERT_EQ(new_density.stage, Stage::kReport) << new_density.brief;
   EXPECT_EQ(new_density.Figure("reused_projections"), 0.0);
+  EXPECT_EQ(new_density.Figure("projections_made_before"), 4.0);
 }
 
 }  // namespace
