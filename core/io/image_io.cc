@@ -192,8 +192,9 @@ FloatImage ReadImage(const fs::path& path) {
   const char* format = CheckedImageFormat(path);
   FloatImage image;
   if (IsPng(format)) {
-    CheckDecodable(ReadPngHeader(path), path);
-    image = ReadPng(path);
+    ImageHeader header;
+    image = ReadPng(path, kMaxImagePixels, &header);
+    CheckDecodable(header, path);
   } else {
     struct Target {
       FloatImage* image;

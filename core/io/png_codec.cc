@@ -17,10 +17,6 @@
 namespace sylva {
 namespace {
 
-// Larger sides are refused before any pixel is allocated (libpng's own
-// default limit is 10^6).
-constexpr png_uint_32 kMaxSide = 1u << 16;
-
 // libpng reports an error by calling this and never returning: the message
 // is kept and control goes back to the setjmp of the call that failed.
 // Warnings (an sRGB profile libpng knows to be wrong, a damaged ancillary
@@ -64,11 +60,12 @@ struct Samples {
   std::vector<png_bytep> rows;
 };
 
-// Decodes `file` into `samples` (the header only if `header_only`). Returns
-// false with libpng's message in `sink` if libpng refuses it. No object
-// with a destructor is created between setjmp and the calls that may jump
-// back to it; `samples` is the caller's.
-bool Decode(std::FILE* file, bool header_only, Samples* samples, ErrorSink* sink) {
+// Decodes `file` into `samples`: the header, and the samples if the image
+// has at most `max_pixels` pixels. Returns false with libpng's message in
+// `sink` if libpng refuses it. No object with a destructor is created
+// between setjmp and the calls that may jump back to it; `samples` is the
+// caller's.
+bool Decode(std::FILE* file, uint64_t max_pixels, Samples* samples, ErrorSink* sink) {
   png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, sink, OnError, OnWarning);
   if (png == nullptr) return false;
   png_infop info = png_create_info_struct(png);
@@ -77,7 +74,6 @@ bool Decode(std::FILE* file, bool header_only, Samples* samples, ErrorSink* sink
     return false;
   }
   png_init_io(png, file);
-  png_set_user_limits(png, kMaxSide, kMaxSide);
   png_read_info(png, info);
   png_set_expand(png);  // palette -> RGB, grey below 8 bits -> 8, tRNS -> alpha
   if (png_get_bit_depth(png, info) == 16) png_set_swap(png);  // little-endian hosts
@@ -87,7 +83,7 @@ bool Decode(std::FILE* file, bool header_only, Samples* samples, ErrorSink* sink
   samples->height = png_get_image_height(png, info);
   samples->channels = png_get_channels(png, info);
   samples->bit_depth = png_get_bit_depth(png, info);
-  if (!header_only) {
+  if (uint64_t{samples->width} * samples->height <= max_pixels) {
     const size_t row_bytes = png_get_rowbytes(png, info);
     samples->bytes.resize(row_bytes * samples->height);
     samples->rows.resize(samples->height);
@@ -101,15 +97,15 @@ bool Decode(std::FILE* file, bool header_only, Samples* samples, ErrorSink* sink
   return true;
 }
 
-Samples ReadSamples(const std::filesystem::path& path, bool header_only) {
+Samples ReadSamples(const std::filesystem::path& path, uint64_t max_pixels) {
   const File file(path, "rb");
   SYLVA_CHECK_INPUT(file.file != nullptr, path.string())
       << "cannot open image file: " << std::strerror(errno);
   Samples samples;
   ErrorSink sink;
-  const bool ok = Decode(file.file, header_only, &samples, &sink);
+  const bool ok = Decode(file.file, max_pixels, &samples, &sink);
   SYLVA_CHECK_INPUT(ok, path.string())
-      << "cannot " << (header_only ? "read" : "decode")
+      << "cannot " << (max_pixels == 0 ? "read" : "decode")
       << " image: " << (sink.message[0] != 0 ? sink.message : "libpng failed");
   SYLVA_CHECK_INPUT(samples.width > 0 && samples.height > 0 && samples.channels > 0, path.string())
       << "image has no pixels";
@@ -160,13 +156,15 @@ bool Encode(std::FILE* file, const Samples& samples, ErrorSink* sink) {
 }  // namespace
 
 ImageHeader ReadPngHeader(const std::filesystem::path& path) {
-  return HeaderOf(ReadSamples(path, true));
+  return HeaderOf(ReadSamples(path, 0));
 }
 
-FloatImage ReadPng(const std::filesystem::path& path) {
-  const Samples samples = ReadSamples(path, false);
-  const ImageHeader header = HeaderOf(samples);
-  FloatImage image(header.width, header.height, header.channels);
+FloatImage ReadPng(const std::filesystem::path& path, int64_t max_pixels, ImageHeader* header) {
+  const Samples samples =
+      ReadSamples(path, static_cast<uint64_t>(std::max<int64_t>(max_pixels, 0)));
+  *header = HeaderOf(samples);
+  if (samples.bytes.empty()) return FloatImage();  // more than max_pixels
+  FloatImage image(header->width, header->height, header->channels);
   float* out = image.data();
   const size_t count = image.values().size();
   if (samples.bit_depth == 16) {

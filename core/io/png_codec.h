@@ -17,6 +17,7 @@
 #ifndef SYLVA_CORE_IO_PNG_CODEC_H_
 #define SYLVA_CORE_IO_PNG_CODEC_H_
 
+#include <cstdint>
 #include <filesystem>
 
 #include "core/io/image_io.h"
@@ -28,8 +29,10 @@ namespace sylva {
 // InputError naming the file if libpng refuses it.
 ImageHeader ReadPngHeader(const std::filesystem::path& path);
 
-// All channels, converted to float. Throws InputError naming the file.
-FloatImage ReadPng(const std::filesystem::path& path);
+// All channels, converted to float, and the header in *header; an image of
+// more than `max_pixels` pixels is not decoded (an empty image is returned).
+// Throws InputError naming the file.
+FloatImage ReadPng(const std::filesystem::path& path, int64_t max_pixels, ImageHeader* header);
 
 // Writes `image` (1 to 4 channels) with 8 or 16 bits per sample to `path`
 // (not atomically: the caller writes a temporary file), with zlib's fastest

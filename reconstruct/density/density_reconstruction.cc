@@ -219,10 +219,10 @@ void SolveNonNegative(const RaySystem& system, const DensityOptions& options,
     ProgressTask task = progress.SubTask("density: least squares", 0.0, 1.0);
     // A warm start (absolute_tolerance > 0) may need no step: the solve then
     // builds A's transpose only if it takes one.
-    const SparseRows transposed =
-        absolute_tolerance > 0 ? SparseRows() : system.matrix.Transposed();
-    summary->solves.push_back(SolveProjectedGradient(
-        system.matrix, absolute_tolerance > 0 ? nullptr : &transposed, system.rhs, cgls, x, &task));
+    const bool warm = absolute_tolerance > 0;
+    const SparseRows transposed = warm ? SparseRows() : system.matrix.Transposed();
+    summary->solves.push_back(SolveProjectedGradient(system.matrix, warm ? nullptr : &transposed,
+                                                     system.rhs, cgls, x, &task));
     return;
   }
   const SparseRows transposed = system.matrix.Transposed();

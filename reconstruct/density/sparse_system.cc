@@ -129,20 +129,12 @@ double DeterministicSum(size_t size, const Body& body) {
 
 // Inverse squared column norms of A (1 for empty columns): the Jacobi
 // preconditioner of A^T A, which equalises voxels crossed by many or few
-// rays. From A's transpose if given, else by one serial pass over A's rows
-// (each column's sum in row order: the same as over the transpose's row).
-std::vector<double> InverseColumnNorms(const SparseRows& a, const SparseRows* transposed) {
+// rays. One serial pass over A's rows: each column's sum in row order, as
+// over the transpose's row, so it needs no transpose.
+std::vector<double> InverseColumnNorms(const SparseRows& a) {
   std::vector<double> norm2(a.num_cols, 0.0);
-  if (transposed != nullptr) {
-    for (int64_t j = 0; j < transposed->NumRows(); ++j) {
-      for (int64_t k = transposed->row_offsets[j]; k < transposed->row_offsets[j + 1]; ++k) {
-        norm2[j] += double{transposed->values[k]} * transposed->values[k];
-      }
-    }
-  } else {
-    for (int64_t k = 0; k < a.NumNonZeros(); ++k) {
-      norm2[a.cols[k]] += double{a.values[k]} * a.values[k];
-    }
+  for (int64_t k = 0; k < a.NumNonZeros(); ++k) {
+    norm2[a.cols[k]] += double{a.values[k]} * a.values[k];
   }
   std::vector<double> metric(a.num_cols, 1.0);
   for (int64_t j = 0; j < a.num_cols; ++j) {
@@ -199,7 +191,7 @@ CglsSummary SolveProjectedGradient(const SparseRows& a, const SparseRows* transp
   SYLVA_CHECK(static_cast<int64_t>(x->size()) == a.num_cols);
   for (double& value : *x) value = std::max(value, 0.0);
   CglsSummary summary;
-  const std::vector<double> metric = InverseColumnNorms(a, transposed);
+  const std::vector<double> metric = InverseColumnNorms(a);
   std::vector<double> r, g, g_next, d(x->size()), ad;
   a.Multiply(*x, &r);
   for (size_t i = 0; i < r.size(); ++i) r[i] -= b[i];  // r = A x - b

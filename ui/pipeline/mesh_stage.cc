@@ -10,7 +10,6 @@
 // @M/LineTo and relative F/+/ forms) and out/tree.mtg (OpenAlea's MTG).
 #include <tbb/parallel_invoke.h>
 
-#include <chrono>
 #include <sstream>
 
 #include "core/io/image_io.h"
@@ -60,11 +59,7 @@ TreeMetricsReport WriteMeshOutputs(const StageContext& context, const SkeletonGr
   TreeMetricsReport metrics;
   double seconds[3] = {};
   const auto timed = [&seconds](int k, const auto& work) {
-    return [&seconds, k, &work] {
-      const auto start = std::chrono::steady_clock::now();
-      work();
-      seconds[k] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    };
+    return [&seconds, k, &work] { seconds[k] = TimeOf(work); };
   };
   const auto baked_obj = [&] { WriteObj(out[1], geometry.Baked()); };
   const auto glb_and_bark = [&] {

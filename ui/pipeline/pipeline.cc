@@ -17,8 +17,9 @@ namespace {
 
 // The report's density projections depend on the density alone, so they
 // are made on a thread of their own while the stages between the density
-// and the report run (those keep about 1.3 of 2 cores busy): 0.1 s off a
-// run after a density edit on the demo. Any error is left to the report
+// and the report run (those keep about 1.3 of 2 cores busy): on the demo,
+// the report's 0.14 s of projections overlap them, which run 0.02-0.05 s
+// slower for it. Any error is left to the report
 // stage, which then makes them itself. The thread is joined by Wait, or on
 // destruction when another stage's error leaves Run first.
 class ProjectionsBeside {
@@ -152,10 +153,6 @@ const StageDefinition& Definition(Stage stage) {
   }
   SYLVA_CHECK(false) << "unknown stage";
   return Definitions().front();
-}
-
-double SecondsSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
 // [{"name", "seconds", "steps": [...]}, ...] (steps only where there are some).

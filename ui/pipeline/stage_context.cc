@@ -59,6 +59,10 @@ std::string ProfileText(const std::vector<StageStep>& steps) {
   return text.str();
 }
 
+double SecondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
 StepClock::StepClock(std::vector<StageStep>* steps)
     : steps_(steps), start_(std::chrono::steady_clock::now()) {}
 

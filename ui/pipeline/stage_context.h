@@ -54,6 +54,18 @@ std::string ProfileText(const std::vector<StageStep>& steps);
 // Times the consecutive steps of a stage: each Lap() ends the step that
 // began at the previous Lap() (or at construction) and appends it to
 // `steps`. Not thread-safe; one per stage run.
+// Wall seconds since `start`.
+double SecondsSince(std::chrono::steady_clock::time_point start);
+
+// Runs `work` and returns its wall time in seconds (for steps that run side
+// by side, whose times StepClock's laps cannot tell apart).
+template <typename Work>
+double TimeOf(Work&& work) {
+  const auto start = std::chrono::steady_clock::now();
+  work();
+  return SecondsSince(start);
+}
+
 class StepClock {
  public:
   explicit StepClock(std::vector<StageStep>* steps);

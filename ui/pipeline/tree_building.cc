@@ -3,7 +3,6 @@
 #include <tbb/parallel_invoke.h>
 
 #include <algorithm>
-#include <chrono>
 #include <memory>
 #include <sstream>
 
@@ -154,27 +153,24 @@ TreeGeometry BuildTreeGeometry(const SkeletonGraph& skeleton, const DensityGrid&
   const bool leafless = leaf_options.num_leaves < 0;
   LeafSummary leaf_summary;
   double wood_seconds = 0.0, leaf_seconds = 0.0;
-  const auto seconds_since = [](std::chrono::steady_clock::time_point start) {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  };
   std::ostringstream wood_brief;
   tbb::parallel_invoke(
       [&] {
-        const auto start = std::chrono::steady_clock::now();
-        Wood wood = MeshGrownWood(grown, wood_options);  // a copy: the leaves read `grown`
-        geometry.bark = std::move(wood.bark);
-        geometry.twigs = std::move(wood.twigs);
-        geometry.bark_summary = wood.bark_summary;
-        wood_brief << wood.brief;
-        SubdivideBark(options.geometry, &geometry.bark, &wood_brief);
-        wood_seconds = seconds_since(start);
+        wood_seconds = TimeOf([&] {
+          Wood wood = MeshGrownWood(grown, wood_options);  // a copy: the leaves read `grown`
+          geometry.bark = std::move(wood.bark);
+          geometry.twigs = std::move(wood.twigs);
+          geometry.bark_summary = wood.bark_summary;
+          wood_brief << wood.brief;
+          SubdivideBark(options.geometry, &geometry.bark, &wood_brief);
+        });
       },
       [&] {
         if (leafless) return;
-        const auto start = std::chrono::steady_clock::now();
-        geometry.leaves = GenerateLeafInstances(grown.skeleton, density, input_views, mattes,
-                                                leaf_options, &leaf_summary, shape);
-        leaf_seconds = seconds_since(start);
+        leaf_seconds = TimeOf([&] {
+          geometry.leaves = GenerateLeafInstances(grown.skeleton, density, input_views, mattes,
+                                                  leaf_options, &leaf_summary, shape);
+        });
       });
   StageStep& both = clock.Lap("wood_and_leaves");  // side by side: their times overlap
   both.Add("wood", wood_seconds);
