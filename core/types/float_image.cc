@@ -92,6 +92,10 @@ double SummedAreaTable::BoxMean(double x0, double y0, double x1, double y1) cons
   j0 = std::clamp(j0, 0, height_ - 1);
   i1 = std::clamp(i1, i0 + 1, width_);
   j1 = std::clamp(j1, j0 + 1, height_);
+  // Exactly 0 over zero pixels: the table's differences leave rounding dust
+  // there, and a dust of -1e-15 read as "outside the image" made a view that
+  // sees a voxel empty skip it in carving.
+  if (AllZero(i0, j0, i1, j1)) return 0.0;
   return Sum(i0, j0, i1, j1) / (static_cast<double>(i1 - i0) * (j1 - j0));
 }
 

@@ -55,8 +55,9 @@ class SummedAreaTable {
  public:
   explicit SummedAreaTable(const FloatImage& image);
   // Mean over the pixels whose centres lie in [x0, x1) x [y0, y1) (pixel
-  // coordinates, COLMAP convention), clipped to the image. Returns -1 if the
-  // rectangle lies entirely outside the image.
+  // coordinates, COLMAP convention), clipped to the image; exactly 0 where
+  // every pixel is 0. Returns -1 if the rectangle lies entirely outside the
+  // image.
   double BoxMean(double x0, double y0, double x1, double y1) const;
   // True if every pixel of [x0, x1) x [y0, y1) (pixel indices, inside the
   // image) is exactly 0; counted in integers, so exact.

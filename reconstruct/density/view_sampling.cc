@@ -62,12 +62,14 @@ struct CornerLayer {
   std::vector<char> valid;
 };
 
+// Rows [row_begin, row_end) of the layer are projected; the others are left
+// as they were.
 void ProjectCornerLayer(const ViewProjector& projector, const VoxelBlock& block, int z,
-                        CornerLayer* layer) {
+                        int row_begin, int row_end, CornerLayer* layer) {
   const int nx = block.dims.x() + 1, ny = block.dims.y() + 1;
   layer->pixels.resize(static_cast<size_t>(nx) * ny);
   layer->valid.resize(layer->pixels.size());
-  for (int y = 0; y < ny; ++y) {
+  for (int y = row_begin; y < row_end; ++y) {
     for (int x = 0; x < nx; ++x) {
       const Eigen::Vector3d corner =
           block.lower_corner + block.voxel_size * Eigen::Vector3d(x, y, z);
@@ -114,22 +116,41 @@ std::vector<SummedAreaTable> MakeSummedAreaTables(const std::vector<FloatImage>&
 
 namespace {
 
-// Columns of kBlockSide x kBlockSide voxels (through a task's z slices)
-// whose footprints in a view cover only zero pixels: the bounding rectangle
-// of every corner the column's voxels project (a superset of each voxel's
+// Bricks of kBlockSide x kBlockSide voxels across (through a task's z
+// slices) whose footprints in a view cover only zero pixels: the bounding
+// rectangle of the brick's projected corners (a superset of each voxel's
 // footprint), widened to the pixels BoxMean could sample (it samples at
 // least one pixel), lies inside the image and holds no non-zero pixel. Each
-// voxel of such a column has a footprint mean of exactly 0 there, found
-// with one look-up instead of one per voxel.
+// voxel of such a brick has a footprint mean of exactly 0 there, found
+// without a look-up per voxel.
 constexpr int kBlockSide = 4;
 
-void MarkZeroColumns(const std::vector<CornerLayer>& layers, const VoxelBlock& block,
-                     const SummedAreaTable& table, std::vector<char>* zero) {
+// The test above on a rectangle [x0, x1] x [y0, y1] (pixel coordinates).
+bool ZeroRect(float x0, float y0, float x1, float y1, const SummedAreaTable& table) {
+  // BoxMean samples pixels [ceil(x0 - 0.5), max(ceil(x1 - 0.5), that + 1)):
+  // within [i0, i1 + 1) below. i0 >= 1 keeps every voxel's box from
+  // reading as outside the image (BoxMean's -1) at the left and top.
+  // (In double, as BoxMean rounds; clamped before the conversion, as a
+  // corner just in front of a pinhole projects arbitrarily far out.)
+  const auto pixel_of = [](float coordinate) {
+    return static_cast<int>(std::clamp(std::ceil(double{coordinate} - 0.5), -1e9, 1e9));
+  };
+  const int i0 = pixel_of(x0), i1 = pixel_of(x1), j0 = pixel_of(y0), j1 = pixel_of(y1);
+  if (i0 < 1 || j0 < 1 || i1 + 1 > table.width() || j1 + 1 > table.height()) return false;
+  return table.AllZero(i0, j0, i1 + 1, j1 + 1);
+}
+
+// The test from every projected corner of the voxels of the bricks marked in
+// `wanted` (any camera).
+void MarkZeroBricks(const std::vector<CornerLayer>& layers, const VoxelBlock& block,
+                    const SummedAreaTable& table, const std::vector<char>& wanted,
+                    std::vector<char>* zero) {
   const int nx = block.dims.x(), ny = block.dims.y();
   const int bx = (nx + kBlockSide - 1) / kBlockSide, by = (ny + kBlockSide - 1) / kBlockSide;
   zero->assign(static_cast<size_t>(bx) * by, 0);
   for (int cy = 0; cy < by; ++cy) {
     for (int cx = 0; cx < bx; ++cx) {
+      if (!wanted[static_cast<size_t>(cy) * bx + cx]) continue;
       float x0 = std::numeric_limits<float>::max(), y0 = x0;
       float x1 = std::numeric_limits<float>::lowest(), y1 = x1;
       bool valid = true;
@@ -149,27 +170,74 @@ void MarkZeroColumns(const std::vector<CornerLayer>& layers, const VoxelBlock& b
           }
         }
       }
-      if (!valid) continue;
-      // BoxMean samples pixels [ceil(x0 - 0.5), max(ceil(x1 - 0.5), that + 1)):
-      // within [i0, i1 + 1) below. i0 >= 1 keeps every voxel's box from
-      // reading as outside the image (BoxMean's -1) at the left and top.
-      // (In double, as BoxMean rounds; clamped before the conversion, as a
-      // corner just in front of a pinhole projects arbitrarily far out.)
-      const auto pixel_of = [](float coordinate) {
-        return static_cast<int>(std::clamp(std::ceil(double{coordinate} - 0.5), -1e9, 1e9));
+      if (valid) (*zero)[static_cast<size_t>(cy) * bx + cx] = ZeroRect(x0, y0, x1, y1, table);
+    }
+  }
+}
+
+// The same test from the 8 corners of each brick alone, for a camera whose
+// image of a box lies in its corners' rectangle: 1/16 of the projections
+// per layer, and 2 layers instead of the slices' 5. A voxel corner inside
+// the brick may round to a float a step outside that rectangle, so it is
+// widened by a few float steps (never claims a brick MarkZeroBricks would
+// not, up to that rounding).
+void MarkZeroBricksFromCorners(const ViewProjector& projector, const VoxelBlock& block, int z_begin,
+                               int z_end, const SummedAreaTable& table, std::vector<char>* zero) {
+  const int nx = block.dims.x(), ny = block.dims.y();
+  const int bx = (nx + kBlockSide - 1) / kBlockSide, by = (ny + kBlockSide - 1) / kBlockSide;
+  // Brick corners: (bx + 1) x (by + 1) per layer, at z_begin and z_end.
+  std::vector<Eigen::Vector2f> pixels(2 * static_cast<size_t>(bx + 1) * (by + 1));
+  std::vector<char> valid(pixels.size());
+  size_t n = 0;
+  for (int z : {z_begin, z_end}) {
+    for (int cy = 0; cy <= by; ++cy) {
+      for (int cx = 0; cx <= bx; ++cx, ++n) {
+        const Eigen::Vector3d corner =
+            block.lower_corner + block.voxel_size * Eigen::Vector3d(std::min(nx, cx * kBlockSide),
+                                                                    std::min(ny, cy * kBlockSide),
+                                                                    z);
+        Eigen::Vector2d pixel = Eigen::Vector2d::Zero();
+        valid[n] = projector.Project(corner, &pixel);
+        pixels[n] = pixel.cast<float>();
+      }
+    }
+  }
+  zero->assign(static_cast<size_t>(bx) * by, 0);
+  const size_t layer = static_cast<size_t>(bx + 1) * (by + 1);
+  for (int cy = 0; cy < by; ++cy) {
+    for (int cx = 0; cx < bx; ++cx) {
+      float x0 = std::numeric_limits<float>::max(), y0 = x0;
+      float x1 = std::numeric_limits<float>::lowest(), y1 = x1;
+      bool all_valid = true;
+      for (size_t corner = 0; corner < 8; ++corner) {
+        const size_t i =
+            (corner >> 2) * layer + (cy + ((corner >> 1) & 1)) * size_t(bx + 1) + cx + (corner & 1);
+        all_valid = all_valid && valid[i];
+        x0 = std::min(x0, pixels[i].x());
+        x1 = std::max(x1, pixels[i].x());
+        y0 = std::min(y0, pixels[i].y());
+        y1 = std::max(y1, pixels[i].y());
+      }
+      if (!all_valid) continue;
+      const auto widen = [](float value, float direction) {
+        return value + direction * (4 * std::numeric_limits<float>::epsilon() *
+                                    std::max(1.0f, std::abs(value)));
       };
-      const int i0 = pixel_of(x0), i1 = pixel_of(x1), j0 = pixel_of(y0), j1 = pixel_of(y1);
-      if (i0 < 1 || j0 < 1 || i1 + 1 > table.width() || j1 + 1 > table.height()) continue;
-      (*zero)[static_cast<size_t>(cy) * bx + cx] = table.AllZero(i0, j0, i1 + 1, j1 + 1);
+      (*zero)[static_cast<size_t>(cy) * bx + cx] =
+          ZeroRect(widen(x0, -1), widen(y0, -1), widen(x1, 1), widen(y1, 1), table);
     }
   }
 }
 
 // Calls visit(view, linear voxel index, footprint mean) for every voxel of
 // `block` and every view of `views` that sees it (the voxel in front of the
-// camera and its footprint at least partly inside the image). All calls for
-// one voxel come from one thread, so `visit` may update per-voxel state
-// without locks; calls for different voxels run in parallel.
+// camera and its footprint at least partly inside the image), except where
+// a voxel's result is already settled: a visitor whose result is final once
+// `visit.settling_zeros` views gave a mean of 0 (the minimum: 1) hears of
+// no other view of the bricks that so many views see empty. All calls for
+// one voxel come from one thread, in the order of `views`, so `visit` may
+// update per-voxel state without locks; calls for different voxels run in
+// parallel.
 template <typename Visit>
 void ForEachFootprint(const ImageSet& image_set, const std::vector<SummedAreaTable>& tables,
                       const std::vector<int>& views, const VoxelBlock& block,
@@ -179,31 +247,69 @@ void ForEachFootprint(const ImageSet& image_set, const std::vector<SummedAreaTab
   for (int v = 0; v < image_set.NumViews(); ++v) projectors.emplace_back(image_set, v);
   const int nx = block.dims.x(), ny = block.dims.y(), nz = block.dims.z();
   const int num_tasks = (nz + kSlicesPerTask - 1) / kSlicesPerTask;
-  const int columns_x = (nx + kBlockSide - 1) / kBlockSide;
+  const int bx = (nx + kBlockSide - 1) / kBlockSide, by = (ny + kBlockSide - 1) / kBlockSide;
+  const size_t num_bricks = static_cast<size_t>(bx) * by;
   tbb::parallel_for(0, num_tasks, [&](int task) {
     progress.CheckCancelled();
     const int z_begin = task * kSlicesPerTask, z_end = std::min(nz, z_begin + kSlicesPerTask);
-    std::vector<CornerLayer> layers(z_end - z_begin + 1);
-    std::vector<char> zero;
-    for (int v : views) {
-      for (int l = 0; l <= z_end - z_begin; ++l) {
-        ProjectCornerLayer(projectors[v], block, z_begin + l, &layers[l]);
-      }
-      MarkZeroColumns(layers, block, tables[v], &zero);
+    // The bricks' zero views, from their corners where the camera allows.
+    std::vector<std::vector<char>> zero(views.size());
+    std::vector<int> zero_views(num_bricks, 0);
+    for (size_t k = 0; k < views.size(); ++k) {
+      if (!projectors[views[k]].KeepsBoxesInCornerRects()) continue;
+      MarkZeroBricksFromCorners(projectors[views[k]], block, z_begin, z_end, tables[views[k]],
+                                &zero[k]);
+      for (size_t b = 0; b < num_bricks; ++b) zero_views[b] += zero[k][b];
+    }
+    // For each brick of the slices, calls f(linear voxel index).
+    const auto for_voxels = [&](size_t brick, auto&& f) {
+      const int cx = static_cast<int>(brick % bx), cy = static_cast<int>(brick / bx);
       for (int z = z_begin; z < z_end; ++z) {
-        const CornerLayer& lower = layers[z - z_begin];
-        const CornerLayer& upper = layers[z - z_begin + 1];
-        for (int y = 0; y < ny; ++y) {
-          const char* zero_row = zero.data() + static_cast<size_t>(y / kBlockSide) * columns_x;
-          for (int x = 0; x < nx; ++x) {
-            const int64_t i = block.LinearIndex({x, y, z});
-            if (!visit.Wants(i)) continue;
-            const double mean = zero_row[x / kBlockSide]
-                                    ? 0.0
-                                    : FootprintMean(lower, upper, nx + 1, x, y, tables[v]);
-            if (mean >= 0.0) visit(v, i, mean);
+        for (int y = cy * kBlockSide; y < std::min(ny, (cy + 1) * kBlockSide); ++y) {
+          for (int x = cx * kBlockSide; x < std::min(nx, (cx + 1) * kBlockSide); ++x) {
+            f(x, y, z, block.LinearIndex({x, y, z}));
           }
         }
+      }
+    };
+    // Settled bricks hear only of their zero views.
+    std::vector<char> live(num_bricks, 1);
+    for (size_t b = 0; b < num_bricks; ++b) {
+      if (zero_views[b] < visit.settling_zeros) continue;
+      live[b] = 0;
+      for_voxels(b, [&](int, int, int, int64_t i) {
+        for (size_t k = 0; k < views.size() && visit.Wants(i); ++k) {
+          if (!zero[k].empty() && zero[k][b]) visit(views[k], i, 0.0);
+        }
+      });
+    }
+    std::vector<CornerLayer> layers(z_end - z_begin + 1);
+    for (size_t k = 0; k < views.size(); ++k) {
+      const int v = views[k];
+      // The corner rows the live bricks that are not zero in v need.
+      int row_begin = ny + 1, row_end = 0;
+      for (size_t b = 0; b < num_bricks; ++b) {
+        if (!live[b] || (!zero[k].empty() && zero[k][b])) continue;
+        const int cy = static_cast<int>(b / bx);
+        row_begin = std::min(row_begin, cy * kBlockSide);
+        row_end = std::max(row_end, std::min(ny, (cy + 1) * kBlockSide) + 1);
+      }
+      if (row_begin < row_end) {
+        for (int l = 0; l <= z_end - z_begin; ++l) {
+          ProjectCornerLayer(projectors[v], block, z_begin + l, row_begin, row_end, &layers[l]);
+        }
+        if (zero[k].empty()) MarkZeroBricks(layers, block, tables[v], live, &zero[k]);
+      }
+      for (size_t b = 0; b < num_bricks; ++b) {
+        if (!live[b]) continue;
+        const bool brick_zero = !zero[k].empty() && zero[k][b];
+        for_voxels(b, [&](int x, int y, int z, int64_t i) {
+          if (!visit.Wants(i)) return;
+          const int l = z - z_begin;
+          const double mean =
+              brick_zero ? 0.0 : FootprintMean(layers[l], layers[l + 1], nx + 1, x, y, tables[v]);
+          if (mean >= 0.0) visit(v, i, mean);
+        });
       }
     }
   });
@@ -218,6 +324,7 @@ std::vector<int> AllViews(const ImageSet& image_set) {
 // Keeps the smallest footprint mean per voxel.
 struct MinimumVisitor {
   std::vector<float>* result;
+  int settling_zeros = 1;
   bool Wants(int64_t i) const { return (*result)[i] != 0.0f; }  // 0 cannot get lower
   void operator()(int, int64_t i, double mean) const {
     (*result)[i] = std::min((*result)[i], static_cast<float>(mean));
@@ -228,6 +335,7 @@ struct MinimumVisitor {
 struct LowestVisitor {
   int kept;                    // rank + 1
   std::vector<float>* lowest;  // kept values per voxel, +inf where unfilled
+  int settling_zeros = kept;
   bool Wants(int64_t i) const { return (*lowest)[i * kept + kept - 1] != 0.0f; }
   void operator()(int, int64_t i, double mean) const {
     float* values = lowest->data() + i * kept;
@@ -244,6 +352,7 @@ struct VetoVisitor {
   const std::vector<char>* wanted;  // null: every voxel
   double threshold;
   FootprintVotes* votes;
+  int settling_zeros = std::numeric_limits<int>::max();  // counts every view
   bool Wants(int64_t i) const { return wanted == nullptr || (*wanted)[i]; }
   void operator()(int, int64_t i, double mean) const {
     ++votes->seen[i];
@@ -258,6 +367,7 @@ struct PerViewVisitor {
   double threshold;
   tbb::enumerable_thread_specific<ViewVetoCounts>* counts;
   size_t num_views;
+  int settling_zeros = std::numeric_limits<int>::max();  // counts every view
   bool Wants(int64_t i) const { return (*wanted)[i]; }
   void operator()(int v, int64_t, double mean) const {
     ViewVetoCounts& local = counts->local();

@@ -58,6 +58,10 @@ class ViewProjector {
     }
     return true;
   }
+  // Whether the image of a convex body lies inside the convex hull of the
+  // images of its points' extremes (no lens distortion to bulge it): then a
+  // box's image lies inside the rectangle of its 8 projected corners.
+  bool KeepsBoxesInCornerRects() const { return !camera_->HasDistortion(); }
   // The bounding rectangle of the projections of the 8 corners of the cube
   // of edge `size` whose lowest corner is `lower` (world units); false if a
   // corner is behind a pinhole camera.

@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -45,7 +46,7 @@ VoxelBlock Block(int n) {
 // Mattes with large empty regions (where the shortcut applies), soft values
 // and isolated specks (which it must not miss): a disc with a soft rim, a
 // stripe, and single faint pixels scattered over the background.
-std::vector<FloatImage> Mattes(int num_views, int size) {
+std::vector<FloatImage> Mattes(int num_views, int size, int speck_period = 97) {
   std::vector<FloatImage> mattes;
   for (int v = 0; v < num_views; ++v) {
     FloatImage matte(size, size, 1, 0.0f);
@@ -55,7 +56,7 @@ std::vector<FloatImage> Mattes(int num_views, int size) {
         const double d = std::hypot(x + 0.5 - cx, y + 0.5 - cy);
         if (d < r) matte.at(x, y) = static_cast<float>(std::min(1.0, (r - d) / 4.0));
         if (std::abs(x - size / 3) < 2 && y > size / 2) matte.at(x, y) = 0.8f;
-        if ((x * 7 + y * 13 + v) % 97 == 0) matte.at(x, y) = 1e-6f;
+        if ((x * 7 + y * 13 + v) % speck_period == 0) matte.at(x, y) = 1e-6f;
       }
     }
     mattes.push_back(matte);
@@ -113,6 +114,53 @@ TEST(ViewSamplingTest, FootprintMeansMatchDirectMeans) {
   // Both kinds are present, so both paths were taken.
   EXPECT_GT(zero, views * block.NumVoxels() / 10);
   EXPECT_GT(positive, views * block.NumVoxels() / 20);
+}
+
+// The (rank + 1)-th smallest direct footprint mean over the views that see
+// a voxel (where fewer see it, the largest of theirs; 0 where none does).
+double DirectLowMean(const ImageSet& set, const std::vector<SummedAreaTable>& tables,
+                     const VoxelBlock& block, int rank, int64_t i) {
+  std::vector<double> means;
+  for (int v = 0; v < set.NumViews(); ++v) {
+    const double mean = DirectFootprintMean(set, v, tables[v], block, i);
+    if (mean >= 0.0) means.push_back(static_cast<float>(mean));
+  }
+  if (means.empty()) return 0.0;
+  std::sort(means.begin(), means.end());
+  return means[std::min<size_t>(rank, means.size() - 1)];
+}
+
+// Over all views at once, bricks that enough views see empty are settled
+// without looking at the other views: the result is still the direct one,
+// with pinhole cameras (bricks tested from their 8 corners), a distorted one
+// (tested from every voxel corner) and an orthographic one, at ranks 0-2.
+TEST(ViewSamplingTest, LowFootprintMeansOverAllViewsMatchDirectMeans) {
+  const int views = 6, size = 96;
+  ImageSet set = RingViews(views, size);
+  set.cameras[2] = Camera(CameraModel::kSimpleRadial, size, size, {1.2 * size, 48, 48, -0.08});
+  set.cameras[3] = Camera::Orthographic(size, size, size / 3.0);
+  set.views[1].camera_id = 2;
+  set.views[4].camera_id = 3;
+  // Specks rare enough for whole bricks to be empty in some views.
+  const std::vector<SummedAreaTable> tables = MakeSummedAreaTables(Mattes(views, size, 1999));
+  const VoxelBlock block = Block(24);
+  for (int rank = 0; rank <= 2; ++rank) {
+    const std::vector<float> fast =
+        LowFootprintMeans(set, tables, block, rank, ProgressTask(nullptr, "test"));
+    int64_t zero = 0, positive = 0;
+    for (int64_t i = 0; i < block.NumVoxels(); ++i) {
+      const double direct = DirectLowMean(set, tables, block, rank, i);
+      if (fast[i] == 0.0f) {
+        ASSERT_LT(std::abs(direct), 1e-12) << "rank " << rank << " voxel " << i;
+        ++zero;
+      } else {
+        ASSERT_EQ(fast[i], static_cast<float>(direct)) << "rank " << rank << " voxel " << i;
+        ++positive;
+      }
+    }
+    EXPECT_GT(zero, block.NumVoxels() / 4) << "rank " << rank;
+    EXPECT_GT(positive, block.NumVoxels() / 50) << "rank " << rank;
+  }
 }
 
 TEST(ViewSamplingTest, PerViewVetoesMatchOneViewAtATime) {
