@@ -31,22 +31,62 @@ void MaskFixed(const std::vector<char>* free, std::vector<double>* v) {
 
 }  // namespace
 
+namespace {
+
+// Row ranges of the parallel transpose: a fixed number, of about equal
+// non-zeros, so the work splits the same way on any machine.
+constexpr int kTransposeChunks = 4;
+
+std::vector<int64_t> ChunkRows(const SparseRows& a, int chunks) {
+  std::vector<int64_t> first_row(chunks + 1, a.NumRows());
+  first_row[0] = 0;
+  int64_t row = 0;
+  for (int c = 1; c < chunks; ++c) {
+    const int64_t target = a.NumNonZeros() * c / chunks;
+    while (row < a.NumRows() && a.row_offsets[row] < target) ++row;
+    first_row[c] = row;
+  }
+  return first_row;
+}
+
+}  // namespace
+
+// Each chunk of rows counts its entries per column, the counts become each
+// chunk's first slot in each of the transpose's rows, and the chunks fill
+// their slots in row order: the same arrays as one serial pass over the rows.
 SparseRows SparseRows::Transposed() const {
   SparseRows t;
   t.num_cols = NumRows();
+  const std::vector<int64_t> first_row = ChunkRows(*this, kTransposeChunks);
+  std::vector<std::vector<int64_t>> next(kTransposeChunks);
+  tbb::parallel_for(0, kTransposeChunks, [&](int c) {
+    next[c].assign(num_cols, 0);
+    for (int64_t k = row_offsets[first_row[c]]; k < row_offsets[first_row[c + 1]]; ++k) {
+      ++next[c][cols[k]];
+    }
+  });
   t.row_offsets.assign(num_cols + 1, 0);
-  for (int32_t c : cols) ++t.row_offsets[c + 1];
-  for (int64_t i = 0; i < num_cols; ++i) t.row_offsets[i + 1] += t.row_offsets[i];
+  for (int64_t col = 0; col < num_cols; ++col) {
+    int64_t slot = t.row_offsets[col];
+    for (int c = 0; c < kTransposeChunks; ++c) {
+      const int64_t count = next[c][col];
+      next[c][col] = slot;
+      slot += count;
+    }
+    t.row_offsets[col + 1] = slot;
+  }
   t.cols.resize(cols.size());
   t.values.resize(values.size());
-  std::vector<int64_t> next(t.row_offsets.begin(), t.row_offsets.end() - 1);
-  for (int64_t row = 0; row < NumRows(); ++row) {
-    for (int64_t k = row_offsets[row]; k < row_offsets[row + 1]; ++k) {
-      const int64_t slot = next[cols[k]]++;
-      t.cols[slot] = static_cast<int32_t>(row);
-      t.values[slot] = values[k];
+  tbb::parallel_for(0, kTransposeChunks, [&](int c) {
+    std::vector<int64_t>& slots = next[c];
+    for (int64_t row = first_row[c]; row < first_row[c + 1]; ++row) {
+      for (int64_t k = row_offsets[row]; k < row_offsets[row + 1]; ++k) {
+        const int64_t slot = slots[cols[k]]++;
+        t.cols[slot] = static_cast<int32_t>(row);
+        t.values[slot] = values[k];
+      }
     }
-  }
+  });
   return t;
 }
 
@@ -129,12 +169,27 @@ double DeterministicSum(size_t size, const Body& body) {
 
 // Inverse squared column norms of A (1 for empty columns): the Jacobi
 // preconditioner of A^T A, which equalises voxels crossed by many or few
-// rays. One serial pass over A's rows: each column's sum in row order, as
-// over the transpose's row, so it needs no transpose.
-std::vector<double> InverseColumnNorms(const SparseRows& a) {
+// rays. Each column's sum is taken in row order: over the transpose's row
+// (in parallel) if given, else by one serial pass over A's rows, the same
+// bits either way.
+std::vector<double> InverseColumnNorms(const SparseRows& a, const SparseRows* transposed) {
   std::vector<double> norm2(a.num_cols, 0.0);
-  for (int64_t k = 0; k < a.NumNonZeros(); ++k) {
-    norm2[a.cols[k]] += double{a.values[k]} * a.values[k];
+  if (transposed != nullptr) {
+    tbb::parallel_for(tbb::blocked_range<int64_t>(0, a.num_cols, kRowGrain),
+                      [&](const tbb::blocked_range<int64_t>& range) {
+                        for (int64_t j = range.begin(); j < range.end(); ++j) {
+                          double sum = 0.0;
+                          for (int64_t k = transposed->row_offsets[j];
+                               k < transposed->row_offsets[j + 1]; ++k) {
+                            sum += double{transposed->values[k]} * transposed->values[k];
+                          }
+                          norm2[j] = sum;
+                        }
+                      });
+  } else {
+    for (int64_t k = 0; k < a.NumNonZeros(); ++k) {
+      norm2[a.cols[k]] += double{a.values[k]} * a.values[k];
+    }
   }
   std::vector<double> metric(a.num_cols, 1.0);
   for (int64_t j = 0; j < a.num_cols; ++j) {
@@ -191,7 +246,7 @@ CglsSummary SolveProjectedGradient(const SparseRows& a, const SparseRows* transp
   SYLVA_CHECK(static_cast<int64_t>(x->size()) == a.num_cols);
   for (double& value : *x) value = std::max(value, 0.0);
   CglsSummary summary;
-  const std::vector<double> metric = InverseColumnNorms(a);
+  const std::vector<double> metric = InverseColumnNorms(a, transposed);
   std::vector<double> r, g, g_next, d(x->size()), ad;
   a.Multiply(*x, &r);
   for (size_t i = 0; i < r.size(); ++i) r[i] -= b[i];  // r = A x - b

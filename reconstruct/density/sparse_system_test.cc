@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
+#include <algorithm>
+#include <utility>
 
 #include "core/util/random.h"
 
@@ -25,6 +27,43 @@ SparseRows RandomSparse(int rows, int cols, double fill, RandomEngine* rng,
     a.row_offsets.push_back(static_cast<int64_t>(a.cols.size()));
   }
   return a;
+}
+
+// The parallel transpose (chunks of rows) gives the arrays of one serial
+// pass: each column's entries in row order, whatever the rows' order of
+// columns, with empty rows, empty columns and fewer rows than chunks.
+TEST(SparseSystemTest, TransposeIsTheSerialOne) {
+  RandomEngine rng(3);
+  for (const auto& [rows, cols] : {std::pair{0, 5}, {2, 7}, {3, 1}, {700, 90}}) {
+    SparseRows a;
+    a.num_cols = cols;
+    for (int r = 0; r < rows; ++r) {
+      const int length = r % 11 == 0 ? 0 : static_cast<int>(rng.Uniform(1, 20));
+      for (int e = 0; e < length; ++e) {
+        // The last column stays empty (but for a single column).
+        a.cols.push_back(static_cast<int32_t>(rng.Uniform(0, std::max(1, cols - 1))));
+        a.values.push_back(static_cast<float>(rng.Normal()));
+      }
+      a.row_offsets.push_back(static_cast<int64_t>(a.cols.size()));
+    }
+    std::vector<std::vector<std::pair<int32_t, float>>> serial(cols);
+    for (int r = 0; r < rows; ++r) {
+      for (int64_t k = a.row_offsets[r]; k < a.row_offsets[r + 1]; ++k) {
+        serial[a.cols[k]].emplace_back(r, a.values[k]);
+      }
+    }
+    const SparseRows t = a.Transposed();
+    ASSERT_EQ(t.NumRows(), cols);
+    ASSERT_EQ(t.num_cols, rows);
+    ASSERT_EQ(t.NumNonZeros(), a.NumNonZeros());
+    for (int c = 0; c < cols; ++c) {
+      ASSERT_EQ(t.row_offsets[c + 1] - t.row_offsets[c], static_cast<int64_t>(serial[c].size()));
+      for (size_t e = 0; e < serial[c].size(); ++e) {
+        EXPECT_EQ(t.cols[t.row_offsets[c] + e], serial[c][e].first);
+        EXPECT_EQ(t.values[t.row_offsets[c] + e], serial[c][e].second);
+      }
+    }
+  }
 }
 
 TEST(SparseSystemTest, TransposeAndMultiply) {

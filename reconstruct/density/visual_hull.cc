@@ -1,5 +1,7 @@
 #include "reconstruct/density/visual_hull.h"
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <cmath>
 
@@ -24,16 +26,19 @@ struct PixelRect {
 };
 
 PixelRect ForegroundRect(const FloatImage& mask) {
+  SYLVA_CHECK(mask.channels() == 1);
   PixelRect rect{1e300, 1e300, -1e300, -1e300};
   for (int y = 0; y < mask.height(); ++y) {
-    for (int x = 0; x < mask.width(); ++x) {
-      if (mask.at(x, y) <= 0.0f) continue;
-      rect.x0 = std::min<double>(rect.x0, x);
-      rect.y0 = std::min<double>(rect.y0, y);
-      rect.x1 = std::max<double>(rect.x1, x + 1);
-      rect.y1 = std::max<double>(rect.y1, y + 1);
-      rect.empty = false;
-    }
+    const float* row = mask.data() + static_cast<size_t>(y) * mask.width();
+    int first = 0, last = mask.width() - 1;
+    while (first < mask.width() && row[first] <= 0.0f) ++first;
+    if (first == mask.width()) continue;
+    while (row[last] <= 0.0f) --last;
+    rect.x0 = std::min<double>(rect.x0, first);
+    rect.x1 = std::max<double>(rect.x1, last + 1);
+    rect.y0 = std::min<double>(rect.y0, y);
+    rect.y1 = y + 1;
+    rect.empty = false;
   }
   return rect;
 }
@@ -140,8 +145,10 @@ Box3d FrustumIntersectionBounds(const ImageSet& image_set, const std::vector<Flo
   ConvexPolytope closed(initial), uncut(initial);  // by every view, by the uncut ones
   const double near_distance = 1e-9 * initial.diagonal().norm();
   FrameCuts found;
+  std::vector<PixelRect> rects(image_set.NumViews());
+  tbb::parallel_for(0, image_set.NumViews(), [&](int v) { rects[v] = ForegroundRect(masks[v]); });
   for (int v = 0; v < image_set.NumViews(); ++v) {
-    const PixelRect rect = ForegroundRect(masks[v]);
+    const PixelRect& rect = rects[v];
     SYLVA_CHECK_INPUT(!rect.empty, image_set.views[v].name) << "matte is empty (no foreground)";
     ClipByFrustum(image_set, v, rect, near_distance, &closed);
     if (cuts != nullptr && OnTheEdge(image_set.CameraOf(v), rect)) {
