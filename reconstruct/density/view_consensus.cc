@@ -168,10 +168,13 @@ ViewConsensus AssessViewConsensus(const ImageSet& image_set, const std::vector<F
     const std::vector<char> hull =
         ConsensusHull(votes, consensus.allowed_dissent, &consensus.consensus_voxels);
     // Share of the hull's voxels (that a view sees) which its mask carves
-    // away, for every view in one pass; then each view's unexplained
+    // away, for every view: from the votes' record of who voted, or (more
+    // views than it holds) in one more pass; then each view's unexplained
     // foreground, views in parallel.
     const ViewVetoCounts counts =
-        CountVetoesPerView(image_set, tables, voting, block, 0.0, hull, progress);
+        votes.seen_by.empty()
+            ? CountVetoesPerView(image_set, tables, voting, block, 0.0, hull, progress)
+            : CountVetoesPerView(votes, voting.size(), hull);
     tbb::parallel_for(size_t{0}, voting.size(), [&](size_t k) {
       progress.CheckCancelled();
       const int v = voting[k];

@@ -352,11 +352,17 @@ struct VetoVisitor {
   const std::vector<char>* wanted;  // null: every voxel
   double threshold;
   FootprintVotes* votes;
+  const std::vector<int>* bit_of_view;                   // per image_set view; null: no bits kept
   int settling_zeros = std::numeric_limits<int>::max();  // counts every view
   bool Wants(int64_t i) const { return wanted == nullptr || (*wanted)[i]; }
-  void operator()(int, int64_t i, double mean) const {
+  void operator()(int v, int64_t i, double mean) const {
+    const bool veto = mean <= threshold;
     ++votes->seen[i];
-    if (mean <= threshold) ++votes->vetoes[i];
+    votes->vetoes[i] += veto;
+    if (bit_of_view == nullptr) return;
+    const uint64_t bit = uint64_t{1} << (*bit_of_view)[v];
+    votes->seen_by[i] |= bit;
+    if (veto) votes->vetoed_by[i] |= bit;
   }
 };
 
@@ -427,9 +433,34 @@ FootprintVotes CountFootprintVetoes(const ImageSet& image_set,
   FootprintVotes votes;
   votes.seen.assign(block.NumVoxels(), 0);
   votes.vetoes.assign(block.NumVoxels(), 0);
-  ForEachFootprint(image_set, tables, views, block, progress,
-                   VetoVisitor{wanted, threshold, &votes});
+  std::vector<int> bit_of_view;
+  if (views.size() <= FootprintVotes::kMaxVoterBits) {
+    votes.seen_by.assign(block.NumVoxels(), 0);
+    votes.vetoed_by.assign(block.NumVoxels(), 0);
+    bit_of_view.assign(image_set.NumViews(), -1);
+    for (size_t k = 0; k < views.size(); ++k) bit_of_view[views[k]] = static_cast<int>(k);
+  }
+  ForEachFootprint(
+      image_set, tables, views, block, progress,
+      VetoVisitor{wanted, threshold, &votes, bit_of_view.empty() ? nullptr : &bit_of_view});
   return votes;
+}
+
+ViewVetoCounts CountVetoesPerView(const FootprintVotes& votes, size_t num_views,
+                                  const std::vector<char>& wanted) {
+  SYLVA_CHECK(num_views <= FootprintVotes::kMaxVoterBits && votes.seen_by.size() == wanted.size() &&
+              votes.vetoed_by.size() == wanted.size());
+  ViewVetoCounts counts;
+  counts.seen.assign(num_views, 0);
+  counts.vetoes.assign(num_views, 0);
+  for (size_t i = 0; i < wanted.size(); ++i) {
+    if (!wanted[i]) continue;
+    for (size_t k = 0; k < num_views; ++k) {
+      counts.seen[k] += (votes.seen_by[i] >> k) & 1;
+      counts.vetoes[k] += (votes.vetoed_by[i] >> k) & 1;
+    }
+  }
+  return counts;
 }
 
 ViewVetoCounts CountVetoesPerView(const ImageSet& image_set,

@@ -108,10 +108,14 @@ std::vector<float> LowFootprintMeans(const ImageSet& image_set,
                                      const ProgressTask& progress);
 
 // Per voxel of a block: how many of the given views see it, and how many of
-// those carve it away (footprint mean <= a threshold).
+// those carve it away (footprint mean <= a threshold). With at most
+// kMaxVoterBits views, also which: bit k for views[k] (else empty).
 struct FootprintVotes {
+  static constexpr size_t kMaxVoterBits = 64;
   std::vector<uint16_t> seen;
   std::vector<uint16_t> vetoes;
+  std::vector<uint64_t> seen_by;
+  std::vector<uint64_t> vetoed_by;
 };
 
 // The votes of `views` (indices into image_set, at most 65535) on every voxel
@@ -136,6 +140,10 @@ ViewVetoCounts CountVetoesPerView(const ImageSet& image_set,
                                   const std::vector<int>& views, const VoxelBlock& block,
                                   double threshold, const std::vector<char>& wanted,
                                   const ProgressTask& progress);
+// The same counts from votes that say which view voted (seen_by and
+// vetoed_by not empty), without a second pass over the footprints.
+ViewVetoCounts CountVetoesPerView(const FootprintVotes& votes, size_t num_views,
+                                  const std::vector<char>& wanted);
 
 }  // namespace sylva
 

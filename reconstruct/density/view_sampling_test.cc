@@ -173,6 +173,12 @@ TEST(ViewSamplingTest, PerViewVetoesMatchOneViewAtATime) {
   const std::vector<int> all = {0, 1, 2, 3};
   const ViewVetoCounts counts =
       CountVetoesPerView(set, tables, all, block, 0.0, wanted, ProgressTask(nullptr, "test"));
+  // The same counts from the votes' record of which view voted.
+  const FootprintVotes votes =
+      CountFootprintVetoes(set, tables, all, block, 0.0, nullptr, ProgressTask(nullptr, "test"));
+  const ViewVetoCounts recorded = CountVetoesPerView(votes, all.size(), wanted);
+  EXPECT_EQ(recorded.seen, counts.seen);
+  EXPECT_EQ(recorded.vetoes, counts.vetoes);
   for (int v = 0; v < views; ++v) {
     const FootprintVotes votes =
         CountFootprintVetoes(set, tables, {v}, block, 0.0, &wanted, ProgressTask(nullptr, "test"));
