@@ -156,15 +156,28 @@ namespace {
 // not depend on scheduling.
 constexpr size_t kVectorGrain = 16384;
 
+// Two sums in one pass (each over its own terms, in the chunks and order a
+// sum alone would have, so the same bits).
+struct TwoSums {
+  double first = 0.0, second = 0.0;
+  TwoSums operator+(const TwoSums& other) const {
+    return {first + other.first, second + other.second};
+  }
+};
+
 template <typename Body>
-double DeterministicSum(size_t size, const Body& body) {
+TwoSums DeterministicSums(size_t size, const Body& body) {
   return tbb::parallel_deterministic_reduce(
-      tbb::blocked_range<size_t>(0, size, kVectorGrain), 0.0,
-      [&](const tbb::blocked_range<size_t>& range, double sum) {
-        for (size_t j = range.begin(); j < range.end(); ++j) sum += body(j);
-        return sum;
+      tbb::blocked_range<size_t>(0, size, kVectorGrain), TwoSums(),
+      [&](const tbb::blocked_range<size_t>& range, TwoSums sums) {
+        for (size_t j = range.begin(); j < range.end(); ++j) {
+          const TwoSums terms = body(j);
+          sums.first += terms.first;
+          sums.second += terms.second;
+        }
+        return sums;
       },
-      std::plus<double>());
+      std::plus<TwoSums>());
 }
 
 // Inverse squared column norms of A (1 for empty columns): the Jacobi
@@ -221,16 +234,12 @@ struct StepPass {
 
 StepPass ProjectedStep(const std::vector<double>& x, const std::vector<double>& g,
                        const std::vector<double>& metric, double alpha, std::vector<double>* d) {
-  StepPass pass;
-  pass.slope = DeterministicSum(x.size(), [&](size_t j) {
+  const TwoSums sums = DeterministicSums(x.size(), [&](size_t j) {
     (*d)[j] = std::max(x[j] - alpha * metric[j] * g[j], 0.0) - x[j];
-    return g[j] * (*d)[j];
-  });
-  pass.projected_gradient2 = DeterministicSum(x.size(), [&](size_t j) {
     const double step = std::max(x[j] - metric[j] * g[j], 0.0) - x[j];
-    return step * step;
+    return TwoSums{g[j] * (*d)[j], step * step};
   });
-  return pass;
+  return {sums.first, sums.second};
 }
 
 // Bounds on the Barzilai-Borwein step (the Jacobi step is 1).
@@ -284,9 +293,9 @@ CglsSummary SolveProjectedGradient(const SparseRows& a, const SparseRows* transp
     transposed->Multiply(r, &g_next);
     // Barzilai-Borwein in the metric: alpha = s.M^-1 s / s.y, s = lambda d,
     // y = g_next - g.
-    const double ss = DeterministicSum(d.size(), [&](size_t j) { return d[j] * d[j] / metric[j]; });
-    const double sy =
-        DeterministicSum(d.size(), [&](size_t j) { return d[j] * (g_next[j] - g[j]); });
+    const auto [ss, sy] = DeterministicSums(d.size(), [&](size_t j) {
+      return TwoSums{d[j] * d[j] / metric[j], d[j] * (g_next[j] - g[j])};
+    });
     alpha = sy > 0 ? std::clamp(lambda * ss / sy, kMinStep, kMaxStep) : kMaxStep;
     g.swap(g_next);
     ++summary.iterations;
