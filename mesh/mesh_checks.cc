@@ -523,6 +523,26 @@ std::vector<int> CrossingTracker::Match(const std::vector<Hashed>& old_hashes,
   return previous;
 }
 
+// Sorted by (first, second, triangle): bucketed by the first hash's top
+// bits (the hashes are uniform, so a few per bucket), then each bucket
+// sorted. One scatter instead of a radix sort's four.
+void CrossingTracker::SortHashes(std::vector<Hashed>* hashes) {
+  constexpr int kBucketBits = 16;
+  std::vector<size_t> start((size_t{1} << kBucketBits) + 1, 0);
+  const auto bucket = [](const Hashed& h) { return h.first >> (64 - kBucketBits); };
+  for (const Hashed& h : *hashes) ++start[bucket(h) + 1];
+  std::partial_sum(start.begin(), start.end(), start.begin());
+  std::vector<Hashed> sorted(hashes->size());
+  std::vector<size_t> next(start.begin(), start.end() - 1);
+  for (const Hashed& h : *hashes) sorted[next[bucket(h)]++] = h;
+  for (size_t b = 0; b + 1 < start.size(); ++b) {
+    if (start[b + 1] - start[b] > 1) {
+      std::sort(sorted.begin() + start[b], sorted.begin() + start[b + 1]);
+    }
+  }
+  hashes->swap(sorted);
+}
+
 std::vector<std::pair<int, int>> CrossingTracker::Find(const TriangleMesh& mesh) {
   mesh.Check();
   const int n = mesh.NumTriangles();
@@ -533,13 +553,7 @@ std::vector<std::pair<int, int>> CrossingTracker::Find(const TriangleMesh& mesh)
                    t};
     }
   });
-  // Sorted by the first hash (triangles ascending on ties), then ties by
-  // the second.
-  RadixSort(&hashes, 64, [](const Hashed& h) { return h.first; });
-  for (size_t i = 0, j; i < hashes.size(); i = j) {
-    for (j = i + 1; j < hashes.size() && hashes[j].first == hashes[i].first;) ++j;
-    if (j - i > 1) std::sort(hashes.begin() + i, hashes.begin() + j);
-  }
+  SortHashes(&hashes);
   const std::vector<int> previous = Match(hashes_, hashes);
   const int64_t kept = n - std::count(previous.begin(), previous.end(), -1);
   const double scale = TrianglesScale(mesh);

@@ -82,6 +82,7 @@ class CrossingTracker {
                                   : triangle < o.triangle;
     }
   };
+  static void SortHashes(std::vector<Hashed>* hashes);
   static std::vector<int> Match(const std::vector<Hashed>& old_hashes,
                                 const std::vector<Hashed>& hashes);
   // Of the previous mesh: its triangles' hashes (sorted), its crossings and
