@@ -29,10 +29,6 @@ void MaskFixed(const std::vector<char>* free, std::vector<double>* v) {
   }
 }
 
-}  // namespace
-
-namespace {
-
 // Row ranges of the parallel transpose: a fixed number, of about equal
 // non-zeros, so the work splits the same way on any machine.
 constexpr int kTransposeChunks = 4;

@@ -181,6 +181,10 @@ void MarkZeroBricks(const std::vector<CornerLayer>& layers, const VoxelBlock& bl
 // the brick may round to a float a step outside that rectangle, so it is
 // widened by a few float steps (never claims a brick MarkZeroBricks would
 // not, up to that rounding).
+// Float steps (relative) the corners' rectangle is widened by, for the
+// rounding of the voxel corners inside it.
+constexpr float kCornerRoundingSteps = 4.0f;
+
 void MarkZeroBricksFromCorners(const ViewProjector& projector, const VoxelBlock& block, int z_begin,
                                int z_end, const SummedAreaTable& table, std::vector<char>* zero) {
   const int nx = block.dims.x(), ny = block.dims.y();
@@ -220,7 +224,7 @@ void MarkZeroBricksFromCorners(const ViewProjector& projector, const VoxelBlock&
       }
       if (!all_valid) continue;
       const auto widen = [](float value, float direction) {
-        return value + direction * (4 * std::numeric_limits<float>::epsilon() *
+        return value + direction * (kCornerRoundingSteps * std::numeric_limits<float>::epsilon() *
                                     std::max(1.0f, std::abs(value)));
       };
       (*zero)[static_cast<size_t>(cy) * bx + cx] =
@@ -261,7 +265,9 @@ void ForEachFootprint(const ImageSet& image_set, const std::vector<SummedAreaTab
                                 &zero[k]);
       for (size_t b = 0; b < num_bricks; ++b) zero_views[b] += zero[k][b];
     }
-    // For each brick of the slices, calls f(linear voxel index).
+    // Whether brick b is known to be empty in views[k].
+    const auto zero_in = [&](size_t k, size_t b) { return !zero[k].empty() && zero[k][b]; };
+    // For each voxel of brick b in the slices, calls f(x, y, z, linear index).
     const auto for_voxels = [&](size_t brick, auto&& f) {
       const int cx = static_cast<int>(brick % bx), cy = static_cast<int>(brick / bx);
       for (int z = z_begin; z < z_end; ++z) {
@@ -279,7 +285,7 @@ void ForEachFootprint(const ImageSet& image_set, const std::vector<SummedAreaTab
       live[b] = 0;
       for_voxels(b, [&](int, int, int, int64_t i) {
         for (size_t k = 0; k < views.size() && visit.Wants(i); ++k) {
-          if (!zero[k].empty() && zero[k][b]) visit(views[k], i, 0.0);
+          if (zero_in(k, b)) visit(views[k], i, 0.0);
         }
       });
     }
@@ -289,7 +295,7 @@ void ForEachFootprint(const ImageSet& image_set, const std::vector<SummedAreaTab
       // The corner rows the live bricks that are not zero in v need.
       int row_begin = ny + 1, row_end = 0;
       for (size_t b = 0; b < num_bricks; ++b) {
-        if (!live[b] || (!zero[k].empty() && zero[k][b])) continue;
+        if (!live[b] || zero_in(k, b)) continue;
         const int cy = static_cast<int>(b / bx);
         row_begin = std::min(row_begin, cy * kBlockSide);
         row_end = std::max(row_end, std::min(ny, (cy + 1) * kBlockSide) + 1);
@@ -302,7 +308,7 @@ void ForEachFootprint(const ImageSet& image_set, const std::vector<SummedAreaTab
       }
       for (size_t b = 0; b < num_bricks; ++b) {
         if (!live[b]) continue;
-        const bool brick_zero = !zero[k].empty() && zero[k][b];
+        const bool brick_zero = zero_in(k, b);
         for_voxels(b, [&](int x, int y, int z, int64_t i) {
           if (!visit.Wants(i)) return;
           const int l = z - z_begin;

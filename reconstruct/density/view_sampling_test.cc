@@ -8,7 +8,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
+#include <string>
 
 #include "reconstruct/density/ray_system.h"
 
@@ -87,33 +89,41 @@ double DirectFootprintMean(const ImageSet& set, int v, const SummedAreaTable& ta
   return table.BoxMean(x0, y0, x1, y1);
 }
 
+// How many voxels' means were 0 and how many positive.
+struct MeanKinds {
+  int64_t zero = 0, positive = 0;
+};
+
+// Each voxel's fast mean is the direct one, exactly (both through BoxMean,
+// which gives exactly 0 over zero pixels).
+void ExpectDirectMeans(const std::vector<float>& fast, const std::function<double(int64_t)>& direct,
+                       const std::string& what, MeanKinds* kinds) {
+  for (size_t i = 0; i < fast.size(); ++i) {
+    ASSERT_EQ(fast[i], static_cast<float>(direct(static_cast<int64_t>(i))))
+        << what << " voxel " << i;
+    ++(fast[i] == 0.0f ? kinds->zero : kinds->positive);
+  }
+}
+
 TEST(ViewSamplingTest, FootprintMeansMatchDirectMeans) {
   const int views = 5, size = 96;
   const ImageSet set = RingViews(views, size);
   const std::vector<SummedAreaTable> tables = MakeSummedAreaTables(Mattes(views, size));
   const VoxelBlock block = Block(20);
   // One view at a time (a minimum over views would hide one view's error).
-  int64_t zero = 0, positive = 0;
+  MeanKinds kinds;
   for (int v = 0; v < views; ++v) {
     const std::vector<int> one = {v};
     const std::vector<float> fast =
         MinFootprintMeans(set, tables, block, ProgressTask(nullptr, "test"), &one);
-    for (int64_t i = 0; i < block.NumVoxels(); ++i) {
-      const double direct = std::max(0.0, DirectFootprintMean(set, v, tables[v], block, i));
-      // The same value, or exactly zero where the summed-area table's
-      // difference over an empty rectangle leaves rounding dust.
-      if (fast[i] == 0.0f) {
-        ASSERT_LT(std::abs(direct), 1e-12) << "view " << v << " voxel " << i;
-        ++zero;
-      } else {
-        ASSERT_EQ(fast[i], static_cast<float>(direct)) << "view " << v << " voxel " << i;
-        ++positive;
-      }
-    }
+    ExpectDirectMeans(
+        fast,
+        [&](int64_t i) { return std::max(0.0, DirectFootprintMean(set, v, tables[v], block, i)); },
+        "view " + std::to_string(v), &kinds);
   }
   // Both kinds are present, so both paths were taken.
-  EXPECT_GT(zero, views * block.NumVoxels() / 10);
-  EXPECT_GT(positive, views * block.NumVoxels() / 20);
+  EXPECT_GT(kinds.zero, views * block.NumVoxels() / 10);
+  EXPECT_GT(kinds.positive, views * block.NumVoxels() / 20);
 }
 
 // The (rank + 1)-th smallest direct footprint mean over the views that see
@@ -147,19 +157,12 @@ TEST(ViewSamplingTest, LowFootprintMeansOverAllViewsMatchDirectMeans) {
   for (int rank = 0; rank <= 2; ++rank) {
     const std::vector<float> fast =
         LowFootprintMeans(set, tables, block, rank, ProgressTask(nullptr, "test"));
-    int64_t zero = 0, positive = 0;
-    for (int64_t i = 0; i < block.NumVoxels(); ++i) {
-      const double direct = DirectLowMean(set, tables, block, rank, i);
-      if (fast[i] == 0.0f) {
-        ASSERT_LT(std::abs(direct), 1e-12) << "rank " << rank << " voxel " << i;
-        ++zero;
-      } else {
-        ASSERT_EQ(fast[i], static_cast<float>(direct)) << "rank " << rank << " voxel " << i;
-        ++positive;
-      }
-    }
-    EXPECT_GT(zero, block.NumVoxels() / 4) << "rank " << rank;
-    EXPECT_GT(positive, block.NumVoxels() / 50) << "rank " << rank;
+    MeanKinds kinds;
+    ExpectDirectMeans(
+        fast, [&](int64_t i) { return DirectLowMean(set, tables, block, rank, i); },
+        "rank " + std::to_string(rank), &kinds);
+    EXPECT_GT(kinds.zero, block.NumVoxels() / 4) << "rank " << rank;
+    EXPECT_GT(kinds.positive, block.NumVoxels() / 50) << "rank " << rank;
   }
 }
 
