@@ -39,6 +39,7 @@
 #include <vector>
 
 #include "core/geometry/voxel_traversal.h"
+#include "core/util/memory.h"
 #include "datasets/synthetic/synthetic_dataset.h"
 #include "reconstruct/density/density_reconstruction.h"
 #include "reconstruct/density/sparse_system.h"
@@ -419,6 +420,9 @@ int Main(bool quick) {
 }  // namespace sylva
 
 int main(int argc, char** argv) {
+  // As the sylva binary and the app do: the app runs the density again after
+  // every edit, in one process, as this benchmark's repeated runs do.
+  sylva::KeepFreedMemoryForReuse();
   const bool quick = argc > 1 && std::strcmp(argv[1], "--quick") == 0;
   return sylva::Main(quick);
 }
