@@ -36,6 +36,7 @@
 #include <cstring>
 #include <filesystem>
 
+#include "core/util/memory.h"
 #include "datasets/synthetic/synthetic_tree.h"
 #include "mesh/allometry.h"
 #include "mesh/bark_mesh.h"
@@ -232,6 +233,7 @@ int Main(bool quick) {
 }  // namespace sylva
 
 int main(int argc, char** argv) {
+  sylva::KeepFreedMemoryForReuse();  // as the sylva binary does: the bark's attempts reuse it
   const bool quick = argc > 1 && std::strcmp(argv[1], "--quick") == 0;
   return sylva::Main(quick);
 }
