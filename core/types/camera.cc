@@ -188,7 +188,12 @@ Eigen::Vector2d Camera::Undistort(const Eigen::Vector2d& distorted) const {
     Eigen::Matrix2d jacobian;
     const Eigen::Vector2d residual = x + DistortionOffset(x, &jacobian) - distorted;
     jacobian += Eigen::Matrix2d::Identity();
-    const Eigen::Vector2d step = jacobian.partialPivLu().solve(residual);
+    // The 2 x 2 system by Cramer's rule: a tenth of an LU's cost, per pixel
+    // ray of every distorted camera (the Jacobian is near the identity).
+    const double det = jacobian(0, 0) * jacobian(1, 1) - jacobian(0, 1) * jacobian(1, 0);
+    const Eigen::Vector2d step(
+        (jacobian(1, 1) * residual.x() - jacobian(0, 1) * residual.y()) / det,
+        (jacobian(0, 0) * residual.y() - jacobian(1, 0) * residual.x()) / det);
     if (!step.allFinite()) break;
     x -= step;
     if (step.squaredNorm() < kUndistortTolerance * kUndistortTolerance * (1 + x.squaredNorm())) {
