@@ -5,6 +5,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <functional>
 #include <limits>
@@ -34,6 +35,86 @@ struct Hit {
 Eigen::Vector2d SampleInPixel(int col, int row, int s, int t, int samples_per_axis) {
   const double step = 1.0 / samples_per_axis;
   return Eigen::Vector2d(col + (s + 0.5) * step, row + (t + 0.5) * step);
+}
+
+// Pixels [x0, x1) x [y0, y1).
+struct PixelRect {
+  int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+};
+
+// Samples along each edge of a distorted camera's rectangle (and per axis
+// inside it) whose images bound the rectangle's image.
+constexpr int kOutlineSamples = 64;
+constexpr int kInsideSamples = 16;
+
+// The pixels whose sample rays may meet `box`; all others miss it. A ray
+// meets the box only through the box's projection onto the camera's z = 1
+// plane (an orthographic camera's xy plane), which lies in the rectangle Q
+// around its corners' projections, all in front of the camera (else every
+// pixel may see it). Without distortion Q's image is a rectangle; with
+// distortion, a sample whose undistorted point lies outside Q lies outside
+// Q's distorted image, whose bounds are taken from its outline (and a grid
+// inside, should the distortion fold) sampled densely, widened by the
+// largest step between outline samples and a pixel.
+PixelRect ReachablePixels(const Camera& camera, const Rigid3d& cam_from_world, const Box3d& box) {
+  const PixelRect whole{0, 0, camera.width(), camera.height()};
+  Eigen::Vector2d lo = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
+  Eigen::Vector2d hi = -lo;
+  for (int corner = 0; corner < 8; ++corner) {
+    const Eigen::Vector3d p = cam_from_world * box.corner(static_cast<Box3d::CornerType>(corner));
+    if (!camera.IsOrthographic() && !(p.z() > 0)) return whole;
+    const Eigen::Vector2d q =
+        camera.IsOrthographic() ? p.head<2>() : Eigen::Vector2d(p.head<2>() / p.z());
+    lo = lo.cwiseMin(q);
+    hi = hi.cwiseMax(q);
+  }
+  if (!lo.allFinite() || !hi.allFinite()) return whole;
+  // The image of a point of the plane (ImgFromCam divides by z = 1, or
+  // ignores it for an orthographic camera).
+  const auto image_of = [&camera](double u, double v) {
+    return camera.ImgFromCam(Eigen::Vector3d(u, v, 1.0));
+  };
+  Eigen::Vector2d image_lo = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
+  Eigen::Vector2d image_hi = -image_lo;
+  const auto add = [&](const Eigen::Vector2d& point) {
+    image_lo = image_lo.cwiseMin(point);
+    image_hi = image_hi.cwiseMax(point);
+  };
+  double margin = 1.0;
+  if (camera.IsOrthographic() || !camera.HasDistortion()) {
+    add(image_of(lo.x(), lo.y()));
+    add(image_of(hi.x(), hi.y()));
+  } else {
+    const std::array<Eigen::Vector2d, 5> outline = {lo, Eigen::Vector2d(hi.x(), lo.y()), hi,
+                                                    Eigen::Vector2d(lo.x(), hi.y()), lo};
+    for (int edge = 0; edge < 4; ++edge) {
+      Eigen::Vector2d previous = image_of(outline[edge].x(), outline[edge].y());
+      for (int k = 1; k <= kOutlineSamples; ++k) {
+        const Eigen::Vector2d q =
+            outline[edge] + (outline[edge + 1] - outline[edge]) * k / kOutlineSamples;
+        const Eigen::Vector2d point = image_of(q.x(), q.y());
+        add(point);
+        margin = std::max(margin, 1.0 + (point - previous).norm());
+        previous = point;
+      }
+    }
+    for (int j = 0; j <= kInsideSamples; ++j) {
+      for (int i = 0; i <= kInsideSamples; ++i) {
+        add(image_of(lo.x() + (hi.x() - lo.x()) * i / kInsideSamples,
+                     lo.y() + (hi.y() - lo.y()) * j / kInsideSamples));
+      }
+    }
+  }
+  if (!image_lo.allFinite() || !image_hi.allFinite()) return whole;
+  const auto clamp = [](double value, int size) {
+    return static_cast<int>(std::clamp(value, 0.0, static_cast<double>(size)));
+  };
+  PixelRect rect;
+  rect.x0 = clamp(std::floor(image_lo.x() - margin), camera.width());
+  rect.y0 = clamp(std::floor(image_lo.y() - margin), camera.height());
+  rect.x1 = clamp(std::floor(image_hi.x() + margin) + 1, camera.width());
+  rect.y1 = clamp(std::floor(image_hi.y() + margin) + 1, camera.height());
+  return rect;
 }
 
 bool HitFromRayHit(const RTCRayHit& ray_hit, double t_start, Hit* hit) {
@@ -106,12 +187,16 @@ class MeshRenderer::Impl {
     std::vector<double> t_starts;
     std::vector<RTCRay> rays;  // coverage alone
   };
+  // The pixels of row `row` in columns [x0, x1).
   void RenderRow(const Camera& camera, const Rigid3d& world_from_cam, int samples_per_axis, int row,
-                 const ShadeFn& shade, RowBuffers* buffers, FloatImage* image) const;
-  // Averages the traced rays of one row (`samples` consecutive rays per pixel).
-  static void CoverRow(const RowBuffers& buffers, int samples, int row, FloatImage* image);
-  static void ShadeRow(const RowBuffers& buffers, int samples, int row, const ShadeFn& shade,
+                 int x0, int x1, const ShadeFn& shade, RowBuffers* buffers,
+                 FloatImage* image) const;
+  // Averages the traced rays of one row's columns [x0, x1) (`samples`
+  // consecutive rays per pixel).
+  static void CoverRow(const RowBuffers& buffers, int samples, int row, int x0, int x1,
                        FloatImage* image);
+  static void ShadeRow(const RowBuffers& buffers, int samples, int row, int x0, int x1,
+                       const ShadeFn& shade, FloatImage* image);
 
   mutable std::once_flag scene_built_;
   mutable RTCDevice device_ = nullptr;
@@ -206,16 +291,17 @@ bool MeshRenderer::Impl::Intersect(const Ray3d& ray, Hit* hit) const {
 }
 
 void MeshRenderer::Impl::RenderRow(const Camera& camera, const Rigid3d& world_from_cam,
-                                   int samples_per_axis, int row, const ShadeFn& shade,
-                                   RowBuffers* buffers, FloatImage* image) const {
+                                   int samples_per_axis, int row, int x0, int x1,
+                                   const ShadeFn& shade, RowBuffers* buffers,
+                                   FloatImage* image) const {
   // All rays of the row, pixel by pixel, traced as one coherent stream.
   const int samples = samples_per_axis * samples_per_axis;
-  const size_t num_rays = static_cast<size_t>(camera.width()) * samples;
+  const size_t num_rays = static_cast<size_t>(x1 - x0) * samples;
   buffers->ray_hits.resize(num_rays);
   buffers->t_starts.resize(num_rays);
   const Eigen::Matrix3d world_from_cam_rotation = world_from_cam.rotation.toRotationMatrix();
   size_t r = 0;
-  for (int col = 0; col < camera.width(); ++col) {
+  for (int col = x0; col < x1; ++col) {
     for (int t = 0; t < samples_per_axis; ++t) {
       for (int s = 0; s < samples_per_axis; ++s, ++r) {
         const Ray3d ray_in_cam =
@@ -236,36 +322,36 @@ void MeshRenderer::Impl::RenderRow(const Camera& camera, const Rigid3d& world_fr
     for (size_t k = 0; k < num_rays; ++k) buffers->rays[k] = buffers->ray_hits[k].ray;
     rtcOccluded1M(Scene(), &context, buffers->rays.data(), static_cast<unsigned>(num_rays),
                   sizeof(RTCRay));
-    CoverRow(*buffers, samples, row, image);
+    CoverRow(*buffers, samples, row, x0, x1, image);
     return;
   }
   rtcIntersect1M(Scene(), &context, buffers->ray_hits.data(), static_cast<unsigned>(num_rays),
                  sizeof(RTCRayHit));
-  ShadeRow(*buffers, samples, row, shade, image);
+  ShadeRow(*buffers, samples, row, x0, x1, shade, image);
 }
 
-void MeshRenderer::Impl::CoverRow(const RowBuffers& buffers, int samples, int row,
+void MeshRenderer::Impl::CoverRow(const RowBuffers& buffers, int samples, int row, int x0, int x1,
                                   FloatImage* image) {
-  for (int col = 0; col < image->width(); ++col) {
+  for (int col = x0; col < x1; ++col) {
     int hits = 0;
     for (int k = 0; k < samples; ++k) {
       // Embree sets an occluded ray's tfar to -inf; the others keep theirs
       // (>= 0: infinity, or 0 for a ray made inactive by MakeRayHit).
-      hits += buffers.rays[static_cast<size_t>(col) * samples + k].tfar < 0.0f ? 1 : 0;
+      hits += buffers.rays[static_cast<size_t>(col - x0) * samples + k].tfar < 0.0f ? 1 : 0;
     }
     image->at(col, row, 0) = static_cast<float>(hits) / static_cast<float>(samples);
   }
 }
 
-void MeshRenderer::Impl::ShadeRow(const RowBuffers& buffers, int samples, int row,
+void MeshRenderer::Impl::ShadeRow(const RowBuffers& buffers, int samples, int row, int x0, int x1,
                                   const ShadeFn& shade, FloatImage* image) {
   const int channels = image->channels();
   std::vector<float> sum(channels);
-  for (int col = 0; col < image->width(); ++col) {
+  for (int col = x0; col < x1; ++col) {
     std::fill(sum.begin(), sum.end(), 0.0f);
     int hits = 0;
     for (int k = 0; k < samples; ++k) {
-      const size_t r = static_cast<size_t>(col) * samples + k;
+      const size_t r = static_cast<size_t>(col - x0) * samples + k;
       Hit hit;
       if (!HitFromRayHit(buffers.ray_hits[r], buffers.t_starts[r], &hit)) continue;
       ++hits;
@@ -327,14 +413,19 @@ FloatImage MeshRenderer::Impl::Render(const Camera& camera, const Rigid3d& cam_f
     ResolveSamples(sample_triangles, samples_per_axis, shade, &image);
     return image;
   }
+  // Pixels beyond the reach of the mesh's bounds stay empty, as their rays
+  // would leave them.
+  const PixelRect reach = ReachablePixels(camera, cam_from_world, padded_bounds_);
+  if (reach.x0 >= reach.x1 || reach.y0 >= reach.y1) return image;
   const Rigid3d world_from_cam = cam_from_world.Inverse();
-  tbb::parallel_for(
-      tbb::blocked_range<int>(0, camera.height()), [&](const tbb::blocked_range<int>& rows) {
-        RowBuffers buffers;
-        for (int row = rows.begin(); row < rows.end(); ++row) {
-          RenderRow(camera, world_from_cam, samples_per_axis, row, shade, &buffers, &image);
-        }
-      });
+  tbb::parallel_for(tbb::blocked_range<int>(reach.y0, reach.y1),
+                    [&](const tbb::blocked_range<int>& rows) {
+                      RowBuffers buffers;
+                      for (int row = rows.begin(); row < rows.end(); ++row) {
+                        RenderRow(camera, world_from_cam, samples_per_axis, row, reach.x0, reach.x1,
+                                  shade, &buffers, &image);
+                      }
+                    });
   return image;
 }
 

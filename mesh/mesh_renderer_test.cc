@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <random>
 
@@ -255,6 +256,87 @@ TEST(MeshRendererTest, RasterizedSamplesAreTheRays) {
   const Rigid3d inside = LookAt(Eigen::Vector3d(1.4, 0.0, 0.0), Eigen::Vector3d::Zero(), up);
   EXPECT_EQ(renderer.RenderCoverage(camera, inside, 2).values(),
             renderer.RenderCoverage(camera, inside, 2, MeshRenderMethod::kRayCast).values());
+}
+
+// Coverage by one ray per sample through MeshRenderer::CastRay, every pixel.
+FloatImage CoverageByCastRays(const MeshRenderer& renderer, const Camera& camera,
+                              const Rigid3d& cam_from_world, int samples_per_axis) {
+  const Rigid3d world_from_cam = cam_from_world.Inverse();
+  const Eigen::Matrix3d rotation = world_from_cam.rotation.toRotationMatrix();
+  FloatImage coverage(camera.width(), camera.height(), 1);
+  for (int row = 0; row < camera.height(); ++row) {
+    for (int col = 0; col < camera.width(); ++col) {
+      int hits = 0;
+      for (int t = 0; t < samples_per_axis; ++t) {
+        for (int s = 0; s < samples_per_axis; ++s) {
+          Ray3d ray = camera.CamRayFromImg(Eigen::Vector2d(col + (s + 0.5) / samples_per_axis,
+                                                           row + (t + 0.5) / samples_per_axis));
+          ray.origin = rotation * ray.origin + world_from_cam.translation;
+          ray.direction = rotation * ray.direction;
+          hits += std::isfinite(renderer.CastRay(ray)) ? 1 : 0;
+        }
+      }
+      coverage.at(col, row) = static_cast<float>(hits) / (samples_per_axis * samples_per_axis);
+    }
+  }
+  return coverage;
+}
+
+TEST(MeshRendererTest, RaysAreCastOnlyWhereTheMeshsBoundsReach) {
+  // Rays are traced only for pixels whose rays may meet the mesh's bounds
+  // (distorted cameras, and rays asked for): every other pixel stays empty,
+  // as its rays would leave it. A small ball off the image's centre, where
+  // a strong distortion bends the bounds' outline most, and a camera with a
+  // corner of the bounds behind it (every pixel traced): the same coverage
+  // as one cast ray per sample over the whole image.
+  TriangleMesh ball = BallAndLeaves();
+  for (Eigen::Vector3f& v : ball.vertices) v = 0.3f * v + Eigen::Vector3f(0.9f, -0.6f, 0.2f);
+  const MeshRenderer renderer(ball);
+  const Eigen::Vector3d up = Eigen::Vector3d::UnitZ();
+  const Rigid3d pose = LookAt(Eigen::Vector3d(5.0, 1.0, 0.8), Eigen::Vector3d::Zero(), up);
+  const std::pair<Camera, Rigid3d> views[] = {
+      {Camera(CameraModel::kOpenCV, 96, 80, {70.0, 72.0, 47.0, 41.0, -0.25, 0.06, 0.004, -0.003}),
+       pose},
+      {Camera(CameraModel::kSimpleRadial, 90, 90, {75.0, 45.0, 45.0, 0.2}), pose},
+      {Camera::Pinhole(96, 80, 70.0), pose},
+      {Camera::Orthographic(72, 72, 18.0), pose},
+      // Between the ball and the leaves around it, wide-angle.
+      {Camera(CameraModel::kSimpleRadial, 48, 48, {12.0, 24.0, 24.0, -0.05}),
+       LookAt(Eigen::Vector3d(0.9, -1.02, 0.2), Eigen::Vector3d(0.9, 3.0, 0.2), up)}};
+  // A cube fills its bounds: under barrel distortion its edges bow out of
+  // the rectangle around its corners' images.
+  TriangleMesh cube;
+  const int paint = cube.AddMaterial({"paint", Eigen::Vector3f(0.5f, 0.5f, 0.5f), true});
+  for (int k = 0; k < 8; ++k) {
+    cube.AddVertex(
+        Eigen::Vector3f(k & 1 ? 1.8f : -1.5f, k & 2 ? 1.6f : -1.7f, k & 4 ? 4.0f : 3.0f));
+  }
+  for (const auto& [a, b, c, d] : std::vector<std::array<int, 4>>{
+           {0, 1, 3, 2}, {4, 6, 7, 5}, {0, 4, 5, 1}, {2, 3, 7, 6}, {0, 2, 6, 4}, {1, 5, 7, 3}}) {
+    cube.AddTriangle(a, b, c, paint);
+    cube.AddTriangle(a, c, d, paint);
+  }
+  const MeshRenderer cube_renderer(cube);
+  const Camera barrel(CameraModel::kOpenCV, 160, 150, {60.0, 60.0, 81.0, 74.0, -0.3, 0.05, 0, 0});
+  const FloatImage cube_coverage =
+      cube_renderer.RenderCoverage(barrel, Rigid3d(), 2, MeshRenderMethod::kRayCast);
+  EXPECT_GT(Sum(cube_coverage), 1000.0);
+  EXPECT_LT(Sum(cube_coverage), 0.5 * barrel.width() * barrel.height());
+  EXPECT_EQ(cube_coverage.values(),
+            CoverageByCastRays(cube_renderer, barrel, Rigid3d(), 2).values());
+  for (const auto& [camera, view_pose] : views) {
+    SCOPED_TRACE(CameraModelName(camera.model()));
+    const FloatImage coverage =
+        renderer.RenderCoverage(camera, view_pose, 2, MeshRenderMethod::kRayCast);
+    const double covered = Sum(coverage);
+    EXPECT_GT(covered, 10.0);
+    EXPECT_LT(covered, 0.5 * camera.width() * camera.height());
+    EXPECT_EQ(coverage.values(), CoverageByCastRays(renderer, camera, view_pose, 2).values());
+    MeshRenderOptions cast;
+    cast.method = MeshRenderMethod::kRayCast;
+    cast.samples_per_axis = 2;
+    EXPECT_EQ(renderer.RenderRgba(camera, view_pose, cast).Channel(3).values(), coverage.values());
+  }
 }
 
 TEST(MeshRendererTest, EmptyMeshAndBadOptions) {
