@@ -54,14 +54,112 @@ struct RowChunk {
 // Edge, in voxels, of the cells of ReachablePixels.
 constexpr int kCellVoxels = 4;
 
+// A pixel's rays through a camera with lens distortion pass through the
+// normalized (undistorted, z = 1) points of its block of the image; those
+// lie in the rectangle around its corners' points widened by this share of
+// its size (the distortion is nearly affine over a pixel).
+constexpr double kPixelRectSlack = 0.1;
+
+// ReachablePixels (below) for a perspective camera with lens distortion,
+// whose image of a box may bulge past its corners' rectangle: in the
+// normalized plane instead. A ray meets a cell only if its normalized point
+// lies in the rectangle of the cell's corners' normalized points; those
+// rectangles are marked (one grid cell wider on each side) on a grid over
+// the pixels' normalized points, and a pixel is marked when its rectangle
+// meets a marked grid cell. False (nothing marked) if a cell's corner is
+// behind the camera.
+bool MarkDistortedPixels(const ImageSet& image_set, int view_idx, const ViewSampling& sampling,
+                         const VoxelBlock& block, const std::vector<char>& occupied_cells,
+                         const Eigen::Vector3i& cell_dims, std::vector<char>* marked) {
+  const int width = sampling.width(), height = sampling.height();
+  const Camera& camera = image_set.CameraOf(view_idx);
+  // The normalized points of the pixels' corners.
+  const auto corner_position = [&](int i, int original) {
+    return static_cast<double>(std::min(i * sampling.factor, original));
+  };
+  std::vector<Eigen::Vector2d> corners(static_cast<size_t>(width + 1) * (height + 1));
+  Eigen::AlignedBox2d extent;
+  for (int j = 0; j <= height; ++j) {
+    for (int i = 0; i <= width; ++i) {
+      const Eigen::Vector2d point =
+          camera.CamFromImg(Eigen::Vector2d(corner_position(i, sampling.original_width),
+                                            corner_position(j, sampling.original_height)));
+      corners[static_cast<size_t>(j) * (width + 1) + i] = point;
+      extent.extend(point);
+    }
+  }
+  // The grid: as many cells as pixels, over the points' extent.
+  const Eigen::Vector2d cell = extent.sizes().cwiseQuotient(Eigen::Vector2d(width, height));
+  if (!(cell.x() > 0 && cell.y() > 0)) return true;
+  const auto grid_of = [&](const Eigen::Vector2d& point, int offset) {
+    const Eigen::Vector2d g = (point - extent.min()).cwiseQuotient(cell);
+    return Eigen::Vector2i(
+        static_cast<int>(std::clamp(std::floor(g.x()) + offset, 0.0, width - 1.0)),
+        static_cast<int>(std::clamp(std::floor(g.y()) + offset, 0.0, height - 1.0)));
+  };
+  // Summed counts of marked grid cells, one row and column of zeros first.
+  std::vector<int32_t> sums(static_cast<size_t>(width + 1) * (height + 1), 0);
+  const auto sum_at = [&](int x, int y) -> int32_t& {
+    return sums[static_cast<size_t>(y) * (width + 1) + x];
+  };
+  const Eigen::Matrix3d rotation =
+      image_set.views[view_idx].cam_from_world.rotation.toRotationMatrix();
+  const Eigen::Vector3d& translation = image_set.views[view_idx].cam_from_world.translation;
+  const double cell_size = kCellVoxels * block.voxel_size;
+  for (int z = 0; z < cell_dims.z(); ++z) {
+    for (int y = 0; y < cell_dims.y(); ++y) {
+      for (int x = 0; x < cell_dims.x(); ++x) {
+        if (!occupied_cells[(static_cast<size_t>(z) * cell_dims.y() + y) * cell_dims.x() + x]) {
+          continue;
+        }
+        Eigen::AlignedBox2d rect;
+        for (int corner = 0; corner < 8; ++corner) {
+          const Eigen::Vector3d offset(x + (corner & 1), y + ((corner >> 1) & 1),
+                                       z + ((corner >> 2) & 1));
+          const Eigen::Vector3d in_cam =
+              rotation * (block.lower_corner + cell_size * offset) + translation;
+          if (!camera.IsInFront(in_cam)) return false;
+          rect.extend(Eigen::Vector2d(in_cam.head<2>() / in_cam.z()));
+        }
+        if (!rect.intersects(extent)) continue;
+        const Eigen::Vector2i lo = grid_of(rect.min(), -1), hi = grid_of(rect.max(), 1);
+        for (int gy = lo.y(); gy <= hi.y(); ++gy) {
+          for (int gx = lo.x(); gx <= hi.x(); ++gx) sum_at(gx + 1, gy + 1) = 1;
+        }
+      }
+    }
+  }
+  for (int gy = 1; gy <= height; ++gy) {
+    for (int gx = 1; gx <= width; ++gx) {
+      sum_at(gx, gy) += sum_at(gx - 1, gy) + sum_at(gx, gy - 1) - sum_at(gx - 1, gy - 1);
+    }
+  }
+  for (int py = 0; py < height; ++py) {
+    for (int px = 0; px < width; ++px) {
+      Eigen::AlignedBox2d rect;
+      for (int k = 0; k < 4; ++k) {
+        rect.extend(corners[static_cast<size_t>(py + (k >> 1)) * (width + 1) + px + (k & 1)]);
+      }
+      const Eigen::Vector2d slack = kPixelRectSlack * rect.sizes();
+      const Eigen::Vector2i lo = grid_of(rect.min() - slack, 0);
+      const Eigen::Vector2i hi = grid_of(rect.max() + slack, 0);
+      const int32_t count = sum_at(hi.x() + 1, hi.y() + 1) - sum_at(lo.x(), hi.y() + 1) -
+                            sum_at(hi.x() + 1, lo.y()) + sum_at(lo.x(), lo.y());
+      (*marked)[static_cast<size_t>(py) * width + px] = count > 0;
+    }
+  }
+  return true;
+}
+
 // Per downsampled pixel of a view: whether its rays may cross an unknown
 // voxel. Each cell of kCellVoxels^3 voxels holding an unknown marks the
 // pixels that meet the bounding rectangle of its 8 projected corners, one
 // pixel wider on each side; a pinhole's (or an orthographic camera's) image
 // of a box lies inside that rectangle, so a pixel left unmarked has no ray
-// through an unknown, and its row would be empty. Behind the camera, or with
-// lens distortion (its image of a box may bulge past the corners'
-// rectangle), every pixel is marked.
+// through an unknown, and its row would be empty. With lens distortion
+// (its image of a box may bulge past the corners' rectangle), the same in
+// the normalized plane (MarkDistortedPixels). Behind the camera, every
+// pixel is marked.
 std::vector<char> ReachablePixels(const ImageSet& image_set, int view_idx,
                                   const ViewSampling& sampling, const VoxelBlock& block,
                                   const std::vector<char>& occupied_cells,
@@ -70,7 +168,10 @@ std::vector<char> ReachablePixels(const ImageSet& image_set, int view_idx,
   std::vector<char> marked(static_cast<size_t>(width) * height, 0);
   const Camera& camera = image_set.CameraOf(view_idx);
   if (camera.HasDistortion()) {
-    std::fill(marked.begin(), marked.end(), 1);
+    if (camera.IsOrthographic() || !MarkDistortedPixels(image_set, view_idx, sampling, block,
+                                                        occupied_cells, cell_dims, &marked)) {
+      std::fill(marked.begin(), marked.end(), 1);
+    }
     return marked;
   }
   const ViewProjector projector(image_set, view_idx);

@@ -197,20 +197,46 @@ TEST(ViewSamplingTest, PerViewVetoesMatchOneViewAtATime) {
   }
 }
 
-TEST(ViewSamplingTest, RaySystemSkipsOnlyPixelsThatReachNoUnknown) {
+// Wide-angle cameras with strong lens distortion (barrel, tangential), on a
+// ring close enough that the block fills their images, out to the corners
+// where the distortion is strongest.
+ImageSet DistortedRingViews(int num_views, int size) {
+  ImageSet set = RingViews(num_views, size);
+  const double f = 0.55 * size, c = size / 2.0;
+  set.cameras[1] = Camera(CameraModel::kOpenCV, size, size, {f, f, c, c, -0.3, 0.08, 0.01, -0.01});
+  for (View& view : set.views) {
+    const Eigen::Vector3d center = view.cam_from_world.Inverse().translation;
+    const Eigen::Vector3d target(0, 0, 1.0);
+    view.cam_from_world =
+        LookAt(target + 0.6 * (center - target), target, Eigen::Vector3d::UnitZ());
+  }
+  return set;
+}
+
+class RaySystemTest : public testing::TestWithParam<bool> {};
+
+TEST_P(RaySystemTest, SkipsOnlyPixelsThatReachNoUnknown) {
+  // Pinhole cameras, and (the parameter) cameras with lens distortion,
+  // whose reachable pixels are found in the normalized plane.
   const int views = 3, size = 64;
-  const ImageSet set = RingViews(views, size);
+  const ImageSet set = GetParam() ? DistortedRingViews(views, size) : RingViews(views, size);
   const std::vector<FloatImage> mattes = Mattes(views, size);
   const VoxelBlock block = Block(24);
-  // Unknowns: a small ball off-centre, so most pixels reach none.
+  // Unknowns: a small ball off-centre, so most pixels reach none, and a
+  // box filling whole cells of the skipping's grid, whose outline the
+  // rays graze.
   std::vector<int32_t> column_of_voxel(block.NumVoxels(), -1);
   int32_t columns = 0;
   for (int64_t i = 0; i < block.NumVoxels(); ++i) {
-    const Eigen::Vector3d p = block.VoxelCenter(block.VoxelFromLinear(i));
-    if ((p - Eigen::Vector3d(0.3, -0.2, 1.2)).norm() < 0.35) column_of_voxel[i] = columns++;
+    const Eigen::Vector3i ijk = block.VoxelFromLinear(i);
+    const Eigen::Vector3d p = block.VoxelCenter(ijk);
+    const bool in_box = (ijk.array() >= 4).all() && (ijk.array() < 12).all();
+    if ((p - Eigen::Vector3d(0.3, -0.2, 1.2)).norm() < 0.35 || in_box) {
+      column_of_voxel[i] = columns++;
+    }
   }
   std::vector<ViewSampling> sampling;
-  for (int v = 0; v < views; ++v) sampling.push_back(ViewSampling{2, 2, size, size});
+  for (int v = 0; v < views; ++v) sampling.push_back(ViewSampling{2, 6, size, size});
   std::vector<FloatImage> small;
   for (const FloatImage& matte : mattes) small.push_back(DownsampleBox(matte, 2));
   const RaySystem system = BuildRaySystem(set, sampling, small, block, column_of_voxel, columns,
@@ -241,8 +267,14 @@ TEST(ViewSamplingTest, RaySystemSkipsOnlyPixelsThatReachNoUnknown) {
     }
   }
   EXPECT_EQ(row, system.matrix.NumRows());
+  EXPECT_GT(row, 50);
   EXPECT_GT(skipped, row);  // most pixels reach no unknown
 }
+
+INSTANTIATE_TEST_SUITE_P(Cameras, RaySystemTest, testing::Bool(),
+                         [](const testing::TestParamInfo<bool>& info) {
+                           return info.param ? "Distorted" : "Pinhole";
+                         });
 
 }  // namespace
 }  // namespace sylva
