@@ -372,6 +372,7 @@ std::vector<int> ChooseViewsAndBounds(const ImageSet& all_views,
   const ImageSet trusted = SubsetOf(all_views, trusted_views);
   FrameCuts cuts;
   summary->bounds = WithMargin(VisualHullBounds(trusted, masks, options.hull_resolution,
+                                                CarveRank(trusted.NumViews(), options),
                                                 progress.SubTask("density: bounds", 0.03, 0.05),
                                                 options.open_frame_cuts ? &cuts : nullptr),
                                options);

@@ -175,11 +175,14 @@ Box3d FrustumIntersectionBounds(const ImageSet& image_set, const std::vector<Flo
 }
 
 Box3d VisualHullBounds(const ImageSet& image_set, const std::vector<FloatImage>& masks,
-                       int resolution, const ProgressTask& progress, FrameCuts* cuts) {
+                       int resolution, int dissent, const ProgressTask& progress, FrameCuts* cuts) {
+  SYLVA_CHECK(dissent >= 0);
   const Box3d frustum_bounds = FrustumIntersectionBounds(image_set, masks, cuts);
   const std::vector<SummedAreaTable> tables = MakeSummedAreaTables(masks);
   const VoxelBlock block = CoarseBlock(frustum_bounds, resolution);
-  const std::vector<float> kept = MinFootprintMeans(image_set, tables, block, progress);
+  const std::vector<float> kept =
+      dissent == 0 ? MinFootprintMeans(image_set, tables, block, progress)
+                   : LowFootprintMeans(image_set, tables, block, dissent, progress);
   Box3d bounds;
   const Eigen::Vector3d voxel = Eigen::Vector3d::Constant(block.voxel_size);
   for (int64_t i = 0; i < block.NumVoxels(); ++i) {

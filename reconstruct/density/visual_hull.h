@@ -40,10 +40,13 @@ Box3d FrustumIntersectionBounds(const ImageSet& image_set, const std::vector<Flo
 // The visual hull's bounding box: frustum intersection refined by carving a
 // grid of `resolution` voxels (longest side) with the masks' summed-area
 // tables. Conservative: contains every point that projects to foreground in
-// all views that see it (a point beyond a view's frame is not seen by it).
-// Throws InputError if nothing survives.
+// all views that see it but `dissent` (a point beyond a view's frame is not
+// seen by it): the carving's allowance for mattes that miss a thin branch's
+// tip, which a hull of every view would cut from the bounds. Throws
+// InputError if nothing survives.
 Box3d VisualHullBounds(const ImageSet& image_set, const std::vector<FloatImage>& masks,
-                       int resolution, const ProgressTask& progress, FrameCuts* cuts = nullptr);
+                       int resolution, int dissent, const ProgressTask& progress,
+                       FrameCuts* cuts = nullptr);
 
 }  // namespace sylva
 
