@@ -140,92 +140,126 @@ bool ZeroRect(float x0, float y0, float x1, float y1, const SummedAreaTable& tab
   return table.AllZero(i0, j0, i1 + 1, j1 + 1);
 }
 
-// The test from every projected corner of the voxels of the bricks marked in
-// `wanted` (any camera).
-void MarkZeroBricks(const std::vector<CornerLayer>& layers, const VoxelBlock& block,
-                    const SummedAreaTable& table, const std::vector<char>& wanted,
-                    std::vector<char>* zero) {
-  const int nx = block.dims.x(), ny = block.dims.y();
-  const int bx = (nx + kBlockSide - 1) / kBlockSide, by = (ny + kBlockSide - 1) / kBlockSide;
-  zero->assign(static_cast<size_t>(bx) * by, 0);
-  for (int cy = 0; cy < by; ++cy) {
-    for (int cx = 0; cx < bx; ++cx) {
-      if (!wanted[static_cast<size_t>(cy) * bx + cx]) continue;
-      float x0 = std::numeric_limits<float>::max(), y0 = x0;
-      float x1 = std::numeric_limits<float>::lowest(), y1 = x1;
-      bool valid = true;
-      for (const CornerLayer& layer : layers) {
-        for (int y = cy * kBlockSide; valid && y <= std::min(ny, (cy + 1) * kBlockSide); ++y) {
-          for (int x = cx * kBlockSide; x <= std::min(nx, (cx + 1) * kBlockSide); ++x) {
-            const size_t i = static_cast<size_t>(y) * (nx + 1) + x;
-            if (!layer.valid[i]) {
-              valid = false;
-              break;
-            }
-            const Eigen::Vector2f& p = layer.pixels[i];
-            x0 = std::min(x0, p.x());
-            x1 = std::max(x1, p.x());
-            y0 = std::min(y0, p.y());
-            y1 = std::max(y1, p.y());
-          }
-        }
-      }
-      if (valid) (*zero)[static_cast<size_t>(cy) * bx + cx] = ZeroRect(x0, y0, x1, y1, table);
-    }
-  }
-}
-
-// The same test from the 8 corners of each brick alone, for a camera whose
-// image of a box lies in its corners' rectangle: 1/16 of the projections
-// per layer, and 2 layers instead of the slices' 5. A voxel corner inside
-// the brick may round to a float a step outside that rectangle, so it is
-// widened by a few float steps (never claims a brick MarkZeroBricks would
-// not, up to that rounding).
+// The same test from the 8 corners of each brick alone: 1/16 of the
+// projections per layer, and 2 layers instead of the slices' 5. A pinhole's
+// (or an orthographic camera's) image of a box lies in its corners'
+// rectangle; lens distortion bends the box's edges, so that its image may
+// bulge past that rectangle: the rectangle is widened by twice the largest
+// gap, over the brick's 12 edges, between an edge's projected midpoint and
+// the middle of its projected ends (over a brick the distortion is nearly
+// quadratic, which bends an edge by at most that gap; its image's extremes
+// lie on the images of the box's edges). A voxel corner inside the brick may
+// round to a float a step outside, so the rectangle is also widened by a
+// few float steps (never claims a brick MarkZeroBricks would not, up to
+// that rounding).
 // Float steps (relative) the corners' rectangle is widened by, for the
 // rounding of the voxel corners inside it.
 constexpr float kCornerRoundingSteps = 4.0f;
+// How many times its edges' midpoint gap a distorted brick's rectangle is
+// widened by, and the largest gap (pixels) trusted so: where the distortion
+// bends a brick's edges more, it is not quadratic over them, and the
+// brick is left to the voxels' own footprints.
+constexpr float kEdgeBendFactor = 2.0f;
+constexpr float kMaxTrustedBend = 2.0f;
 
-void MarkZeroBricksFromCorners(const ViewProjector& projector, const VoxelBlock& block, int z_begin,
-                               int z_end, const SummedAreaTable& table, std::vector<char>* zero) {
+// Projections of points of the brick lattice of one task: for each of
+// `layers` z values, (bx + 1) x (by + 1) points at brick corners offset by
+// half a brick in x and/or y where asked (edge midpoints).
+struct BrickLattice {
+  int bx = 0, by = 0;
+  std::vector<Eigen::Vector2f> pixels;
+  std::vector<char> valid;
+
+  size_t Index(int layer, int cx, int cy) const {
+    return (static_cast<size_t>(layer) * (by + 1) + cy) * (bx + 1) + cx;
+  }
+};
+
+BrickLattice ProjectBrickLattice(const ViewProjector& projector, const VoxelBlock& block,
+                                 const std::vector<double>& zs, double x_offset, double y_offset) {
   const int nx = block.dims.x(), ny = block.dims.y();
-  const int bx = (nx + kBlockSide - 1) / kBlockSide, by = (ny + kBlockSide - 1) / kBlockSide;
-  // Brick corners: (bx + 1) x (by + 1) per layer, at z_begin and z_end.
-  std::vector<Eigen::Vector2f> pixels(2 * static_cast<size_t>(bx + 1) * (by + 1));
-  std::vector<char> valid(pixels.size());
-  size_t n = 0;
-  for (int z : {z_begin, z_end}) {
-    for (int cy = 0; cy <= by; ++cy) {
-      for (int cx = 0; cx <= bx; ++cx, ++n) {
+  BrickLattice lattice;
+  lattice.bx = (nx + kBlockSide - 1) / kBlockSide;
+  lattice.by = (ny + kBlockSide - 1) / kBlockSide;
+  lattice.pixels.resize(zs.size() * (lattice.bx + 1) * (lattice.by + 1));
+  lattice.valid.resize(lattice.pixels.size());
+  // A brick's corner (clamped to the block), or the middle of its edge.
+  const auto coordinate = [](int c, int n, double offset) {
+    const double lo = std::min(n, c * kBlockSide);
+    if (offset == 0.0) return lo;
+    return 0.5 * (lo + std::min(n, (c + 1) * kBlockSide));
+  };
+  for (size_t l = 0; l < zs.size(); ++l) {
+    for (int cy = 0; cy <= lattice.by; ++cy) {
+      for (int cx = 0; cx <= lattice.bx; ++cx) {
         const Eigen::Vector3d corner =
-            block.lower_corner + block.voxel_size * Eigen::Vector3d(std::min(nx, cx * kBlockSide),
-                                                                    std::min(ny, cy * kBlockSide),
-                                                                    z);
+            block.lower_corner + block.voxel_size * Eigen::Vector3d(coordinate(cx, nx, x_offset),
+                                                                    coordinate(cy, ny, y_offset),
+                                                                    zs[l]);
         Eigen::Vector2d pixel = Eigen::Vector2d::Zero();
-        valid[n] = projector.Project(corner, &pixel);
-        pixels[n] = pixel.cast<float>();
+        const size_t i = lattice.Index(static_cast<int>(l), cx, cy);
+        lattice.valid[i] = projector.Project(corner, &pixel);
+        lattice.pixels[i] = pixel.cast<float>();
       }
     }
   }
+  return lattice;
+}
+
+void MarkZeroBricksFromCorners(const ViewProjector& projector, const VoxelBlock& block, int z_begin,
+                               int z_end, const SummedAreaTable& table, std::vector<char>* zero) {
+  const std::vector<double> ends = {static_cast<double>(z_begin), static_cast<double>(z_end)};
+  const BrickLattice corners = ProjectBrickLattice(projector, block, ends, 0.0, 0.0);
+  const int bx = corners.bx, by = corners.by;
+  // With distortion: the midpoints of the edges along x and y (at both
+  // ends) and along z (halfway).
+  const bool bends = !projector.KeepsBoxesInCornerRects();
+  BrickLattice x_mids, y_mids, z_mids;
+  if (bends) {
+    x_mids = ProjectBrickLattice(projector, block, ends, 0.5, 0.0);
+    y_mids = ProjectBrickLattice(projector, block, ends, 0.0, 0.5);
+    z_mids = ProjectBrickLattice(projector, block, {0.5 * (z_begin + z_end)}, 0.0, 0.0);
+  }
   zero->assign(static_cast<size_t>(bx) * by, 0);
-  const size_t layer = static_cast<size_t>(bx + 1) * (by + 1);
   for (int cy = 0; cy < by; ++cy) {
     for (int cx = 0; cx < bx; ++cx) {
       float x0 = std::numeric_limits<float>::max(), y0 = x0;
       float x1 = std::numeric_limits<float>::lowest(), y1 = x1;
       bool all_valid = true;
-      for (size_t corner = 0; corner < 8; ++corner) {
-        const size_t i =
-            (corner >> 2) * layer + (cy + ((corner >> 1) & 1)) * size_t(bx + 1) + cx + (corner & 1);
-        all_valid = all_valid && valid[i];
-        x0 = std::min(x0, pixels[i].x());
-        x1 = std::max(x1, pixels[i].x());
-        y0 = std::min(y0, pixels[i].y());
-        y1 = std::max(y1, pixels[i].y());
+      for (int corner = 0; corner < 8; ++corner) {
+        const size_t i = corners.Index(corner >> 2, cx + (corner & 1), cy + ((corner >> 1) & 1));
+        all_valid = all_valid && corners.valid[i];
+        x0 = std::min(x0, corners.pixels[i].x());
+        x1 = std::max(x1, corners.pixels[i].x());
+        y0 = std::min(y0, corners.pixels[i].y());
+        y1 = std::max(y1, corners.pixels[i].y());
       }
-      if (!all_valid) continue;
-      const auto widen = [](float value, float direction) {
-        return value + direction * (kCornerRoundingSteps * std::numeric_limits<float>::epsilon() *
-                                    std::max(1.0f, std::abs(value)));
+      float bend = 0.0f;
+      if (bends && all_valid) {
+        // Each edge: its midpoint's projection and its two ends'.
+        const auto gap = [&](const BrickLattice& mids, size_t mid, size_t a, size_t b) {
+          all_valid = all_valid && mids.valid[mid];
+          const Eigen::Vector2f chord = 0.5f * (corners.pixels[a] + corners.pixels[b]);
+          bend = std::max(bend, (mids.pixels[mid] - chord).cwiseAbs().maxCoeff());
+        };
+        for (int l = 0; l < 2; ++l) {
+          for (int d = 0; d < 2; ++d) {
+            gap(x_mids, x_mids.Index(l, cx, cy + d), corners.Index(l, cx, cy + d),
+                corners.Index(l, cx + 1, cy + d));
+            gap(y_mids, y_mids.Index(l, cx + d, cy), corners.Index(l, cx + d, cy),
+                corners.Index(l, cx + d, cy + 1));
+          }
+        }
+        for (int d = 0; d < 4; ++d) {
+          const int x = cx + (d & 1), y = cy + (d >> 1);
+          gap(z_mids, z_mids.Index(0, x, y), corners.Index(0, x, y), corners.Index(1, x, y));
+        }
+      }
+      if (!all_valid || bend > kMaxTrustedBend) continue;
+      const auto widen = [bend](float value, float direction) {
+        return value + direction * (kEdgeBendFactor * bend +
+                                    kCornerRoundingSteps * std::numeric_limits<float>::epsilon() *
+                                        std::max(1.0f, std::abs(value)));
       };
       (*zero)[static_cast<size_t>(cy) * bx + cx] =
           ZeroRect(widen(x0, -1), widen(y0, -1), widen(x1, 1), widen(y1, 1), table);
@@ -256,17 +290,16 @@ void ForEachFootprint(const ImageSet& image_set, const std::vector<SummedAreaTab
   tbb::parallel_for(0, num_tasks, [&](int task) {
     progress.CheckCancelled();
     const int z_begin = task * kSlicesPerTask, z_end = std::min(nz, z_begin + kSlicesPerTask);
-    // The bricks' zero views, from their corners where the camera allows.
+    // The bricks' zero views, from their corners.
     std::vector<std::vector<char>> zero(views.size());
     std::vector<int> zero_views(num_bricks, 0);
     for (size_t k = 0; k < views.size(); ++k) {
-      if (!projectors[views[k]].KeepsBoxesInCornerRects()) continue;
       MarkZeroBricksFromCorners(projectors[views[k]], block, z_begin, z_end, tables[views[k]],
                                 &zero[k]);
       for (size_t b = 0; b < num_bricks; ++b) zero_views[b] += zero[k][b];
     }
     // Whether brick b is known to be empty in views[k].
-    const auto zero_in = [&](size_t k, size_t b) { return !zero[k].empty() && zero[k][b]; };
+    const auto zero_in = [&](size_t k, size_t b) { return zero[k][b] != 0; };
     // For each voxel of brick b in the slices, calls f(x, y, z, linear index).
     const auto for_voxels = [&](size_t brick, auto&& f) {
       const int cx = static_cast<int>(brick % bx), cy = static_cast<int>(brick / bx);
@@ -304,7 +337,6 @@ void ForEachFootprint(const ImageSet& image_set, const std::vector<SummedAreaTab
         for (int l = 0; l <= z_end - z_begin; ++l) {
           ProjectCornerLayer(projectors[v], block, z_begin + l, row_begin, row_end, &layers[l]);
         }
-        if (zero[k].empty()) MarkZeroBricks(layers, block, tables[v], live, &zero[k]);
       }
       for (size_t b = 0; b < num_bricks; ++b) {
         if (!live[b]) continue;
