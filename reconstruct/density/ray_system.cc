@@ -54,6 +54,27 @@ struct RowChunk {
 // Edge, in voxels, of the cells of ReachablePixels.
 constexpr int kCellVoxels = 4;
 
+// Calls f(lower corner, edge) (world units) for every cell of kCellVoxels^3
+// voxels of `block` that holds an unknown, in order, until f returns false;
+// false if it did.
+template <typename F>
+bool ForEachOccupiedCell(const VoxelBlock& block, const std::vector<char>& occupied_cells,
+                         const Eigen::Vector3i& cell_dims, F&& f) {
+  const double cell_size = kCellVoxels * block.voxel_size;
+  for (int z = 0; z < cell_dims.z(); ++z) {
+    for (int y = 0; y < cell_dims.y(); ++y) {
+      for (int x = 0; x < cell_dims.x(); ++x) {
+        if (occupied_cells[(static_cast<size_t>(z) * cell_dims.y() + y) * cell_dims.x() + x] &&
+            !f(Eigen::Vector3d(block.lower_corner + cell_size * Eigen::Vector3d(x, y, z)),
+               cell_size)) {
+          return false;
+        }
+      }
+    }
+  }
+  return true;
+}
+
 // A pixel's rays through a camera with lens distortion pass through the
 // normalized (undistorted, z = 1) points of its block of the image; those
 // lie in the rectangle around its corners' points widened by this share of
@@ -105,30 +126,23 @@ bool MarkDistortedPixels(const ImageSet& image_set, int view_idx, const ViewSamp
   const Eigen::Matrix3d rotation =
       image_set.views[view_idx].cam_from_world.rotation.toRotationMatrix();
   const Eigen::Vector3d& translation = image_set.views[view_idx].cam_from_world.translation;
-  const double cell_size = kCellVoxels * block.voxel_size;
-  for (int z = 0; z < cell_dims.z(); ++z) {
-    for (int y = 0; y < cell_dims.y(); ++y) {
-      for (int x = 0; x < cell_dims.x(); ++x) {
-        if (!occupied_cells[(static_cast<size_t>(z) * cell_dims.y() + y) * cell_dims.x() + x]) {
-          continue;
-        }
+  const bool in_front = ForEachOccupiedCell(
+      block, occupied_cells, cell_dims, [&](const Eigen::Vector3d& lower, double size) {
         Eigen::AlignedBox2d rect;
         for (int corner = 0; corner < 8; ++corner) {
-          const Eigen::Vector3d offset(x + (corner & 1), y + ((corner >> 1) & 1),
-                                       z + ((corner >> 2) & 1));
-          const Eigen::Vector3d in_cam =
-              rotation * (block.lower_corner + cell_size * offset) + translation;
+          const Eigen::Vector3d offset(corner & 1, (corner >> 1) & 1, (corner >> 2) & 1);
+          const Eigen::Vector3d in_cam = rotation * (lower + size * offset) + translation;
           if (!camera.IsInFront(in_cam)) return false;
           rect.extend(Eigen::Vector2d(in_cam.head<2>() / in_cam.z()));
         }
-        if (!rect.intersects(extent)) continue;
+        if (!rect.intersects(extent)) return true;
         const Eigen::Vector2i lo = grid_of(rect.min(), -1), hi = grid_of(rect.max(), 1);
         for (int gy = lo.y(); gy <= hi.y(); ++gy) {
           for (int gx = lo.x(); gx <= hi.x(); ++gx) sum_at(gx + 1, gy + 1) = 1;
         }
-      }
-    }
-  }
+        return true;
+      });
+  if (!in_front) return false;
   for (int gy = 1; gy <= height; ++gy) {
     for (int gx = 1; gx <= width; ++gx) {
       sum_at(gx, gy) += sum_at(gx - 1, gy) + sum_at(gx, gy - 1) - sum_at(gx - 1, gy - 1);
@@ -175,25 +189,15 @@ std::vector<char> ReachablePixels(const ImageSet& image_set, int view_idx,
     return marked;
   }
   const ViewProjector projector(image_set, view_idx);
-  const double cell_size = kCellVoxels * block.voxel_size;
-  for (int z = 0; z < cell_dims.z(); ++z) {
-    for (int y = 0; y < cell_dims.y(); ++y) {
-      for (int x = 0; x < cell_dims.x(); ++x) {
-        if (!occupied_cells[(static_cast<size_t>(z) * cell_dims.y() + y) * cell_dims.x() + x]) {
-          continue;
-        }
+  // Downsampled pixels, clamped before the conversion (a corner just in
+  // front of a pinhole projects arbitrarily far out).
+  const auto pixel_of = [&](double coordinate, int size) {
+    return static_cast<int>(std::clamp(std::floor(coordinate / sampling.factor), -2.0, size + 1.0));
+  };
+  const bool in_front = ForEachOccupiedCell(
+      block, occupied_cells, cell_dims, [&](const Eigen::Vector3d& lower, double size) {
         Eigen::AlignedBox2d rect;
-        if (!projector.ProjectCube(block.lower_corner + cell_size * Eigen::Vector3d(x, y, z),
-                                   cell_size, &rect)) {
-          std::fill(marked.begin(), marked.end(), 1);
-          return marked;
-        }
-        // Downsampled pixels, clamped before the conversion (a corner just in
-        // front of a pinhole projects arbitrarily far out).
-        const auto pixel_of = [&](double coordinate, int size) {
-          return static_cast<int>(
-              std::clamp(std::floor(coordinate / sampling.factor), -2.0, size + 1.0));
-        };
+        if (!projector.ProjectCube(lower, size, &rect)) return false;
         const int x0 = std::max(0, pixel_of(rect.min().x(), width) - 1);
         const int y0 = std::max(0, pixel_of(rect.min().y(), height) - 1);
         const int x1 = std::min(width - 1, pixel_of(rect.max().x(), width) + 1);
@@ -202,9 +206,9 @@ std::vector<char> ReachablePixels(const ImageSet& image_set, int view_idx,
           std::fill(marked.begin() + static_cast<size_t>(py) * width + x0,
                     marked.begin() + static_cast<size_t>(py) * width + std::max(x0, x1 + 1), 1);
         }
-      }
-    }
-  }
+        return true;
+      });
+  if (!in_front) std::fill(marked.begin(), marked.end(), 1);
   return marked;
 }
 
