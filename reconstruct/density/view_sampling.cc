@@ -150,8 +150,8 @@ bool ZeroRect(float x0, float y0, float x1, float y1, const SummedAreaTable& tab
 // quadratic, which bends an edge by at most that gap; its image's extremes
 // lie on the images of the box's edges). A voxel corner inside the brick may
 // round to a float a step outside, so the rectangle is also widened by a
-// few float steps (never claims a brick MarkZeroBricks would not, up to
-// that rounding).
+// few float steps (never claims a brick that a test of every voxel corner
+// would not, up to that rounding).
 // Float steps (relative) the corners' rectangle is widened by, for the
 // rounding of the voxel corners inside it.
 constexpr float kCornerRoundingSteps = 4.0f;
@@ -162,9 +162,9 @@ constexpr float kCornerRoundingSteps = 4.0f;
 constexpr float kEdgeBendFactor = 2.0f;
 constexpr float kMaxTrustedBend = 2.0f;
 
-// Projections of points of the brick lattice of one task: for each of
-// `layers` z values, (bx + 1) x (by + 1) points at brick corners offset by
-// half a brick in x and/or y where asked (edge midpoints).
+// Projections of points of the brick lattice of one task: for each z of
+// `zs` (in voxels), (bx + 1) x (by + 1) points at brick corners, moved to
+// the middle of the brick's edge along x and/or y where asked (offset 0.5).
 struct BrickLattice {
   int bx = 0, by = 0;
   std::vector<Eigen::Vector2f> pixels;
