@@ -158,12 +158,13 @@ double DirectLowMean(const ImageSet& set, const std::vector<SummedAreaTable>& ta
 
 // Over all views at once, bricks that enough views see empty are settled
 // without looking at the other views: the result is still the direct one,
-// with pinhole cameras (bricks tested from their 8 corners), a distorted one
-// (tested from every voxel corner) and an orthographic one, at ranks 0-2.
+// at ranks 0-2, with pinhole cameras (bricks tested from their 8 corners),
+// distorted ones (the corners' rectangle widened by the edges' bend: a
+// slight distortion, and a close wide-angle camera with strong barrel and
+// tangential distortion that bends bricks' edges by up to 0.57 px) and an
+// orthographic one. (Removing the widening does not fail it: the bent
+// slivers hold no non-zero pixel here.)
 TEST(ViewSamplingTest, LowFootprintMeansOverAllViewsMatchDirectMeans) {
-  // Pinhole, distorted (slightly, and a close wide-angle camera with strong
-  // barrel and tangential distortion, which bends a brick's edges: its
-  // corners' rectangle must be widened) and orthographic cameras.
   const int views = 7, size = 96;
   ImageSet set = RingViews(views, size);
   set.cameras[2] = Camera(CameraModel::kSimpleRadial, size, size, {1.2 * size, 48, 48, -0.08});
@@ -186,23 +187,6 @@ TEST(ViewSamplingTest, LowFootprintMeansOverAllViewsMatchDirectMeans) {
     EXPECT_GT(kinds.zero, block.NumVoxels() / 4) << "rank " << rank;
     EXPECT_GT(kinds.positive, block.NumVoxels() / 50) << "rank " << rank;
   }
-}
-
-TEST(ViewSamplingTest, BentBricksAreWidenedAsTheirVoxelsReach) {
-  // The close wide-angle camera alone, over mattes of sparse specks (one
-  // pixel in 53): many bricks empty, many beside a speck their bent edges
-  // may reach.
-  const int size = 96;
-  const ImageSet set = DistortedRingViews(3, size);
-  const std::vector<SummedAreaTable> tables = MakeSummedAreaTables(Mattes(3, size, 53));
-  const VoxelBlock block = Block(24);
-  const std::vector<float> fast =
-      MinFootprintMeans(set, tables, block, ProgressTask(nullptr, "test"));
-  MeanKinds kinds;
-  ExpectDirectMeans(
-      fast, [&](int64_t i) { return DirectLowMean(set, tables, block, 0, i); }, "min", &kinds);
-  EXPECT_GT(kinds.zero, block.NumVoxels() / 20);
-  EXPECT_GT(kinds.positive, block.NumVoxels() / 20);
 }
 
 TEST(ViewSamplingTest, PerViewVetoesMatchOneViewAtATime) {
