@@ -48,6 +48,8 @@ void DensityOptions::Check() const {
       << "must be 'projected' or 'cgls', got '" << solver << "'";
   SYLVA_CHECK_INPUT(max_iterations >= 0 && max_iterations <= 100000, "Density.max_iterations")
       << "must be between 0 and 100000, got " << max_iterations;
+  SYLVA_CHECK_INPUT(cauchy_every >= 0 && cauchy_every <= 1000, "Density.cauchy_every")
+      << "must be between 0 and 1000, got " << cauchy_every;
   SYLVA_CHECK_INPUT(tolerance >= 0 && tolerance < 1, "Density.tolerance")
       << "must be in [0, 1), got " << tolerance;
   SYLVA_CHECK_INPUT(nonnegative_passes >= 0 && nonnegative_passes <= 100,

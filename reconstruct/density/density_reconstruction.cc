@@ -214,7 +214,8 @@ std::vector<double> InitialSolution(const RaySystem& system, const std::vector<f
 void SolveNonNegative(const RaySystem& system, const DensityOptions& options,
                       double absolute_tolerance, const ProgressTask& progress,
                       std::vector<double>* x, DensitySummary* summary) {
-  const CglsOptions cgls{options.max_iterations, options.tolerance, absolute_tolerance};
+  const CglsOptions cgls{options.max_iterations, options.tolerance, absolute_tolerance,
+                         options.cauchy_every};
   if (options.solver == "projected") {
     ProgressTask task = progress.SubTask("density: least squares", 0.0, 1.0);
     // A warm start (absolute_tolerance > 0) may need no step: the solve then

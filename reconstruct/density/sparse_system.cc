@@ -238,6 +238,29 @@ StepPass ProjectedStep(const std::vector<double>& x, const std::vector<double>& 
   return {sums.first, sums.second};
 }
 
+// The Cauchy step (SolveProjectedGradient): z = M g on the positive
+// unknowns (0 elsewhere), length c = g.z / |A z|^2, d = max(x - c z, 0) - x;
+// returns the slope g.d (0 if there is no such step). `scratch` holds A z.
+double CauchyStep(const SparseRows& a, const std::vector<double>& x, const std::vector<double>& g,
+                  const std::vector<double>& metric, std::vector<double>* d,
+                  std::vector<double>* scratch) {
+  std::vector<double>& z = *d;
+  const double gz = DeterministicSums(x.size(), [&](size_t j) {
+                      z[j] = x[j] > 0 ? metric[j] * g[j] : 0.0;
+                      return TwoSums{g[j] * z[j], 0.0};
+                    }).first;
+  a.Multiply(z, scratch);
+  const double az2 = Dot(*scratch, *scratch);
+  if (!(gz > 0) || !(az2 > 0)) return 0.0;
+  const double length = gz / az2;
+  return DeterministicSums(x.size(),
+                           [&](size_t j) {
+                             z[j] = std::max(x[j] - length * z[j], 0.0) - x[j];  // z becomes d
+                             return TwoSums{g[j] * z[j], 0.0};
+                           })
+      .first;
+}
+
 // Bounds on the Barzilai-Borwein step (the Jacobi step is 1).
 constexpr double kMinStep = 1e-10;
 constexpr double kMaxStep = 1e10;
@@ -265,12 +288,22 @@ CglsSummary SolveProjectedGradient(const SparseRows& a, const SparseRows* transp
   double alpha = 1.0;  // step length in the metric
   double initial_projected = -1.0, projected = 0.0;
   for (;;) {
-    const StepPass pass = ProjectedStep(*x, g, metric, alpha, &d);
-    projected = std::sqrt(pass.projected_gradient2);
-    if (initial_projected < 0) initial_projected = projected;
-    summary.converged = projected <= options.tolerance * initial_projected ||
-                        projected <= options.absolute_tolerance;
-    if (summary.converged || summary.iterations >= options.max_iterations) break;
+    bool cauchy = options.cauchy_every > 0 && initial_projected >= 0 &&
+                  summary.iterations < options.max_iterations &&
+                  (summary.iterations + 1) % options.cauchy_every == 0;
+    StepPass pass;
+    if (cauchy) {
+      pass.slope = CauchyStep(a, *x, g, metric, &d, &ad);
+      cauchy = pass.slope < 0;  // else a Barzilai-Borwein step
+    }
+    if (!cauchy) {
+      pass = ProjectedStep(*x, g, metric, alpha, &d);
+      projected = std::sqrt(pass.projected_gradient2);
+      if (initial_projected < 0) initial_projected = projected;
+      summary.converged = projected <= options.tolerance * initial_projected ||
+                          projected <= options.absolute_tolerance;
+      if (summary.converged || summary.iterations >= options.max_iterations) break;
+    }
     a.Multiply(d, &ad);
     const double ad2 = Dot(ad, ad);
     if (!(ad2 > 0) || pass.slope >= 0) break;  // no descent left
@@ -288,11 +321,13 @@ CglsSummary SolveProjectedGradient(const SparseRows& a, const SparseRows* transp
     }
     transposed->Multiply(r, &g_next);
     // Barzilai-Borwein in the metric: alpha = s.M^-1 s / s.y, s = lambda d,
-    // y = g_next - g.
-    const auto [ss, sy] = DeterministicSums(d.size(), [&](size_t j) {
-      return TwoSums{d[j] * d[j] / metric[j], d[j] * (g_next[j] - g[j])};
-    });
-    alpha = sy > 0 ? std::clamp(lambda * ss / sy, kMinStep, kMaxStep) : kMaxStep;
+    // y = g_next - g (a Cauchy step leaves alpha as it was).
+    if (!cauchy) {
+      const auto [ss, sy] = DeterministicSums(d.size(), [&](size_t j) {
+        return TwoSums{d[j] * d[j] / metric[j], d[j] * (g_next[j] - g[j])};
+      });
+      alpha = sy > 0 ? std::clamp(lambda * ss / sy, kMinStep, kMaxStep) : kMaxStep;
+    }
     g.swap(g_next);
     ++summary.iterations;
     if (progress)

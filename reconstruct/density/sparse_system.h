@@ -39,6 +39,9 @@ struct CglsOptions {
   // start sets it to where the solve it continues stopped, so it stops on the
   // same criterion rather than relative to its own (smaller) start; 0 = off.
   double absolute_tolerance = 0.0;
+  // SolveProjectedGradient only: every cauchy_every-th step (0 = none) is a
+  // Cauchy step instead of a Barzilai-Borwein one (see there).
+  int cauchy_every = 0;
 };
 
 struct CglsSummary {
@@ -66,6 +69,16 @@ CglsSummary SolveCgls(const SparseRows& a, const SparseRows& transposed,
 // increases. One product with A and one with A^T per iteration, like CGLS.
 // Converged when the projected gradient |P(x - g) - x| falls below
 // tolerance times its initial value, or below options.absolute_tolerance.
+//
+// With options.cauchy_every = k > 0, every k-th step instead moves the
+// positive unknowns along their preconditioned gradient by its Cauchy
+// length (the exact minimum along it, bounds ignored: g.Mg / |A Mg|^2),
+// projected onto x >= 0 and searched exactly like the others; it costs one
+// more product with A. Barzilai-Borwein's lengths shrink the fast-curving
+// components, and a Cauchy step taken just then, when the gradient is left
+// mostly with the slow ones, is long: several times a Barzilai-Borwein step
+// (on the synthetic trees, k = 3 reaches in 20 iterations the fit that 50
+// plain ones reached; k = 2 or 4 does not).
 //
 // `transposed` is a.Transposed(), or null: then the solve builds it only if
 // it takes a step (the starting gradient is the same without it, to the

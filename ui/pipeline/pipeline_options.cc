@@ -157,6 +157,10 @@ void RegisterDensity(DensityOptions* o, OptionRegistry* r) {
                "negatives clamped)");
   r->AddInt("Density.max_iterations", &o->max_iterations, "iterations",
             "iterations per least-squares solve");
+  r->AddInt("Density.cauchy_every", &o->cauchy_every, "steps",
+            "projected only: every this many steps one is a Cauchy step (exact length along "
+            "the preconditioned gradient), which reaches the fit in fewer iterations; 0 = "
+            "Barzilai-Borwein steps only");
   r->AddDouble("Density.tolerance", &o->tolerance, "relative",
                "stop when the (projected) gradient falls below tolerance times its start");
   r->AddInt("Density.nonnegative_passes", &o->nonnegative_passes, "passes",
