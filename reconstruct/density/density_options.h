@@ -113,8 +113,9 @@ struct DensityOptions {
   // Solver "projected" only: every cauchy_every-th step is a Cauchy step
   // (sparse_system.h; 0 = Barzilai-Borwein steps only, the default). With
   // 3, 20 iterations reach the silhouette fit of 50 plain ones on the
-  // synthetic trees, in 0.5x the solve's time (issue 18); not the default
-  // because the skeleton figures downstream move with the grid (README).
+  // synthetic trees, in 0.5x the solve's time (issue 18); not the default:
+  // on ROMI's real photos the fit is worse (mesh IoU 0.42 against 0.44),
+  // and the skeleton figures downstream move with the grid (README).
   int cauchy_every = 0;
   double tolerance = 1e-3;
   // Solver "cgls" only: each pass fixes the clamped voxels at zero and
