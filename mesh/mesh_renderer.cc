@@ -9,6 +9,7 @@
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <memory>
 #include <mutex>
 #include <vector>
 
@@ -36,6 +37,27 @@ Eigen::Vector2d SampleInPixel(int col, int row, int s, int t, int samples_per_ax
   const double step = 1.0 / samples_per_axis;
   return Eigen::Vector2d(col + (s + 0.5) * step, row + (t + 0.5) * step);
 }
+
+// The undistorted points (Camera::CamFromImg) of every sample of every
+// pixel of a camera with lens distortion, whose Newton iterations cost more
+// than the rest of a sample's ray. Views that share the camera (usually
+// every view of a photo set, in both of the report's renders) share it.
+struct SampleTable {
+  Camera camera;
+  int samples_per_axis = 0;
+  std::vector<Eigen::Vector2d> points;  // (row * width + col) * S^2 + t * S + s
+
+  bool Serves(const Camera& other, int samples) const {
+    return samples == samples_per_axis && other.model() == camera.model() &&
+           other.width() == camera.width() && other.height() == camera.height() &&
+           other.params() == camera.params();
+  }
+};
+
+// Tables hold at most this many samples (16 bytes each), and a renderer
+// keeps this many; a larger image traces its samples directly.
+constexpr int64_t kMaxTableSamples = int64_t{1} << 21;
+constexpr size_t kMaxTables = 2;
 
 // Pixels [x0, x1) x [y0, y1).
 struct PixelRect {
@@ -188,9 +210,9 @@ class MeshRenderer::Impl {
     std::vector<RTCRay> rays;  // coverage alone
   };
   // The pixels of row `row` in columns [x0, x1).
-  void RenderRow(const Camera& camera, const Rigid3d& world_from_cam, int samples_per_axis, int row,
-                 int x0, int x1, const ShadeFn& shade, RowBuffers* buffers,
-                 FloatImage* image) const;
+  void RenderRow(const Camera& camera, const SampleTable* table, const Rigid3d& world_from_cam,
+                 int samples_per_axis, int row, int x0, int x1, const ShadeFn& shade,
+                 RowBuffers* buffers, FloatImage* image) const;
   // Averages the traced rays of one row's columns [x0, x1) (`samples`
   // consecutive rays per pixel).
   static void CoverRow(const RowBuffers& buffers, int samples, int row, int x0, int x1,
@@ -198,6 +220,15 @@ class MeshRenderer::Impl {
   static void ShadeRow(const RowBuffers& buffers, int samples, int row, int x0, int x1,
                        const ShadeFn& shade, FloatImage* image);
 
+  // The sample table for a camera with lens distortion, or null: built at
+  // the second render with that camera and samples (a renderer used once
+  // does not pay for the pixels its view does not reach), kept for the
+  // next ones. Thread-safe.
+  std::shared_ptr<const SampleTable> TableFor(const Camera& camera, int samples_per_axis) const;
+
+  mutable std::mutex tables_mutex_;
+  mutable std::vector<std::shared_ptr<const SampleTable>> tables_;  // newest last
+  mutable std::vector<SampleTable> seen_once_;                      // keys only (no points)
   mutable std::once_flag scene_built_;
   mutable RTCDevice device_ = nullptr;
   mutable RTCScene scene_ = nullptr;
@@ -290,9 +321,45 @@ bool MeshRenderer::Impl::Intersect(const Ray3d& ray, Hit* hit) const {
   return HitFromRayHit(ray_hit, t_start, hit);
 }
 
-void MeshRenderer::Impl::RenderRow(const Camera& camera, const Rigid3d& world_from_cam,
-                                   int samples_per_axis, int row, int x0, int x1,
-                                   const ShadeFn& shade, RowBuffers* buffers,
+std::shared_ptr<const SampleTable> MeshRenderer::Impl::TableFor(const Camera& camera,
+                                                                int samples_per_axis) const {
+  const int64_t num_samples =
+      int64_t{camera.width()} * camera.height() * samples_per_axis * samples_per_axis;
+  if (camera.IsOrthographic() || !camera.HasDistortion() || num_samples > kMaxTableSamples) {
+    return nullptr;
+  }
+  std::lock_guard<std::mutex> lock(tables_mutex_);
+  for (const auto& table : tables_) {
+    if (table->Serves(camera, samples_per_axis)) return table;
+  }
+  const auto seen = std::find_if(seen_once_.begin(), seen_once_.end(), [&](const SampleTable& key) {
+    return key.Serves(camera, samples_per_axis);
+  });
+  if (seen == seen_once_.end()) {
+    seen_once_.push_back(SampleTable{camera, samples_per_axis, {}});
+    return nullptr;
+  }
+  auto table = std::make_shared<SampleTable>(SampleTable{camera, samples_per_axis, {}});
+  table->points.resize(static_cast<size_t>(num_samples));
+  const int per_pixel = samples_per_axis * samples_per_axis;
+  tbb::parallel_for(0, camera.height(), [&](int row) {
+    size_t k = static_cast<size_t>(row) * camera.width() * per_pixel;
+    for (int col = 0; col < camera.width(); ++col) {
+      for (int t = 0; t < samples_per_axis; ++t) {
+        for (int s = 0; s < samples_per_axis; ++s, ++k) {
+          table->points[k] = camera.CamFromImg(SampleInPixel(col, row, s, t, samples_per_axis));
+        }
+      }
+    }
+  });
+  if (tables_.size() == kMaxTables) tables_.erase(tables_.begin());
+  tables_.push_back(table);
+  return table;
+}
+
+void MeshRenderer::Impl::RenderRow(const Camera& camera, const SampleTable* table,
+                                   const Rigid3d& world_from_cam, int samples_per_axis, int row,
+                                   int x0, int x1, const ShadeFn& shade, RowBuffers* buffers,
                                    FloatImage* image) const {
   // All rays of the row, pixel by pixel, traced as one coherent stream.
   const int samples = samples_per_axis * samples_per_axis;
@@ -304,8 +371,13 @@ void MeshRenderer::Impl::RenderRow(const Camera& camera, const Rigid3d& world_fr
   for (int col = x0; col < x1; ++col) {
     for (int t = 0; t < samples_per_axis; ++t) {
       for (int s = 0; s < samples_per_axis; ++s, ++r) {
+        // CamRayFromImg's ray, from the table's point where there is one.
         const Ray3d ray_in_cam =
-            camera.CamRayFromImg(SampleInPixel(col, row, s, t, samples_per_axis));
+            table == nullptr
+                ? camera.CamRayFromImg(SampleInPixel(col, row, s, t, samples_per_axis))
+                : Camera::PerspectiveRay(
+                      table->points[(static_cast<size_t>(row) * camera.width() + col) * samples +
+                                    t * samples_per_axis + s]);
         Ray3d ray_in_world = ray_in_cam;
         ray_in_world.origin =
             world_from_cam_rotation * ray_in_cam.origin + world_from_cam.translation;
@@ -418,12 +490,13 @@ FloatImage MeshRenderer::Impl::Render(const Camera& camera, const Rigid3d& cam_f
   const PixelRect reach = ReachablePixels(camera, cam_from_world, padded_bounds_);
   if (reach.x0 >= reach.x1 || reach.y0 >= reach.y1) return image;
   const Rigid3d world_from_cam = cam_from_world.Inverse();
+  const std::shared_ptr<const SampleTable> table = TableFor(camera, samples_per_axis);
   tbb::parallel_for(tbb::blocked_range<int>(reach.y0, reach.y1),
                     [&](const tbb::blocked_range<int>& rows) {
                       RowBuffers buffers;
                       for (int row = rows.begin(); row < rows.end(); ++row) {
-                        RenderRow(camera, world_from_cam, samples_per_axis, row, reach.x0, reach.x1,
-                                  shade, &buffers, &image);
+                        RenderRow(camera, table.get(), world_from_cam, samples_per_axis, row,
+                                  reach.x0, reach.x1, shade, &buffers, &image);
                       }
                     });
   return image;

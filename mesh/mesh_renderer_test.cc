@@ -5,6 +5,8 @@
 #include <array>
 #include <cmath>
 #include <random>
+#include <utility>
+#include <vector>
 
 #include "core/util/check.h"
 
@@ -336,6 +338,41 @@ TEST(MeshRendererTest, RaysAreCastOnlyWhereTheMeshsBoundsReach) {
     cast.method = MeshRenderMethod::kRayCast;
     cast.samples_per_axis = 2;
     EXPECT_EQ(renderer.RenderRgba(camera, view_pose, cast).Channel(3).values(), coverage.values());
+  }
+}
+
+// A renderer keeps the undistorted sample points of a distorted camera it
+// renders with more than once (the report renders every view of a photo
+// set with one camera): each render is the same, to the bit, as a fresh
+// renderer's, which undistorts every sample; a camera differing in one
+// distortion coefficient, or in the samples per pixel, is not served by
+// another's points.
+TEST(MeshRendererTest, ViewsSharingADistortedCameraRenderAsAlone) {
+  TriangleMesh ball = BallAndLeaves();
+  const MeshRenderer shared(ball);
+  const Eigen::Vector3d up = Eigen::Vector3d::UnitZ();
+  const Camera camera(CameraModel::kOpenCV, 96, 80,
+                      {70.0, 72.0, 47.0, 41.0, -0.25, 0.06, 0.004, -0.003});
+  std::vector<double> params = camera.params();
+  params[4] = -0.2;
+  const Camera other(CameraModel::kOpenCV, 96, 80, params);
+  MeshRenderOptions options;
+  options.method = MeshRenderMethod::kRayCast;
+  options.samples_per_axis = 2;
+  const std::vector<std::pair<const Camera*, int>> renders = {
+      {&camera, 2}, {&camera, 2}, {&camera, 2}, {&other, 2}, {&other, 2},
+      {&camera, 3}, {&camera, 3}, {&other, 2},  {&camera, 2}};
+  for (size_t k = 0; k < renders.size(); ++k) {
+    const auto& [view_camera, samples] = renders[k];
+    SCOPED_TRACE(k);
+    const double angle = 0.7 * static_cast<double>(k);
+    const Rigid3d pose = LookAt(Eigen::Vector3d(5.0 * std::cos(angle), 5.0 * std::sin(angle), 0.8),
+                                Eigen::Vector3d::Zero(), up);
+    options.samples_per_axis = samples;
+    const FloatImage rgba = shared.RenderRgba(*view_camera, pose, options);
+    const FloatImage alone = MeshRenderer(ball).RenderRgba(*view_camera, pose, options);
+    EXPECT_GT(Sum(rgba, 3), 10.0);
+    EXPECT_EQ(rgba.values(), alone.values());
   }
 }
 

@@ -230,10 +230,16 @@ Ray3d Camera::CamRayFromImg(const Eigen::Vector2d& point_in_image) const {
     ray.direction = Eigen::Vector3d::UnitZ();
     ray.t_min = -std::numeric_limits<double>::infinity();
   } else {
-    ray.origin = Eigen::Vector3d::Zero();
-    ray.direction = Eigen::Vector3d(xy.x(), xy.y(), 1.0).normalized();
-    ray.t_min = 0.0;
+    ray = PerspectiveRay(xy);
   }
+  return ray;
+}
+
+Ray3d Camera::PerspectiveRay(const Eigen::Vector2d& xy) {
+  Ray3d ray;
+  ray.origin = Eigen::Vector3d::Zero();
+  ray.direction = Eigen::Vector3d(xy.x(), xy.y(), 1.0).normalized();
+  ray.t_min = 0.0;
   return ray;
 }
 

@@ -90,6 +90,9 @@ class Camera {
 
   // The ray through a pixel, in the camera frame (unit direction).
   Ray3d CamRayFromImg(const Eigen::Vector2d& point_in_image) const;
+  // A pinhole model's ray through the normalized point `xy` (CamFromImg's
+  // result): CamRayFromImg's ray, for callers that keep the points.
+  static Ray3d PerspectiveRay(const Eigen::Vector2d& xy);
 
   // Distortion applied to normalized coordinates (identity for models without).
   // Undistort inverts it by Newton's method; where the distortion is not
