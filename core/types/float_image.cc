@@ -26,7 +26,15 @@ FloatImage DownsampleBox(const FloatImage& image, int factor) {
     std::fill(row_sums.begin(), row_sums.end(), 0.0);
     const int y_end = std::min((out_y + 1) * factor, image.height());
     for (int y = out_y * factor; y < y_end; ++y) {
-      for (int x = 0; x < image.width(); ++x) row_sums[x / factor] += image.at(x, y);
+      // Each output pixel's columns in turn: the same sums, in the same
+      // order, as adding every pixel to its output's sum along the row.
+      const float* row = image.data() + static_cast<size_t>(y) * image.width();
+      for (int out_x = 0; out_x < out_width; ++out_x) {
+        const int x_end = std::min((out_x + 1) * factor, image.width());
+        double sum = row_sums[out_x];
+        for (int x = out_x * factor; x < x_end; ++x) sum += row[x];
+        row_sums[out_x] = sum;
+      }
     }
     const int rows = y_end - out_y * factor;
     for (int out_x = 0; out_x < out_width; ++out_x) {

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 namespace sylva {
@@ -23,6 +24,38 @@ TEST(FloatImageTest, DownsampleBoxAveragesIncludingPartialBlocks) {
   EXPECT_FLOAT_EQ(small.at(2, 0), (4 + 14) / 2.0f);   // last column alone
   EXPECT_FLOAT_EQ(small.at(2, 1), 24.0f);             // corner pixel alone
   EXPECT_FLOAT_EQ(small.at(1, 1), (22 + 23) / 2.0f);  // last row alone
+}
+
+// Each output pixel is the double-precision sum of its block, row by row
+// and left to right within a row, over its pixel count: to the bit, on
+// values whose sums round, for factors that do and do not divide the size.
+TEST(FloatImageTest, DownsampleBoxSumsEachBlockInRowOrder) {
+  FloatImage image(37, 23, 1);
+  for (int y = 0; y < image.height(); ++y) {
+    for (int x = 0; x < image.width(); ++x) {
+      image.at(x, y) = static_cast<float>(std::sin(0.37 * x + 1.13 * y) * 1e3 + 1.0 / (1 + x));
+    }
+  }
+  for (int factor = 1; factor <= 8; ++factor) {
+    SCOPED_TRACE(factor);
+    const FloatImage small = DownsampleBox(image, factor);
+    ASSERT_EQ(small.width(), (image.width() + factor - 1) / factor);
+    ASSERT_EQ(small.height(), (image.height() + factor - 1) / factor);
+    for (int oy = 0; oy < small.height(); ++oy) {
+      for (int ox = 0; ox < small.width(); ++ox) {
+        double sum = 0.0;
+        int count = 0;
+        for (int y = oy * factor; y < std::min((oy + 1) * factor, image.height()); ++y) {
+          for (int x = ox * factor; x < std::min((ox + 1) * factor, image.width()); ++x) {
+            sum += image.at(x, y);
+            ++count;
+          }
+        }
+        const float expected = factor == 1 ? image.at(ox, oy) : static_cast<float>(sum / count);
+        ASSERT_EQ(small.at(ox, oy), expected) << ox << ", " << oy;
+      }
+    }
+  }
 }
 
 TEST(FloatImageTest, SummedAreaTableMatchesDirectMeans) {
