@@ -58,6 +58,8 @@ struct SampleTable {
 // keeps this many; a larger image traces its samples directly.
 constexpr int64_t kMaxTableSamples = int64_t{1} << 21;
 constexpr size_t kMaxTables = 2;
+// Cameras (keys alone) remembered from a single render, the oldest forgotten.
+constexpr size_t kMaxSeenOnce = 8;
 
 // Pixels [x0, x1) x [y0, y1).
 struct PixelRect {
@@ -336,6 +338,7 @@ std::shared_ptr<const SampleTable> MeshRenderer::Impl::TableFor(const Camera& ca
     return key.Serves(camera, samples_per_axis);
   });
   if (seen == seen_once_.end()) {
+    if (seen_once_.size() == kMaxSeenOnce) seen_once_.erase(seen_once_.begin());
     seen_once_.push_back(SampleTable{camera, samples_per_axis, {}});
     return nullptr;
   }
