@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <limits>
 #include <sstream>
+#include <unordered_map>
 
 #include "core/geometry/point_grid.h"
 #include "core/util/check.h"
@@ -51,7 +52,108 @@ void Directed(const EdgeSamples& from, const PointGrid& to, double tolerance, do
   *mean = sum / total;
 }
 
+// Where a sample lies on its skeleton: the edge (its child node) and the
+// distance from the root along the skeleton.
+struct SkeletonPlace {
+  int node = 0;
+  double from_root = 0.0;
+};
+
+// The distance along `skeleton` between two places; `depth` = each node's
+// distance from the root along it, `level` = its edges from the root.
+double DistanceAlong(const SkeletonGraph& skeleton, const std::vector<double>& depth,
+                     const std::vector<int>& level, const SkeletonPlace& a,
+                     const SkeletonPlace& b) {
+  int u = a.node, v = b.node;
+  while (level[u] > level[v]) u = skeleton.nodes[u].parent_idx;
+  while (level[v] > level[u]) v = skeleton.nodes[v].parent_idx;
+  while (u != v) {
+    u = skeleton.nodes[u].parent_idx;
+    v = skeleton.nodes[v].parent_idx;
+  }
+  // One place on the other's path to the root (the meeting node is one of
+  // their edges' child nodes): the difference of their distances from it.
+  if (u == a.node || u == b.node) return std::abs(a.from_root - b.from_root);
+  return (a.from_root - depth[u]) + (b.from_root - depth[u]);
+}
+
 }  // namespace
+
+double DuplicatedLength(const SkeletonGraph& skeleton, double radius, double spacing) {
+  SYLVA_CHECK(radius > 0 && spacing > 0) << "radius and spacing must be positive";
+  const int n = skeleton.NumNodes();
+  // Distances and edge counts from the root (parents need not come first).
+  std::vector<double> depth(n, -1.0);
+  std::vector<int> level(n, -1);
+  for (int start = 0; start < n; ++start) {
+    std::vector<int> path;
+    int k = start;
+    while (k >= 0 && level[k] < 0) {
+      path.push_back(k);
+      k = skeleton.nodes[k].parent_idx;
+    }
+    for (auto it = path.rbegin(); it != path.rend(); ++it) {
+      const int parent = skeleton.nodes[*it].parent_idx;
+      level[*it] = parent < 0 ? 0 : level[parent] + 1;
+      depth[*it] = parent < 0 ? 0.0
+                              : depth[parent] + (skeleton.nodes[*it].position -
+                                                 skeleton.nodes[parent].position)
+                                                    .norm();
+    }
+  }
+  std::vector<Eigen::Vector3d> points;
+  std::vector<double> weights;
+  std::vector<SkeletonPlace> places;
+  for (int k = 0; k < n; ++k) {
+    const int parent = skeleton.nodes[k].parent_idx;
+    if (parent < 0) continue;
+    const Eigen::Vector3d& from = skeleton.nodes[parent].position;
+    const Eigen::Vector3d& to = skeleton.nodes[k].position;
+    const double length = (to - from).norm();
+    if (length == 0.0) continue;
+    const int pieces = std::max(1, static_cast<int>(std::ceil(length / spacing)));
+    for (int s = 0; s < pieces; ++s) {
+      const double t = (s + 0.5) / pieces;
+      points.push_back(from + (to - from) * t);
+      weights.push_back(length / pieces);
+      places.push_back({k, depth[parent] + t * length});
+    }
+  }
+  // Samples hashed into cells of the radius: a pair lies in neighbouring cells.
+  auto cell_of = [&](const Eigen::Vector3d& p) -> Eigen::Vector3i {
+    return (p / radius).array().floor().cast<int>();
+  };
+  auto key_of = [](const Eigen::Vector3i& c) -> int64_t {
+    return ((static_cast<int64_t>(c.x()) & 0x1fffff) << 42) |
+           ((static_cast<int64_t>(c.y()) & 0x1fffff) << 21) | (static_cast<int64_t>(c.z()) & 0x1fffff);
+  };
+  std::unordered_map<int64_t, std::vector<int>> cells;
+  for (size_t i = 0; i < points.size(); ++i) cells[key_of(cell_of(points[i]))].push_back(i);
+  std::vector<char> duplicate(points.size(), 0);
+  for (size_t i = 0; i < points.size(); ++i) {
+    const Eigen::Vector3i c = cell_of(points[i]);
+    for (int dz = -1; dz <= 1; ++dz)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          const auto found = cells.find(key_of(c + Eigen::Vector3i(dx, dy, dz)));
+          if (found == cells.end()) continue;
+          for (const int j : found->second) {
+            if (j <= static_cast<int>(i) || places[i].node == places[j].node) continue;
+            if ((points[i] - points[j]).squaredNorm() > radius * radius) continue;
+            if (DistanceAlong(skeleton, depth, level, places[i], places[j]) <= 3 * radius) continue;
+            // The thinner stretch is the second trace (ties: the later node).
+            const SkeletonNode& a = skeleton.nodes[places[i].node];
+            const SkeletonNode& b = skeleton.nodes[places[j].node];
+            const bool i_is_second =
+                a.strands != b.strands ? a.strands < b.strands : places[i].node > places[j].node;
+            duplicate[i_is_second ? i : j] = 1;
+          }
+        }
+  }
+  double length = 0.0;
+  for (size_t i = 0; i < points.size(); ++i) length += duplicate[i] ? weights[i] : 0.0;
+  return length;
+}
 
 std::vector<OrderFigures> FiguresPerOrder(const SkeletonGraph& skeleton) {
   std::vector<int> orders;
@@ -90,6 +192,14 @@ SkeletonComparison CompareSkeletons(const SkeletonGraph& reconstructed, const Sk
   result.chamfer_fraction = result.chamfer / height;
   result.orders = FiguresPerOrder(reconstructed);
   result.true_orders = FiguresPerOrder(truth);
+  result.length_ratio_once = result.length_ratio;
+  if (options.duplicate_fraction > 0) {
+    const double radius = options.duplicate_fraction * height;
+    const double spacing = std::min(options.spacing_fraction * height, 0.25 * radius);
+    result.duplicated_length = DuplicatedLength(reconstructed, radius, spacing);
+    result.true_duplicated_length = DuplicatedLength(truth, radius, spacing);
+    result.length_ratio_once = (result.length - result.duplicated_length) / result.true_length;
+  }
   return result;
 }
 
@@ -106,6 +216,13 @@ std::string SkeletonComparison::BriefReport() const {
   for (size_t k = 0; k < n; ++k) {
     out << " " << (k < orders.size() ? orders[k].axes : 0) << "/"
         << (k < true_orders.size() ? true_orders[k].axes : 0);
+  }
+  if (duplicated_length > 0 || true_duplicated_length > 0) {
+    std::snprintf(buffer, sizeof(buffer),
+                  "; traced twice %.0f %% of our length (truth %.0f %%): %.2f x truth once",
+                  100 * duplicated_length / length, 100 * true_duplicated_length / true_length,
+                  length_ratio_once);
+    out << buffer;
   }
   return out.str();
 }

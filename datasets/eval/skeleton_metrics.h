@@ -20,7 +20,20 @@ struct SkeletonComparisonOptions {
   // Both skeletons are sampled this often along their edges, as a fraction
   // of the height (well under the tolerance).
   double spacing_fraction = 0.002;
+  // Wood traced twice: a stretch within this fraction of the height of the
+  // same skeleton's wood elsewhere, more than 3 times as far away along the
+  // skeleton (so not the same branch, nor a fork's first stretch); of each
+  // such pair the stretch carrying fewer strands (ties: the later node)
+  // counts. Forks narrower than about 40 degrees count about a radius of
+  // their thinner branch. 0 skips the figure.
+  double duplicate_fraction = 0.01;
 };
+
+// The length of `skeleton` that runs beside its own wood (see
+// SkeletonComparisonOptions::duplicate_fraction), world units: what a
+// skeleton would lose if every branch traced twice were traced once.
+// `radius` and `spacing` in world units (spacing well under radius).
+double DuplicatedLength(const SkeletonGraph& skeleton, double radius, double spacing);
 
 // Branch axes (SkeletonGraph::BranchAxes) of one order.
 struct OrderFigures {
@@ -39,6 +52,11 @@ struct SkeletonComparison {
   double truth_to_ours = 0.0;     // mean distance of the truth to the reconstruction
   double chamfer = 0.0;           // mean of both, world units
   double chamfer_fraction = 0.0;  // chamfer / height
+  // DuplicatedLength of each, world units (0 when not measured). A length
+  // ratio met with duplicates is padded: length_ratio_once is the ratio
+  // without them.
+  double duplicated_length = 0.0, true_duplicated_length = 0.0;
+  double length_ratio_once = 0.0;  // (length - duplicated_length) / true_length
   std::vector<OrderFigures> orders, true_orders;  // index = branch order
 
   // One line for humans.

@@ -4,7 +4,8 @@
 // attract stage traces them, the skeleton as the skeleton stage builds it,
 // then CompareSkeletons against the generator's skeleton: total length
 // ratio, precision and recall (within 2 % of the height), Chamfer, axes per
-// order.
+// order, and the length traced twice (within 1 % of the height of our own
+// wood on another branch; the ratio without it).
 //   sylva_skeleton_probe [--seeds=1,2,3,4,5] [--trees=leafless,leafy]
 //       [--qsm=A.csv,B.csv] [--graphs=livewire|none] [--out=DIR] [--name=value ...]
 // --qsm: laser-scanned trees' QSM tables (e.g. datasets/itsme-qsm/*.csv),
@@ -81,20 +82,23 @@ void WriteSamples(const std::string& path, const SkeletonGraph& ours, const Skel
 // Mean figures over the trees of one kind.
 struct ProbeSums {
   int trees = 0;
-  double ratio = 0, precision = 0, recall = 0, chamfer = 0;
+  double ratio = 0, ratio_once = 0, precision = 0, recall = 0, chamfer = 0;
 
   void Add(const SkeletonComparison& c) {
     ++trees;
     ratio += c.length_ratio;
+    ratio_once += c.length_ratio_once;
     precision += c.precision;
     recall += c.recall;
     chamfer += c.chamfer_fraction;
   }
   void Print(const std::string& kind) const {
     if (trees == 0) return;
-    std::printf("%-8s mean: length %.2f x truth, precision %.3f, recall %.3f, Chamfer %.2f %%\n",
-                kind.c_str(), ratio / trees, precision / trees, recall / trees,
-                100 * chamfer / trees);
+    std::printf(
+        "%-8s mean: length %.2f x truth (%.2f x traced once), precision %.3f, recall %.3f, "
+        "Chamfer %.2f %%\n",
+        kind.c_str(), ratio / trees, ratio_once / trees, precision / trees, recall / trees,
+        100 * chamfer / trees);
   }
 };
 
