@@ -95,10 +95,10 @@ double DuplicatedLength(const SkeletonGraph& skeleton, double radius, double spa
     for (auto it = path.rbegin(); it != path.rend(); ++it) {
       const int parent = skeleton.nodes[*it].parent_idx;
       level[*it] = parent < 0 ? 0 : level[parent] + 1;
-      depth[*it] = parent < 0 ? 0.0
-                              : depth[parent] + (skeleton.nodes[*it].position -
-                                                 skeleton.nodes[parent].position)
-                                                    .norm();
+      depth[*it] =
+          parent < 0 ? 0.0
+                     : depth[parent] +
+                           (skeleton.nodes[*it].position - skeleton.nodes[parent].position).norm();
     }
   }
   std::vector<Eigen::Vector3d> points;
@@ -125,7 +125,8 @@ double DuplicatedLength(const SkeletonGraph& skeleton, double radius, double spa
   };
   auto key_of = [](const Eigen::Vector3i& c) -> int64_t {
     return ((static_cast<int64_t>(c.x()) & 0x1fffff) << 42) |
-           ((static_cast<int64_t>(c.y()) & 0x1fffff) << 21) | (static_cast<int64_t>(c.z()) & 0x1fffff);
+           ((static_cast<int64_t>(c.y()) & 0x1fffff) << 21) |
+           (static_cast<int64_t>(c.z()) & 0x1fffff);
   };
   std::unordered_map<int64_t, std::vector<int>> cells;
   for (size_t i = 0; i < points.size(); ++i) cells[key_of(cell_of(points[i]))].push_back(i);

@@ -56,7 +56,7 @@ struct SkeletonComparison {
   // ratio met with duplicates is padded: length_ratio_once is the ratio
   // without them.
   double duplicated_length = 0.0, true_duplicated_length = 0.0;
-  double length_ratio_once = 0.0;  // (length - duplicated_length) / true_length
+  double length_ratio_once = 0.0;                 // (length - duplicated_length) / true_length
   std::vector<OrderFigures> orders, true_orders;  // index = branch order
 
   // One line for humans.
