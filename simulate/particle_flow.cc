@@ -84,8 +84,8 @@ SimFrame FrameOf(const DensityGrid& density, Eigen::Vector3i* min_ijk, Eigen::Ve
 // The grid is walked once; its voxels of non-zero opacity are then summed
 // and assigned from a compact copy, in the same order.
 std::vector<Eigen::Vector3d> SeedPositions(const DensityGrid& density,
-                                           const Eigen::Vector3i& min_ijk, int count,
-                                           uint64_t seed) {
+                                           const Eigen::Vector3i& min_ijk, int count, uint64_t seed,
+                                           double exponent) {
   struct Voxel {
     Eigen::Vector3i ijk;
     float alpha;
@@ -93,7 +93,9 @@ std::vector<Eigen::Vector3d> SeedPositions(const DensityGrid& density,
   std::vector<Voxel> voxels;
   voxels.reserve(density.NumActiveVoxels());
   density.ForEachActive([&](const Eigen::Vector3i& ijk, float alpha) {
-    if (alpha > 0) voxels.push_back({ijk, alpha});
+    if (alpha > 0)
+      voxels.push_back(
+          {ijk, exponent == 1.0 ? alpha : static_cast<float>(std::pow(alpha, exponent))});
   });
   double total = 0.0;
   for (const Voxel& voxel : voxels) total += voxel.alpha;
@@ -476,7 +478,8 @@ SkeletonGraph SimulateParticleFlow(const DensityGrid& density, const Eigen::Vect
   Eigen::Vector3d extent;
   const SimFrame frame = FrameOf(density, &min_ijk, &extent);
   ParticleFlow flow(frame, extent, base_in_world, field, options, summary);
-  flow.Seed(SeedPositions(density, min_ijk, options.num_particles, options.seed));
+  flow.Seed(
+      SeedPositions(density, min_ijk, options.num_particles, options.seed, options.seed_exponent));
   summary->seeded = options.num_particles;
   summary->seconds_seed = SecondsSince(start);
 

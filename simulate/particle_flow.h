@@ -82,6 +82,9 @@ struct ParticleFlowOptions {
   int num_particles = 1000;
   // Seed of the particles' positions (RandomEngine).
   uint64_t seed = 1;
+  // Voxels are drawn with probability proportional to opacity^seed_exponent
+  // (1: the thesis).
+  double seed_exponent = 1.0;
 
   // --- Forces (accelerations; lengths in voxels of the density grid, time in
   // the simulation's own time unit) ---

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <limits>
 #include <sstream>
+#include <type_traits>
 #include <unordered_map>
 #include <vector>
 
@@ -43,7 +44,8 @@ class WoodSamples {
     }
   }
 
-  // Whether a sample whose owner passes `counts(owner)` lies within radius.
+  // Whether a sample whose owner passes `counts(owner)` (or
+  // `counts(owner, sample point)`) lies within radius.
   template <typename Counts>
   bool AnyWithin(const Eigen::Vector3d& query, const Counts& counts) const {
     const Eigen::Vector3i centre = Cell(query);
@@ -53,7 +55,12 @@ class WoodSamples {
           const auto found = cells_.find(Key(centre + Eigen::Vector3i(dx, dy, dz)));
           if (found == cells_.end()) continue;
           for (int s : found->second) {
-            if ((points_[s] - query).norm() <= radius_ && counts(owners_[s])) return true;
+            if ((points_[s] - query).norm() > radius_) continue;
+            if constexpr (std::is_invocable_v<Counts, int, const Eigen::Vector3d&>) {
+              if (counts(owners_[s], points_[s])) return true;
+            } else {
+              if (counts(owners_[s])) return true;
+            }
           }
         }
       }
@@ -315,6 +322,237 @@ SkeletonGraph ZipParallelStretches(const SkeletonGraph& skeleton, double radius,
   return StretchZipper(skeleton, radius, max_spacing).Zip(zipped_axes);
 }
 
+// Step 2b: joins stretches that run beside other wood of the tree. Two
+// bundles of particles that took the same path at different times (the
+// first still flowing when the second passed) each leave a trace: one
+// branch drawn twice, side by side, by traces that part again further up
+// or down (step 1 sees only tips, step 2 only a branch's own parent). A
+// stretch of at least 3 radii whose edges lie within `radius` of thicker
+// wood (ties: the earlier node), more than 3 radii from it along the
+// skeleton, is the second trace: its upper end joins that wood at the
+// nearest point, with what it carries; the old path down to where both
+// meet loses those strands, the new one gains them, and wood left carrying
+// nothing goes. Passes repeat until nothing joins (at most 8).
+class DuplicateJoiner {
+ public:
+  DuplicateJoiner(double radius, double max_spacing)
+      : radius_(radius), spacing_(std::min(max_spacing, 0.5 * radius)) {}
+
+  SkeletonGraph Join(SkeletonGraph skeleton, int* joined) {
+    skeleton = Subdivided(skeleton, radius_);
+    for (int pass = 0; pass < 8; ++pass) {
+      const int joins = Pass(&skeleton);
+      *joined += joins;
+      if (joins == 0) break;
+    }
+    return WithoutPassThroughNodes(skeleton);
+  }
+
+ private:
+  struct Target {
+    int owner = -1;  // the child node of the edge joined
+    Eigen::Vector3d point = Eigen::Vector3d::Zero();
+  };
+
+  // One pass over `skeleton` (parents first); returns the joins made.
+  int Pass(SkeletonGraph* skeleton) {
+    const int n = skeleton->NumNodes();
+    nodes_ = &skeleton->nodes;
+    depth_.assign(n, 0.0);
+    level_.assign(n, 0);
+    for (int i = 0; i < n; ++i) {
+      const int parent = Parent(i);
+      if (parent < 0) continue;
+      depth_[i] = depth_[parent] + (Position(i) - Position(parent)).norm();
+      level_[i] = level_[parent] + 1;
+    }
+    const WoodSamples wood(*skeleton, radius_, spacing_);
+    wood_ = &wood;
+    // Per node: its edge lies beside other, thicker wood; and where.
+    std::vector<char> beside(n, 0);
+    std::vector<Target> targets(n);
+    for (int i = 0; i < n; ++i) {
+      if (Parent(i) < 0) continue;
+      beside[i] = EdgeBeside(i, &targets[i]);
+    }
+    const std::vector<std::vector<int>> children = skeleton->Children();
+    std::vector<char> touched(n, 0);
+    std::vector<char> removed(n, 0);
+    int joins = 0;
+    // Tips first: the upper end of each beside stretch joins.
+    for (int u = n - 1; u > 0; --u) {
+      if (!beside[u] || touched[u] || removed[u]) continue;
+      bool top = true;
+      for (int child : children[u]) top = top && !beside[child];
+      if (!top || BesideLength(u, beside) < 3 * radius_) continue;
+      const int owner = targets[u].owner;
+      if (touched[owner] || removed[owner] || IsAncestor(u, owner)) continue;
+      const int moved = (*nodes_)[u].strands;
+      // The joint: an end of the owner's edge, or a node splitting it.
+      const int joint = JointOn(skeleton, owner, targets[u].point);
+      nodes_ = &skeleton->nodes;
+      depth_.resize(skeleton->NumNodes(), 0.0);
+      level_.resize(skeleton->NumNodes(), 0);
+      touched.resize(skeleton->NumNodes(), 0);
+      removed.resize(skeleton->NumNodes(), 0);
+      touched[owner] = touched[joint] = 1;
+      // u's children hang from the joint; u's strands leave its old path and
+      // follow the new one, down to where the two meet.
+      for (int child : children[u]) (*nodes_)[child].parent_idx = joint;
+      for (int k = u; k >= 0; k = Parent(k)) (*nodes_)[k].strands -= moved, touched[k] = 1;
+      for (int k = joint; k >= 0; k = Parent(k)) (*nodes_)[k].strands += moved;
+      ++joins;
+    }
+    if (joins == 0) return 0;
+    // Wood that carries nothing now goes (never the root).
+    for (int i = 1; i < skeleton->NumNodes(); ++i) {
+      if (Parent(i) >= 0 && (*nodes_)[i].strands <= 0) removed[i] = 1;
+    }
+    *skeleton = ParentsFirst(WithoutNodes(*skeleton, removed));
+    return joins;
+  }
+
+  const Eigen::Vector3d& Position(int i) const { return (*nodes_)[i].position; }
+  int Parent(int i) const { return (*nodes_)[i].parent_idx; }
+
+  // Without the nodes that only continue a straight edge (one child, the
+  // same strands, on the segment from their parent to it): the subdivision's
+  // nodes that no join used.
+  static SkeletonGraph WithoutPassThroughNodes(SkeletonGraph skeleton) {
+    const std::vector<std::vector<int>> children = skeleton.Children();
+    std::vector<char> removed(skeleton.NumNodes(), 0);
+    for (int i = 0; i < skeleton.NumNodes(); ++i) {
+      const int parent = skeleton.nodes[i].parent_idx;
+      if (parent < 0 || children[i].size() != 1) continue;
+      const int child = children[i][0];
+      if (skeleton.nodes[child].strands != skeleton.nodes[i].strands) continue;
+      const Eigen::Vector3d& from = skeleton.nodes[parent].position;
+      const Eigen::Vector3d edge = skeleton.nodes[child].position - from;
+      const Eigen::Vector3d offset = skeleton.nodes[i].position - from;
+      const double t = offset.dot(edge) / std::max(edge.squaredNorm(), 1e-300);
+      if (t <= 0 || t >= 1 || (offset - t * edge).norm() > 1e-9 * edge.norm()) continue;
+      skeleton.nodes[child].parent_idx = parent;
+      removed[i] = 1;
+    }
+    return WithoutNodes(skeleton, removed);
+  }
+
+  // Edges longer than `length` split evenly (a stretch can then start or
+  // end within an edge's length of where it does); parents first.
+  static SkeletonGraph Subdivided(const SkeletonGraph& skeleton, double length) {
+    SkeletonGraph result = skeleton;
+    for (int i = 0; i < skeleton.NumNodes(); ++i) {
+      const int parent = skeleton.nodes[i].parent_idx;
+      if (parent < 0) continue;
+      const SkeletonNode& lower = skeleton.nodes[parent];
+      const SkeletonNode& upper = skeleton.nodes[i];
+      const int pieces =
+          static_cast<int>(std::ceil((upper.position - lower.position).norm() / length));
+      int below = parent;
+      for (int k = 1; k < pieces; ++k) {
+        const double t = double(k) / pieces;
+        below = result.AddNode((1 - t) * lower.position + t * upper.position,
+                               (1 - t) * lower.radius + t * upper.radius, below, upper.order);
+        result.nodes[below].strands = upper.strands;
+      }
+      result.nodes[i].parent_idx = below;
+    }
+    return ParentsFirst(result);
+  }
+
+  // Whether `a` lies on the path from `b` to the root.
+  bool IsAncestor(int a, int b) const {
+    for (int k = b; k >= 0; k = Parent(k)) {
+      if (k == a) return true;
+    }
+    return false;
+  }
+
+  // The distance along the skeleton between a point on edge `a` and one on
+  // edge `b` (child nodes), at distances `from_root_a`, `from_root_b`.
+  double DistanceAlong(int a, double from_root_a, int b, double from_root_b) const {
+    int u = a, v = b;
+    while (level_[u] > level_[v]) u = Parent(u);
+    while (level_[v] > level_[u]) v = Parent(v);
+    while (u != v) u = Parent(u), v = Parent(v);
+    if (u == a || u == b) return std::abs(from_root_a - from_root_b);
+    return (from_root_a - depth_[u]) + (from_root_b - depth_[u]);
+  }
+
+  // Whether every sample of edge i lies within the radius of thicker wood
+  // far along the skeleton; `target` receives the nearest such wood to the
+  // edge's upper end.
+  bool EdgeBeside(int i, Target* target) const {
+    const int parent = Parent(i);
+    const int strands = (*nodes_)[i].strands;
+    const auto thicker_elsewhere = [&](int owner, const Eigen::Vector3d& point,
+                                       const Eigen::Vector3d& query) {
+      if (owner == i) return false;
+      const int other = (*nodes_)[owner].strands;
+      if (other < strands || (other == strands && owner > i)) return false;
+      const double along_owner = depth_[Parent(owner)] + (point - Position(Parent(owner))).norm();
+      const double along_query = depth_[parent] + (query - Position(parent)).norm();
+      return DistanceAlong(i, along_query, owner, along_owner) > 3 * radius_;
+    };
+    const std::vector<Eigen::Vector3d> samples =
+        EdgeSamples(Position(parent), Position(i), spacing_);
+    for (const Eigen::Vector3d& query : samples) {
+      if (!wood_->AnyWithin(query, [&](int owner, const Eigen::Vector3d& point) {
+            return thicker_elsewhere(owner, point, query);
+          })) {
+        return false;
+      }
+    }
+    // The nearest accepted sample to the upper end (the last sample).
+    double best = std::numeric_limits<double>::infinity();
+    wood_->AnyWithin(samples.back(), [&](int owner, const Eigen::Vector3d& point) {
+      if (!thicker_elsewhere(owner, point, samples.back())) return false;
+      const double d = (point - samples.back()).norm();
+      if (d < best) best = d, target->owner = owner, target->point = point;
+      return false;  // visit them all
+    });
+    return target->owner >= 0;
+  }
+
+  // The length of the beside stretch from u down (u's edge and the beside
+  // edges below it, along parents).
+  double BesideLength(int u, const std::vector<char>& beside) const {
+    double length = 0.0;
+    for (int k = u; Parent(k) >= 0 && beside[k]; k = Parent(k)) {
+      length += (Position(k) - Position(Parent(k))).norm();
+      if (length >= 3 * radius_) break;
+    }
+    return length;
+  }
+
+  // The node where a join onto edge `owner` at `point` lands: an end of the
+  // edge, or a new node splitting it.
+  static int JointOn(SkeletonGraph* skeleton, int owner, const Eigen::Vector3d& point) {
+    const int parent = skeleton->nodes[owner].parent_idx;
+    const Eigen::Vector3d from = skeleton->nodes[parent].position;
+    const Eigen::Vector3d edge = skeleton->nodes[owner].position - from;
+    const double t =
+        std::clamp((point - from).dot(edge) / std::max(edge.squaredNorm(), 1e-300), 0.0, 1.0);
+    constexpr double kAtNode = 1e-6;
+    if (t < kAtNode) return parent;
+    if (t > 1 - kAtNode) return owner;
+    const SkeletonNode upper = skeleton->nodes[owner];
+    const SkeletonNode& lower = skeleton->nodes[parent];
+    const int split =
+        skeleton->AddNode((1 - t) * lower.position + t * upper.position,
+                          (1 - t) * lower.radius + t * upper.radius, parent, upper.order);
+    skeleton->nodes[split].strands = upper.strands;
+    skeleton->nodes[owner].parent_idx = split;
+    return split;
+  }
+
+  const double radius_, spacing_;
+  std::vector<SkeletonNode>* nodes_ = nullptr;
+  std::vector<double> depth_;
+  std::vector<int> level_;
+  const WoodSamples* wood_ = nullptr;
+};
+
 // Steps 3 and 4 on the trimmed and zipped skeleton (changed in place).
 void RemoveUnsupportedAxes(const DensityGrid& density, const ConsolidationOptions& options,
                            double height, double spacing, const PaintedDensity* painted,
@@ -368,6 +606,7 @@ ConsolidationOptions ConsolidationOptions::Off() {
   ConsolidationOptions off;
   off.redundancy_fraction = 0;
   off.zip_radius_voxels = 0;
+  off.duplicate_radius_voxels = 0;
   off.min_support = 0;
   off.max_empty_fraction = 1;
   off.base_fraction = 0;
@@ -387,6 +626,9 @@ void ConsolidationOptions::Check() const {
       << "must be in (0, 1], got " << support_opacity;
   SYLVA_CHECK_INPUT(zip_radius_voxels >= 0 && zip_radius_voxels <= 8, "Skeleton.zip_radius_voxels")
       << "must be in [0, 8], got " << zip_radius_voxels;
+  SYLVA_CHECK_INPUT(duplicate_radius_voxels >= 0 && duplicate_radius_voxels <= 8,
+                    "Skeleton.duplicate_radius_voxels")
+      << "must be in [0, 8], got " << duplicate_radius_voxels;
   SYLVA_CHECK_INPUT(max_strand_fraction >= 0 && max_strand_fraction <= 1,
                     "Skeleton.thin_strand_fraction")
       << "must be in [0, 1], got " << max_strand_fraction;
@@ -404,7 +646,8 @@ std::string ConsolidationSummary::BriefReport() const {
   std::ostringstream out;
   out << "Consolidation: length " << length_before << " -> " << length_after << " ("
       << trimmed_nodes << " twig nodes trimmed (redundant or unsupported), " << zipped_axes
-      << " branches beside their parent zipped onto it, " << bare_axes
+      << " branches beside their parent zipped onto it, " << joined_duplicates
+      << " stretches beside other wood joined to it, " << bare_axes
       << " bare sticks through empty density removed (" << bare_nodes << " nodes), " << base_axes
       << " thin branches at the trunk's foot removed (" << base_nodes << " nodes)";
   if (painted_axes > 0) out << ", " << painted_axes << " kept: they carry painted density";
@@ -437,6 +680,10 @@ SkeletonGraph ConsolidateSkeleton(const SkeletonGraph& skeleton, const DensityGr
   if (options.zip_radius_voxels > 0) {
     result = ZipParallelStretches(result, options.zip_radius_voxels * density.voxel_size(), spacing,
                                   &summary->zipped_axes);
+  }
+  if (options.duplicate_radius_voxels > 0) {
+    result = DuplicateJoiner(options.duplicate_radius_voxels * density.voxel_size(), spacing)
+                 .Join(std::move(result), &summary->joined_duplicates);
   }
   RemoveUnsupportedAxes(density, options, height, spacing, painted, &result, summary);
   summary->length_after = result.TotalLength();

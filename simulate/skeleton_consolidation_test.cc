@@ -206,6 +206,81 @@ TEST(SkeletonConsolidationTest, TwigsOfAZippedStretchMoveToTheParent) {
   }
 }
 
+// Two limbs of a 10 m trunk: A (30 strands) leaves it at 4 m and rises at
+// x = 2 m from 5 m to 8 m; B (10 strands) leaves it at 6 m, runs 3 cm beside
+// A from 6.5 m to 7.8 m, and parts again to its own tip: A traced twice.
+SkeletonGraph TrunkWithTwoLimbsSideBySide() {
+  SkeletonGraph s;
+  const int root = s.AddNode({0, 0, 0}, 0, -1, 0);
+  const int fork_a = s.AddNode({0, 0, 4}, 0, root, 0);
+  const int fork_b = s.AddNode({0, 0, 6}, 0, fork_a, 0);
+  s.AddNode({0, 0, 10}, 0, fork_b, 0);  // 3: trunk top
+  int k = fork_a;
+  for (const Eigen::Vector3d& p :
+       {Eigen::Vector3d(2, 0, 5), Eigen::Vector3d(2, 0, 8), Eigen::Vector3d(3, 0, 9)}) {
+    k = s.AddNode(p, 0, k, 1);  // 4-6: limb A
+  }
+  k = fork_b;
+  for (const Eigen::Vector3d& p :
+       {Eigen::Vector3d(2.03, 0, 6.5), Eigen::Vector3d(2.03, 0, 7.8), Eigen::Vector3d(1, 0, 9.5)}) {
+    k = s.AddNode(p, 0, k, 1);  // 7-9: limb B
+  }
+  const int strands[] = {100, 100, 70, 60, 30, 30, 30, 10, 10, 10};
+  for (int i = 0; i < s.NumNodes(); ++i) s.nodes[i].strands = strands[i];
+  s.AssignOrders();
+  return s;
+}
+
+TEST(SkeletonConsolidationTest, JoinsAStretchTracedBesideOtherWood) {
+  const SkeletonGraph skeleton = TrunkWithTwoLimbsSideBySide();
+  DensityGrid density(kVoxel, Eigen::Vector3d::Zero());
+  for (int i = 1; i < skeleton.NumNodes(); ++i) {
+    AddWood(skeleton.nodes[skeleton.nodes[i].parent_idx].position, skeleton.nodes[i].position,
+            &density);
+  }
+  // Off by default: every node stays.
+  ConsolidationSummary kept;
+  EXPECT_EQ(ConsolidateSkeleton(skeleton, density, ConsolidationOptions(), &kept).NumNodes(),
+            skeleton.NumNodes());
+  EXPECT_EQ(kept.joined_duplicates, 0);
+
+  ConsolidationOptions options;
+  options.duplicate_radius_voxels = 1.0;  // 5 cm
+  ConsolidationSummary summary;
+  const SkeletonGraph result = ConsolidateSkeleton(skeleton, density, options, &summary);
+  SCOPED_TRACE(summary.BriefReport());
+  EXPECT_NO_THROW(result.Check());
+  EXPECT_EQ(summary.joined_duplicates, 1);
+  for (int i = 0; i < result.NumNodes(); ++i) {
+    EXPECT_LT(result.nodes[i].parent_idx, i) << "parents come first";
+  }
+  ExpectStrandsAddUp(result);
+  EXPECT_EQ(result.nodes[result.RootIdx()].strands, 100);
+  // B's way to A and its stretch beside A are gone (2.09 m + 1.3 m, and the
+  // first 10-15 cm of its way out, still within 5 cm of A); its free part
+  // now grows from A, which carries its strands down to the trunk.
+  EXPECT_NEAR(skeleton.TotalLength() - result.TotalLength(), std::hypot(2.03, 0.5) + 1.42, 0.06);
+  int tip = -1;
+  for (int i = 0; i < result.NumNodes(); ++i) {
+    const Eigen::Vector3d& p = result.nodes[i].position;
+    EXPECT_FALSE(p.x() > 2.01 && p.z() > 6.0 && p.z() < 7.7) << "a node of B's stretch stays";
+    if (p.isApprox(Eigen::Vector3d(1, 0, 9.5))) tip = i;
+  }
+  ASSERT_GE(tip, 0) << "B's tip is gone";
+  bool through_a = false;
+  for (int k = tip; k >= 0; k = result.nodes[k].parent_idx) {
+    const Eigen::Vector3d& p = result.nodes[k].position;
+    if (std::abs(p.x() - 2.0) < 1e-9 && p.z() > 7.0 && p.z() <= 8.0) {
+      through_a = true;
+      EXPECT_EQ(result.nodes[k].strands, 40);
+    }
+    if (p.x() == 0 && p.z() > 4 && p.z() <= 6) {
+      EXPECT_EQ(result.nodes[k].strands, 60);
+    }
+  }
+  EXPECT_TRUE(through_a);
+}
+
 TEST(SkeletonConsolidationTest, DisabledStepsKeepEverything) {
   const Scene scene = MakeScene();
   const SkeletonGraph result =
@@ -220,6 +295,9 @@ TEST(SkeletonConsolidationTest, RejectsBadOptions) {
   EXPECT_THROW(options.Check(), InputError);
   options = ConsolidationOptions();
   options.zip_radius_voxels = -1;
+  EXPECT_THROW(options.Check(), InputError);
+  options = ConsolidationOptions();
+  options.duplicate_radius_voxels = 9;
   EXPECT_THROW(options.Check(), InputError);
 }
 

@@ -246,6 +246,8 @@ void RegisterDirectionField(AttractorFieldOptions* o, OptionRegistry* r) {
 void RegisterParticleFlow(ParticleFlowOptions* o, OptionRegistry* r) {
   r->AddInt("ParticleFlow.num_particles", &o->num_particles, "particles",
             "particles seeded in proportion to density (thesis: 500-2000)");
+  r->AddDouble("ParticleFlow.seed_exponent", &o->seed_exponent, "",
+               "voxels are drawn in proportion to opacity to this power (1 = the thesis)");
   r->AddDouble("ParticleFlow.base_pull", &o->base_pull, "voxels/time^2", "pull towards the base");
   r->AddDouble("ParticleFlow.descent_angle_deg", &o->descent_angle_deg, "degrees",
                "the pull aims at the trunk axis this far below the horizontal (90 = at the base)");
@@ -305,6 +307,10 @@ void RegisterSkeleton(SkeletonOptions* o, AllometryOptions* allometry, OptionReg
   r->AddDouble("Skeleton.zip_radius_voxels", &o->consolidation.zip_radius_voxels, "voxels",
                "a branch's first stretch within this distance of its parent (wood traced "
                "twice side by side) is zipped onto the parent (0 = keep)");
+  r->AddDouble("Skeleton.duplicate_radius_voxels", &o->consolidation.duplicate_radius_voxels,
+               "voxels",
+               "a stretch within this distance of thicker wood elsewhere on the tree (a branch "
+               "traced twice by bundles that passed at different times) joins it (0 = keep)");
   r->AddDouble("Skeleton.min_support", &o->consolidation.min_support, "",
                "twig stretches where less than this share of the voxels around reach "
                "Skeleton.support_opacity are trimmed (0 = keep)");
