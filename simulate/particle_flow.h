@@ -83,7 +83,16 @@ struct ParticleFlowOptions {
   // Seed of the particles' positions (RandomEngine).
   uint64_t seed = 1;
   // Voxels are drawn with probability proportional to opacity^seed_exponent
-  // (1: the thesis).
+  // (1: the thesis). Opacity grows with a branch's width, so the thesis'
+  // seeding gives the trunk and limbs most particles and the thin branches
+  // few. 0.5 on tests/bench/skeleton_probe.cc's trees: ITSMe buttressed
+  // tree 1's recall 0.68 -> 0.94 (length 0.70 -> 1.00 x, Chamfer 1.35 ->
+  // 0.67 %), the 4 ITSMe trees' recall 0.81 -> 0.91, leafless trees' 0.53 ->
+  // 0.57 (Chamfer 2.00 -> 1.93 %); but ITSMe tree 2 1.03 -> 1.66 x (39 % of it
+  // traced twice) and, steered by the true main branches
+  // (sylva_attractor_probe --graphs=truth), their 2D Chamfer 2.36 -> 2.60 px
+  // (3D 1.92 -> 1.97 %): the unsteered skeleton is closer, the steered one
+  // farther. Not the default for that.
   double seed_exponent = 1.0;
 
   // --- Forces (accelerations; lengths in voxels of the density grid, time in
