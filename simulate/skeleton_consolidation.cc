@@ -387,6 +387,10 @@ class DuplicateJoiner {
       if (!top || BesideLength(u, beside) < 3 * radius_) continue;
       const int owner = targets[u].owner;
       if (touched[owner] || removed[owner] || IsAncestor(u, owner)) continue;
+      // A child moved or split this pass: u waits for the next one.
+      bool child_touched = false;
+      for (int child : children[u]) child_touched = child_touched || touched[child];
+      if (child_touched) continue;
       const int moved = (*nodes_)[u].strands;
       // The joint: an end of the owner's edge, or a node splitting it.
       const int joint = JointOn(skeleton, owner, targets[u].point);
@@ -398,15 +402,24 @@ class DuplicateJoiner {
       touched[owner] = touched[joint] = 1;
       // u's children hang from the joint; u's strands leave its old path and
       // follow the new one, down to where the two meet.
-      for (int child : children[u]) (*nodes_)[child].parent_idx = joint;
+      for (int child : children[u]) (*nodes_)[child].parent_idx = joint, touched[child] = 1;
       for (int k = u; k >= 0; k = Parent(k)) (*nodes_)[k].strands -= moved, touched[k] = 1;
       for (int k = joint; k >= 0; k = Parent(k)) (*nodes_)[k].strands += moved;
       ++joins;
     }
     if (joins == 0) return 0;
-    // Wood that carries nothing now goes (never the root).
-    for (int i = 1; i < skeleton->NumNodes(); ++i) {
-      if (Parent(i) >= 0 && (*nodes_)[i].strands <= 0) removed[i] = 1;
+    // Wood that carries nothing now goes (never the root), from the tips
+    // down: a node goes once all its children have.
+    const std::vector<std::vector<int>> now = skeleton->Children();
+    for (bool changed = true; changed;) {
+      changed = false;
+      for (int i = 0; i < skeleton->NumNodes(); ++i) {
+        if (removed[i] || Parent(i) < 0 || (*nodes_)[i].strands > 0) continue;
+        if (std::all_of(now[i].begin(), now[i].end(), [&](int c) { return removed[c] != 0; })) {
+          removed[i] = 1;
+          changed = true;
+        }
+      }
     }
     *skeleton = ParentsFirst(WithoutNodes(*skeleton, removed));
     return joins;
@@ -681,7 +694,8 @@ SkeletonGraph ConsolidateSkeleton(const SkeletonGraph& skeleton, const DensityGr
     result = ZipParallelStretches(result, options.zip_radius_voxels * density.voxel_size(), spacing,
                                   &summary->zipped_axes);
   }
-  if (options.duplicate_radius_voxels > 0) {
+  // Step 2b moves strands: only where the skeleton counts them.
+  if (options.duplicate_radius_voxels > 0 && result.nodes[result.RootIdx()].strands > 0) {
     result = DuplicateJoiner(options.duplicate_radius_voxels * density.voxel_size(), spacing)
                  .Join(std::move(result), &summary->joined_duplicates);
   }

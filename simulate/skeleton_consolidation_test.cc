@@ -279,6 +279,14 @@ TEST(SkeletonConsolidationTest, JoinsAStretchTracedBesideOtherWood) {
     }
   }
   EXPECT_TRUE(through_a);
+
+  // Where the skeleton does not count strands (0: unknown), nothing joins.
+  SkeletonGraph uncounted = skeleton;
+  for (SkeletonNode& node : uncounted.nodes) node.strands = 0;
+  ConsolidationSummary unjoined;
+  EXPECT_EQ(ConsolidateSkeleton(uncounted, density, options, &unjoined).NumNodes(),
+            ConsolidateSkeleton(uncounted, density, ConsolidationOptions(), nullptr).NumNodes());
+  EXPECT_EQ(unjoined.joined_duplicates, 0);
 }
 
 TEST(SkeletonConsolidationTest, DisabledStepsKeepEverything) {
