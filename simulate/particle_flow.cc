@@ -79,7 +79,7 @@ SimFrame FrameOf(const DensityGrid& density, Eigen::Vector3i* min_ijk, Eigen::Ve
 }
 
 // `count` positions (sim frame), each uniform inside a voxel drawn with
-// probability proportional to its opacity, listed in the grid's voxel order
+// probability proportional to its opacity^exponent, listed in the grid's voxel order
 // (spatially coherent, so particles close in space are close in memory).
 // The grid is walked once; its voxels of non-zero opacity are then summed
 // and assigned from a compact copy, in the same order.
@@ -93,9 +93,9 @@ std::vector<Eigen::Vector3d> SeedPositions(const DensityGrid& density,
   std::vector<Voxel> voxels;
   voxels.reserve(density.NumActiveVoxels());
   density.ForEachActive([&](const Eigen::Vector3i& ijk, float alpha) {
-    if (alpha > 0)
-      voxels.push_back(
-          {ijk, exponent == 1.0 ? alpha : static_cast<float>(std::pow(alpha, exponent))});
+    if (alpha <= 0) return;
+    voxels.push_back(
+        {ijk, exponent == 1.0 ? alpha : static_cast<float>(std::pow(alpha, exponent))});
   });
   double total = 0.0;
   for (const Voxel& voxel : voxels) total += voxel.alpha;

@@ -27,6 +27,8 @@ void ParticleFlowOptions::Check() const {
   SYLVA_CHECK_INPUT(num_particles >= 1 && num_particles <= kMaxParticles,
                     "ParticleFlow.num_particles")
       << "must be between 1 and " << kMaxParticles << ", got " << num_particles;
+  SYLVA_CHECK_INPUT(seed_exponent >= 0 && seed_exponent <= 4, "ParticleFlow.seed_exponent")
+      << "must be between 0 and 4, got " << seed_exponent;
   CheckNonNegative(base_pull, "base_pull");
   SYLVA_CHECK_INPUT(descent_angle_deg > 0 && descent_angle_deg <= 90,
                     "ParticleFlow.descent_angle_deg")
