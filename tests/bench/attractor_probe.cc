@@ -5,7 +5,11 @@
 // the 2D Chamfer distance between the projected skeletons' main branches
 // (orders 0-2) in pixels, the 3D skeleton Chamfer (% of height) and the mesh
 // silhouette IoU.
-//   sylva_attractor_probe [--seeds=1,2,3,4,5] [--graphs=truth|livewire] [--name=value ...]
+//   sylva_attractor_probe [--seeds=1,2,3,4,5] [--graphs=truth|livewire]
+//       [--our_order=2] [--name=value ...]
+// --our_order: the orders of our skeleton compared with the true main
+// branches (99: all of it, which tells a worse order assignment from worse
+// geometry).
 // with names of DirectionField.* / ParticleFlow.* options (e.g.
 // --DirectionField.falloff=0.05 --ParticleFlow.field_weight=2).
 #include <cstdio>
@@ -33,6 +37,9 @@ struct Result {
          min_iou = 1;
 };
 
+// Orders of our skeleton projected for the 2D comparison (--our_order).
+int our_order = 2;
+
 Result Evaluate(const SyntheticDataset& data, const BuiltSkeleton& built,
                 const DensityGrid& density, const PipelineOptions& options) {
   Result result;
@@ -40,7 +47,7 @@ Result Evaluate(const SyntheticDataset& data, const BuiltSkeleton& built,
   const std::vector<FloatImage> mattes = data.InputMattes();
   for (int v = 0; v < inputs.NumViews(); ++v) {
     const PointSetDistances d =
-        CompareGraphs2D(ProjectSkeleton(built.skeleton, inputs, v, 2),
+        CompareGraphs2D(ProjectSkeleton(built.skeleton, inputs, v, our_order),
                         ProjectSkeleton(data.tree.skeleton, inputs, v, 2), 1.0);
     result.chamfer_2d_px += d.chamfer / inputs.NumViews();
     result.ours_to_truth += d.mean_a_to_b / inputs.NumViews();
@@ -92,6 +99,8 @@ int Main(int argc, char** argv) {
       livewire = value == "livewire";
     } else if (name == "graph_order") {
       graph_order = std::stoi(value);
+    } else if (name == "our_order") {
+      our_order = std::stoi(value);
     } else {
       registry.Set(name, value, "command line");
     }
