@@ -340,7 +340,7 @@ class DuplicateJoiner {
 
   SkeletonGraph Join(SkeletonGraph skeleton, int* joined) {
     skeleton = Subdivided(skeleton, radius_);
-    for (int pass = 0; pass < 8; ++pass) {
+    for (int pass = 0; pass < kMaxPasses; ++pass) {
       const int joins = Pass(&skeleton);
       *joined += joins;
       if (joins == 0) break;
@@ -358,14 +358,8 @@ class DuplicateJoiner {
   int Pass(SkeletonGraph* skeleton) {
     const int n = skeleton->NumNodes();
     nodes_ = &skeleton->nodes;
-    depth_.assign(n, 0.0);
-    level_.assign(n, 0);
-    for (int i = 0; i < n; ++i) {
-      const int parent = Parent(i);
-      if (parent < 0) continue;
-      depth_[i] = depth_[parent] + (Position(i) - Position(parent)).norm();
-      level_[i] = level_[parent] + 1;
-    }
+    const SkeletonPathLengths paths(*skeleton);
+    paths_ = &paths;
     const WoodSamples wood(*skeleton, radius_, spacing_);
     wood_ = &wood;
     // Per node: its edge lies beside other, thicker wood; and where.
@@ -377,16 +371,15 @@ class DuplicateJoiner {
     }
     const std::vector<std::vector<int>> children = skeleton->Children();
     std::vector<char> touched(n, 0);
-    std::vector<char> removed(n, 0);
     int joins = 0;
     // Tips first: the upper end of each beside stretch joins.
     for (int u = n - 1; u > 0; --u) {
-      if (!beside[u] || touched[u] || removed[u]) continue;
+      if (!beside[u] || touched[u]) continue;
       bool top = true;
       for (int child : children[u]) top = top && !beside[child];
-      if (!top || BesideLength(u, beside) < 3 * radius_) continue;
+      if (!top || BesideLength(u, beside) < kDuplicateApart * radius_) continue;
       const int owner = targets[u].owner;
-      if (touched[owner] || removed[owner] || IsAncestor(u, owner)) continue;
+      if (touched[owner] || IsAncestor(u, owner)) continue;
       // A child moved or split this pass: u waits for the next one.
       bool child_touched = false;
       for (int child : children[u]) child_touched = child_touched || touched[child];
@@ -395,10 +388,7 @@ class DuplicateJoiner {
       // The joint: an end of the owner's edge, or a node splitting it.
       const int joint = JointOn(skeleton, owner, targets[u].point);
       nodes_ = &skeleton->nodes;
-      depth_.resize(skeleton->NumNodes(), 0.0);
-      level_.resize(skeleton->NumNodes(), 0);
       touched.resize(skeleton->NumNodes(), 0);
-      removed.resize(skeleton->NumNodes(), 0);
       touched[owner] = touched[joint] = 1;
       // u's children hang from the joint; u's strands leave its old path and
       // follow the new one, down to where the two meet.
@@ -411,6 +401,7 @@ class DuplicateJoiner {
     // Wood that carries nothing now goes (never the root), from the tips
     // down: a node goes once all its children have.
     const std::vector<std::vector<int>> now = skeleton->Children();
+    std::vector<char> removed(skeleton->NumNodes(), 0);
     for (bool changed = true; changed;) {
       changed = false;
       for (int i = 0; i < skeleton->NumNodes(); ++i) {
@@ -481,34 +472,21 @@ class DuplicateJoiner {
     return false;
   }
 
-  // The distance along the skeleton between a point on edge `a` and one on
-  // edge `b` (child nodes), at distances `from_root_a`, `from_root_b`.
-  double DistanceAlong(int a, double from_root_a, int b, double from_root_b) const {
-    int u = a, v = b;
-    while (level_[u] > level_[v]) u = Parent(u);
-    while (level_[v] > level_[u]) v = Parent(v);
-    while (u != v) u = Parent(u), v = Parent(v);
-    if (u == a || u == b) return std::abs(from_root_a - from_root_b);
-    return (from_root_a - depth_[u]) + (from_root_b - depth_[u]);
-  }
-
   // Whether every sample of edge i lies within the radius of thicker wood
   // far along the skeleton; `target` receives the nearest such wood to the
   // edge's upper end.
   bool EdgeBeside(int i, Target* target) const {
-    const int parent = Parent(i);
     const int strands = (*nodes_)[i].strands;
     const auto thicker_elsewhere = [&](int owner, const Eigen::Vector3d& point,
                                        const Eigen::Vector3d& query) {
       if (owner == i) return false;
       const int other = (*nodes_)[owner].strands;
       if (other < strands || (other == strands && owner > i)) return false;
-      const double along_owner = depth_[Parent(owner)] + (point - Position(Parent(owner))).norm();
-      const double along_query = depth_[parent] + (query - Position(parent)).norm();
-      return DistanceAlong(i, along_query, owner, along_owner) > 3 * radius_;
+      return paths_->Between(i, paths_->FromRoot(i, query), owner, paths_->FromRoot(owner, point)) >
+             kDuplicateApart * radius_;
     };
     const std::vector<Eigen::Vector3d> samples =
-        EdgeSamples(Position(parent), Position(i), spacing_);
+        EdgeSamples(Position(Parent(i)), Position(i), spacing_);
     for (const Eigen::Vector3d& query : samples) {
       if (!wood_->AnyWithin(query, [&](int owner, const Eigen::Vector3d& point) {
             return thicker_elsewhere(owner, point, query);
@@ -533,7 +511,7 @@ class DuplicateJoiner {
     double length = 0.0;
     for (int k = u; Parent(k) >= 0 && beside[k]; k = Parent(k)) {
       length += (Position(k) - Position(Parent(k))).norm();
-      if (length >= 3 * radius_) break;
+      if (length >= kDuplicateApart * radius_) break;
     }
     return length;
   }
@@ -559,10 +537,15 @@ class DuplicateJoiner {
     return split;
   }
 
+  // A stretch at least this many radii long joins wood at least this many
+  // radii from it along the skeleton (closer wood is its own branch).
+  static constexpr double kDuplicateApart = 3.0;
+  // Passes at most (each joins the top of every beside stretch).
+  static constexpr int kMaxPasses = 8;
+
   const double radius_, spacing_;
   std::vector<SkeletonNode>* nodes_ = nullptr;
-  std::vector<double> depth_;
-  std::vector<int> level_;
+  const SkeletonPathLengths* paths_ = nullptr;  // of the skeleton as the pass began
   const WoodSamples* wood_ = nullptr;
 };
 

@@ -119,6 +119,48 @@ double SkeletonGraph::TotalLength() const {
   return length;
 }
 
+SkeletonPathLengths::SkeletonPathLengths(const SkeletonGraph& skeleton) {
+  const int n = skeleton.NumNodes();
+  parents_.resize(n);
+  positions_.resize(n);
+  for (int i = 0; i < n; ++i) {
+    parents_[i] = skeleton.nodes[i].parent_idx;
+    positions_[i] = skeleton.nodes[i].position;
+  }
+  levels_.assign(n, -1);
+  depths_.assign(n, 0.0);
+  std::vector<int> path;
+  for (int start = 0; start < n; ++start) {
+    path.clear();
+    for (int k = start; k >= 0 && levels_[k] < 0; k = parents_[k]) path.push_back(k);
+    for (auto it = path.rbegin(); it != path.rend(); ++it) {
+      const int parent = parents_[*it];
+      if (parent < 0) {
+        levels_[*it] = 0;
+        continue;
+      }
+      levels_[*it] = levels_[parent] + 1;
+      depths_[*it] = depths_[parent] + (positions_[*it] - positions_[parent]).norm();
+    }
+  }
+}
+
+double SkeletonPathLengths::FromRoot(int node, const Eigen::Vector3d& point) const {
+  const int parent = parents_[node];
+  return parent < 0 ? 0.0 : depths_[parent] + (point - positions_[parent]).norm();
+}
+
+double SkeletonPathLengths::Between(int a, double from_root_a, int b, double from_root_b) const {
+  int u = a, v = b;
+  while (levels_[u] > levels_[v]) u = parents_[u];
+  while (levels_[v] > levels_[u]) v = parents_[v];
+  while (u != v) u = parents_[u], v = parents_[v];
+  // One point on the other's way to the root (they meet at one of their
+  // edges' end nodes): the difference of their distances from the root.
+  if (u == a || u == b) return std::abs(from_root_a - from_root_b);
+  return (from_root_a - depths_[u]) + (from_root_b - depths_[u]);
+}
+
 double SkeletonGraph::Height() const {
   const int root = RootIdx();
   if (root < 0) return 0.0;

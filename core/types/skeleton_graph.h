@@ -74,6 +74,25 @@ class SkeletonGraph {
   void Check() const;
 };
 
+// Distances along a skeleton's edges, taken when constructed (later edits of
+// the skeleton are not seen). Parents need not come before their children.
+class SkeletonPathLengths {
+ public:
+  explicit SkeletonPathLengths(const SkeletonGraph& skeleton);
+
+  // How far `point`, on the edge from `node`'s parent to `node`, lies from
+  // the root along the skeleton.
+  double FromRoot(int node, const Eigen::Vector3d& point) const;
+  // The distance along the skeleton between a point on the edge ending at
+  // `a` (`from_root_a` from the root) and one on the edge ending at `b`.
+  double Between(int a, double from_root_a, int b, double from_root_b) const;
+
+ private:
+  std::vector<int> parents_, levels_;  // levels_: edges from the root
+  std::vector<double> depths_;         // each node's distance from the root
+  std::vector<Eigen::Vector3d> positions_;
+};
+
 }  // namespace sylva
 
 #endif  // SYLVA_CORE_TYPES_SKELETON_GRAPH_H_

@@ -75,5 +75,25 @@ TEST(SkeletonGraphTest, CheckRejectsTwoRootsAndCycles) {
   EXPECT_THROW(cycle.Check(), Error);
 }
 
+TEST(SkeletonPathLengthsTest, DistancesRunAlongTheEdges) {
+  // Children listed before their parents: a trunk 0 -> 2 (z 0 -> 4) with a
+  // 3 m branch at 2 m (node 1) and a 1 m twig at its end (node 0).
+  SkeletonGraph tree;
+  tree.nodes.resize(5);
+  tree.nodes[3] = {{0, 0, 0}, 0, -1, 0};
+  tree.nodes[4] = {{0, 0, 2}, 0, 3, 0};
+  tree.nodes[2] = {{0, 0, 4}, 0, 4, 0};
+  tree.nodes[1] = {{3, 0, 2}, 0, 4, 1};
+  tree.nodes[0] = {{3, 0, 3}, 0, 1, 2};
+  const SkeletonPathLengths paths(tree);
+  EXPECT_DOUBLE_EQ(paths.FromRoot(0, {3, 0, 2.5}), 5.5);
+  EXPECT_DOUBLE_EQ(paths.FromRoot(2, {0, 0, 3}), 3.0);
+  // From the twig's middle to the trunk at 3 m: down to the fork and up.
+  EXPECT_DOUBLE_EQ(paths.Between(0, 5.5, 2, 3.0), 3.5 + 1.0);
+  // The same edge, and a point below the other on its way to the root.
+  EXPECT_DOUBLE_EQ(paths.Between(1, 3.0, 1, 4.0), 1.0);
+  EXPECT_DOUBLE_EQ(paths.Between(4, 1.0, 0, 5.5), 4.5);
+}
+
 }  // namespace
 }  // namespace sylva

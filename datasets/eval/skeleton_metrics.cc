@@ -13,6 +13,11 @@
 namespace sylva {
 namespace {
 
+// Two stretches within the duplicate radius of each other are one branch
+// traced twice when they lie more than this many radii apart along the
+// skeleton (closer, they are the same branch or a fork's first stretch).
+constexpr double kDuplicateApart = 3.0;
+
 // Points along every edge, each standing for the stretch of edge around it
 // (its weight, world units): the midpoints of pieces at most `spacing` long.
 struct EdgeSamples {
@@ -52,59 +57,16 @@ void Directed(const EdgeSamples& from, const PointGrid& to, double tolerance, do
   *mean = sum / total;
 }
 
-// Where a sample lies on its skeleton: the edge (its child node) and the
-// distance from the root along the skeleton.
-struct SkeletonPlace {
-  int node = 0;
-  double from_root = 0.0;
-};
-
-// The distance along `skeleton` between two places; `depth` = each node's
-// distance from the root along it, `level` = its edges from the root.
-double DistanceAlong(const SkeletonGraph& skeleton, const std::vector<double>& depth,
-                     const std::vector<int>& level, const SkeletonPlace& a,
-                     const SkeletonPlace& b) {
-  int u = a.node, v = b.node;
-  while (level[u] > level[v]) u = skeleton.nodes[u].parent_idx;
-  while (level[v] > level[u]) v = skeleton.nodes[v].parent_idx;
-  while (u != v) {
-    u = skeleton.nodes[u].parent_idx;
-    v = skeleton.nodes[v].parent_idx;
-  }
-  // One place on the other's path to the root (the meeting node is one of
-  // their edges' child nodes): the difference of their distances from it.
-  if (u == a.node || u == b.node) return std::abs(a.from_root - b.from_root);
-  return (a.from_root - depth[u]) + (b.from_root - depth[u]);
-}
-
 }  // namespace
 
 double DuplicatedLength(const SkeletonGraph& skeleton, double radius, double spacing) {
   SYLVA_CHECK(radius > 0 && spacing > 0) << "radius and spacing must be positive";
-  const int n = skeleton.NumNodes();
-  // Distances and edge counts from the root (parents need not come first).
-  std::vector<double> depth(n, -1.0);
-  std::vector<int> level(n, -1);
-  for (int start = 0; start < n; ++start) {
-    std::vector<int> path;
-    int k = start;
-    while (k >= 0 && level[k] < 0) {
-      path.push_back(k);
-      k = skeleton.nodes[k].parent_idx;
-    }
-    for (auto it = path.rbegin(); it != path.rend(); ++it) {
-      const int parent = skeleton.nodes[*it].parent_idx;
-      level[*it] = parent < 0 ? 0 : level[parent] + 1;
-      depth[*it] =
-          parent < 0 ? 0.0
-                     : depth[parent] +
-                           (skeleton.nodes[*it].position - skeleton.nodes[parent].position).norm();
-    }
-  }
+  const SkeletonPathLengths paths(skeleton);
   std::vector<Eigen::Vector3d> points;
   std::vector<double> weights;
-  std::vector<SkeletonPlace> places;
-  for (int k = 0; k < n; ++k) {
+  std::vector<int> edges;         // each sample's edge (its child node)
+  std::vector<double> from_root;  // and its distance from the root along the skeleton
+  for (int k = 0; k < skeleton.NumNodes(); ++k) {
     const int parent = skeleton.nodes[k].parent_idx;
     if (parent < 0) continue;
     const Eigen::Vector3d& from = skeleton.nodes[parent].position;
@@ -116,7 +78,8 @@ double DuplicatedLength(const SkeletonGraph& skeleton, double radius, double spa
       const double t = (s + 0.5) / pieces;
       points.push_back(from + (to - from) * t);
       weights.push_back(length / pieces);
-      places.push_back({k, depth[parent] + t * length});
+      edges.push_back(k);
+      from_root.push_back(paths.FromRoot(k, points.back()));
     }
   }
   // Samples hashed into cells of the radius: a pair lies in neighbouring cells.
@@ -139,14 +102,17 @@ double DuplicatedLength(const SkeletonGraph& skeleton, double radius, double spa
           const auto found = cells.find(key_of(c + Eigen::Vector3i(dx, dy, dz)));
           if (found == cells.end()) continue;
           for (const int j : found->second) {
-            if (j <= static_cast<int>(i) || places[i].node == places[j].node) continue;
+            if (j <= static_cast<int>(i) || edges[i] == edges[j]) continue;
             if ((points[i] - points[j]).squaredNorm() > radius * radius) continue;
-            if (DistanceAlong(skeleton, depth, level, places[i], places[j]) <= 3 * radius) continue;
+            if (paths.Between(edges[i], from_root[i], edges[j], from_root[j]) <=
+                kDuplicateApart * radius) {
+              continue;
+            }
             // The thinner stretch is the second trace (ties: the later node).
-            const SkeletonNode& a = skeleton.nodes[places[i].node];
-            const SkeletonNode& b = skeleton.nodes[places[j].node];
+            const SkeletonNode& a = skeleton.nodes[edges[i]];
+            const SkeletonNode& b = skeleton.nodes[edges[j]];
             const bool i_is_second =
-                a.strands != b.strands ? a.strands < b.strands : places[i].node > places[j].node;
+                a.strands != b.strands ? a.strands < b.strands : edges[i] > edges[j];
             duplicate[i_is_second ? i : j] = 1;
           }
         }
