@@ -15,10 +15,10 @@
 #include "core/geometry/box.h"
 #include "core/util/check.h"
 #include "core/util/random.h"
-#include "simulate/finished_traces.h"
 #include "simulate/neighbor_search.h"
 #include "simulate/particle_dynamics.h"
 #include "simulate/trace_graph.h"
+#include "simulate/trace_index.h"
 
 namespace sylva {
 namespace {
@@ -154,14 +154,23 @@ class ParticleFlow {
   double step() const { return controller_.step(); }
 
  private:
-  // Ends a particle's trace at `node` (the root, or a node of a finished
+  // Ends a particle's trace at `node` (the root, or a node of another
   // trace), by way of a node where it is now.
   void EndAt(Particle* particle, int node);
+  // Where the trace through `node` ends for now: the id of the particle
+  // still flowing at its end, or TraceGraph::kRootTrace if it reached the
+  // root.
+  int Destination(int node) const;
+  // Whether `particle` may join the edge from `child` to its parent: a
+  // finished trace, or a flowing one (not its own) that it moves along, as
+  // the options say.
+  bool Joinable(int child, const Particle& particle) const;
   void StopArrivedParticles();
-  void JoinFinishedTraces();
-  // Joins particle i to the finished trace nearest to it; false if none is
-  // within merge_distance.
-  bool JoinFinishedTrace(Particle* particle);
+  void JoinTraces();
+  // Joins a particle to the nearest trace within merge_distance that does
+  // not lead to itself (options: finished traces only, or flowing ones
+  // too); false if there is none.
+  bool JoinTrace(Particle* particle);
   void FindNeighbors();
   void MergeClosePairs();
   void Merge(int a, int b);
@@ -179,7 +188,11 @@ class ParticleFlow {
   StepController controller_;
   std::unique_ptr<NeighborSearch> search_;
   TraceGraph traces_;
-  std::unique_ptr<FinishedTraces> finished_;  // null if traces are not joined
+  std::unique_ptr<TraceIndex> index_;  // traces to join; null if none are joined
+  // Per trace (= particle id): the particle it leads to, itself while it
+  // flows, kRootTrace once it reached the root (a union-find forest).
+  std::vector<int> leads_to_;
+  double flowing_join_cos_;  // cos(options.flowing_join_angle_deg)
   int iteration_ = 0;
 
   std::vector<Particle> particles_;  // still flowing, in ascending id
@@ -192,7 +205,7 @@ class ParticleFlow {
   std::vector<FrozenNeighbor> frozen_;
   std::vector<ParticleState> next_;  // trial states of a step
   std::vector<double> errors_;       // their error estimates
-  std::vector<int> new_node_;        // per particle: index of its new trace node, or -1
+  std::vector<char> new_node_;       // per particle: whether it records a trace node
 };
 
 ParticleFlow::ParticleFlow(const SimFrame& frame, const Eigen::Vector3d& extent,
@@ -208,21 +221,24 @@ ParticleFlow::ParticleFlow(const SimFrame& frame, const Eigen::Vector3d& extent,
                   options.error_tolerance),
       search_(MakeNeighborSearch(
           NeighborSearchKindFromName(options.neighbor_search, "ParticleFlow.neighbor_search"))),
-      traces_(base_in_sim_) {
-  if (options.join_finished_traces && options.merge_distance > 0) {
+      traces_(base_in_sim_),
+      flowing_join_cos_(std::cos(options.flowing_join_angle_deg * M_PI / 180)) {
+  if ((options.join_finished_traces || options.join_flowing_traces) && options.merge_distance > 0) {
     const double margin = kTraceIndexMargin + options.base_radius;
-    finished_ = std::make_unique<FinishedTraces>(Eigen::Vector3d::Constant(-margin),
-                                                 extent.array() + margin, options.merge_distance);
+    index_ = std::make_unique<TraceIndex>(Eigen::Vector3d::Constant(-margin),
+                                          extent.array() + margin, options.merge_distance);
   }
 }
 
 void ParticleFlow::Seed(const std::vector<Eigen::Vector3d>& positions_in_sim) {
   particles_.resize(positions_in_sim.size());
+  leads_to_.resize(positions_in_sim.size());
   for (size_t i = 0; i < positions_in_sim.size(); ++i) {
     Particle& particle = particles_[i];
     particle.id = static_cast<int>(i);
     particle.state.position = positions_in_sim[i];
-    particle.trace = traces_.StartTrace(positions_in_sim[i]);
+    particle.trace = traces_.StartTrace(positions_in_sim[i], particle.id);
+    leads_to_[i] = particle.id;
   }
 }
 
@@ -230,7 +246,7 @@ void ParticleFlow::Run(ProgressTask* progress) {
   for (iteration_ = 0; iteration_ < options_.max_iterations; ++iteration_) {
     const Clock::time_point start_join = Clock::now();
     StopArrivedParticles();
-    JoinFinishedTraces();
+    JoinTraces();
     summary_->seconds_join += SecondsSince(start_join);
     if (particles_.empty()) break;
     const Clock::time_point start_neighbors = Clock::now();
@@ -254,7 +270,28 @@ void ParticleFlow::EndAt(Particle* particle, int node) {
     traces_.RecordNode(&particle->trace, particle->state.position, particle->mass);
   }
   traces_.EndTrace(particle->trace, node, particle->mass);
-  if (finished_ != nullptr) finished_->AddSubtree(traces_, particle->trace.last_node);
+  leads_to_[particle->id] = Destination(node);
+  // Only finished traces are joined: index this one if it now is.
+  if (index_ != nullptr && !options_.join_flowing_traces &&
+      leads_to_[particle->id] == TraceGraph::kRootTrace) {
+    index_->AddSubtree(traces_, particle->trace.last_node);
+  }
+}
+
+int ParticleFlow::Destination(int node) const {
+  int trace = traces_.TraceOf(node);
+  while (trace != TraceGraph::kRootTrace && leads_to_[trace] != trace) trace = leads_to_[trace];
+  return trace;
+}
+
+bool ParticleFlow::Joinable(int child, const Particle& particle) const {
+  const int destination = Destination(child);
+  if (destination == TraceGraph::kRootTrace) return options_.join_finished_traces;
+  if (!options_.join_flowing_traces || destination == particle.id) return false;
+  // The same path: the particle moves along the edge's direction.
+  const Eigen::Vector3d along = traces_.Position(traces_.Parent(child)) - traces_.Position(child);
+  const double norms = along.norm() * particle.state.velocity.norm();
+  return norms > 0 && along.dot(particle.state.velocity) >= flowing_join_cos_ * norms;
 }
 
 void ParticleFlow::StopArrivedParticles() {
@@ -271,8 +308,9 @@ void ParticleFlow::StopArrivedParticles() {
   Compact();
 }
 
-void ParticleFlow::JoinFinishedTraces() {
-  if (finished_ == nullptr) return;
+void ParticleFlow::JoinTraces() {
+  if (index_ == nullptr) return;
+  if (options_.join_flowing_traces) index_->AddNewEdges(traces_);
   const size_t n = particles_.size();
   // Candidates in parallel; joins in particle order, each seeing the traces
   // joined before it.
@@ -280,19 +318,25 @@ void ParticleFlow::JoinFinishedTraces() {
   ParallelOver(n, [&](size_t i) {
     int child;
     Eigen::Vector3d point;
-    near[i] = finished_->Nearest(traces_, particles_[i].state.position, &child, &point);
+    near[i] = index_->Nearest(
+        traces_, particles_[i].state.position,
+        [&](int edge) { return Joinable(edge, particles_[i]); }, &child, &point);
   });
   alive_.assign(n, 1);
   for (size_t i = 0; i < n; ++i) {
-    if (near[i] && JoinFinishedTrace(&particles_[i])) alive_[i] = 0;
+    if (near[i] && JoinTrace(&particles_[i])) alive_[i] = 0;
   }
   Compact();
 }
 
-bool ParticleFlow::JoinFinishedTrace(Particle* particle) {
+bool ParticleFlow::JoinTrace(Particle* particle) {
   int child;
   Eigen::Vector3d point;
-  if (!finished_->Nearest(traces_, particle->state.position, &child, &point)) return false;
+  if (!index_->Nearest(
+          traces_, particle->state.position, [&](int edge) { return Joinable(edge, *particle); },
+          &child, &point)) {
+    return false;
+  }
   // Join at an end of the edge if the point is one, else at a new node.
   int node = child;
   const int parent = traces_.Parent(child);
@@ -301,11 +345,24 @@ bool ParticleFlow::JoinFinishedTrace(Particle* particle) {
   } else if ((point - traces_.Position(child)).norm() >= kSameNodeDistance ||
              traces_.IsTip(child)) {
     node = traces_.SplitEdge(child, point);
-    finished_->AddEdge(traces_, node);
+    if (!options_.join_flowing_traces) index_->AddEdge(traces_, node);
   }
   EndAt(particle, node);
-  summary_->reached_base += particle->mass;
-  summary_->trace_joins += 1;
+  if (options_.join_flowing_traces) index_->AddNewEdges(traces_);
+  const int destination = leads_to_[particle->id];
+  if (destination == TraceGraph::kRootTrace) {
+    summary_->reached_base += particle->mass;
+    summary_->trace_joins += 1;
+  } else {
+    // The particle still flowing at the end of that trace carries this one's
+    // particles from now on (particles_ is in ascending id).
+    const auto carrier =
+        std::lower_bound(particles_.begin(), particles_.end(), destination,
+                         [](const Particle& p, int wanted) { return p.id < wanted; });
+    SYLVA_CHECK(carrier != particles_.end() && carrier->id == destination);
+    carrier->mass += particle->mass;
+    summary_->flowing_joins += 1;
+  }
   return true;
 }
 
@@ -358,6 +415,7 @@ void ParticleFlow::Merge(int a, int b) {
       traces_.NodeAtPosition(&survivor.trace, survivor.state.position, survivor.mass);
   traces_.NodeAtPosition(&absorbed.trace, absorbed.state.position, absorbed.mass);
   traces_.EndTrace(absorbed.trace, junction, absorbed.mass);
+  leads_to_[absorbed.id] = survivor.id;
   // Momentum is conserved; the survivor stays where it is.
   const int mass = survivor.mass + absorbed.mass;
   survivor.state.velocity =
@@ -430,18 +488,13 @@ void ParticleFlow::RecordTraces(const std::vector<ParticleState>& next) {
     new_node_[i] = TraceGraph::LeavesRun(particles_[i].trace, particles_[i].state.position,
                                          next[i].position, options_.trace_tolerance);
   });
-  int count = 0;
-  for (size_t i = 0; i < n; ++i) new_node_[i] = new_node_[i] ? count++ : -1;
-  const int first = traces_.AppendBlankNodes(count);
-  ParallelOver(n, [&](size_t i) {
+  // In particle order (node numbers do not depend on the threads).
+  for (size_t i = 0; i < n; ++i) {
     Particle& particle = particles_[i];
-    if (new_node_[i] >= 0) {
-      traces_.RecordNodeAt(&particle.trace, first + new_node_[i], particle.state.position,
-                           particle.mass);
-    }
+    if (new_node_[i]) traces_.RecordNode(&particle.trace, particle.state.position, particle.mass);
     TraceGraph::StartRunIfNeeded(&particle.trace, next[i].position);
     particle.state = next[i];
-  });
+  }
 }
 
 void CheckInputs(const DensityGrid& density, const Eigen::Vector3d& base_in_world,

@@ -53,6 +53,9 @@ void ParticleFlowOptions::Check() const {
                     "ParticleFlow.initial_step")
       << "must be within [min_step, max_step] = [" << min_step << ", " << max_step << "], got "
       << initial_step;
+  SYLVA_CHECK_INPUT(flowing_join_angle_deg >= 0 && flowing_join_angle_deg <= 180,
+                    "ParticleFlow.flowing_join_angle_deg")
+      << "must be in [0, 180] degrees, got " << flowing_join_angle_deg;
   CheckNonNegative(trace_tolerance, "trace_tolerance");
   CheckNonNegative(simplify_tolerance, "simplify_tolerance");
   NeighborSearchKindFromName(neighbor_search, "ParticleFlow.neighbor_search");
@@ -61,7 +64,8 @@ void ParticleFlowOptions::Check() const {
 std::string ParticleFlowSummary::BriefReport() const {
   std::ostringstream out;
   out << "Particle flow: " << seeded << " particles, " << merges << " merges; " << reached_base
-      << " reached the base (" << trace_joins << " bundles by joining finished traces)";
+      << " reached the base (" << trace_joins << " bundles by joining finished traces); "
+      << flowing_joins << " bundles joined the traces of flowing ones";
   if (unfinished > 0) {
     out << ", " << unfinished << " in " << unfinished_bundles
         << " bundles did not and were joined to the root by straight edges";

@@ -31,14 +31,20 @@ std::vector<Eigen::Vector3d> EdgeSamples(const Eigen::Vector3d& parent,
 // other than these nodes'?" looks at 27 cells.
 class WoodSamples {
  public:
-  WoodSamples(const SkeletonGraph& skeleton, double radius, double spacing) : radius_(radius) {
+  WoodSamples(const SkeletonGraph& skeleton, double radius, double spacing)
+      : WoodSamples(skeleton, spacing, std::vector<double>(skeleton.NumNodes(), radius)) {}
+  // Each edge's samples with their own radius: its child node's entry of
+  // `radii` (edges with radius 0 are left out).
+  WoodSamples(const SkeletonGraph& skeleton, double spacing, const std::vector<double>& radii)
+      : radius_(std::max(spacing, *std::max_element(radii.begin(), radii.end()))) {
     for (int i = 0; i < skeleton.NumNodes(); ++i) {
       const int parent = skeleton.nodes[i].parent_idx;
-      if (parent < 0) continue;
+      if (parent < 0 || !(radii[i] > 0)) continue;
       for (const Eigen::Vector3d& point :
            EdgeSamples(skeleton.nodes[parent].position, skeleton.nodes[i].position, spacing)) {
         cells_[Key(Cell(point))].push_back(static_cast<int>(points_.size()));
         points_.push_back(point);
+        radii_.push_back(radii[i]);
         owners_.push_back(i);
       }
     }
@@ -55,7 +61,7 @@ class WoodSamples {
           const auto found = cells_.find(Key(centre + Eigen::Vector3i(dx, dy, dz)));
           if (found == cells_.end()) continue;
           for (int s : found->second) {
-            if ((points_[s] - query).norm() > radius_) continue;
+            if ((points_[s] - query).norm() > radii_[s]) continue;
             if constexpr (std::is_invocable_v<Counts, int, const Eigen::Vector3d&>) {
               if (counts(owners_[s], points_[s])) return true;
             } else {
@@ -77,8 +83,9 @@ class WoodSamples {
            (static_cast<int64_t>(c.y() & 0x1FFFFF) << 21) | static_cast<int64_t>(c.z() & 0x1FFFFF);
   }
 
-  double radius_;
+  double radius_;  // the largest sample radius: the cells' width
   std::vector<Eigen::Vector3d> points_;
+  std::vector<double> radii_;
   std::vector<int> owners_;
   std::unordered_map<int64_t, std::vector<int>> cells_;
 };
@@ -100,6 +107,24 @@ double Support(const DensityGrid& density, const Eigen::Vector3d& point,
     }
   }
   return occupied / std::pow(2.0 * r + 1, 3);
+}
+
+// Strands `moved` off a removed child of `node` go on down the heaviest
+// remaining children to a tip (its particles did flow into that wood), so
+// every junction still carries the sum of its children.
+void CarryDown(int node, int moved, const std::vector<std::vector<int>>& children,
+               const std::vector<char>& removed, std::vector<int>* strands) {
+  for (;;) {
+    int heaviest = -1;
+    for (int child : children[node]) {
+      if (!removed[child] && (heaviest < 0 || (*strands)[child] > (*strands)[heaviest])) {
+        heaviest = child;
+      }
+    }
+    if (heaviest < 0) return;
+    (*strands)[heaviest] += moved;
+    node = heaviest;
+  }
 }
 
 // Step 1: trims every axis, the trunk included, from its tip while its edges
@@ -150,18 +175,8 @@ std::vector<char> TrimTwigs(const SkeletonGraph& skeleton, const DensityGrid& de
     // The node left where the trim stopped: a junction (the whole axis went)
     // or the last side branch's node still has children.
     if (first_removed < axis.size() && (first_removed == 1 || first_removed - 1 == keep)) {
-      const int moved = (*strands)[axis[first_removed]];
-      for (int node = axis[first_removed - 1];;) {
-        int heaviest = -1;
-        for (int child : children[node]) {
-          if (!removed[child] && (heaviest < 0 || (*strands)[child] > (*strands)[heaviest])) {
-            heaviest = child;
-          }
-        }
-        if (heaviest < 0) break;
-        (*strands)[heaviest] += moved;
-        node = heaviest;
-      }
+      CarryDown(axis[first_removed - 1], (*strands)[axis[first_removed]], children, removed,
+                strands);
     }
   }
   return removed;
@@ -596,7 +611,77 @@ void RemoveUnsupportedAxes(const DensityGrid& density, const ConsolidationOption
   *skeleton = WithoutNodes(*skeleton, removed);
 }
 
+constexpr int kMaxHiddenTwigPasses = 8;
+
+// One pass of RemoveHiddenTwigs; the number of twigs removed.
+int RemoveHiddenTwigsOnce(double spacing, SkeletonGraph* skeleton) {
+  const int n = skeleton->NumNodes();
+  std::vector<double> radii(n);
+  for (int i = 0; i < n; ++i) radii[i] = skeleton->nodes[i].radius;
+  const WoodSamples wood(*skeleton, spacing, radii);
+  const std::vector<std::vector<int>> children = skeleton->Children();
+  // Terminal twigs: from each tip down to the node below which the tree
+  // branches (a junction; twigs that reach the root are the whole tree).
+  struct Twig {
+    std::vector<int> nodes;  // tip first
+    int junction;
+  };
+  std::vector<Twig> twigs;
+  for (int tip = 0; tip < n; ++tip) {
+    if (!children[tip].empty() || skeleton->nodes[tip].parent_idx < 0) continue;
+    Twig twig{{tip}, skeleton->nodes[tip].parent_idx};
+    while (twig.junction >= 0 && children[twig.junction].size() == 1) {
+      twig.nodes.push_back(twig.junction);
+      twig.junction = skeleton->nodes[twig.junction].parent_idx;
+    }
+    if (twig.junction >= 0) twigs.push_back(std::move(twig));
+  }
+  // Thicker twigs first: a thinner one is only hidden by wood that stays.
+  std::stable_sort(twigs.begin(), twigs.end(), [&](const Twig& a, const Twig& b) {
+    return radii[a.nodes.back()] > radii[b.nodes.back()];
+  });
+  std::vector<char> removed(n, 0), in_twig(n, 0);
+  std::vector<int> strands(n);
+  for (int i = 0; i < n; ++i) strands[i] = skeleton->nodes[i].strands;
+  int count = 0;
+  for (const Twig& twig : twigs) {
+    for (int node : twig.nodes) in_twig[node] = 1;
+    const bool hidden = std::all_of(twig.nodes.begin(), twig.nodes.end(), [&](int node) {
+      const int parent = skeleton->nodes[node].parent_idx;
+      const std::vector<Eigen::Vector3d> samples =
+          EdgeSamples(skeleton->nodes[parent].position, skeleton->nodes[node].position, spacing);
+      return std::all_of(samples.begin(), samples.end(), [&](const Eigen::Vector3d& p) {
+        return wood.AnyWithin(p, [&](int owner) {
+          return !removed[owner] && !in_twig[owner] && radii[owner] > radii[node];
+        });
+      });
+    });
+    for (int node : twig.nodes) in_twig[node] = 0;
+    if (!hidden) continue;
+    for (int node : twig.nodes) removed[node] = 1;
+    CarryDown(twig.junction, strands[twig.nodes.back()], children, removed, &strands);
+    ++count;
+  }
+  if (count == 0) return 0;
+  for (int i = 0; i < n; ++i) skeleton->nodes[i].strands = strands[i];
+  *skeleton = WithoutNodes(*skeleton, removed);
+  return count;
+}
+
 }  // namespace
+
+int RemoveHiddenTwigs(double sample_spacing, SkeletonGraph* skeleton) {
+  SYLVA_CHECK(sample_spacing > 0);
+  int total = 0;
+  // A junction left with no children is a new tip, whose twig may be
+  // hidden in turn; a few passes settle it.
+  for (int pass = 0; pass < kMaxHiddenTwigPasses; ++pass) {
+    const int removed = RemoveHiddenTwigsOnce(sample_spacing, skeleton);
+    total += removed;
+    if (removed == 0) break;
+  }
+  return total;
+}
 
 ConsolidationOptions ConsolidationOptions::Off() {
   ConsolidationOptions off;
@@ -606,6 +691,7 @@ ConsolidationOptions ConsolidationOptions::Off() {
   off.min_support = 0;
   off.max_empty_fraction = 1;
   off.base_fraction = 0;
+  off.remove_hidden_twigs = false;
   return off;
 }
 
@@ -645,7 +731,8 @@ std::string ConsolidationSummary::BriefReport() const {
       << " branches beside their parent zipped onto it, " << joined_duplicates
       << " stretches beside other wood joined to it, " << bare_axes
       << " bare sticks through empty density removed (" << bare_nodes << " nodes), " << base_axes
-      << " thin branches at the trunk's foot removed (" << base_nodes << " nodes)";
+      << " thin branches at the trunk's foot removed (" << base_nodes << " nodes), " << hidden_twigs
+      << " twigs hidden inside thicker wood removed";
   if (painted_axes > 0) out << ", " << painted_axes << " kept: they carry painted density";
   out << ").";
   return out.str();

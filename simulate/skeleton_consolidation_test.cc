@@ -289,6 +289,45 @@ TEST(SkeletonConsolidationTest, JoinsAStretchTracedBesideOtherWood) {
   EXPECT_EQ(unjoined.joined_duplicates, 0);
 }
 
+// Step 5: a twig lying inside the trunk's radius goes (its strands move on
+// down the trunk); one that leaves the trunk stays, and so does one inside
+// wood thinner than itself.
+TEST(SkeletonConsolidationTest, RemovesTwigsHiddenInsideThickerWood) {
+  SkeletonGraph s;
+  const int root = s.AddNode({0, 0, 0}, 0.5, -1, 0);
+  const int low = s.AddNode({0, 0, 4}, 0.5, root, 0);
+  const int high = s.AddNode({0, 0, 8}, 0.4, low, 0);
+  const int top = s.AddNode({0, 0, 10}, 0.3, high, 0);
+  const int stub = s.AddNode({0.3, 0, 5}, 0.05, low, 1);    // inside the trunk
+  const int branch = s.AddNode({3, 0, 6}, 0.1, low, 1);     // leaves it
+  const int fat = s.AddNode({0.2, 0.1, 9}, 0.35, high, 1);  // inside, but thicker
+  const int strands[] = {100, 100, 90, 80, 5, 5, 10};
+  for (int i = 0; i < s.NumNodes(); ++i) s.nodes[i].strands = strands[i];
+  s.AssignOrders();
+  ExpectStrandsAddUp(s);
+  SkeletonGraph result = s;
+  EXPECT_EQ(RemoveHiddenTwigs(0.05, &result), 1);
+  ASSERT_EQ(result.NumNodes(), s.NumNodes() - 1);
+  // Strands of the node at `node`'s position in the result.
+  const auto strands_at = [&](int node) {
+    for (const SkeletonNode& kept : result.nodes) {
+      if (kept.position == s.nodes[node].position) return kept.strands;
+    }
+    return -1;
+  };
+  EXPECT_EQ(strands_at(stub), -1) << "the hidden stub stays";
+  ExpectStrandsAddUp(result);
+  EXPECT_EQ(result.nodes[result.RootIdx()].strands, 100);
+  // The stub's 5 strands went on up the heaviest child (the trunk) to its
+  // heaviest tip.
+  EXPECT_EQ(strands_at(high), 95);
+  EXPECT_EQ(strands_at(top), 85);
+  EXPECT_EQ(strands_at(branch), 5);
+  EXPECT_EQ(strands_at(fat), 10);
+  // Nothing left to hide: a second call removes nothing.
+  EXPECT_EQ(RemoveHiddenTwigs(0.05, &result), 0);
+}
+
 TEST(SkeletonConsolidationTest, DisabledStepsKeepEverything) {
   const Scene scene = MakeScene();
   const SkeletonGraph result =

@@ -9,25 +9,34 @@
 
 namespace sylva {
 
-TraceGraph::TraceGraph(const Eigen::Vector3d& root_in_sim) { AddNode(root_in_sim, 0); }
+TraceGraph::TraceGraph(const Eigen::Vector3d& root_in_sim) { AddNode(root_in_sim, 0, kRootTrace); }
 
-int TraceGraph::AddNode(const Eigen::Vector3d& position_in_sim, int strands) {
-  const int node = AppendBlankNodes(1);
-  positions_[node] = position_in_sim.cast<float>();
-  strands_[node] = strands;
+int TraceGraph::AddNode(const Eigen::Vector3d& position_in_sim, int strands, int trace) {
+  const int node = NumNodes();
+  SYLVA_CHECK(node < std::numeric_limits<int32_t>::max())
+      << "the traces exceed 2^31 nodes: use fewer particles or a larger trace_tolerance";
+  positions_.push_back(position_in_sim.cast<float>());
+  parents_.push_back(-1);
+  strands_.push_back(strands);
+  traces_of_.push_back(trace);
+  first_child_.push_back(-1);
+  next_sibling_.push_back(-1);
   return node;
 }
 
-void TraceGraph::SetParent(int node, int parent) {
+void TraceGraph::SetParent(int node, int parent, bool new_edge) {
   SYLVA_DCHECK(parents_[node] < 0);
   parents_[node] = parent;
   next_sibling_[node] = first_child_[parent];
   first_child_[parent] = node;
+  if (new_edge) edges_in_order_.push_back(node);
 }
 
-TraceCursor TraceGraph::StartTrace(const Eigen::Vector3d& position_in_sim) {
+TraceCursor TraceGraph::StartTrace(const Eigen::Vector3d& position_in_sim, int trace) {
+  SYLVA_CHECK(trace >= 0) << "trace ids are >= 0";
   TraceCursor cursor;
-  cursor.last_node = AddNode(position_in_sim, 1);
+  cursor.trace = trace;
+  cursor.last_node = AddNode(position_in_sim, 1, trace);
   cursor.anchor = position_in_sim;
   return cursor;
 }
@@ -50,32 +59,13 @@ void TraceGraph::StartRunIfNeeded(TraceCursor* cursor, const Eigen::Vector3d& to
 }
 
 int TraceGraph::RecordNode(TraceCursor* cursor, const Eigen::Vector3d& position_in_sim, int mass) {
-  const int node = AppendBlankNodes(1);
-  RecordNodeAt(cursor, node, position_in_sim, mass);
-  return node;
-}
-
-int TraceGraph::AppendBlankNodes(int count) {
-  const int first = NumNodes();
-  SYLVA_CHECK(count <= std::numeric_limits<int32_t>::max() - first)
-      << "the traces exceed 2^31 nodes: use fewer particles or a larger trace_tolerance";
-  positions_.resize(first + count);
-  parents_.resize(first + count, -1);
-  strands_.resize(first + count, 0);
-  first_child_.resize(first + count, -1);
-  next_sibling_.resize(first + count, -1);
-  return first;
-}
-
-void TraceGraph::RecordNodeAt(TraceCursor* cursor, int node, const Eigen::Vector3d& position_in_sim,
-                              int mass) {
-  positions_[node] = position_in_sim.cast<float>();
-  strands_[node] = mass;
+  const int node = AddNode(position_in_sim, mass, cursor->trace);
   SetParent(cursor->last_node, node);
   cursor->last_node = node;
   cursor->at_seed = false;
   cursor->anchor = position_in_sim;
   cursor->direction.setZero();
+  return node;
 }
 
 int TraceGraph::NodeAtPosition(TraceCursor* cursor, const Eigen::Vector3d& position_in_sim,
@@ -98,9 +88,9 @@ int TraceGraph::SplitEdge(int child, const Eigen::Vector3d& point_in_sim) {
   *link = next_sibling_[child];
   parents_[child] = -1;
   next_sibling_[child] = -1;
-  const int middle = AddNode(point_in_sim, strands_[child]);
+  const int middle = AddNode(point_in_sim, strands_[child], traces_of_[child]);
   SetParent(middle, parent);
-  SetParent(child, middle);
+  SetParent(child, middle, /*new_edge=*/false);
   return middle;
 }
 

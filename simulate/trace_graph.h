@@ -22,6 +22,7 @@ namespace sylva {
 // Where one particle's trace stands: its last node and the straight run
 // since then (Reumann-Witkam line simplification, done online).
 struct TraceCursor {
+  int trace = -1;  // the trace's id (the particle's seeding index)
   int last_node = -1;
   bool at_seed = true;  // last_node is the particle's seeding node (a tip)
   Eigen::Vector3d anchor = Eigen::Vector3d::Zero();     // last node's position, sim frame
@@ -34,11 +35,20 @@ class TraceGraph {
   explicit TraceGraph(const Eigen::Vector3d& root_in_sim);
 
   static constexpr int kRoot = 0;
+  // The trace id of the root.
+  static constexpr int kRootTrace = -1;
   int NumNodes() const { return static_cast<int>(parents_.size()); }
   int strands(int node) const { return strands_[node]; }
+  // The id of the trace that recorded `node` (kRootTrace for the root; a
+  // node splitting an edge belongs to the edge's child's trace).
+  int TraceOf(int node) const { return traces_of_[node]; }
+  // Every edge, as its child node, in the order the edges were made: a
+  // split adds only its upper part (the lower part lies within the edge
+  // that was split). For indexing the traces as they grow.
+  const std::vector<int32_t>& EdgesInOrder() const { return edges_in_order_; }
 
-  // Starts a particle's trace with a tip node carrying one strand.
-  TraceCursor StartTrace(const Eigen::Vector3d& position_in_sim);
+  // Starts trace `trace` (>= 0) with a tip node carrying one strand.
+  TraceCursor StartTrace(const Eigen::Vector3d& position_in_sim, int trace = 0);
 
   // Whether a particle that moved from `from` to `to` leaves its run: `to`
   // lies farther than `tolerance` from the run's line, or moved backwards
@@ -52,13 +62,6 @@ class TraceGraph {
   // Appends a node at `position_in_sim` carrying `mass` strands after the
   // cursor's last node, and moves the cursor there (the run restarts).
   int RecordNode(TraceCursor* cursor, const Eigen::Vector3d& position_in_sim, int mass);
-  // The same in two parts, for recording many traces in parallel: appends
-  // `count` blank nodes and returns the first; then RecordNodeAt fills one of
-  // them as RecordNode would. Calls for different cursors and nodes may run
-  // concurrently.
-  int AppendBlankNodes(int count);
-  void RecordNodeAt(TraceCursor* cursor, int node, const Eigen::Vector3d& position_in_sim,
-                    int mass);
   // A node of this particle at its current position: the last node if the
   // particle has not moved since (and it is not the seeding tip), else a new
   // one. Used where traces join (merges, the base).
@@ -91,8 +94,9 @@ class TraceGraph {
                            double simplify_tolerance) const;
 
  private:
-  int AddNode(const Eigen::Vector3d& position_in_sim, int strands);
-  void SetParent(int node, int parent);
+  int AddNode(const Eigen::Vector3d& position_in_sim, int strands, int trace);
+  // Links `node` below `parent`; a new edge is listed in EdgesInOrder.
+  void SetParent(int node, int parent, bool new_edge = true);
   // Marks the nodes Douglas-Peucker keeps on every chain between key nodes
   // (the root, junctions, tips), which are always kept.
   std::vector<char> KeptNodes(double tolerance) const;
@@ -100,6 +104,8 @@ class TraceGraph {
   std::vector<Eigen::Vector3f> positions_;  // sim frame
   std::vector<int32_t> parents_;            // -1: the root, or not linked yet
   std::vector<int32_t> strands_;
+  std::vector<int32_t> traces_of_;
+  std::vector<int32_t> edges_in_order_;
   // Children as singly linked lists (-1 ends a list).
   std::vector<int32_t> first_child_;
   std::vector<int32_t> next_sibling_;

@@ -2,6 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <vector>
+
+#include "core/util/check.h"
+
 namespace sylva {
 namespace {
 
@@ -73,6 +77,28 @@ TEST(TraceGraphTest, RunsBreakWhenThePathBendsOrTurnsBack) {
   EXPECT_FALSE(TraceGraph::LeavesRun(cursor, from, Eigen::Vector3d(0.05, 0, -3), 0.1));
   EXPECT_TRUE(TraceGraph::LeavesRun(cursor, from, Eigen::Vector3d(0.2, 0, -3), 0.1));
   EXPECT_TRUE(TraceGraph::LeavesRun(cursor, from, Eigen::Vector3d(0, 0, -1.5), 0.1));
+}
+
+// Nodes know their trace; edges are listed once, in the order they were
+// made, a split adding only its upper part.
+TEST(TraceGraphTest, ListsTracesAndEdgesInOrder) {
+  TraceGraph graph(Eigen::Vector3d(0, 0, 0));
+  EXPECT_EQ(graph.TraceOf(TraceGraph::kRoot), TraceGraph::kRootTrace);
+  TraceCursor a = graph.StartTrace(Eigen::Vector3d(0, 0, 10), 3);
+  TraceCursor b = graph.StartTrace(Eigen::Vector3d(1, 0, 10), 7);
+  const int a_tip = a.last_node, b_tip = b.last_node;
+  const int a_middle = graph.RecordNode(&a, Eigen::Vector3d(0, 0, 5), 1);
+  graph.EndTrace(a, TraceGraph::kRoot, 1);
+  graph.EndTrace(b, a_middle, 1);
+  EXPECT_EQ(graph.TraceOf(a_tip), 3);
+  EXPECT_EQ(graph.TraceOf(a_middle), 3);
+  EXPECT_EQ(graph.TraceOf(b_tip), 7);
+  EXPECT_EQ(graph.EdgesInOrder(), (std::vector<int32_t>{a_tip, a_middle, b_tip}));
+  const int split = graph.SplitEdge(a_middle, Eigen::Vector3d(0, 0, 2));
+  EXPECT_EQ(graph.TraceOf(split), 3);
+  EXPECT_EQ(graph.EdgesInOrder(), (std::vector<int32_t>{a_tip, a_middle, b_tip, split}));
+  EXPECT_EQ(graph.strands(split), 2);
+  EXPECT_THROW(graph.StartTrace(Eigen::Vector3d::Zero(), -1), Error);
 }
 
 }  // namespace

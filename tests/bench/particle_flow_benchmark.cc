@@ -89,6 +89,7 @@ std::vector<Eigen::Vector3d> SeedPoints(const DensityGrid& density, int count) {
   options.num_particles = count;
   options.max_iterations = 0;
   options.join_finished_traces = false;
+  options.join_flowing_traces = false;
   SkeletonGraph raw;
   SimulateParticleFlow(density, kBase, ConstantDirectionField(), options, nullptr, nullptr, &raw);
   std::vector<Eigen::Vector3d> points;
@@ -283,6 +284,7 @@ void WorstCase(const DensityGrid& density, bool quick) {
     options.num_particles = count;
     options.merge_distance = 0.0;
     options.join_finished_traces = false;
+    options.join_flowing_traces = false;
     options.max_iterations = steps;
     const Run grid = Flow(density, options, "uniform_grid");
     PrintRun("uniform_grid", count, grid, 0.0);

@@ -42,6 +42,8 @@ bool ApplyFlag(const std::string& name, const std::string& value, ParticleFlowOp
     options->neighbor_pull = std::stod(value);
   else if (name == "join_finished_traces")
     options->join_finished_traces = value == "1";
+  else if (name == "join_flowing_traces")
+    options->join_flowing_traces = value == "1";
   else if (name == "out")
     *out = value;
   else

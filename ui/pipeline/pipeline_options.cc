@@ -266,6 +266,11 @@ void RegisterParticleFlow(ParticleFlowOptions* o, OptionRegistry* r) {
                "particles this close to the base stop");
   r->AddBool("ParticleFlow.join_finished_traces", &o->join_finished_traces,
              "a particle passing a finished trace joins it (false = the thesis' behaviour)");
+  r->AddBool("ParticleFlow.join_flowing_traces", &o->join_flowing_traces,
+             "a particle moving along the trace of a bundle still flowing joins it (false = "
+             "the thesis' behaviour)");
+  r->AddDouble("ParticleFlow.flowing_join_angle_deg", &o->flowing_join_angle_deg, "degrees",
+               "a flowing trace is joined only by particles moving within this angle of it");
   r->AddInt("ParticleFlow.max_iterations", &o->max_iterations, "steps",
             "accepted RK4 steps at most (thesis: ~200)");
   r->AddDouble("ParticleFlow.error_tolerance", &o->error_tolerance, "voxels",
@@ -326,6 +331,8 @@ void RegisterSkeleton(SkeletonOptions* o, AllometryOptions* allometry, OptionReg
                "removed (1 = keep)");
   r->AddDouble("Skeleton.base_fraction", &o->consolidation.base_fraction, "",
                "thin branches leaving the trunk below this fraction of the height are removed");
+  r->AddBool("Skeleton.remove_hidden_twigs", &o->consolidation.remove_hidden_twigs,
+             "twigs lying wholly inside thicker wood (within its radius) are removed");
   r->AddDouble("Skeleton.consolidate_sample_spacing_fraction",
                &o->consolidation.sample_spacing_fraction, "",
                "sample spacing of the consolidation, as a fraction of the tree height");

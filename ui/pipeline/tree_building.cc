@@ -96,6 +96,11 @@ BuiltSkeleton BuildSkeleton(const DensityGrid& density, const ImageSet& input_vi
         options.branch_width, &built.skeleton);
     if (summary.measured_axes > 0) widths = summary.BriefReport();
   }
+  if (options.skeleton.consolidation.remove_hidden_twigs) {
+    consolidation.hidden_twigs = RemoveHiddenTwigs(
+        options.skeleton.consolidation.sample_spacing_fraction * height, &built.skeleton);
+    consolidation.length_after = built.skeleton.TotalLength();
+  }
   clock.Lap("radii");
   built.trunk_radius = built.skeleton.nodes.empty()
                            ? allometry.trunk_radius

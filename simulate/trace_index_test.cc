@@ -1,4 +1,4 @@
-#include "simulate/finished_traces.h"
+#include "simulate/trace_index.h"
 
 #include <gtest/gtest.h>
 
@@ -21,9 +21,9 @@ struct Scene {
   }
 };
 
-TEST(FinishedTracesTest, FindsTheNearestEdgeWithinTheJoinDistance) {
+TEST(TraceIndexTest, FindsTheNearestEdgeWithinTheJoinDistance) {
   Scene scene;
-  FinishedTraces index(Eigen::Vector3d::Constant(-5), Eigen::Vector3d::Constant(30), 1.0);
+  TraceIndex index(Eigen::Vector3d::Constant(-5), Eigen::Vector3d::Constant(30), 1.0);
   index.AddSubtree(scene.graph, scene.middle);
   index.AddEdge(scene.graph, scene.long_tip);
   int child = -1;
@@ -40,9 +40,9 @@ TEST(FinishedTracesTest, FindsTheNearestEdgeWithinTheJoinDistance) {
   EXPECT_FALSE(index.Nearest(scene.graph, Eigen::Vector3d(100, 0, 7), &child, &point));
 }
 
-TEST(FinishedTracesTest, NothingJoinsAtAFreeTip) {
+TEST(TraceIndexTest, NothingJoinsAtAFreeTip) {
   Scene scene;
-  FinishedTraces index(Eigen::Vector3d::Constant(-5), Eigen::Vector3d::Constant(30), 1.0);
+  TraceIndex index(Eigen::Vector3d::Constant(-5), Eigen::Vector3d::Constant(30), 1.0);
   index.AddSubtree(scene.graph, scene.middle);
   int child = -1;
   Eigen::Vector3d point;
@@ -50,9 +50,9 @@ TEST(FinishedTracesTest, NothingJoinsAtAFreeTip) {
   EXPECT_FALSE(index.Nearest(scene.graph, Eigen::Vector3d(0, 0, 10.5), &child, &point));
 }
 
-TEST(FinishedTracesTest, SplitEdgesStayCovered) {
+TEST(TraceIndexTest, SplitEdgesStayCovered) {
   Scene scene;
-  FinishedTraces index(Eigen::Vector3d::Constant(-5), Eigen::Vector3d::Constant(30), 1.0);
+  TraceIndex index(Eigen::Vector3d::Constant(-5), Eigen::Vector3d::Constant(30), 1.0);
   index.AddEdge(scene.graph, scene.long_tip);
   const int split = scene.graph.SplitEdge(scene.long_tip, Eigen::Vector3d(10, 0, 5));
   index.AddEdge(scene.graph, split);
@@ -64,6 +64,30 @@ TEST(FinishedTracesTest, SplitEdgesStayCovered) {
   EXPECT_EQ(child, scene.long_tip);
   ASSERT_TRUE(index.Nearest(scene.graph, Eigen::Vector3d(5, 0.5, 2.5), &child, &point));
   EXPECT_EQ(child, split);
+}
+
+// Edges are indexed as the traces grow; a predicate skips some (a particle's
+// own trace).
+TEST(TraceIndexTest, IndexesNewEdgesAndSkipsRejectedOnes) {
+  Scene scene;
+  TraceIndex index(Eigen::Vector3d::Constant(-5), Eigen::Vector3d::Constant(30), 1.0);
+  index.AddNewEdges(scene.graph);
+  int child = -1;
+  Eigen::Vector3d point;
+  ASSERT_TRUE(index.Nearest(scene.graph, Eigen::Vector3d(0.5, 0, 7), &child, &point));
+  EXPECT_EQ(child, scene.tip);
+  // Without the nearest edge, the next one within reach; none beyond.
+  const auto not_tip = [&](int edge) { return edge != scene.tip; };
+  ASSERT_TRUE(index.Nearest(scene.graph, Eigen::Vector3d(0.5, 0, 5.5), not_tip, &child, &point));
+  EXPECT_EQ(child, scene.middle);
+  EXPECT_FALSE(index.Nearest(scene.graph, Eigen::Vector3d(0.5, 0, 7), not_tip, &child, &point));
+  // A trace started later is found once its edges are added.
+  TraceCursor late = scene.graph.StartTrace(Eigen::Vector3d(10, 10, 10), 5);
+  scene.graph.RecordNode(&late, Eigen::Vector3d(10, 10, 0), 1);
+  EXPECT_FALSE(index.Nearest(scene.graph, Eigen::Vector3d(10.5, 10, 5), &child, &point));
+  index.AddNewEdges(scene.graph);
+  ASSERT_TRUE(index.Nearest(scene.graph, Eigen::Vector3d(10.5, 10, 5), &child, &point));
+  EXPECT_EQ(scene.graph.TraceOf(child), 5);
 }
 
 }  // namespace

@@ -1,9 +1,8 @@
-#include "simulate/finished_traces.h"
+#include "simulate/trace_index.h"
 
 #include <algorithm>
 #include <cmath>
 
-#include "core/geometry/polyline.h"
 #include "core/util/check.h"
 
 namespace sylva {
@@ -18,8 +17,8 @@ constexpr int64_t kMaxCells = int64_t{1} << 26;
 
 }  // namespace
 
-FinishedTraces::FinishedTraces(const Eigen::Vector3d& lower, const Eigen::Vector3d& upper,
-                               double join_distance)
+TraceIndex::TraceIndex(const Eigen::Vector3d& lower, const Eigen::Vector3d& upper,
+                       double join_distance)
     : lower_(lower), join_distance_(join_distance) {
   SYLVA_CHECK(join_distance > 0);
   cell_size_ = kCellsPerJoinDistance * join_distance;
@@ -33,7 +32,7 @@ FinishedTraces::FinishedTraces(const Eigen::Vector3d& lower, const Eigen::Vector
   heads_.assign(int64_t{dims_.x()} * dims_.y() * dims_.z(), -1);
 }
 
-void FinishedTraces::AddEdge(const TraceGraph& graph, int child) {
+void TraceIndex::AddEdge(const TraceGraph& graph, int child) {
   const Eigen::Vector3d a = graph.Position(child);
   const Eigen::Vector3d b = graph.Position(graph.Parent(child));
   // A short edge: every cell its bounds, grown by the join distance, overlap.
@@ -58,19 +57,18 @@ void FinishedTraces::AddEdge(const TraceGraph& graph, int child) {
   }
 }
 
-void FinishedTraces::AddCells(const Eigen::Vector3d& lower, const Eigen::Vector3d& upper,
-                              int child) {
+void TraceIndex::AddCells(const Eigen::Vector3d& lower, const Eigen::Vector3d& upper, int child) {
   ForEachCell(lower, upper, [&](int64_t cell) { Insert(cell, child); });
 }
 
-void FinishedTraces::Insert(int64_t cell, int child) {
+void TraceIndex::Insert(int64_t cell, int child) {
   entries_.push_back({child, heads_[cell]});
   heads_[cell] = static_cast<int32_t>(entries_.size() - 1);
 }
 
 template <typename Visit>
-void FinishedTraces::ForEachCell(const Eigen::Vector3d& lower, const Eigen::Vector3d& upper,
-                                 const Visit& visit) const {
+void TraceIndex::ForEachCell(const Eigen::Vector3d& lower, const Eigen::Vector3d& upper,
+                             const Visit& visit) const {
   const Eigen::Vector3i lo = CellOf(lower).cwiseMax(0);
   const Eigen::Vector3i hi = CellOf(upper).cwiseMin(dims_ - Eigen::Vector3i::Ones());
   for (int z = lo.z(); z <= hi.z(); ++z)
@@ -78,34 +76,13 @@ void FinishedTraces::ForEachCell(const Eigen::Vector3d& lower, const Eigen::Vect
       for (int x = lo.x(); x <= hi.x(); ++x) visit(CellIndex({x, y, z}));
 }
 
-void FinishedTraces::AddSubtree(const TraceGraph& graph, int node) {
+void TraceIndex::AddSubtree(const TraceGraph& graph, int node) {
   graph.ForEachEdgeUpstream(node, [&](int child) { AddEdge(graph, child); });
 }
 
-bool FinishedTraces::Nearest(const TraceGraph& graph, const Eigen::Vector3d& point, int* child,
-                             Eigen::Vector3d* point_on_edge) const {
-  const Eigen::Vector3i cell = CellOf(point);
-  if (!Inside(cell)) return false;
-  double best2 = join_distance_ * join_distance_;
-  int best = -1;
-  for (int entry = heads_[CellIndex(cell)]; entry >= 0; entry = entries_[entry].next) {
-    const int candidate = entries_[entry].child;
-    const Eigen::Vector3d a = graph.Position(candidate);
-    const Eigen::Vector3d b = graph.Position(graph.Parent(candidate));
-    double t;
-    const double d2 = SegmentDistance2(point, a, b, &t);
-    // Not at the free end of a tip edge: a seeding node carries exactly one
-    // particle, so nothing joins there (the particle may join further on).
-    if (t == 0.0 && graph.IsTip(candidate)) continue;
-    if (d2 < best2 || (d2 == best2 && best >= 0 && candidate < best)) {
-      best2 = d2;
-      best = candidate;
-      *point_on_edge = a + t * (b - a);
-    }
-  }
-  if (best < 0) return false;
-  *child = best;
-  return true;
+void TraceIndex::AddNewEdges(const TraceGraph& graph) {
+  const std::vector<int32_t>& edges = graph.EdgesInOrder();
+  for (; edges_indexed_ < edges.size(); ++edges_indexed_) AddEdge(graph, edges[edges_indexed_]);
 }
 
 }  // namespace sylva

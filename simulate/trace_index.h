@@ -1,25 +1,25 @@
-// The edges of finished traces (those already joined to the root), bucketed
-// for "is there one within the join distance of this point?" queries, so that
-// a particle flowing along the path of particles that went before it joins
-// their trace instead of laying a second one beside it. Internal to
-// simulate/.
-#ifndef SYLVA_SIMULATE_FINISHED_TRACES_H_
-#define SYLVA_SIMULATE_FINISHED_TRACES_H_
+// Edges of particle traces, bucketed for "is there one within the join
+// distance of this point?" queries, so that a particle flowing along the path
+// of particles that went before it joins their trace instead of laying a
+// second one beside it. Internal to simulate/.
+#ifndef SYLVA_SIMULATE_TRACE_INDEX_H_
+#define SYLVA_SIMULATE_TRACE_INDEX_H_
 
 #include <Eigen/Core>
 #include <cstdint>
 #include <vector>
 
+#include "core/geometry/polyline.h"
 #include "simulate/trace_graph.h"
 
 namespace sylva {
 
-class FinishedTraces {
+class TraceIndex {
  public:
   // Covers the box [lower, upper] (sim frame, voxels); edges outside it are
   // not indexed, and points outside it find none. `join_distance` > 0, in
   // voxels.
-  FinishedTraces(const Eigen::Vector3d& lower, const Eigen::Vector3d& upper, double join_distance);
+  TraceIndex(const Eigen::Vector3d& lower, const Eigen::Vector3d& upper, double join_distance);
 
   // Indexes the edge from `child` to its parent (its geometry is read from
   // `graph` when queried, so a later split of the edge stays covered as
@@ -28,12 +28,22 @@ class FinishedTraces {
   // Indexes every edge upstream of `node`, and its own.
   void AddSubtree(const TraceGraph& graph, int node);
 
+  // Indexes the edges made since the last call (graph.EdgesInOrder()).
+  void AddNewEdges(const TraceGraph& graph);
+
   // The indexed edge nearest to `point` within the join distance, as its
   // child node (ties: the lowest), and the nearest point on it; false if
   // none. Edges whose nearest point is their free tip (a seeding node) are
-  // skipped. Const and thread-safe.
+  // skipped, and so are those for which accept(child) is false. Const and
+  // thread-safe.
   bool Nearest(const TraceGraph& graph, const Eigen::Vector3d& point, int* child,
-               Eigen::Vector3d* point_on_edge) const;
+               Eigen::Vector3d* point_on_edge) const {
+    return Nearest(
+        graph, point, [](int) { return true; }, child, point_on_edge);
+  }
+  template <typename Accept>
+  bool Nearest(const TraceGraph& graph, const Eigen::Vector3d& point, const Accept& accept,
+               int* child, Eigen::Vector3d* point_on_edge) const;
 
  private:
   // Calls visit(cell index) for the cells overlapping the box [lower, upper].
@@ -71,8 +81,36 @@ class FinishedTraces {
   // samples overlap many of the same cells; each gets the edge once).
   std::vector<int32_t> stamps_;
   int32_t serial_ = 0;
+  size_t edges_indexed_ = 0;  // of graph.EdgesInOrder(), by AddNewEdges
 };
+
+template <typename Accept>
+bool TraceIndex::Nearest(const TraceGraph& graph, const Eigen::Vector3d& point,
+                         const Accept& accept, int* child, Eigen::Vector3d* point_on_edge) const {
+  const Eigen::Vector3i cell = CellOf(point);
+  if (!Inside(cell)) return false;
+  double best2 = join_distance_ * join_distance_;
+  int best = -1;
+  for (int entry = heads_[CellIndex(cell)]; entry >= 0; entry = entries_[entry].next) {
+    const int candidate = entries_[entry].child;
+    const Eigen::Vector3d a = graph.Position(candidate);
+    const Eigen::Vector3d b = graph.Position(graph.Parent(candidate));
+    double t;
+    const double d2 = SegmentDistance2(point, a, b, &t);
+    if (!(d2 < best2 || (d2 == best2 && best >= 0 && candidate < best))) continue;
+    // Not at the free end of a tip edge: a seeding node carries exactly one
+    // particle, so nothing joins there (the particle may join further on).
+    if (t == 0.0 && graph.IsTip(candidate)) continue;
+    if (!accept(candidate)) continue;
+    best2 = d2;
+    best = candidate;
+    *point_on_edge = a + t * (b - a);
+  }
+  if (best < 0) return false;
+  *child = best;
+  return true;
+}
 
 }  // namespace sylva
 
-#endif  // SYLVA_SIMULATE_FINISHED_TRACES_H_
+#endif  // SYLVA_SIMULATE_TRACE_INDEX_H_
