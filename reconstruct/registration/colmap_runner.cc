@@ -61,6 +61,8 @@ constexpr int kMinRegisteredPhotos = 2;
 constexpr size_t kQuotedLogLines = 12;
 // How often a running command is checked for cancellation (milliseconds).
 constexpr int kPollIntervalMs = 100;
+// How often a running command's CPU time is read (seconds).
+constexpr double kCpuCheckSeconds = 1.0;
 // The share of the whole run given to extraction and matching in progress
 // reports (mapping takes the rest).
 constexpr double kExtractionEnd = 0.25;
@@ -118,8 +120,9 @@ ProgressParser MapperProgress(int num_photos) {
 // Child processes.
 
 struct CommandOutcome {
-  int exit_code = -1;   // exit status, or -1 if killed by a signal
-  int term_signal = 0;  // the signal that ended it, or 0
+  int exit_code = -1;    // exit status, or -1 if killed by a signal
+  int term_signal = 0;   // the signal that ended it, or 0
+  bool stalled = false;  // stopped by us: no output and no CPU time for stall_seconds
   double seconds = 0.0;
   std::deque<std::string> last_lines;  // the end of its output
 };
@@ -160,6 +163,9 @@ class ChildProcess {
   // True (and the status set) once the child has exited.
   bool Exited(int* status);
   void KillGroup();
+  // CPU time the child has used so far (all its threads), in clock ticks;
+  // -1 if the system does not say.
+  int64_t CpuTicks() const;
 
  private:
   pid_t pid_ = -1;
@@ -243,7 +249,25 @@ bool ChildProcess::Exited(int* status) {
   return reaped_;
 }
 
+int64_t ChildProcess::CpuTicks() const {
+  std::ifstream stat("/proc/" + std::to_string(pid_) + "/stat");
+  std::string text;
+  if (!std::getline(stat, text)) return -1;
+  // "pid (name) state ppid ...": utime and stime are fields 14 and 15.
+  const size_t name_end = text.rfind(')');
+  if (name_end == std::string::npos) return -1;
+  std::istringstream fields(text.substr(name_end + 1));
+  std::string field;
+  int64_t ticks = 0;
+  for (int index = 3; index <= 15; ++index) {
+    if (!(fields >> field)) return -1;
+    if (index >= 14) ticks += std::strtoll(field.c_str(), nullptr, 10);
+  }
+  return ticks;
+}
+
 // Splits complete lines (ended by '\n' or '\r') off the front of `pending`.
+
 std::vector<std::string> TakeLines(std::string* pending) {
   std::vector<std::string> lines;
   size_t start = 0;
@@ -259,8 +283,11 @@ std::vector<std::string> TakeLines(std::string* pending) {
 
 // Runs one COLMAP command to its end: its output goes to `log`, progress
 // parsed from it to `task`. Throws Cancelled (after killing it) on request.
+// A command silent and idle (no CPU time) for `stall_seconds` (> 0) is
+// killed and marked stalled.
 CommandOutcome RunCommand(const fs::path& executable, const std::vector<std::string>& argv,
-                          std::ofstream* log, const ProgressParser& parse, ProgressTask* task) {
+                          double stall_seconds, std::ofstream* log, const ProgressParser& parse,
+                          ProgressTask* task) {
   *log << "\n$";
   for (const std::string& arg : argv) *log << ' ' << arg;
   *log << '\n' << std::flush;
@@ -287,6 +314,8 @@ CommandOutcome RunCommand(const fs::path& executable, const std::vector<std::str
   };
   std::string chunk;
   bool open = true;
+  Clock::time_point last_active = Clock::now(), last_cpu_check = last_active;
+  int64_t cpu_ticks = child.CpuTicks();
   while (true) {
     task->CheckCancelled();  // ~ChildProcess kills COLMAP on the way out
     chunk.clear();
@@ -296,6 +325,21 @@ CommandOutcome RunCommand(const fs::path& executable, const std::vector<std::str
       poll(nullptr, 0, kPollIntervalMs);
     }
     consume(chunk);
+    const Clock::time_point now = Clock::now();
+    if (!chunk.empty()) last_active = now;
+    if (stall_seconds > 0 && !outcome.stalled &&
+        std::chrono::duration<double>(now - last_cpu_check).count() >= kCpuCheckSeconds) {
+      last_cpu_check = now;
+      const int64_t ticks = child.CpuTicks();
+      if (ticks < 0 || ticks != cpu_ticks) last_active = now;  // unknown counts as busy
+      cpu_ticks = ticks;
+      if (std::chrono::duration<double>(now - last_active).count() >= stall_seconds) {
+        *log << "\n[sylva] no output and no CPU time for " << stall_seconds
+             << " s: COLMAP has hung and is stopped\n";
+        outcome.stalled = true;
+        child.KillGroup();
+      }
+    }
     if (child.Exited(&status)) {
       // What it wrote before exiting; a process it left behind may keep the
       // pipe open, so nothing more is awaited.
@@ -327,7 +371,22 @@ struct RunContext {
   std::ofstream log;
   std::vector<std::string> photo_names;
   int num_photos = 0;
+  std::vector<std::string> notes;  // for ColmapResult::notes
 };
+
+std::string FormatSeconds(double seconds) {
+  std::ostringstream text;
+  text << seconds << " s";
+  return text.str();
+}
+
+// Removes a COLMAP database and SQLite's journal files beside it.
+void RemoveDatabase(const fs::path& database) {
+  std::error_code ignored;
+  for (const char* suffix : {"", "-shm", "-wal", "-journal"}) {
+    fs::remove(database.string() + suffix, ignored);
+  }
+}
 
 std::string JoinLines(const std::deque<std::string>& lines) {
   std::string text;
@@ -414,7 +473,26 @@ CommandOutcome RunStep(RunContext* context, const std::string& command, Flags fl
   flags.insert(flags.end(), common.begin(), common.end());
   std::vector<std::string> argv = {context->executable.string(), command};
   for (const auto& [name, value] : flags) argv.insert(argv.end(), {name, value});
-  CommandOutcome outcome = RunCommand(context->executable, argv, &context->log, parse, &task);
+  CommandOutcome outcome =
+      RunCommand(context->executable, argv, options.stall_seconds, &context->log, parse, &task);
+  // Hung: once more, unless it is the mapper (its retries are MapWithRetries').
+  if (outcome.stalled && command != "mapper") {
+    context->notes.push_back("COLMAP " + command + " hung (no output and no CPU time for " +
+                             FormatSeconds(options.stall_seconds) + ") and was run again");
+    SYLVA_LOG(kWarning) << context->notes.back();
+    if (command == "feature_extractor") RemoveDatabase(context->database);
+    const double hung_seconds = outcome.seconds;
+    outcome =
+        RunCommand(context->executable, argv, options.stall_seconds, &context->log, parse, &task);
+    outcome.seconds += hung_seconds;
+  }
+  if (outcome.stalled) {
+    ThrowRegistrationError(*context,
+                           "COLMAP " + command + " hung (no output and no CPU time for " +
+                               FormatSeconds(options.stall_seconds) +
+                               ") and was stopped; run again, or raise Colmap.stall_seconds",
+                           &outcome);
+  }
   if (outcome.term_signal != 0) {
     ThrowRegistrationError(*context,
                            "COLMAP " + command + " crashed (signal " +
@@ -630,6 +708,8 @@ void ColmapOptions::Check() const {
   SYLVA_CHECK_INPUT(mapper_attempts >= 1 && mapper_attempts <= 20, "Colmap.mapper_attempts")
       << "must be between 1 and 20, got " << mapper_attempts;
   SYLVA_CHECK_INPUT(random_seed >= 0, "Colmap.random_seed") << "must be >= 0, got " << random_seed;
+  SYLVA_CHECK_INPUT(stall_seconds >= 0.0, "Colmap.stall_seconds")
+      << "must be >= 0 (0 = never stop a silent COLMAP), got " << stall_seconds;
   SYLVA_CHECK_INPUT(rematch_below >= 0.0 && rematch_below <= 1.0, "Colmap.rematch_below")
       << "must be between 0 and 1, got " << rematch_below;
 }
@@ -807,6 +887,7 @@ ColmapResult RunColmap(const fs::path& photos_dir, const std::vector<std::string
                      mapping_task, &mapping, &result);
   }
   fs::remove(features_database, ec);
+  result.notes.insert(result.notes.begin(), context.notes.begin(), context.notes.end());
   result.colmap_seconds =
       result.extraction_seconds + result.matching_seconds + result.mapping_seconds;
   CheckEnoughRegistered(context, result, &mapping);

@@ -89,6 +89,13 @@ struct ColmapOptions {
 
   // Threads for each COLMAP command; -1 = all cores.
   int num_threads = -1;
+  // A COLMAP command that writes nothing and uses no CPU time for this long
+  // has hung (its threads can deadlock: feature_extractor did once here,
+  // after a photo with no features) and is stopped, then run once more
+  // (feature extraction from a fresh database; matching goes on from its
+  // database); hung twice, or a hung mapper, is a RegistrationError. In
+  // seconds; 0 waits for ever. Work in progress always uses CPU time.
+  double stall_seconds = 120.0;
   // COLMAP's random seed (its RANSAC sampling). COLMAP is not reproducible on
   // the CPU even so: its matches differ slightly from run to run, with one
   // thread too, and so do the poses.
@@ -115,7 +122,8 @@ struct ColmapResult {
   bool relaxed_mapping = false;
   int matching_runs = 1;
   // What went wrong on the way without stopping the registration (a mapper
-  // retry that failed, a second matching pass), for the stage's warnings.
+  // retry that failed, a second matching pass, a hung command run again),
+  // for the stage's warnings.
   std::vector<std::string> notes;
   // The matcher used ("exhaustive" or "sequential") and whether the photos
   // shared one camera.

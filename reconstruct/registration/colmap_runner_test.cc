@@ -446,6 +446,59 @@ TEST(ColmapRunnerTest, TooFewRegisteredPhotosAreMatchedAgain) {
   EXPECT_EQ(kept.matching_runs, 1);
 }
 
+// A stand-in whose feature extractor hangs (silent, idle) on its first run
+// (`hang_always`: on every run); every other command succeeds and the
+// mapper copies the models in `models_dir`.
+fs::path WriteHangingStandIn(const fs::path& folder, const fs::path& models_dir, bool hang_always) {
+  const fs::path script = folder / "hanging_colmap.sh";
+  const fs::path marker = folder / "hung_once";
+  std::string text = "#!/bin/sh\ncommand=$1\nout=\n";
+  text += "while [ $# -gt 0 ]; do [ \"$1\" = --output_path ] && out=$2; shift; done\n";
+  text += "if [ \"$command\" = feature_extractor ]; then\n";
+  text += hang_always ? "  sleep 60\n"
+                      : "  [ -e '" + marker.string() + "' ] || { touch '" + marker.string() +
+                            "'; sleep 60; }\n";
+  text += "fi\n";
+  text += "[ \"$command\" = mapper ] && cp -r '" + models_dir.string() + "'/. \"$out\"/\n";
+  text += "echo \"stand-in $command\"\nexit 0\n";
+  AtomicWriteString(script, text);
+  fs::permissions(script, fs::perms::owner_all);
+  return script;
+}
+
+// A command that hangs is stopped after stall_seconds and run once more;
+// hung twice, it is a registration error naming it, long before it would
+// have ended.
+TEST(ColmapRunnerTest, HungCommandsAreStoppedAndRunAgain) {
+  ScratchDir scratch("hung");
+  const std::vector<std::string> names = DatasetPhotos(0, 3);
+  WriteModel(scratch.path() / "models" / "0", names);
+  ColmapOptions options = FastOptions();
+  options.stall_seconds = 2.0;
+  options.executable = WriteHangingStandIn(scratch.path(), scratch.path() / "models", false);
+  const auto start = std::chrono::steady_clock::now();
+  const ColmapResult result =
+      RunColmap(kDataset / "images", names, "", scratch.path() / "ws", options, nullptr);
+  EXPECT_EQ(result.cameras.NumViews(), 3);
+  ASSERT_FALSE(result.notes.empty());
+  EXPECT_NE(result.notes[0].find("COLMAP feature_extractor hung"), std::string::npos)
+      << result.notes[0];
+  EXPECT_NE(ReadFileToString(result.log_path).find("COLMAP has hung and is stopped"),
+            std::string::npos);
+
+  options.executable = WriteHangingStandIn(scratch.path(), scratch.path() / "models", true);
+  try {
+    RunColmap(kDataset / "images", names, "", scratch.path() / "ws2", options, nullptr);
+    ADD_FAILURE() << "no error";
+  } catch (const RegistrationError& error) {
+    EXPECT_NE(std::string(error.what()).find("COLMAP feature_extractor hung"), std::string::npos)
+        << error.what();
+  }
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  EXPECT_LT(seconds, 30.0);  // three stalls of ~2-3 s, not the stand-in's 60 s sleeps
+}
+
 bool ProcessGone(pid_t pid) {
   for (int attempt = 0; attempt < 50; ++attempt) {
     const fs::path stat_path = "/proc/" + std::to_string(pid) + "/stat";

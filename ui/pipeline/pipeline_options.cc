@@ -619,6 +619,9 @@ void RegisterColmap(ColmapOptions* o, OptionRegistry* r) {
              "one camera for all photos (forced off when photo sizes differ)");
   r->AddInt("Colmap.num_threads", &o->num_threads, "threads", "COLMAP threads; -1 = all cores");
   r->AddInt("Colmap.random_seed", &o->random_seed, "", "COLMAP's random seed");
+  r->AddDouble("Colmap.stall_seconds", &o->stall_seconds, "s",
+               "a COLMAP command silent and idle (no CPU time) this long has hung: it is stopped "
+               "and run once more (0 = wait for ever)");
   r->AddInt("Colmap.mapper_attempts", &o->mapper_attempts, "runs",
             "mapper runs (next seed each, relaxed thresholds) while photos stay unregistered");
   r->AddDouble("Colmap.rematch_below", &o->rematch_below, "share",
