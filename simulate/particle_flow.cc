@@ -360,7 +360,13 @@ bool ParticleFlow::JoinTrace(Particle* particle) {
         std::lower_bound(particles_.begin(), particles_.end(), destination,
                          [](const Particle& p, int wanted) { return p.id < wanted; });
     SYLVA_CHECK(carrier != particles_.end() && carrier->id == destination);
-    carrier->mass += particle->mass;
+    // As in a merge, momentum is conserved: the carrier's path is the
+    // bundle's, not a lone leader's.
+    const int mass = carrier->mass + particle->mass;
+    carrier->state.velocity =
+        (carrier->mass * carrier->state.velocity + particle->mass * particle->state.velocity) /
+        mass;
+    carrier->mass = mass;
     summary_->flowing_joins += 1;
   }
   return true;

@@ -150,15 +150,16 @@ struct ParticleFlowOptions {
   // as if they had merged there. Without it, a bundle that passes where
   // another passed earlier, while that one still flows, lays a second trace
   // beside the first. On tests/bench/skeleton_probe.cc's trees (livewire
-  // graphs; at any angle / within 18 degrees): leafless trees traced twice
-  // 41-44 % -> 19-23 % / 24-28 % of the length, precision 0.819 -> 0.804 /
-  // 0.804, Chamfer 2.00 -> 2.08 / 2.06 %; ITSMe recall 0.81 -> 0.87 / 0.84,
-  // Chamfer 1.03 -> 0.67 / 0.75 %. Not the default: at any angle the
-  // steered trunk follows the attractors less and short first-order stubs
-  // multiply (sketch oracle's first-order angle 43.7 -> 50-56 degrees
-  // against 39); within 18 degrees, leafless tree 1's precision 0.793,
-  // ITSMe tree 2 1.35 x, drawn strokes on blank mattes steer worse, the
-  // demo's crown base 0.73 m.
+  // graphs, joins within 18 degrees, momentum conserved): leafless trees
+  // traced twice 41-44 % -> 24-28 % of the length, 0.96 -> 0.80 x the
+  // truth (0.55 -> 0.59 x once), precision 0.817 -> 0.792 (less padding),
+  // Chamfer 2.00 -> 2.06 %; ITSMe recall 0.81 -> 0.82, Chamfer 1.03 ->
+  // 0.78 %, but tree 2 1.03 -> 1.35 x. Joining at any angle sends bundles
+  // along other paths (the steered trunk follows the attractors less, the
+  // sketch oracle's first-order angle 44 -> 51-56 degrees against 39);
+  // without the momentum, lone leaders' paths carry the bundles (first-order
+  // stubs 36 -> 49 on leafless tree 1). Not the default: leafless
+  // precision under 0.8 and ITSMe tree 2 beyond 1.3 x.
   bool join_flowing_traces = false;
   // Traces crossed at a wider angle are not the same path: the particle
   // flows on (joining them would send its particles where it was not
