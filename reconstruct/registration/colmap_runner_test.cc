@@ -90,6 +90,7 @@ TEST(ColmapOptionsTest, CheckNamesTheBadField) {
   expect_bad("num_threads", [](ColmapOptions* o) { o->num_threads = 0; });
   expect_bad("exhaustive_max_photos", [](ColmapOptions* o) { o->exhaustive_max_photos = 1; });
   expect_bad("executable", [](ColmapOptions* o) { o->executable = ""; });
+  expect_bad("stall_seconds", [](ColmapOptions* o) { o->stall_seconds = -1; });
 }
 
 TEST(ColmapMaskTest, DilatesTheThresholdedMatte) {
