@@ -315,7 +315,7 @@ TEST(SkeletonConsolidationTest, RemovesTwigsHiddenInsideThickerWood) {
     }
     return -1;
   };
-  EXPECT_EQ(strands_at(stub), -1) << "the hidden stub stays";
+  EXPECT_EQ(strands_at(stub), -1) << "the hidden stub was kept";
   ExpectStrandsAddUp(result);
   EXPECT_EQ(result.nodes[result.RootIdx()].strands, 100);
   // The stub's 5 strands went on up the heaviest child (the trunk) to its

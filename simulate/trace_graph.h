@@ -48,7 +48,7 @@ class TraceGraph {
   const std::vector<int32_t>& EdgesInOrder() const { return edges_in_order_; }
 
   // Starts trace `trace` (>= 0) with a tip node carrying one strand.
-  TraceCursor StartTrace(const Eigen::Vector3d& position_in_sim, int trace = 0);
+  TraceCursor StartTrace(const Eigen::Vector3d& position_in_sim, int trace);
 
   // Whether a particle that moved from `from` to `to` leaves its run: `to`
   // lies farther than `tolerance` from the run's line, or moved backwards

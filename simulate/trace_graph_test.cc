@@ -13,8 +13,8 @@ namespace {
 // root in straight lines.
 TEST(TraceGraphTest, RecordsMergesAndSimplifiesChains) {
   TraceGraph graph(Eigen::Vector3d(0, 0, 0));
-  TraceCursor left = graph.StartTrace(Eigen::Vector3d(-2, 0, 10));
-  TraceCursor right = graph.StartTrace(Eigen::Vector3d(2, 0, 10));
+  TraceCursor left = graph.StartTrace(Eigen::Vector3d(-2, 0, 10), 0);
+  TraceCursor right = graph.StartTrace(Eigen::Vector3d(2, 0, 10), 1);
   Eigen::Vector3d left_at(-2, 0, 10), right_at(2, 0, 10);
   for (int step = 1; step <= 4; ++step) {
     const Eigen::Vector3d left_next(-2 + 0.5 * step, 0, 10 - step);
@@ -54,7 +54,7 @@ TEST(TraceGraphTest, RecordsMergesAndSimplifiesChains) {
 
 TEST(TraceGraphTest, DouglasPeuckerKeepsCornersAndDropsNearlyStraightNodes) {
   TraceGraph graph(Eigen::Vector3d(0, 0, 0));
-  TraceCursor cursor = graph.StartTrace(Eigen::Vector3d(0, 0, 10));
+  TraceCursor cursor = graph.StartTrace(Eigen::Vector3d(0, 0, 10), 0);
   // Down with a small wiggle, then a sharp corner to the root.
   graph.RecordNode(&cursor, Eigen::Vector3d(0.05, 0, 8), 1);
   graph.RecordNode(&cursor, Eigen::Vector3d(-0.05, 0, 6), 1);

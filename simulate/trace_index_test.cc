@@ -11,11 +11,11 @@ struct Scene {
   TraceGraph graph{Eigen::Vector3d::Zero()};
   int tip = -1, middle = -1, long_tip = -1;
   Scene() {
-    TraceCursor cursor = graph.StartTrace(Eigen::Vector3d(0, 0, 10));
+    TraceCursor cursor = graph.StartTrace(Eigen::Vector3d(0, 0, 10), 0);
     tip = cursor.last_node;
     middle = graph.RecordNode(&cursor, Eigen::Vector3d(0, 0, 5), 1);
     graph.EndTrace(cursor, TraceGraph::kRoot, 1);
-    TraceCursor other = graph.StartTrace(Eigen::Vector3d(20, 0, 10));
+    TraceCursor other = graph.StartTrace(Eigen::Vector3d(20, 0, 10), 1);
     long_tip = other.last_node;
     graph.EndTrace(other, TraceGraph::kRoot, 1);
   }

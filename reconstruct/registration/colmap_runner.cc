@@ -382,10 +382,8 @@ std::string FormatSeconds(double seconds) {
 
 // Removes a COLMAP database and SQLite's journal files beside it.
 void RemoveDatabase(const fs::path& database) {
-  std::error_code ignored;
-  for (const char* suffix : {"", "-shm", "-wal", "-journal"}) {
-    fs::remove(database.string() + suffix, ignored);
-  }
+  for (const char* suffix : {"", "-shm", "-wal", "-journal"})
+    fs::remove(database.string() + suffix);
 }
 
 std::string JoinLines(const std::deque<std::string>& lines) {
@@ -475,10 +473,11 @@ CommandOutcome RunStep(RunContext* context, const std::string& command, Flags fl
   for (const auto& [name, value] : flags) argv.insert(argv.end(), {name, value});
   CommandOutcome outcome =
       RunCommand(context->executable, argv, options.stall_seconds, &context->log, parse, &task);
+  const std::string hung = "COLMAP " + command + " hung (no output and no CPU time for " +
+                           FormatSeconds(options.stall_seconds) + ")";
   // Hung: once more, unless it is the mapper (its retries are MapWithRetries').
   if (outcome.stalled && command != "mapper") {
-    context->notes.push_back("COLMAP " + command + " hung (no output and no CPU time for " +
-                             FormatSeconds(options.stall_seconds) + ") and was run again");
+    context->notes.push_back(hung + " and was run again");
     SYLVA_LOG(kWarning) << context->notes.back();
     if (command == "feature_extractor") RemoveDatabase(context->database);
     const double hung_seconds = outcome.seconds;
@@ -487,11 +486,8 @@ CommandOutcome RunStep(RunContext* context, const std::string& command, Flags fl
     outcome.seconds += hung_seconds;
   }
   if (outcome.stalled) {
-    ThrowRegistrationError(*context,
-                           "COLMAP " + command + " hung (no output and no CPU time for " +
-                               FormatSeconds(options.stall_seconds) +
-                               ") and was stopped; run again, or raise Colmap.stall_seconds",
-                           &outcome);
+    ThrowRegistrationError(
+        *context, hung + " and was stopped; run again, or raise Colmap.stall_seconds", &outcome);
   }
   if (outcome.term_signal != 0) {
     ThrowRegistrationError(*context,
@@ -558,9 +554,7 @@ bool CheckPhotos(const fs::path& photos_dir, const std::vector<std::string>& pho
 // Removes what an earlier run left, so COLMAP starts afresh.
 void PrepareWorkspace(const fs::path& workspace, const std::vector<std::string>& photo_names) {
   fs::create_directories(workspace);
-  for (const char* name : {"database.db", "database.db-shm", "database.db-wal"}) {
-    fs::remove(workspace / name);
-  }
+  RemoveDatabase(workspace / kDatabaseName);
   fs::remove_all(workspace / kSparseFolder);
   fs::remove_all(workspace / kRetryFolder);
   fs::create_directories(workspace / kSparseFolder);
