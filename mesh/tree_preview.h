@@ -3,12 +3,15 @@
 // brighter on faces turned up), seen from several azimuths by orthographic
 // cameras framed exactly around the tree.
 //
-// Leaves are Embree instances of one leaf geometry (the LeafInstances'
-// shape) under each leaf's transform, so 10^5 leaves cost one small leaf
-// mesh plus 10^5 transforms instead of 10^5 copies; a textured leaf shape
-// (LeafShapeFromImage) is alpha-tested against its texture (alpha >= 0.5
-// keeps the hit, like glTF's MASK mode) and coloured by it. Leaves are
-// double-sided and let a fraction of the sun through when lit from behind.
+// Leaves are either Embree instances of one leaf geometry (the
+// LeafInstances' shape) under each leaf's transform, so 10^5 leaves cost one
+// small leaf mesh plus 10^5 transforms instead of 10^5 copies, or, when the
+// shape is untextured, triangles of the scene's mesh (the same picture,
+// traced about 1.5x faster for a larger BVH: ChoosePreviewLeafGeometry
+// picks). A textured leaf shape (LeafShapeFromImage) is always instanced,
+// alpha-tested against its texture (alpha >= 0.5 keeps the hit, like glTF's
+// MASK mode) and coloured by it. Leaves are double-sided and let a fraction
+// of the sun through when lit from behind.
 //
 // World frame: +Z up (sylva's world frame, also the ITSMe QSM tables').
 // Cameras follow COLMAP (x right, y down, z forward). Every pixel is sampled
@@ -95,20 +98,35 @@ std::vector<PreviewView> FramedPreviewViews(const Box3d& bounds, const TreePrevi
 PreviewView CloseUpView(const Eigen::Vector3d& center, double radius, double azimuth_deg,
                         double elevation_deg, const TreePreviewOptions& options);
 
+// How the renderer holds the leaves.
+enum class PreviewLeafGeometry {
+  kInstances,  // one leaf geometry, one Embree instance per leaf
+  kTriangles,  // every leaf's triangles in the scene's mesh (untextured shapes only)
+};
+
+// Triangles when the leaf shape is untextured and the baked triangles are
+// few beside the camera rays to trace (`num_rays`): building a BVH over
+// baked leaves costs about as much per triangle as the faster tracing saves
+// on 5 rays (sylva_preview_benchmark); else instances.
+PreviewLeafGeometry ChoosePreviewLeafGeometry(const LeafInstances* leaves, double num_rays);
+
 // Scene figures, for benchmarks and reports.
 struct TreePreviewStats {
-  int mesh_triangles = 0;
+  int mesh_triangles = 0;  // of the mesh given (baked leaves not counted)
   int leaf_instances = 0;
   int leaf_triangles = 0;  // of the one leaf geometry
+  bool leaves_as_triangles = false;
   double build_seconds = 0.0;
 };
 
 class TreePreviewRenderer {
  public:
   // Builds the scene once: `mesh` (bark, or anything with materials; may
-  // hold baked leaves) and `leaves` (may be null or empty) as instances.
-  // Copies what it needs. Throws Error if the mesh or leaf shape fails Check().
-  TreePreviewRenderer(const TriangleMesh& mesh, const LeafInstances* leaves);
+  // hold baked leaves) and `leaves` (may be null or empty) held as
+  // `leaf_geometry` says (kTriangles needs an untextured shape). Copies what
+  // it needs. Throws Error if the mesh or leaf shape fails Check().
+  TreePreviewRenderer(const TriangleMesh& mesh, const LeafInstances* leaves,
+                      PreviewLeafGeometry leaf_geometry = PreviewLeafGeometry::kInstances);
   ~TreePreviewRenderer();
   TreePreviewRenderer(TreePreviewRenderer&&) noexcept;
   TreePreviewRenderer& operator=(TreePreviewRenderer&&) noexcept;
@@ -134,8 +152,9 @@ class TreePreviewRenderer {
   std::unique_ptr<Impl> impl_;
 };
 
-// One picture per TreePreviewRenderer::FramedViews view. Throws
-// InputError for bad options, and if the scene is empty.
+// One picture per TreePreviewRenderer::FramedViews view, the leaves held as
+// ChoosePreviewLeafGeometry says. Throws InputError for bad options, and if
+// the scene is empty.
 std::vector<FloatImage> RenderTreePreviews(const TriangleMesh& mesh, const LeafInstances* leaves,
                                            const TreePreviewOptions& options);
 

@@ -234,6 +234,59 @@ TEST(TreePreviewTest, InstancedLeavesLookLikeBakedLeavesAndRendersRepeat) {
   }
 }
 
+TEST(TreePreviewTest, LeavesHeldAsTrianglesDrawTheSamePicture) {
+  const TriangleMesh trunk = Box(Eigen::Vector3f(-0.1f, -0.1f, 0), Eigen::Vector3f(0.1f, 0.1f, 2),
+                                 Eigen::Vector3f(0.35f, 0.25f, 0.18f));
+  const LeafInstances leaves = RandomLeaves(300);
+  TreePreviewOptions options;
+  options.width = options.height = 80;
+  options.samples_per_axis = 2;
+  options.azimuths_deg = {30.0, 200.0};
+  const TreePreviewRenderer instanced(trunk, &leaves, PreviewLeafGeometry::kInstances);
+  const TreePreviewRenderer triangles(trunk, &leaves, PreviewLeafGeometry::kTriangles);
+  EXPECT_FALSE(instanced.Stats().leaves_as_triangles);
+  EXPECT_TRUE(triangles.Stats().leaves_as_triangles);
+  EXPECT_EQ(triangles.Stats().mesh_triangles, 12);  // the leaves are not the mesh's
+  EXPECT_EQ(triangles.Stats().leaf_instances, 300);
+  const std::vector<PreviewView> views = instanced.FramedViews(options);
+  const std::vector<PreviewView> same_views = triangles.FramedViews(options);
+  ASSERT_EQ(views.size(), same_views.size());
+  for (size_t v = 0; v < views.size(); ++v) {
+    SCOPED_TRACE(views[v].name);
+    // The framing sees the same vertices either way.
+    for (size_t k = 0; k < views[v].camera.params().size(); ++k) {
+      EXPECT_NEAR(views[v].camera.params()[k], same_views[v].camera.params()[k], 1e-6);
+    }
+    const FloatImage a = instanced.Render(views[v], options);
+    const FloatImage b = triangles.Render(views[v], options);
+    double difference = 0;
+    for (size_t i = 0; i < a.values().size(); ++i)
+      difference += std::abs(a.values()[i] - b.values()[i]);
+    // Instances round the leaf transform per ray: a few edge samples move.
+    EXPECT_LT(difference / a.values().size(), 2e-3);
+    EXPECT_GT(SumChannel(b, 1), SumChannel(b, 0));  // leaf green shows
+  }
+  // A textured shape is alpha-tested: it is never baked.
+  LeafInstances textured = leaves;
+  FloatImage rgba(8, 8, 4);
+  rgba.values().assign(rgba.values().size(), 1.0f);
+  textured.shape = LeafShapeFromImage(rgba, "square");
+  EXPECT_THROW(TreePreviewRenderer(trunk, &textured, PreviewLeafGeometry::kTriangles), Error);
+}
+
+TEST(TreePreviewTest, LeavesAreBakedOnlyWhenFewBesideTheRays) {
+  const LeafInstances leaves = RandomLeaves(1000);  // ovate: 1000 x its triangles
+  const double triangles = 1000.0 * leaves.shape.triangles.size();
+  EXPECT_EQ(ChoosePreviewLeafGeometry(&leaves, 5.0 * triangles), PreviewLeafGeometry::kTriangles);
+  EXPECT_EQ(ChoosePreviewLeafGeometry(&leaves, 4.0 * triangles), PreviewLeafGeometry::kInstances);
+  EXPECT_EQ(ChoosePreviewLeafGeometry(nullptr, 1e9), PreviewLeafGeometry::kInstances);
+  LeafInstances textured = leaves;
+  FloatImage rgba(8, 8, 4);
+  rgba.values().assign(rgba.values().size(), 1.0f);
+  textured.shape = LeafShapeFromImage(rgba, "square");
+  EXPECT_EQ(ChoosePreviewLeafGeometry(&textured, 1e12), PreviewLeafGeometry::kInstances);
+}
+
 TEST(TreePreviewTest, ImageLeavesAreAlphaTestedAndColouredByTheirTexture) {
   // A red disc on a transparent square: the leaf quad spans the disc's box
   // and is kept where alpha >= 0.5, so it covers pi / 4 of the quad.

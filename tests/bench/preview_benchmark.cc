@@ -195,6 +195,12 @@ int Run(bool quick, const std::string& keep, const std::string& qsm_path) {
               rays / reference.render_seconds, bake_seconds, baked.NumTriangles());
   std::printf("%-10s %12.3f %12.1f %12.3f %14.3g\n", "instanced", instanced.build_seconds,
               instanced.memory_mib, instanced.render_seconds, rays / instanced.render_seconds);
+  // The pictures' own choice (RenderTreePreviews): triangles when there are
+  // 5 or more camera rays per baked leaf triangle.
+  const bool bake = ChoosePreviewLeafGeometry(&leaves, rays) == PreviewLeafGeometry::kTriangles;
+  std::printf("RenderTreePreviews holds these leaves as %s (%.1f camera rays per baked triangle)\n",
+              bake ? "triangles" : "instances",
+              rays / (static_cast<double>(num_leaves) * instanced.stats.leaf_triangles));
   const double difference = MeanAbsDifference(instanced.pictures, reference.pictures);
   std::printf("mean |instanced - baked| per channel: %.2e\n", difference);
   if (!keep.empty()) {
