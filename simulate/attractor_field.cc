@@ -26,6 +26,34 @@ constexpr int kFillLocks = 64;
 
 int LongerSide(int width, int height) { return std::max(width, height); }
 
+// Each bucket's Chebyshev distance (in buckets) to the nearest bucket that
+// holds a segment (`start`: CSR offsets of the buckets' segments, at least
+// one bucket holds one): two passes over the grid, each bucket taking its
+// already visited 8-neighbours' distance + 1.
+std::vector<int> EmptyRings(const std::vector<int>& start, int cols, int rows) {
+  const int far = cols + rows;
+  std::vector<int> rings(static_cast<size_t>(cols) * rows);
+  for (size_t b = 0; b < rings.size(); ++b) rings[b] = start[b + 1] > start[b] ? 0 : far;
+  const auto relax = [&](int c, int r, int dc, int dr) {
+    const int nc = c + dc, nr = r + dr;
+    if (nc < 0 || nc >= cols || nr < 0 || nr >= rows) return;
+    int& ring = rings[static_cast<size_t>(r) * cols + c];
+    ring = std::min(ring, rings[static_cast<size_t>(nr) * cols + nc] + 1);
+  };
+  for (int r = 0; r < rows; ++r) {
+    for (int c = 0; c < cols; ++c) {
+      for (const auto& [dc, dr] : {std::pair{-1, 0}, {-1, -1}, {0, -1}, {1, -1}})
+        relax(c, r, dc, dr);
+    }
+  }
+  for (int r = rows - 1; r >= 0; --r) {
+    for (int c = cols - 1; c >= 0; --c) {
+      for (const auto& [dc, dr] : {std::pair{1, 0}, {1, 1}, {0, 1}, {-1, 1}}) relax(c, r, dc, dr);
+    }
+  }
+  return rings;
+}
+
 }  // namespace
 
 void AttractorFieldOptions::Check() const {
@@ -107,6 +135,8 @@ DirectionField2D::DirectionField2D(const AttractorGraph2D& graph,
     }
   }
 
+  empty_rings_ = EmptyRings(bucket_start_, bucket_cols_, bucket_rows_);
+
   tbb::parallel_for(tbb::blocked_range<int>(0, rows_), [&](const tbb::blocked_range<int>& range) {
     for (int row = range.begin(); row < range.end(); ++row) {
       for (int col = 0; col < cols_; ++col) {
@@ -127,7 +157,9 @@ void DirectionField2D::Closest(const Eigen::Vector2d& p, Eigen::Vector2d* closes
   int best = -1;
   double best_t = 0;
   const int max_ring = std::max(bucket_cols_, bucket_rows_);
-  for (int ring = 0; ring <= max_ring; ++ring) {
+  // Rings nearer than the first bucket with a segment hold none.
+  const int first_ring = empty_rings_[static_cast<size_t>(pr) * bucket_cols_ + pc];
+  for (int ring = first_ring; ring <= max_ring; ++ring) {
     // Segments not seen yet lie in buckets of this ring or farther, at least
     // this far from p (from its projection onto the grid if p is outside).
     const double reach = std::max(0.0, (ring - 1) * bucket_size_);

@@ -139,6 +139,9 @@ class DirectionField2D {
   int bucket_cols_ = 1, bucket_rows_ = 1;
   std::vector<int> bucket_start_;  // CSR offsets, bucket_cols_ * bucket_rows_ + 1
   std::vector<int> bucket_items_;
+  // Per bucket: how many rings around it hold no segment (its Chebyshev
+  // distance, in buckets, to the nearest bucket that holds one).
+  std::vector<int> empty_rings_;
   std::vector<Eigen::Vector2f> values_;  // rows_ x cols_
 };
 

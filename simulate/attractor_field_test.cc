@@ -101,6 +101,46 @@ TEST(DirectionField2D, ClosestSegmentOfABranchingGraph) {
   }
 }
 
+TEST(DirectionField2D, ClosestSegmentFarFromAClusteredGraph) {
+  // 64 short segments crowded in one corner of a large image: most buckets
+  // are empty, and the search starts at the first ring that holds a segment.
+  // Every point's closest segment must still be the exact one.
+  AttractorGraph2D graph;
+  graph.width = 400;
+  graph.height = 300;
+  graph.root = graph.AddNode({40, 60}, -1);
+  int parent = graph.root;
+  for (int k = 1; k <= 64; ++k) {
+    const double angle = 0.7 * k;
+    parent = graph.AddNode(
+        {40 + 25 * std::cos(angle) * (k % 5) / 4.0, 60 + 25 * std::sin(angle) * (k % 7) / 6.0},
+        k % 3 == 0 ? graph.root : parent);
+  }
+  AttractorFieldOptions options;
+  options.falloff = 0.05;
+  const DirectionField2D field(graph, options);
+  const double falloff_px = 0.05 * 400;
+  int far = 0;
+  for (int y = -20; y <= 320; y += 11) {
+    for (int x = -20; x <= 420; x += 13) {
+      const Eigen::Vector2d p(x + 0.25, y + 0.5);
+      double best = 1e9;
+      Eigen::Vector2d closest = Eigen::Vector2d::Zero(), tangent = Eigen::Vector2d::Zero();
+      for (const auto& [a, b] : graph.Segments()) {
+        const double t = std::clamp((p - a).dot(b - a) / (b - a).squaredNorm(), 0.0, 1.0);
+        const Eigen::Vector2d q = a + t * (b - a);
+        if ((q - p).norm() < best)
+          best = (q - p).norm(), closest = q, tangent = (b - a).normalized();
+      }
+      far += best > 100 ? 1 : 0;
+      const double h = std::min(best / falloff_px, 1.0);
+      const Eigen::Vector2d expected = h * (closest - p) / best + (1 - h) * tangent;
+      EXPECT_LT((field.Evaluate(p) - expected).norm(), 1e-9) << p.transpose();
+    }
+  }
+  EXPECT_GT(far, 500);  // most points are many empty buckets away
+}
+
 // Two orthographic views at right angles: from +X and from +Y, 200 x 200
 // pixels, 50 pixels per unit, the origin in the image centre.
 ImageSet TwoOrthographicViews() {
