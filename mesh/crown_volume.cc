@@ -93,22 +93,48 @@ std::vector<CrownVoxel> CrownVoxels(const DensityGrid& density, double crown_bas
 }
 
 // Dilates `mask` by a cube of half side `w` voxels (one axis at a time).
+// Along an axis, the lines of one block of the box (its voxels with the same
+// coordinates on the slower axes) are swept together, layer by layer, with a
+// count per line of the mask's voxels in the window [k - w, k + w]: every
+// layer is contiguous in memory.
 void Dilate(const DenseBox& box, int w, std::vector<char>* mask) {
   std::vector<char> out(mask->size(), 0);
-  std::vector<int> prefix;
+  std::vector<int> count;
   for (int axis = 0; axis < 3; ++axis) {
     const int n = box.Dim(axis);
-    const size_t stride = box.Stride(axis);
-    // Each line along `axis` once, from its first voxel.
-    const int u = (axis + 1) % 3, v = (axis + 2) % 3;
-    for (int j = 0; j < box.Dim(v); ++j) {
-      for (int i = 0; i < box.Dim(u); ++i) {
-        const size_t start = i * box.Stride(u) + j * box.Stride(v);
-        prefix.assign(n + 1, 0);
-        for (int k = 0; k < n; ++k) prefix[k + 1] = prefix[k] + (*mask)[start + k * stride];
+    const size_t layer = box.Stride(axis);  // voxels per layer of a block
+    const size_t block = layer * n;
+    if (layer == 1) {  // along x: each line alone, with one count
+      for (size_t start = 0; start < mask->size(); start += block) {
+        const char* in = mask->data() + start;
+        char* result = out.data() + start;
+        int window = 0;
+        for (int k = 0; k < std::min(w, n); ++k) window += in[k];
         for (int k = 0; k < n; ++k) {
-          out[start + k * stride] = prefix[std::min(n, k + w + 1)] > prefix[std::max(0, k - w)];
+          if (k + w < n) window += in[k + w];
+          if (k - w - 1 >= 0) window -= in[k - w - 1];
+          result[k] = window > 0;
         }
+      }
+      mask->swap(out);
+      continue;
+    }
+    count.assign(layer, 0);
+    for (size_t start = 0; start < mask->size(); start += block) {
+      const char* in = mask->data() + start;
+      char* result = out.data() + start;
+      std::fill(count.begin(), count.end(), 0);
+      for (int k = 0; k < std::min(w, n); ++k) {
+        for (size_t i = 0; i < layer; ++i) count[i] += in[k * layer + i];
+      }
+      for (int k = 0; k < n; ++k) {
+        if (k + w < n) {
+          for (size_t i = 0; i < layer; ++i) count[i] += in[(k + w) * layer + i];
+        }
+        if (k - w - 1 >= 0) {
+          for (size_t i = 0; i < layer; ++i) count[i] -= in[(k - w - 1) * layer + i];
+        }
+        for (size_t i = 0; i < layer; ++i) result[k * layer + i] = count[i] > 0;
       }
     }
     mask->swap(out);
