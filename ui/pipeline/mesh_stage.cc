@@ -89,11 +89,15 @@ TreeMetricsReport WriteMeshOutputs(const StageContext& context, const SkeletonGr
 StageRun RunMeshStage(const StageContext& context) {
   StageRun run;
   StepClock clock(&run.profile);
-  const SkeletonGraph skeleton =
-      ReadSkeletonJson(context.RequireOutput("skeleton.json", "skeleton"));
-  const DensityGrid density = ReadDensityGrid(context.RequireOutput("density.vdb", "density"));
   const ImageSet views = context.InputViews();
-  const std::vector<FloatImage> mattes = context.LoadMattes(views, "mesh: reading mattes");
+  // The inputs are read side by side.
+  SkeletonGraph skeleton;
+  DensityGrid density;
+  std::vector<FloatImage> mattes;
+  tbb::parallel_invoke(
+      [&] { skeleton = ReadSkeletonJson(context.RequireOutput("skeleton.json", "skeleton")); },
+      [&] { density = ReadDensityGrid(context.RequireOutput("density.vdb", "density")); },
+      [&] { mattes = context.LoadMattes(views, "mesh: reading mattes"); });
   ProgressTask progress(context.progress, "mesh: branches and leaves");
   progress.Update(0.0);
   const TreeGeometryOptions& geometry_options = context.options.geometry;

@@ -4,6 +4,8 @@
 // width seen in the mattes. Writes out/skeleton.json, out/skeleton.ply
 // (AdTree layout) and out/skeleton_raw.json (traces before simplification).
 // Thin wood that carries density painted in (edits/density/) is kept.
+#include <tbb/parallel_invoke.h>
+
 #include "core/io/skeleton_io.h"
 #include "core/io/vdb_io.h"
 #include "core/util/threading.h"
@@ -15,13 +17,21 @@ namespace sylva {
 StageRun RunSkeletonStage(const StageContext& context) {
   StageRun run;
   StepClock clock(&run.profile);
-  const DensityGrid density = ReadDensityGrid(context.RequireOutput("density.vdb", "density"));
   const ImageSet views = context.InputViews();
-  const std::vector<FloatImage> mattes = context.LoadMattes(views, "skeleton: reading mattes");
-  const std::vector<AttractorGraph2D> attractors = LoadAttractorGraphs(context.project, views);
+  // The inputs are read side by side.
+  DensityGrid density;
+  std::vector<FloatImage> mattes;
+  std::vector<AttractorGraph2D> attractors;
   std::vector<FloatImage> painted_in(views.NumViews());
-  ParallelForFirstError(views.NumViews(),
-                        [&](int v) { painted_in[v] = context.project.LoadPaintedIn(views, v); });
+  tbb::parallel_invoke(
+      [&] { density = ReadDensityGrid(context.RequireOutput("density.vdb", "density")); },
+      [&] { mattes = context.LoadMattes(views, "skeleton: reading mattes"); },
+      [&] {
+        attractors = LoadAttractorGraphs(context.project, views);
+        ParallelForFirstError(views.NumViews(), [&](int v) {
+          painted_in[v] = context.project.LoadPaintedIn(views, v);
+        });
+      });
   clock.Lap("read");
   BuiltSkeleton built = BuildSkeleton(density, views, mattes, attractors, context.options,
                                       context.progress, &painted_in);
@@ -34,9 +44,9 @@ StageRun RunSkeletonStage(const StageContext& context) {
   run.AddFigure("trunk_radius", built.trunk_radius, units);
   run.outputs = {context.Out("skeleton.json"), context.Out("skeleton.ply"),
                  context.Out("skeleton_raw.json")};
-  WriteSkeletonJson(run.outputs[0], built.skeleton, units);
-  WriteSkeletonPly(run.outputs[1], built.skeleton, units);
-  WriteSkeletonJson(run.outputs[2], built.raw, units);
+  tbb::parallel_invoke([&] { WriteSkeletonJson(run.outputs[0], built.skeleton, units); },
+                       [&] { WriteSkeletonPly(run.outputs[1], built.skeleton, units); },
+                       [&] { WriteSkeletonJson(run.outputs[2], built.raw, units); });
   clock.Lap("write");
   return run;
 }
