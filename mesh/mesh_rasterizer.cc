@@ -128,22 +128,23 @@ void RasterizeTriangle(const std::vector<Projected>& projected, const Eigen::Vec
       }
     }
     if (!(low <= high)) continue;
+    // Branch-free: a tree's small triangles leave the inside test to chance.
+    // The edge functions times the orientation (+-1, exact) are all >= 0
+    // inside (the vertices are finite, so no NaN).
+    int* triangles = sample_triangles->data() + row;
+    double* row_keys = nearest ? keys->data() + row : nullptr;
     for (int a = Ceil(low), end = Floor(high); a <= end; ++a) {
       const double x = grid.X(a);
       const double w0 = e0.At(x, y), w1 = e1.At(x, y), w2 = e2.At(x, y);
-      const bool inside =
-          positive ? (w0 >= 0.0 && w1 >= 0.0 && w2 >= 0.0) : (w0 <= 0.0 && w1 <= 0.0 && w2 <= 0.0);
-      if (!inside) continue;
-      const size_t k = row + a;
+      const bool inside = std::min({orientation * w0, orientation * w1, orientation * w2}) >= 0.0;
       if (!nearest) {
-        if ((*sample_triangles)[k] < 0) (*sample_triangles)[k] = t;
+        triangles[a] = inside && triangles[a] < 0 ? t : triangles[a];
         continue;
       }
       const double key = (w0 * v0.key + w1 * v1.key + w2 * v2.key) * inverse_area;
-      if (key < (*keys)[k]) {
-        (*keys)[k] = key;
-        (*sample_triangles)[k] = t;
-      }
+      const bool nearer = inside && key < row_keys[a];
+      row_keys[a] = nearer ? key : row_keys[a];
+      triangles[a] = nearer ? t : triangles[a];
     }
   }
 }
