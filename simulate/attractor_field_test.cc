@@ -33,6 +33,23 @@ AttractorGraph2D VerticalLine() {
   return graph;
 }
 
+// The linear-blend field at p from the closest point over every segment of
+// `graph` (no buckets), with the falloff in pixels; `distance` gets p's
+// distance to the graph.
+Eigen::Vector2d ExactField(const AttractorGraph2D& graph, const Eigen::Vector2d& p,
+                           double falloff_px, double* distance = nullptr) {
+  double best = 1e9;
+  Eigen::Vector2d closest = Eigen::Vector2d::Zero(), tangent = Eigen::Vector2d::Zero();
+  for (const auto& [a, b] : graph.Segments()) {
+    const double t = std::clamp((p - a).dot(b - a) / (b - a).squaredNorm(), 0.0, 1.0);
+    const Eigen::Vector2d q = a + t * (b - a);
+    if ((q - p).norm() < best) best = (q - p).norm(), closest = q, tangent = (b - a).normalized();
+  }
+  if (distance != nullptr) *distance = best;
+  const double h = std::min(best / falloff_px, 1.0);
+  return h * (closest - p) / best + (1 - h) * tangent;
+}
+
 TEST(DirectionField2D, LinearBlendPointsAtTheGraphFarAndAlongItNear) {
   AttractorFieldOptions options;  // linear
   options.falloff = 0.1;          // 10 px
@@ -86,17 +103,7 @@ TEST(DirectionField2D, ClosestSegmentOfABranchingGraph) {
   for (int y = -10; y <= 130; y += 7) {
     for (int x = -10; x <= 110; x += 7) {
       const Eigen::Vector2d p(x + 0.3, y + 0.6);
-      double best = 1e9;
-      Eigen::Vector2d closest = Eigen::Vector2d::Zero(), tangent = Eigen::Vector2d::Zero();
-      for (const auto& [a, b] : graph.Segments()) {
-        const double t = std::clamp((p - a).dot(b - a) / (b - a).squaredNorm(), 0.0, 1.0);
-        const Eigen::Vector2d q = a + t * (b - a);
-        if ((q - p).norm() < best)
-          best = (q - p).norm(), closest = q, tangent = (b - a).normalized();
-      }
-      const double h = std::min(best / 24.0, 1.0);
-      const Eigen::Vector2d expected = h * (closest - p) / best + (1 - h) * tangent;
-      EXPECT_LT((field.Evaluate(p) - expected).norm(), 1e-9) << p.transpose();
+      EXPECT_LT((field.Evaluate(p) - ExactField(graph, p, 24.0)).norm(), 1e-9) << p.transpose();
     }
   }
 }
@@ -124,17 +131,9 @@ TEST(DirectionField2D, ClosestSegmentFarFromAClusteredGraph) {
   for (int y = -20; y <= 320; y += 11) {
     for (int x = -20; x <= 420; x += 13) {
       const Eigen::Vector2d p(x + 0.25, y + 0.5);
-      double best = 1e9;
-      Eigen::Vector2d closest = Eigen::Vector2d::Zero(), tangent = Eigen::Vector2d::Zero();
-      for (const auto& [a, b] : graph.Segments()) {
-        const double t = std::clamp((p - a).dot(b - a) / (b - a).squaredNorm(), 0.0, 1.0);
-        const Eigen::Vector2d q = a + t * (b - a);
-        if ((q - p).norm() < best)
-          best = (q - p).norm(), closest = q, tangent = (b - a).normalized();
-      }
-      far += best > 100 ? 1 : 0;
-      const double h = std::min(best / falloff_px, 1.0);
-      const Eigen::Vector2d expected = h * (closest - p) / best + (1 - h) * tangent;
+      double distance = 0;
+      const Eigen::Vector2d expected = ExactField(graph, p, falloff_px, &distance);
+      far += distance > 100 ? 1 : 0;
       EXPECT_LT((field.Evaluate(p) - expected).norm(), 1e-9) << p.transpose();
     }
   }
