@@ -201,6 +201,10 @@ class TreePreviewRenderer::Impl {
     FloatImage texture;
     Eigen::Vector3f color;
   };
+  // The scene (device_ exists), leaves baked into the mesh or instanced.
+  void Build(const TriangleMesh& mesh, const LeafInstances* leaves, bool bake);
+  // Releases what Embree holds (idempotent).
+  void Release();
   void AddMesh(const TriangleMesh& mesh);
   void AddLeaves(const LeafInstances& leaves);
   // Leaf k (Embree geometry id k + 1) as an instance of the leaf scene.
@@ -251,17 +255,35 @@ TreePreviewRenderer::Impl::Impl(const TriangleMesh& mesh, const LeafInstances* l
                                 PreviewLeafGeometry leaf_geometry) {
   const auto start = std::chrono::steady_clock::now();
   mesh.Check();
+  const bool has_leaves = leaves != nullptr && !leaves->instances.empty();
+  const bool bake = has_leaves && leaf_geometry == PreviewLeafGeometry::kTriangles;
+  if (has_leaves) leaves->shape.Check();
+  SYLVA_CHECK(!bake || leaves->shape.texture.empty()) << "a textured leaf shape cannot be baked";
   device_ = rtcNewDevice(nullptr);
   SYLVA_CHECK(device_ != nullptr) << "cannot create an Embree device";
+  // A throwing constructor runs no destructor: what Embree holds by then is
+  // released here.
+  try {
+    Build(mesh, leaves, bake);
+  } catch (...) {
+    Release();
+    throw;
+  }
+  shadow_offset_ = bounds.isEmpty()
+                       ? 0.0f
+                       : kShadowOffset * static_cast<float>(bounds.diagonal().norm()) + 1e-6f;
+  stats.build_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+void TreePreviewRenderer::Impl::Build(const TriangleMesh& mesh, const LeafInstances* leaves,
+                                      bool bake) {
   scene_ = rtcNewScene(device_);
   rtcSetSceneFlags(scene_, RTC_SCENE_FLAG_ROBUST);
-  const bool has_leaves = leaves != nullptr && !leaves->instances.empty();
-  if (has_leaves && leaf_geometry == PreviewLeafGeometry::kTriangles) {
+  if (bake) {
     // Baked leaves are mesh triangles of the leaf material (double-sided,
     // its colour), shaded as the instanced leaf is: a flat leaf's vertex
     // normals are its face normal.
-    SYLVA_CHECK(leaves->shape.texture.empty()) << "a textured leaf shape cannot be baked";
-    leaves->shape.Check();
     TriangleMesh with_leaves = mesh;
     with_leaves.Append(leaves->Bake());
     AddMesh(with_leaves);
@@ -271,22 +293,21 @@ TreePreviewRenderer::Impl::Impl(const TriangleMesh& mesh, const LeafInstances* l
     stats.leaves_as_triangles = true;
   } else {
     if (mesh.NumTriangles() > 0) AddMesh(mesh);
-    if (has_leaves) AddLeaves(*leaves);
+    if (leaves != nullptr && !leaves->instances.empty()) AddLeaves(*leaves);
   }
   rtcCommitScene(scene_);
   CheckEmbreeDevice(device_, "building the preview scene");
-  shadow_offset_ = bounds.isEmpty()
-                       ? 0.0f
-                       : kShadowOffset * static_cast<float>(bounds.diagonal().norm()) + 1e-6f;
-  stats.build_seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-TreePreviewRenderer::Impl::~Impl() {
+void TreePreviewRenderer::Impl::Release() {
   if (scene_ != nullptr) rtcReleaseScene(scene_);
   if (leaf_scene_ != nullptr) rtcReleaseScene(leaf_scene_);
   if (device_ != nullptr) rtcReleaseDevice(device_);
+  scene_ = leaf_scene_ = nullptr;
+  device_ = nullptr;
 }
+
+TreePreviewRenderer::Impl::~Impl() { Release(); }
 
 void TreePreviewRenderer::Impl::AddMesh(const TriangleMesh& mesh) {
   vertices_ = mesh.vertices;
@@ -312,7 +333,6 @@ void TreePreviewRenderer::Impl::AddMesh(const TriangleMesh& mesh) {
 }
 
 void TreePreviewRenderer::Impl::AddLeaves(const LeafInstances& leaves) {
-  leaves.shape.Check();
   for (const Eigen::Vector2f& p : leaves.shape.points) leaf_.points.emplace_back(p.x(), p.y(), 0.f);
   leaf_.triangles = leaves.shape.triangles;
   leaf_.uvs = leaves.shape.uvs;
