@@ -110,6 +110,12 @@ std::vector<PreviewView> PosesAround(const Box3d& bounds, const TreePreviewOptio
   return views;
 }
 
+// Camera rays of `num_views` pictures of options' size and sampling.
+double CameraRays(const TreePreviewOptions& options, size_t num_views) {
+  return static_cast<double>(options.width) * options.height * options.samples_per_axis *
+         options.samples_per_axis * num_views;
+}
+
 // What a ray sees where it hits, with normals turned towards the viewer.
 struct SurfacePoint {
   Eigen::Vector3f position;
@@ -201,7 +207,8 @@ class TreePreviewRenderer::Impl {
     FloatImage texture;
     Eigen::Vector3f color;
   };
-  // The scene (device_ exists), leaves baked into the mesh or instanced.
+  // The scene (device_ exists): `leaves` (null: none) baked into the mesh or
+  // instanced.
   void Build(const TriangleMesh& mesh, const LeafInstances* leaves, bool bake);
   // Releases what Embree holds (idempotent).
   void Release();
@@ -264,7 +271,7 @@ TreePreviewRenderer::Impl::Impl(const TriangleMesh& mesh, const LeafInstances* l
   // A throwing constructor runs no destructor: what Embree holds by then is
   // released here.
   try {
-    Build(mesh, leaves, bake);
+    Build(mesh, has_leaves ? leaves : nullptr, bake);
   } catch (...) {
     Release();
     throw;
@@ -293,7 +300,7 @@ void TreePreviewRenderer::Impl::Build(const TriangleMesh& mesh, const LeafInstan
     stats.leaves_as_triangles = true;
   } else {
     if (mesh.NumTriangles() > 0) AddMesh(mesh);
-    if (leaves != nullptr && !leaves->instances.empty()) AddLeaves(*leaves);
+    if (leaves != nullptr) AddLeaves(*leaves);
   }
   rtcCommitScene(scene_);
   CheckEmbreeDevice(device_, "building the preview scene");
@@ -621,9 +628,8 @@ FloatImage TreePreviewRenderer::Render(const PreviewView& view,
 std::vector<FloatImage> RenderTreePreviews(const TriangleMesh& mesh, const LeafInstances* leaves,
                                            const TreePreviewOptions& options) {
   options.Check();
-  const double num_rays = static_cast<double>(options.width) * options.height *
-                          options.samples_per_axis * options.samples_per_axis *
-                          (options.azimuths_deg.size() + (options.top_view ? 1 : 0));
+  const double num_rays =
+      CameraRays(options, options.azimuths_deg.size() + (options.top_view ? 1 : 0));
   const TreePreviewRenderer renderer(mesh, leaves, ChoosePreviewLeafGeometry(leaves, num_rays));
   std::vector<FloatImage> pictures;
   for (const PreviewView& view : renderer.FramedViews(options)) {
@@ -636,9 +642,8 @@ FloatImage RenderCloseUp(const TriangleMesh& mesh, const LeafInstances* leaves,
                          const Eigen::Vector3d& center, double radius, double azimuth_deg,
                          double elevation_deg, const TreePreviewOptions& options) {
   const PreviewView view = CloseUpView(center, radius, azimuth_deg, elevation_deg, options);
-  const double num_rays = static_cast<double>(options.width) * options.height *
-                          options.samples_per_axis * options.samples_per_axis;
-  return TreePreviewRenderer(mesh, leaves, ChoosePreviewLeafGeometry(leaves, num_rays))
+  return TreePreviewRenderer(mesh, leaves,
+                             ChoosePreviewLeafGeometry(leaves, CameraRays(options, 1)))
       .Render(view, options);
 }
 
