@@ -78,27 +78,35 @@ SimFrame FrameOf(const DensityGrid& density, Eigen::Vector3i* min_ijk, Eigen::Ve
   return {density.WorldFromIndex(min_ijk->cast<double>()), density.voxel_size()};
 }
 
+// Voxels per block of the seeding's running sums (SeedPositions).
+constexpr size_t kSeedBlock = 64;
+
 // `count` positions (sim frame), each uniform inside a voxel drawn with
 // probability proportional to its opacity^exponent, listed in the grid's voxel order
 // (spatially coherent, so particles close in space are close in memory).
-// The grid is walked once; its voxels of non-zero opacity are then summed
-// and assigned from a compact copy, in the same order.
+// The opacities are read in that order and summed; the seeds are assigned
+// from that list, and only their voxels' coordinates are looked up.
 std::vector<Eigen::Vector3d> SeedPositions(const DensityGrid& density,
                                            const Eigen::Vector3i& min_ijk, int count, uint64_t seed,
                                            double exponent) {
-  struct Voxel {
-    Eigen::Vector3i ijk;
-    float alpha;
-  };
-  std::vector<Voxel> voxels;
-  voxels.reserve(density.NumActiveVoxels());
-  density.ForEachActive([&](const Eigen::Vector3i& ijk, float alpha) {
-    if (alpha <= 0) return;
-    voxels.push_back(
-        {ijk, exponent == 1.0 ? alpha : static_cast<float>(std::pow(alpha, exponent))});
-  });
+  // The draw weights; 0 for a voxel of no opacity (never drawn).
+  std::vector<float> weights = density.ActiveValues();
+  for (float& weight : weights) {
+    if (!(weight > 0)) {
+      weight = 0.0f;
+    } else if (exponent != 1.0) {
+      weight = static_cast<float>(std::pow(weight, exponent));
+    }
+  }
+  // Their running sum, kept before every kSeedBlock-th voxel so that a
+  // block's running sums can be made again exactly (the same additions).
+  std::vector<double> block_sums;
+  block_sums.reserve(weights.size() / kSeedBlock + 1);
   double total = 0.0;
-  for (const Voxel& voxel : voxels) total += voxel.alpha;
+  for (size_t v = 0; v < weights.size(); ++v) {
+    if (v % kSeedBlock == 0) block_sums.push_back(total);
+    total += weights[v];
+  }
   SYLVA_CHECK_INPUT(total > 0, "density") << "every active voxel has zero opacity";
   // Per seed: where it falls in the cumulative opacity, and its offset in
   // its voxel; drawn in seed order, then sorted by the former.
@@ -116,21 +124,35 @@ std::vector<Eigen::Vector3d> SeedPositions(const DensityGrid& density,
   }
   std::stable_sort(seeds.begin(), seeds.end(),
                    [](const Seed& a, const Seed& b) { return a.cumulative < b.cumulative; });
-  // Voxel v takes the seeds in [sum of the opacities before it, that + its own).
-  std::vector<Eigen::Vector3d> positions(count);
+  // Voxel v takes the seeds in [sum of the weights before it, that + its own)
+  // (a voxel of weight 0 takes none): the blocks that hold seeds are summed
+  // again from their first voxel.
+  std::vector<int64_t> places(count);
   size_t next = 0;
-  double cumulative = 0.0;
-  Eigen::Vector3d last_voxel = Eigen::Vector3d::Zero();
-  for (const Voxel& voxel : voxels) {
-    cumulative += voxel.alpha;
-    last_voxel = (voxel.ijk - min_ijk).cast<double>();
-    for (; next < seeds.size() && seeds[next].cumulative < cumulative; ++next) {
-      positions[next] = last_voxel + seeds[next].offset;
+  for (size_t block = 0; block < block_sums.size() && next < seeds.size(); ++block) {
+    const size_t end = std::min(weights.size(), (block + 1) * kSeedBlock);
+    const double block_end = block + 1 < block_sums.size() ? block_sums[block + 1] : total;
+    if (!(seeds[next].cumulative < block_end)) continue;
+    double cumulative = block_sums[block];
+    for (size_t v = block * kSeedBlock; v < end && next < seeds.size(); ++v) {
+      cumulative += weights[v];
+      for (; next < seeds.size() && seeds[next].cumulative < cumulative; ++next) {
+        places[next] = static_cast<int64_t>(v);
+      }
     }
-    if (next == seeds.size()) break;
   }
-  // Rounding may leave a draw at the very end of the sum: the last voxel.
-  for (; next < seeds.size(); ++next) positions[next] = last_voxel + seeds[next].offset;
+  // Rounding may leave a draw at the very end of the sum: the last voxel
+  // that can be drawn.
+  if (next < seeds.size()) {
+    int64_t last = static_cast<int64_t>(weights.size()) - 1;
+    while (weights[last] == 0.0f) --last;
+    for (; next < seeds.size(); ++next) places[next] = last;
+  }
+  const std::vector<Eigen::Vector3i> voxels = density.ActiveVoxelsAt(places);
+  std::vector<Eigen::Vector3d> positions(count);
+  for (int i = 0; i < count; ++i) {
+    positions[i] = (voxels[i] - min_ijk).cast<double>() + seeds[i].offset;
+  }
   return positions;
 }
 

@@ -99,6 +99,19 @@ Box3d DensityGrid::ActiveWorldBounds() const {
 
 void DensityGrid::ForEachActive(
     const std::function<void(const Eigen::Vector3i&, float)>& visit) const {
+  const openvdb::FloatTree& tree = impl_->grid->tree();
+  if (!tree.hasActiveTiles()) {
+    // Leaf by leaf, the order of the tree's value iterator below when there
+    // are no tiles (depth first, each node's children by position), at a
+    // fraction of its cost per voxel.
+    for (auto leaf = tree.cbeginLeaf(); leaf; ++leaf) {
+      for (auto it = leaf->cbeginValueOn(); it; ++it) {
+        const openvdb::Coord c = it.getCoord();
+        visit(Eigen::Vector3i(c.x(), c.y(), c.z()), *it);
+      }
+    }
+    return;
+  }
   for (auto it = impl_->grid->cbeginValueOn(); it; ++it) {
     if (it.isVoxelValue()) {
       const openvdb::Coord c = it.getCoord();
@@ -110,6 +123,86 @@ void DensityGrid::ForEachActive(
       for (auto c = box.begin(); c; ++c) visit(Eigen::Vector3i((*c).x(), (*c).y(), (*c).z()), *it);
     }
   }
+}
+
+namespace {
+
+using FloatLeaf = openvdb::FloatTree::LeafNodeType;
+constexpr openvdb::Index kLeafWords = FloatLeaf::NodeMaskType::WORD_COUNT;
+
+// Calls visit(offset) for the active voxels of a leaf, in offset order (the
+// order of its value-on iterator), word by word of its mask.
+template <typename Visit>
+void ForEachOnOffset(const FloatLeaf& leaf, const Visit& visit) {
+  const FloatLeaf::NodeMaskType& mask = leaf.getValueMask();
+  for (openvdb::Index w = 0; w < kLeafWords; ++w) {
+    for (uint64_t word = mask.getWord<uint64_t>(w); word != 0; word &= word - 1) {
+      visit(static_cast<openvdb::Index>(64 * w + __builtin_ctzll(word)));
+    }
+  }
+}
+
+// The offset of the n-th active voxel of a leaf (n < its count).
+openvdb::Index NthOnOffset(const FloatLeaf& leaf, int64_t n) {
+  const FloatLeaf::NodeMaskType& mask = leaf.getValueMask();
+  for (openvdb::Index w = 0; w < kLeafWords; ++w) {
+    uint64_t word = mask.getWord<uint64_t>(w);
+    const int on = __builtin_popcountll(word);
+    if (n >= on) {
+      n -= on;
+      continue;
+    }
+    for (; n > 0; --n) word &= word - 1;
+    return static_cast<openvdb::Index>(64 * w + __builtin_ctzll(word));
+  }
+  SYLVA_CHECK(false) << "a leaf has fewer active voxels than asked";
+  return 0;
+}
+
+}  // namespace
+
+std::vector<float> DensityGrid::ActiveValues() const {
+  std::vector<float> values;
+  values.reserve(NumActiveVoxels());
+  const openvdb::FloatTree& tree = impl_->grid->tree();
+  if (tree.hasActiveTiles()) {
+    ForEachActive([&](const Eigen::Vector3i&, float alpha) { values.push_back(alpha); });
+    return values;
+  }
+  for (auto leaf = tree.cbeginLeaf(); leaf; ++leaf) {
+    const float* data = leaf->buffer().data();
+    ForEachOnOffset(*leaf, [&](openvdb::Index offset) { values.push_back(data[offset]); });
+  }
+  return values;
+}
+
+std::vector<Eigen::Vector3i> DensityGrid::ActiveVoxelsAt(const std::vector<int64_t>& places) const {
+  SYLVA_CHECK(std::is_sorted(places.begin(), places.end()));
+  SYLVA_CHECK(places.empty() || (places.front() >= 0 && places.back() < NumActiveVoxels()))
+      << "a place beyond the active voxels";
+  std::vector<Eigen::Vector3i> voxels;
+  voxels.reserve(places.size());
+  size_t next = 0;
+  const openvdb::FloatTree& tree = impl_->grid->tree();
+  if (tree.hasActiveTiles()) {
+    int64_t place = 0;
+    ForEachActive([&](const Eigen::Vector3i& ijk, float) {
+      for (; next < places.size() && places[next] == place; ++next) voxels.push_back(ijk);
+      ++place;
+    });
+    return voxels;
+  }
+  // Leaf by leaf, by their voxel counts; in a leaf, by its mask's words.
+  int64_t first = 0;  // the place of the leaf's first active voxel
+  for (auto leaf = tree.cbeginLeaf(); leaf && next < places.size(); ++leaf) {
+    const int64_t count = static_cast<int64_t>(leaf->onVoxelCount());
+    for (; next < places.size() && places[next] < first + count; ++next) {
+      const openvdb::Coord c = leaf->offsetToGlobalCoord(NthOnOffset(*leaf, places[next] - first));
+      voxels.emplace_back(c.x(), c.y(), c.z());
+    }
+    first += count;
+  }
+  return voxels;
 }
 
 double DensityGrid::SumOfValues() const {

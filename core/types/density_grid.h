@@ -62,6 +62,12 @@ class DensityGrid {
   Box3d ActiveWorldBounds() const;
   // Calls visit(ijk, alpha) for every active voxel, in a deterministic order.
   void ForEachActive(const std::function<void(const Eigen::Vector3i&, float)>& visit) const;
+  // The opacities of the active voxels, in ForEachActive's order (a few
+  // times faster than collecting them with it).
+  std::vector<float> ActiveValues() const;
+  // The active voxels at the given places of that order (ascending, each
+  // below NumActiveVoxels()).
+  std::vector<Eigen::Vector3i> ActiveVoxelsAt(const std::vector<int64_t>& places) const;
   double SumOfValues() const;
 
   // Free-form metadata saved with the grid (e.g. "units" -> "arbitrary").
