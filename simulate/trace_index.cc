@@ -10,8 +10,6 @@ namespace {
 
 // Cells are this many join distances wide.
 constexpr double kCellsPerJoinDistance = 2.0;
-// Edges are sampled this many times per join distance.
-constexpr double kSamplesPerJoinDistance = 2.0;
 // Limits the dense grid of cells (about 16^3 cells per million).
 constexpr int64_t kMaxCells = int64_t{1} << 26;
 
@@ -40,20 +38,27 @@ void TraceIndex::AddEdge(const TraceGraph& graph, int child) {
     AddCells(a.cwiseMin(b).array() - join_distance_, a.cwiseMax(b).array() + join_distance_, child);
     return;
   }
-  // A long one: every point within the join distance of the edge lies within
-  // `reach` of one of the samples, which are at most `spacing` apart.
-  const double spacing = join_distance_ / kSamplesPerJoinDistance;
-  const double reach = join_distance_ + spacing / 2;
-  const int samples = static_cast<int>(std::ceil((b - a).norm() / spacing)) + 1;
-  if (stamps_.empty()) stamps_.assign(heads_.size(), 0);
-  const int32_t serial = ++serial_;
-  for (int s = 0; s < samples; ++s) {
-    const Eigen::Vector3d p = a + (b - a) * (static_cast<double>(s) / (samples - 1));
-    ForEachCell(p.array() - reach, p.array() + reach, [&](int64_t cell) {
-      if (stamps_[cell] == serial) return;
-      stamps_[cell] = serial;
-      Insert(cell, child);
-    });
+  // A long one: the cells of its box (grown as above) whose centre lies
+  // within the join distance + half a cell's diagonal of it (a point of the
+  // cell within the join distance of the edge puts its centre so near; a
+  // little more, for rounding).
+  const double reach = (join_distance_ + 0.5 * std::sqrt(3.0) * cell_size_) * (1 + 1e-9);
+  const Eigen::Vector3d along = b - a;
+  const double inverse_length2 = 1.0 / along.squaredNorm();
+  const Eigen::Vector3i lo = CellOf(a.cwiseMin(b).array() - join_distance_).cwiseMax(0);
+  const Eigen::Vector3i hi =
+      CellOf(a.cwiseMax(b).array() + join_distance_).cwiseMin(dims_ - Eigen::Vector3i::Ones());
+  for (int z = lo.z(); z <= hi.z(); ++z) {
+    for (int y = lo.y(); y <= hi.y(); ++y) {
+      for (int x = lo.x(); x <= hi.x(); ++x) {
+        const Eigen::Vector3d from_a =
+            lower_ + cell_size_ * Eigen::Vector3d(x + 0.5, y + 0.5, z + 0.5) - a;
+        const double t = std::clamp(from_a.dot(along) * inverse_length2, 0.0, 1.0);
+        if ((from_a - t * along).squaredNorm() <= reach * reach) {
+          Insert(CellIndex({x, y, z}), child);
+        }
+      }
+    }
   }
 }
 

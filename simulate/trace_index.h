@@ -77,10 +77,6 @@ class TraceIndex {
   };
   std::vector<int32_t> heads_;
   std::vector<Entry> entries_;
-  // Per cell, the serial of the last long edge added to it (a long edge's
-  // samples overlap many of the same cells; each gets the edge once).
-  std::vector<int32_t> stamps_;
-  int32_t serial_ = 0;
   size_t edges_indexed_ = 0;  // of graph.EdgesInOrder(), by AddNewEdges
 };
 

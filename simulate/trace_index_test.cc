@@ -2,6 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <random>
+
 namespace sylva {
 namespace {
 
@@ -88,6 +91,63 @@ TEST(TraceIndexTest, IndexesNewEdgesAndSkipsRejectedOnes) {
   index.AddNewEdges(scene.graph);
   ASSERT_TRUE(index.Nearest(scene.graph, Eigen::Vector3d(10.5, 10, 5), &child, &point));
   EXPECT_EQ(scene.graph.TraceOf(child), 5);
+}
+
+// The index against every edge tested in child order, with the index's rule
+// (strictly within the join distance, ties to the lowest child, not at a
+// free tip), on traces of short and long edges in every direction.
+TEST(TraceIndexTest, AgreesWithTestingEveryEdge) {
+  const double join = 1.0;
+  TraceGraph graph{Eigen::Vector3d(20, 20, 0)};
+  std::mt19937 random(11);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  const auto random_step = [&](double longest) {
+    Eigen::Vector3d step(unit(random) - 0.5, unit(random) - 0.5, unit(random) - 0.5);
+    return step.normalized() * (0.1 + longest * unit(random));
+  };
+  for (int trace = 0; trace < 60; ++trace) {
+    Eigen::Vector3d p(40 * unit(random), 40 * unit(random), 5 + 30 * unit(random));
+    TraceCursor cursor = graph.StartTrace(p, trace);
+    for (int node = 0; node < 6; ++node) {
+      p = (p + random_step(node % 2 == 0 ? 1.5 : 12.0)).cwiseMax(0.0).cwiseMin(40.0);
+      graph.RecordNode(&cursor, p, 1);
+    }
+    graph.EndTrace(cursor, TraceGraph::kRoot, 1);
+  }
+  TraceIndex index(Eigen::Vector3d::Constant(-2), Eigen::Vector3d::Constant(42), join);
+  index.AddNewEdges(graph);
+  const std::vector<int32_t>& edges = graph.EdgesInOrder();
+  std::vector<int32_t> children(edges.begin(), edges.end());
+  std::sort(children.begin(), children.end());
+  int found = 0;
+  for (int q = 0; q < 4000; ++q) {
+    // Half the queries near a random edge, half anywhere.
+    Eigen::Vector3d point(40 * unit(random), 40 * unit(random), 40 * unit(random));
+    if (q % 2 == 0) {
+      const int edge = children[random() % children.size()];
+      const Eigen::Vector3d a = graph.Position(edge), b = graph.Position(graph.Parent(edge));
+      point = a + unit(random) * (b - a) + random_step(1.5 * join);
+    }
+    int expected = -1;
+    double best2 = join * join;
+    for (const int child : children) {
+      double t;
+      const double d2 =
+          SegmentDistance2(point, graph.Position(child), graph.Position(graph.Parent(child)), &t);
+      if (!(d2 < best2) || (t == 0.0 && graph.IsTip(child))) continue;
+      best2 = d2;
+      expected = child;
+    }
+    int child = -1;
+    Eigen::Vector3d on_edge;
+    const bool near = index.Nearest(graph, point, &child, &on_edge);
+    ASSERT_EQ(near, expected >= 0) << "query " << q << " at " << point.transpose();
+    if (near) {
+      EXPECT_EQ(child, expected) << "query " << q;
+      ++found;
+    }
+  }
+  EXPECT_GT(found, 1000);  // most queries near an edge find one
 }
 
 }  // namespace
