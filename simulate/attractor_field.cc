@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <thread>
 
 #include "core/geometry/polyline.h"
 #include "core/util/check.h"
@@ -19,10 +20,8 @@ constexpr int kMaxBuckets = 64;
 // Below this fraction of the eigenvalue sum, the second smallest eigenvalue
 // of the plane normals' scatter means the planes do not pin a line down.
 constexpr double kDegenerateEigenFraction = 1e-3;
-// The 3D field is filled lazily sample by sample, under kFillLocks striped
-// locks. (Bricks of 2^3 samples filled 129k samples where the benchmark's
-// flow reads about half as many, at 0.4 us each.)
-constexpr int kFillLocks = 64;
+// The 3D field is filled lazily sample by sample. (Bricks of 2^3 samples
+// filled 129k samples where the benchmark's flow reads about half as many.)
 
 int LongerSide(int width, int height) { return std::max(width, height); }
 
@@ -81,6 +80,7 @@ DirectionField2D::DirectionField2D(const AttractorGraph2D& graph,
   graph.Check("attractor graph");
   const int longer = LongerSide(width_, height_);
   cell_size_ = static_cast<double>(longer) / options.resolution;
+  inverse_cell_size_ = 1.0 / cell_size_;
   cols_ = std::max(1, static_cast<int>(std::ceil(width_ / cell_size_)));
   rows_ = std::max(1, static_cast<int>(std::ceil(height_ / cell_size_)));
   falloff_px_ = options.falloff * longer;
@@ -207,8 +207,8 @@ Eigen::Vector2d DirectionField2D::Evaluate(const Eigen::Vector2d& point_in_image
 Eigen::Vector2d DirectionField2D::At(const Eigen::Vector2d& point_in_image) const {
   if (empty_) return Eigen::Vector2d::Zero();
   // Cell centres at (k + 0.5) * cell_size.
-  const double x = std::clamp(point_in_image.x() / cell_size_ - 0.5, 0.0, cols_ - 1.0);
-  const double y = std::clamp(point_in_image.y() / cell_size_ - 0.5, 0.0, rows_ - 1.0);
+  const double x = std::clamp(point_in_image.x() * inverse_cell_size_ - 0.5, 0.0, cols_ - 1.0);
+  const double y = std::clamp(point_in_image.y() * inverse_cell_size_ - 0.5, 0.0, rows_ - 1.0);
   const int c0 = std::min(static_cast<int>(x), cols_ - 1),
             r0 = std::min(static_cast<int>(y), rows_ - 1);
   const int c1 = std::min(c0 + 1, cols_ - 1), r1 = std::min(r0 + 1, rows_ - 1);
@@ -256,11 +256,14 @@ AttractorDirectionField::AttractorDirectionField(const ImageSet& image_set,
                       !camera.IsOrthographic() && !camera.HasDistortion(), camera.FocalLengthX(),
                       camera.FocalLengthY(), camera.PrincipalPoint(), camera.width(),
                       camera.height(), DirectionField2D(graph, options), &image_set_.CameraOf(v),
-                      view.cam_from_world, Eigen::Matrix3d::Identity() - axis * axis.transpose()});
+                      view.cam_from_world, world_from_cam.transpose(),
+                      world_from_cam.col(0) / camera.FocalLengthX(),
+                      world_from_cam.col(1) / camera.FocalLengthY(),
+                      Eigen::Matrix3d::Identity() - axis * axis.transpose()});
     all_planes_ += views_.back().projector;
   }
   intersect_ = options.combine == "intersect";
-  all_planes_solve_ = SolvePlanes(all_planes_);
+  all_planes_inverse_ = PseudoInverse(SolvePlanes(all_planes_));
 
   // Sample points at origin + spacing * (i, j, k), covering the bounds grown
   // by one spacing.
@@ -268,10 +271,8 @@ AttractorDirectionField::AttractorDirectionField(const ImageSet& image_set,
   spacing_ = std::max(extent.maxCoeff() / options.resolution_3d, 1e-9);
   origin_ = bounds.min().array() - spacing_;
   dims_ = ((extent.array() / spacing_).ceil() + 3).cast<int>().max(2);
-  samples_.assign(static_cast<size_t>(dims_.x()) * dims_.y() * dims_.z(), Eigen::Vector3f::Zero());
-  filled_ = std::make_unique<std::atomic<bool>[]>(samples_.size());
-  for (size_t s = 0; s < samples_.size(); ++s) filled_[s].store(false, std::memory_order_relaxed);
-  fill_locks_ = std::make_unique<std::mutex[]>(kFillLocks);
+  num_samples_ = static_cast<size_t>(dims_.x()) * dims_.y() * dims_.z();
+  samples_ = std::make_unique<Slot[]>(num_samples_);
   task.Update(1.0);
 }
 
@@ -279,21 +280,10 @@ AttractorDirectionField::~AttractorDirectionField() = default;
 
 int AttractorDirectionField::FilledSamples() const {
   int filled = 0;
-  for (size_t s = 0; s < samples_.size(); ++s) filled += filled_[s].load(std::memory_order_acquire);
+  for (size_t s = 0; s < num_samples_; ++s) {
+    filled += samples_[s].state.load(std::memory_order_acquire) == kFilled;
+  }
   return filled;
-}
-
-void AttractorDirectionField::FillSample(int i, int j, int k, size_t index) const {
-  std::lock_guard<std::mutex> lock(fill_locks_[index % kFillLocks]);
-  if (filled_[index].load(std::memory_order_acquire)) return;
-  samples_[index] = Lifted(origin_ + spacing_ * Eigen::Vector3d(i, j, k)).cast<float>();
-  filled_[index].store(true, std::memory_order_release);
-}
-
-const Eigen::Vector3f& AttractorDirectionField::Sample(int i, int j, int k) const {
-  const size_t index = (static_cast<size_t>(k) * dims_.y() + j) * dims_.x() + i;
-  if (!filled_[index].load(std::memory_order_acquire)) FillSample(i, j, k, index);
-  return samples_[index];
 }
 
 const DirectionField2D* AttractorDirectionField::Field2D(int view_idx) const {
@@ -310,63 +300,73 @@ AttractorDirectionField::PlaneSolve AttractorDirectionField::SolvePlanes(
   return {solver.eigenvalues(), solver.eigenvectors()};
 }
 
-Eigen::Vector3d AttractorDirectionField::Lifted(const Eigen::Vector3d& point_in_world) const {
-  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-  Eigen::Matrix3d planes = Eigen::Matrix3d::Zero();   // sum of the image-plane projectors
-  Eigen::Matrix3d normals = Eigen::Matrix3d::Zero();  // sum of w n n^T ("intersect")
-  bool every_view = true;
-  for (const ViewField& view : views_) {
-    // ImageSet::Project with the view's camera at hand.
+bool AttractorDirectionField::PixelIn(const ViewField& view, const Eigen::Vector3d& point_in_world,
+                                      Eigen::Vector2d* pixel) {
+  // ImageSet::Project with the view's camera at hand.
+  if (view.plain_pinhole) {
+    const Eigen::Vector3d point_in_cam =
+        view.cam_from_world_rotation * point_in_world + view.cam_from_world.translation;
+    if (!(point_in_cam.z() > std::numeric_limits<double>::epsilon())) return false;
+    const double inverse_z = 1.0 / point_in_cam.z();
+    *pixel = Eigen::Vector2d(view.fx * point_in_cam.x() * inverse_z,
+                             view.fy * point_in_cam.y() * inverse_z) +
+             view.principal_point;
+  } else {
     const Eigen::Vector3d point_in_cam = view.cam_from_world * point_in_world;
-    Eigen::Vector2d pixel(-1, -1);
-    if (view.plain_pinhole) {
-      if (point_in_cam.z() > std::numeric_limits<double>::epsilon()) {
-        pixel = Eigen::Vector2d(view.fx * (point_in_cam.x() / point_in_cam.z()),
-                                view.fy * (point_in_cam.y() / point_in_cam.z())) +
-                view.principal_point;
-      }
-    } else if (view.camera->IsInFront(point_in_cam)) {
-      pixel = view.camera->ImgFromCam(point_in_cam);
-    }
-    if (!(pixel.x() >= 0 && pixel.y() >= 0 && pixel.x() <= view.width &&
-          pixel.y() <= view.height)) {
-      every_view = false;
-      continue;
-    }
-    // The lifted vectors lie in the image plane, normal to the optical axis.
-    planes += view.projector;
-    const Eigen::Vector2d f = view.field.At(pixel);
-    const double length = f.norm();
-    if (!(length > 0)) continue;
-    const Eigen::Vector3d lifted =
-        (view.world_from_cam * Eigen::Vector3d(f.x() / view.fx, f.y() / view.fy, 0)).normalized();
-    sum += length * lifted;
-    if (intersect_) {
-      const Eigen::Vector3d viewing = view.orthographic
-                                          ? Eigen::Vector3d(view.world_from_cam.col(2))
-                                          : (point_in_world - view.center).normalized();
-      const Eigen::Vector3d normal = viewing.cross(lifted);
-      const double n = normal.norm();
-      if (n > 0) normals += length * (normal / n) * (normal / n).transpose();
+    if (!view.camera->IsInFront(point_in_cam)) return false;
+    *pixel = view.camera->ImgFromCam(point_in_cam);
+  }
+  return pixel->x() >= 0 && pixel->y() >= 0 && pixel->x() <= view.width &&
+         pixel->y() <= view.height;
+}
+
+void AttractorDirectionField::Accumulate(const ViewField& view,
+                                         const Eigen::Vector3d& point_in_world,
+                                         LiftSums* sums) const {
+  Eigen::Vector2d pixel;
+  if (!PixelIn(view, point_in_world, &pixel)) return;
+  ++sums->seen;
+  // The lifted vectors lie in the image plane, normal to the optical axis:
+  // the field's vector f lifted (l) and scaled to f's length.
+  const Eigen::Vector2d f = view.field.At(pixel);
+  const double f2 = f.squaredNorm();
+  if (!(f2 > 0)) return;
+  const Eigen::Vector3d l = f.x() * view.lift_x + f.y() * view.lift_y;
+  const double l2 = l.squaredNorm();
+  if (!(l2 > 0)) return;
+  sums->sum += std::sqrt(f2 / l2) * l;
+  if (intersect_) {
+    const Eigen::Vector3d lifted = l / std::sqrt(l2);
+    const Eigen::Vector3d viewing = view.orthographic ? Eigen::Vector3d(view.world_from_cam.col(2))
+                                                      : (point_in_world - view.center).normalized();
+    const Eigen::Vector3d normal = viewing.cross(lifted);
+    const double n = normal.norm();
+    if (n > 0) sums->normals += std::sqrt(f2) * (normal / n) * (normal / n).transpose();
+  }
+}
+
+Eigen::Vector3d AttractorDirectionField::Combine(const Eigen::Vector3d& point_in_world,
+                                                 const LiftSums& sums) const {
+  if (sums.seen == 0) return Eigen::Vector3d::Zero();
+  // The sum of the image-plane projectors of the views that see the point
+  // (most points: every view's, decomposed once).
+  const bool every_view = sums.seen == static_cast<int>(views_.size());
+  Eigen::Matrix3d planes = Eigen::Matrix3d::Zero();
+  if (!every_view) {
+    for (const ViewField& view : views_) {
+      Eigen::Vector2d pixel;
+      if (PixelIn(view, point_in_world, &pixel)) planes += view.projector;
     }
   }
-  if (!(planes.trace() > 0)) return Eigen::Vector3d::Zero();
   // The least-squares mean: the v whose projections onto the image planes
   // best match the lifted vectors, (sum P_k) v = sum l_k; a pseudo-inverse
   // where a direction is seen by no view.
-  const PlaneSolve plane_solve = every_view ? all_planes_solve_ : SolvePlanes(planes);
-  const Eigen::Vector3d& plane_values = plane_solve.values;
-  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-  for (int k = 0; k < 3; ++k) {
-    if (plane_values(k) > kDegenerateEigenFraction * plane_values.sum()) {
-      const Eigen::Vector3d e = plane_solve.vectors.col(k);
-      mean += e * (e.dot(sum) / plane_values(k));
-    }
-  }
-  if (mean.norm() > 1) mean.normalize();
+  Eigen::Vector3d mean =
+      (every_view ? all_planes_inverse_ : PseudoInverse(SolvePlanes(planes))) * sums.sum;
+  if (mean.squaredNorm() > 1) mean.normalize();
   if (!intersect_) return mean;
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver;
-  solver.computeDirect(normals);
+  solver.computeDirect(sums.normals);
   const Eigen::Vector3d values = solver.eigenvalues();  // ascending
   if (!(values.sum() > 0) || values(1) < kDegenerateEigenFraction * values.sum() ||
       !(mean.norm() > 0)) {
@@ -376,6 +376,47 @@ Eigen::Vector3d AttractorDirectionField::Lifted(const Eigen::Vector3d& point_in_
   return direction.dot(mean) >= 0 ? direction : Eigen::Vector3d(-direction);
 }
 
+Eigen::Matrix3d AttractorDirectionField::PseudoInverse(const PlaneSolve& planes) {
+  Eigen::Matrix3d inverse = Eigen::Matrix3d::Zero();
+  for (int k = 0; k < 3; ++k) {
+    if (planes.values(k) > kDegenerateEigenFraction * planes.values.sum()) {
+      const Eigen::Vector3d e = planes.vectors.col(k);
+      inverse += e * e.transpose() / planes.values(k);
+    }
+  }
+  return inverse;
+}
+
+Eigen::Vector3d AttractorDirectionField::Lifted(const Eigen::Vector3d& point_in_world) const {
+  LiftSums sums;
+  for (const ViewField& view : views_) Accumulate(view, point_in_world, &sums);
+  return Combine(point_in_world, sums);
+}
+
+void AttractorDirectionField::FillSamples(const size_t* indices, int count) const {
+  // Views outermost: the points' computations are independent, so the
+  // processor overlaps their latencies (divisions, square roots, look-ups).
+  Eigen::Vector3d points[8];
+  LiftSums sums[8];
+  SYLVA_CHECK(count <= 8);
+  const size_t dy = dims_.x(), dz = static_cast<size_t>(dims_.x()) * dims_.y();
+  for (int n = 0; n < count; ++n) {
+    const size_t index = indices[n];
+    const Eigen::Vector3d ijk(static_cast<double>(index % dy),
+                              static_cast<double>(index / dy % dims_.y()),
+                              static_cast<double>(index / dz));
+    points[n] = origin_ + spacing_ * ijk;
+  }
+  for (const ViewField& view : views_) {
+    for (int n = 0; n < count; ++n) Accumulate(view, points[n], &sums[n]);
+  }
+  for (int n = 0; n < count; ++n) {
+    Slot& slot = samples_[indices[n]];
+    slot.value = Combine(points[n], sums[n]).cast<float>();
+    slot.state.store(kFilled, std::memory_order_release);
+  }
+}
+
 Eigen::Vector3d AttractorDirectionField::Direction(const Eigen::Vector3d& point_in_world) const {
   if (views_.empty()) return Eigen::Vector3d::Zero();
   const Eigen::Vector3d g = ((point_in_world - origin_) / spacing_)
@@ -383,13 +424,37 @@ Eigen::Vector3d AttractorDirectionField::Direction(const Eigen::Vector3d& point_
                                 .cwiseMin((dims_.array() - 1).cast<double>().matrix());
   const Eigen::Vector3i i0 = g.cast<int>().cwiseMin(dims_ - Eigen::Vector3i::Constant(2));
   const Eigen::Vector3d t = g - i0.cast<double>();
-  const auto at = [&](int dx, int dy, int dz) {
-    return Sample(i0.x() + dx, i0.y() + dy, i0.z() + dz).cast<double>();
-  };
-  const Eigen::Vector3d x00 = (1 - t.x()) * at(0, 0, 0) + t.x() * at(1, 0, 0);
-  const Eigen::Vector3d x10 = (1 - t.x()) * at(0, 1, 0) + t.x() * at(1, 1, 0);
-  const Eigen::Vector3d x01 = (1 - t.x()) * at(0, 0, 1) + t.x() * at(1, 0, 1);
-  const Eigen::Vector3d x11 = (1 - t.x()) * at(0, 1, 1) + t.x() * at(1, 1, 1);
+  // The cell's 8 samples, x fastest, each filled first if needed.
+  const size_t dy = dims_.x(), dz = static_cast<size_t>(dims_.x()) * dims_.y();
+  const size_t base = i0.z() * dz + i0.y() * dy + i0.x();
+  const size_t corners[8] = {base,      base + 1,      base + dy,      base + dy + 1,
+                             base + dz, base + dz + 1, base + dz + dy, base + dz + dy + 1};
+  // Those no thread has filled or is filling are claimed and filled
+  // together; then those another thread was filling are waited for.
+  size_t claimed[8], waiting[8];
+  int num_claimed = 0, num_waiting = 0;
+  for (const size_t corner : corners) {
+    std::atomic<uint32_t>& slot_state = samples_[corner].state;
+    uint32_t state = slot_state.load(std::memory_order_acquire);
+    if (state == kFilled) continue;
+    if (state == kEmpty &&
+        slot_state.compare_exchange_strong(state, kFilling, std::memory_order_acquire)) {
+      claimed[num_claimed++] = corner;
+    } else if (state != kFilled) {
+      waiting[num_waiting++] = corner;
+    }
+  }
+  if (num_claimed > 0) FillSamples(claimed, num_claimed);
+  for (int w = 0; w < num_waiting; ++w) {
+    while (samples_[waiting[w]].state.load(std::memory_order_acquire) != kFilled) {
+      std::this_thread::yield();
+    }
+  }
+  const auto at = [&](int c) { return samples_[corners[c]].value.cast<double>(); };
+  const Eigen::Vector3d x00 = (1 - t.x()) * at(0) + t.x() * at(1);
+  const Eigen::Vector3d x10 = (1 - t.x()) * at(2) + t.x() * at(3);
+  const Eigen::Vector3d x01 = (1 - t.x()) * at(4) + t.x() * at(5);
+  const Eigen::Vector3d x11 = (1 - t.x()) * at(6) + t.x() * at(7);
   return (1 - t.z()) * ((1 - t.y()) * x00 + t.y() * x10) +
          t.z() * ((1 - t.y()) * x01 + t.y() * x11);
 }

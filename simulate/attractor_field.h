@@ -59,8 +59,8 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <atomic>
+#include <cstdint>
 #include <memory>
-#include <mutex>
 #include <string>
 #include <vector>
 
@@ -130,6 +130,7 @@ class DirectionField2D {
   int width_ = 0, height_ = 0;
   int cols_ = 0, rows_ = 0;
   double cell_size_ = 1.0;
+  double inverse_cell_size_ = 1.0;
   double falloff_px_ = 1.0;
   bool linear_blend_ = true;  // options_.blend == "linear"
   bool empty_ = true;
@@ -187,36 +188,61 @@ class AttractorDirectionField : public DirectionField {
     DirectionField2D field;
     const Camera* camera = nullptr;  // image_set_'s
     Rigid3d cam_from_world;
+    Eigen::Matrix3d cam_from_world_rotation;  // cam_from_world's, as a matrix
+    // An image vector (dx, dy) lifts to dx * lift_x + dy * lift_y (world).
+    Eigen::Vector3d lift_x, lift_y;
     Eigen::Matrix3d projector;  // onto the image plane: I - z z^T, z the optical axis
   };
+  // Where `view` sees a world point (pixels); false if it does not (behind
+  // the camera or outside the image).
+  static bool PixelIn(const ViewField& view, const Eigen::Vector3d& point_in_world,
+                      Eigen::Vector2d* pixel);
   // The eigen decomposition of a sum of the views' projectors (Lifted).
   struct PlaneSolve {
     Eigen::Vector3d values = Eigen::Vector3d::Zero();
     Eigen::Matrix3d vectors = Eigen::Matrix3d::Identity();
   };
   static PlaneSolve SolvePlanes(const Eigen::Matrix3d& planes);
+  // Its pseudo-inverse: directions of eigenvalues below
+  // kDegenerateEigenFraction of their sum (seen by no view) are left out.
+  static Eigen::Matrix3d PseudoInverse(const PlaneSolve& planes);
+  // Lifted, in two parts: each view's share, then their combination.
+  struct LiftSums {
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();      // of the lifted vectors
+    Eigen::Matrix3d normals = Eigen::Matrix3d::Zero();  // of w n n^T ("intersect")
+    int seen = 0;                                       // views that see the point
+  };
+  void Accumulate(const ViewField& view, const Eigen::Vector3d& point_in_world,
+                  LiftSums* sums) const;
+  Eigen::Vector3d Combine(const Eigen::Vector3d& point_in_world, const LiftSums& sums) const;
 
   ImageSet image_set_;
   AttractorFieldOptions options_;
   std::vector<ViewField> views_;
   bool intersect_ = false;  // options_.combine == "intersect"
-  // The sum of every view's projector and its decomposition: most points
+  // The sum of every view's projector and its pseudo-inverse: most points
   // are seen by every view.
   Eigen::Matrix3d all_planes_ = Eigen::Matrix3d::Zero();
-  PlaneSolve all_planes_solve_;
+  Eigen::Matrix3d all_planes_inverse_ = Eigen::Matrix3d::Zero();
   Eigen::Vector3d origin_ = Eigen::Vector3d::Zero();  // centre of sample (0, 0, 0)
   double spacing_ = 1.0;
   Eigen::Vector3i dims_ = Eigen::Vector3i::Ones();
-  // The sample (i, j, k), filling it first if needed.
-  const Eigen::Vector3f& Sample(int i, int j, int k) const;
-  void FillSample(int i, int j, int k, size_t index) const;
+  // Fills the samples at the given linear indices (at most 8), which the
+  // caller has claimed (kFilling), and marks them kFilled.
+  void FillSamples(const size_t* indices, int count) const;
 
-  // Lazily filled samples, x fastest; a sample is written once, under its
-  // lock, before its flag is set (release), and read after the flag is seen
-  // (acquire).
-  mutable std::vector<Eigen::Vector3f> samples_;
-  std::unique_ptr<std::atomic<bool>[]> filled_;
-  mutable std::unique_ptr<std::mutex[]> fill_locks_;  // striped: sample index % kFillLocks
+  // Lazily filled samples, x fastest. A sample's state goes from kEmpty to
+  // kFilling (claimed by one thread, which computes and writes it) to
+  // kFilled (release); it is read after kFilled is seen (acquire). A thread
+  // that finds it being filled waits for it. Value and state share a slot
+  // (one cache line to read both).
+  static constexpr uint32_t kEmpty = 0, kFilling = 1, kFilled = 2;
+  struct alignas(16) Slot {
+    Eigen::Vector3f value = Eigen::Vector3f::Zero();
+    std::atomic<uint32_t> state{kEmpty};
+  };
+  size_t num_samples_ = 0;
+  std::unique_ptr<Slot[]> samples_;
 };
 
 }  // namespace sylva
