@@ -33,52 +33,44 @@ TraceIndex::TraceIndex(const Eigen::Vector3d& lower, const Eigen::Vector3d& uppe
 void TraceIndex::AddEdge(const TraceGraph& graph, int child) {
   const Eigen::Vector3d a = graph.Position(child);
   const Eigen::Vector3d b = graph.Position(graph.Parent(child));
-  // A short edge: every cell its bounds, grown by the join distance, overlap.
-  if ((b - a).norm() <= cell_size_) {
-    AddCells(a.cwiseMin(b).array() - join_distance_, a.cwiseMax(b).array() + join_distance_, child);
-    return;
-  }
-  // A long one: the cells of its box (grown as above) whose centre lies
-  // within the join distance + half a cell's diagonal of it (a point of the
-  // cell within the join distance of the edge puts its centre so near; a
-  // little more, for rounding).
-  const double reach = (join_distance_ + 0.5 * std::sqrt(3.0) * cell_size_) * (1 + 1e-9);
-  const Eigen::Vector3d along = b - a;
-  const double inverse_length2 = 1.0 / along.squaredNorm();
+  // The cells of the edge's bounds grown by the join distance that the edge
+  // crosses once they are grown by the join distance too (a point of the
+  // cell within the join distance of the edge is within it along each axis;
+  // the slabs a little wider, for rounding).
   const Eigen::Vector3i lo = CellOf(a.cwiseMin(b).array() - join_distance_).cwiseMax(0);
   const Eigen::Vector3i hi =
       CellOf(a.cwiseMax(b).array() + join_distance_).cwiseMin(dims_ - Eigen::Vector3i::Ones());
+  const Eigen::Vector3d along = b - a;
+  const double grow = join_distance_ + 1e-9 * cell_size_;
+  const Eigen::Vector3d inverse = along.cwiseInverse();
+  // The parameters t in [0, 1] where the edge is within a cell's slab along
+  // one axis, narrowed down the axes; false if none.
+  const auto crosses = [&](int axis, int cell, double* t0, double* t1) {
+    const double low = lower_[axis] + cell_size_ * cell - grow - a[axis];
+    const double high = low + cell_size_ + 2 * grow;
+    if (along[axis] == 0.0) return low <= 0.0 && 0.0 <= high;
+    const double enter = low * inverse[axis], leave = high * inverse[axis];
+    *t0 = std::max(*t0, std::min(enter, leave));
+    *t1 = std::min(*t1, std::max(enter, leave));
+    return *t0 <= *t1;
+  };
   for (int z = lo.z(); z <= hi.z(); ++z) {
+    double z0 = 0.0, z1 = 1.0;
+    if (!crosses(2, z, &z0, &z1)) continue;
     for (int y = lo.y(); y <= hi.y(); ++y) {
+      double y0 = z0, y1 = z1;
+      if (!crosses(1, y, &y0, &y1)) continue;
       for (int x = lo.x(); x <= hi.x(); ++x) {
-        const Eigen::Vector3d from_a =
-            lower_ + cell_size_ * Eigen::Vector3d(x + 0.5, y + 0.5, z + 0.5) - a;
-        const double t = std::clamp(from_a.dot(along) * inverse_length2, 0.0, 1.0);
-        if ((from_a - t * along).squaredNorm() <= reach * reach) {
-          Insert(CellIndex({x, y, z}), child);
-        }
+        double x0 = y0, x1 = y1;
+        if (crosses(0, x, &x0, &x1)) Insert(CellIndex({x, y, z}), child);
       }
     }
   }
 }
 
-void TraceIndex::AddCells(const Eigen::Vector3d& lower, const Eigen::Vector3d& upper, int child) {
-  ForEachCell(lower, upper, [&](int64_t cell) { Insert(cell, child); });
-}
-
 void TraceIndex::Insert(int64_t cell, int child) {
   entries_.push_back({child, heads_[cell]});
   heads_[cell] = static_cast<int32_t>(entries_.size() - 1);
-}
-
-template <typename Visit>
-void TraceIndex::ForEachCell(const Eigen::Vector3d& lower, const Eigen::Vector3d& upper,
-                             const Visit& visit) const {
-  const Eigen::Vector3i lo = CellOf(lower).cwiseMax(0);
-  const Eigen::Vector3i hi = CellOf(upper).cwiseMin(dims_ - Eigen::Vector3i::Ones());
-  for (int z = lo.z(); z <= hi.z(); ++z)
-    for (int y = lo.y(); y <= hi.y(); ++y)
-      for (int x = lo.x(); x <= hi.x(); ++x) visit(CellIndex({x, y, z}));
 }
 
 void TraceIndex::AddSubtree(const TraceGraph& graph, int node) {

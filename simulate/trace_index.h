@@ -46,11 +46,6 @@ class TraceIndex {
                int* child, Eigen::Vector3d* point_on_edge) const;
 
  private:
-  // Calls visit(cell index) for the cells overlapping the box [lower, upper].
-  template <typename Visit>
-  void ForEachCell(const Eigen::Vector3d& lower, const Eigen::Vector3d& upper,
-                   const Visit& visit) const;
-  void AddCells(const Eigen::Vector3d& lower, const Eigen::Vector3d& upper, int child);
   void Insert(int64_t cell, int child);
   int64_t CellIndex(const Eigen::Vector3i& cell) const {
     return (int64_t{cell.z()} * dims_.y() + cell.y()) * dims_.x() + cell.x();
