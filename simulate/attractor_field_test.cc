@@ -1,7 +1,9 @@
 #include "simulate/attractor_field.h"
 
 #include <gtest/gtest.h>
+#include <tbb/blocked_range.h>
 #include <tbb/global_control.h>
+#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <cmath>
@@ -228,6 +230,43 @@ TEST(AttractorDirectionField, FillsOnlyTheSamplesItIsAskedAboutWithTheSameValues
   const AttractorDirectionField whole(set, graphs, bounds, options);
   for (double z = -1.0; z <= 1.0; z += 0.05) whole.Direction(Eigen::Vector3d(-0.9, 0.9, z));
   EXPECT_EQ(whole.Direction(x), at_x);
+}
+
+// Threads asking for the same cells at once (each claims some corners and
+// waits for those another is filling) see the field one thread sees.
+TEST(AttractorDirectionField, FilledConcurrentlyLikeSerially) {
+  const ImageSet set = TwoOrthographicViews();
+  const Eigen::AlignedBox3d bounds(Eigen::Vector3d(-1, -1, -1), Eigen::Vector3d(1, 1, 1));
+  AttractorFieldOptions options;
+  options.resolution_3d = 24;
+  std::vector<AttractorGraph2D> graphs;
+  for (int v = 0; v < 2; ++v) {
+    graphs.push_back(
+        ProjectedSegment(set, v, Eigen::Vector3d(0.2, 0.1, 0.8), Eigen::Vector3d::Zero()));
+  }
+  // Points in a small box, each asked for 8 times, in an order that puts
+  // neighbours in different tasks.
+  std::vector<Eigen::Vector3d> points;
+  for (int repeat = 0; repeat < 8; ++repeat) {
+    for (int k = 0; k < 4000; ++k) {
+      const int i = (k * 7919) % 4000;
+      points.emplace_back(-0.3 + 0.6 * (i % 20) / 20.0, -0.3 + 0.6 * (i / 20 % 20) / 20.0,
+                          -0.3 + 0.6 * (i / 400) / 10.0);
+    }
+  }
+  const AttractorDirectionField serial(set, graphs, bounds, options);
+  std::vector<Eigen::Vector3d> expected(points.size());
+  for (size_t p = 0; p < points.size(); ++p) expected[p] = serial.Direction(points[p]);
+  const AttractorDirectionField shared(set, graphs, bounds, options);
+  std::vector<Eigen::Vector3d> seen(points.size());
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, points.size(), 16),
+                    [&](const tbb::blocked_range<size_t>& range) {
+                      for (size_t p = range.begin(); p < range.end(); ++p) {
+                        seen[p] = shared.Direction(points[p]);
+                      }
+                    });
+  EXPECT_EQ(shared.FilledSamples(), serial.FilledSamples());
+  for (size_t p = 0; p < points.size(); ++p) ASSERT_EQ(seen[p], expected[p]) << p;
 }
 
 TEST(AttractorDirectionField, PinholeLiftingFollowsTheImagePlane) {
