@@ -50,6 +50,7 @@ ViewProjector::ViewProjector(const ImageSet& image_set, int view_idx)
     : camera_(&image_set.CameraOf(view_idx)),
       rotation_(image_set.views.at(view_idx).cam_from_world.rotation.toRotationMatrix()),
       translation_(image_set.views.at(view_idx).cam_from_world.translation),
+      orthographic_(camera_->IsOrthographic()),
       plain_pinhole_(!camera_->IsOrthographic() && !camera_->HasDistortion()),
       focal_(camera_->FocalLengthX(), camera_->FocalLengthY()),
       principal_point_(camera_->PrincipalPoint()) {}

@@ -7,6 +7,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "core/geometry/voxel_traversal.h"
@@ -48,7 +49,10 @@ class ViewProjector {
   // False if the point is behind a pinhole camera.
   bool Project(const Eigen::Vector3d& point_in_world, Eigen::Vector2d* point_in_image) const {
     const Eigen::Vector3d point_in_cam = rotation_ * point_in_world + translation_;
-    if (!camera_->IsInFront(point_in_cam)) return false;
+    // Camera::IsInFront, without the call.
+    if (!orthographic_ && !(point_in_cam.z() > std::numeric_limits<double>::epsilon())) {
+      return false;
+    }
     if (plain_pinhole_) {
       *point_in_image = Eigen::Vector2d(focal_.x() * (point_in_cam.x() / point_in_cam.z()),
                                         focal_.y() * (point_in_cam.y() / point_in_cam.z())) +
@@ -80,6 +84,7 @@ class ViewProjector {
   const Camera* camera_;
   Eigen::Matrix3d rotation_;
   Eigen::Vector3d translation_;
+  bool orthographic_ = false;
   bool plain_pinhole_ = false;  // not orthographic, no distortion
   Eigen::Vector2d focal_, principal_point_;
 };
