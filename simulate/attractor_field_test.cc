@@ -210,24 +210,34 @@ TEST(AttractorDirectionField, LiftingTwoOrthographicViewsRecoversA3dDirection) {
             2.0);
 }
 
-TEST(AttractorDirectionField, FillsOnlyTheSamplesItIsAskedAboutWithTheSameValues) {
-  const ImageSet set = TwoOrthographicViews();
-  const Eigen::AlignedBox3d bounds(Eigen::Vector3d(-1, -1, -1), Eigen::Vector3d(1, 1, 1));
+// A field of two orthographic views of one branch, over [-1, 1]^3 sampled
+// `resolution` cells across.
+struct OneBranchField {
+  ImageSet set = TwoOrthographicViews();
+  Eigen::AlignedBox3d bounds{Eigen::Vector3d(-1, -1, -1), Eigen::Vector3d(1, 1, 1)};
   AttractorFieldOptions options;
-  options.resolution_3d = 48;
   std::vector<AttractorGraph2D> graphs;
-  for (int v = 0; v < 2; ++v) {
-    graphs.push_back(
-        ProjectedSegment(set, v, Eigen::Vector3d(0.2, 0.1, 0.8), Eigen::Vector3d::Zero()));
+
+  explicit OneBranchField(int resolution) {
+    options.resolution_3d = resolution;
+    for (int v = 0; v < 2; ++v) {
+      graphs.push_back(
+          ProjectedSegment(set, v, Eigen::Vector3d(0.2, 0.1, 0.8), Eigen::Vector3d::Zero()));
+    }
   }
-  const AttractorDirectionField lazy(set, graphs, bounds, options);
+  AttractorDirectionField Make() const { return {set, graphs, bounds, options}; }
+};
+
+TEST(AttractorDirectionField, FillsOnlyTheSamplesItIsAskedAboutWithTheSameValues) {
+  const OneBranchField branch(48);
+  const AttractorDirectionField lazy = branch.Make();
   EXPECT_EQ(lazy.FilledSamples(), 0);
   const Eigen::Vector3d x(0.31, -0.22, 0.47);
   const Eigen::Vector3d at_x = lazy.Direction(x);
   EXPECT_EQ(lazy.FilledSamples(), 8);  // one cell's corners
   EXPECT_LT(lazy.FilledSamples(), lazy.NumSamples());
   // Filled in another order (every sample first), the field is the same.
-  const AttractorDirectionField whole(set, graphs, bounds, options);
+  const AttractorDirectionField whole = branch.Make();
   for (double z = -1.0; z <= 1.0; z += 0.05) whole.Direction(Eigen::Vector3d(-0.9, 0.9, z));
   EXPECT_EQ(whole.Direction(x), at_x);
 }
@@ -235,15 +245,7 @@ TEST(AttractorDirectionField, FillsOnlyTheSamplesItIsAskedAboutWithTheSameValues
 // Threads asking for the same cells at once (each claims some corners and
 // waits for those another is filling) see the field one thread sees.
 TEST(AttractorDirectionField, FilledConcurrentlyLikeSerially) {
-  const ImageSet set = TwoOrthographicViews();
-  const Eigen::AlignedBox3d bounds(Eigen::Vector3d(-1, -1, -1), Eigen::Vector3d(1, 1, 1));
-  AttractorFieldOptions options;
-  options.resolution_3d = 24;
-  std::vector<AttractorGraph2D> graphs;
-  for (int v = 0; v < 2; ++v) {
-    graphs.push_back(
-        ProjectedSegment(set, v, Eigen::Vector3d(0.2, 0.1, 0.8), Eigen::Vector3d::Zero()));
-  }
+  const OneBranchField branch(24);
   // Points in a small box, each asked for 8 times, in an order that puts
   // neighbours in different tasks.
   std::vector<Eigen::Vector3d> points;
@@ -254,10 +256,10 @@ TEST(AttractorDirectionField, FilledConcurrentlyLikeSerially) {
                           -0.3 + 0.6 * (i / 400) / 10.0);
     }
   }
-  const AttractorDirectionField serial(set, graphs, bounds, options);
+  const AttractorDirectionField serial = branch.Make();
   std::vector<Eigen::Vector3d> expected(points.size());
   for (size_t p = 0; p < points.size(); ++p) expected[p] = serial.Direction(points[p]);
-  const AttractorDirectionField shared(set, graphs, bounds, options);
+  const AttractorDirectionField shared = branch.Make();
   std::vector<Eigen::Vector3d> seen(points.size());
   tbb::parallel_for(tbb::blocked_range<size_t>(0, points.size(), 16),
                     [&](const tbb::blocked_range<size_t>& range) {
