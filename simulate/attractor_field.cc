@@ -20,9 +20,6 @@ constexpr int kMaxBuckets = 64;
 // Below this fraction of the eigenvalue sum, the second smallest eigenvalue
 // of the plane normals' scatter means the planes do not pin a line down.
 constexpr double kDegenerateEigenFraction = 1e-3;
-// The 3D field is filled lazily sample by sample. (Bricks of 2^3 samples
-// filled 129k samples where the benchmark's flow reads about half as many.)
-
 int LongerSide(int width, int height) { return std::max(width, height); }
 
 // Each bucket's Chebyshev distance (in buckets) to the nearest bucket that
@@ -396,6 +393,8 @@ Eigen::Vector3d AttractorDirectionField::Lifted(const Eigen::Vector3d& point_in_
 void AttractorDirectionField::FillSamples(const size_t* indices, int count) const {
   // Views outermost: the points' computations are independent, so the
   // processor overlaps their latencies (divisions, square roots, look-ups).
+  // Only the corners a look-up needs are filled: bricks of 2^3 cells filled
+  // 129k samples where the benchmark's flow reads about half as many.
   Eigen::Vector3d points[8];
   LiftSums sums[8];
   SYLVA_CHECK(count <= 8);

@@ -97,34 +97,6 @@ Box3d DensityGrid::ActiveWorldBounds() const {
   return Box3d(WorldFromIndex(lo.cast<double>() - half), WorldFromIndex(hi.cast<double>() + half));
 }
 
-void DensityGrid::ForEachActive(
-    const std::function<void(const Eigen::Vector3i&, float)>& visit) const {
-  const openvdb::FloatTree& tree = impl_->grid->tree();
-  if (!tree.hasActiveTiles()) {
-    // Leaf by leaf, the order of the tree's value iterator below when there
-    // are no tiles (depth first, each node's children by position), at a
-    // fraction of its cost per voxel.
-    for (auto leaf = tree.cbeginLeaf(); leaf; ++leaf) {
-      for (auto it = leaf->cbeginValueOn(); it; ++it) {
-        const openvdb::Coord c = it.getCoord();
-        visit(Eigen::Vector3i(c.x(), c.y(), c.z()), *it);
-      }
-    }
-    return;
-  }
-  for (auto it = impl_->grid->cbeginValueOn(); it; ++it) {
-    if (it.isVoxelValue()) {
-      const openvdb::Coord c = it.getCoord();
-      visit(Eigen::Vector3i(c.x(), c.y(), c.z()), *it);
-    } else {
-      // Tile: every voxel of its box shares the value.
-      openvdb::CoordBBox box;
-      it.getBoundingBox(box);
-      for (auto c = box.begin(); c; ++c) visit(Eigen::Vector3i((*c).x(), (*c).y(), (*c).z()), *it);
-    }
-  }
-}
-
 namespace {
 
 using FloatLeaf = openvdb::FloatTree::LeafNodeType;
@@ -160,6 +132,35 @@ openvdb::Index NthOnOffset(const FloatLeaf& leaf, int64_t n) {
 }
 
 }  // namespace
+
+void DensityGrid::ForEachActive(
+    const std::function<void(const Eigen::Vector3i&, float)>& visit) const {
+  const openvdb::FloatTree& tree = impl_->grid->tree();
+  if (!tree.hasActiveTiles()) {
+    // Leaf by leaf, the order of the tree's value iterator below when there
+    // are no tiles (depth first, each node's children by position), at a
+    // fraction of its cost per voxel.
+    for (auto leaf = tree.cbeginLeaf(); leaf; ++leaf) {
+      const float* data = leaf->buffer().data();
+      ForEachOnOffset(*leaf, [&](openvdb::Index offset) {
+        const openvdb::Coord c = leaf->offsetToGlobalCoord(offset);
+        visit(Eigen::Vector3i(c.x(), c.y(), c.z()), data[offset]);
+      });
+    }
+    return;
+  }
+  for (auto it = impl_->grid->cbeginValueOn(); it; ++it) {
+    if (it.isVoxelValue()) {
+      const openvdb::Coord c = it.getCoord();
+      visit(Eigen::Vector3i(c.x(), c.y(), c.z()), *it);
+    } else {
+      // Tile: every voxel of its box shares the value.
+      openvdb::CoordBBox box;
+      it.getBoundingBox(box);
+      for (auto c = box.begin(); c; ++c) visit(Eigen::Vector3i((*c).x(), (*c).y(), (*c).z()), *it);
+    }
+  }
+}
 
 std::vector<float> DensityGrid::ActiveValues() const {
   std::vector<float> values;
