@@ -20,15 +20,6 @@ std::vector<int> ParentsFirstOrder(const SkeletonGraph& skeleton) {
 
 }  // namespace
 
-void AllometryOptions::Check() const {
-  SYLVA_CHECK_INPUT(diameter_exponent >= 1 && diameter_exponent <= 4, "Allometry.diameter_exponent")
-      << "must be in [1, 4], got " << diameter_exponent;
-  SYLVA_CHECK_INPUT(trunk_radius > 0 && std::isfinite(trunk_radius), "Allometry.trunk_radius")
-      << "must be a positive length, got " << trunk_radius;
-  SYLVA_CHECK_INPUT(min_radius >= 0 && min_radius <= trunk_radius, "Allometry.min_radius")
-      << "must be in [0, trunk_radius = " << trunk_radius << "], got " << min_radius;
-}
-
 std::vector<double> EffectivePipeStrands(const SkeletonGraph& skeleton) {
   std::vector<double> effective(skeleton.nodes.size(), 0.0);
   if (skeleton.nodes.empty()) return effective;

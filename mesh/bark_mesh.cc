@@ -1478,21 +1478,6 @@ AttemptResult MeshWithRetries(const BarkTree& tree) {
 
 }  // namespace
 
-void BarkMeshOptions::Check() const {
-  tube.Check();
-  SYLVA_CHECK_INPUT(sphere_margin > 0 && sphere_margin <= 10, "BranchMesh.sphere_margin")
-      << "must be in (0, 10], got " << sphere_margin;
-  SYLVA_CHECK_INPUT(max_cut_fraction > 0 && max_cut_fraction < 1, "BranchMesh.max_cut_fraction")
-      << "must be in (0, 1), got " << max_cut_fraction;
-  SYLVA_CHECK_INPUT(min_radius_fraction > 0 && min_radius_fraction < 1,
-                    "BranchMesh.min_radius_fraction")
-      << "must be in (0, 1), got " << min_radius_fraction;
-  SYLVA_CHECK_INPUT(attach_ratio >= 0 && attach_ratio <= 1, "BranchMesh.attach_ratio")
-      << "must be in [0, 1], got " << attach_ratio;
-  SYLVA_CHECK_INPUT(repair_rounds >= 0 && repair_rounds <= 16, "BranchMesh.repair_rounds")
-      << "must be in [0, 16], got " << repair_rounds;
-}
-
 std::string BarkMeshSummary::BriefReport() const {
   std::ostringstream out;
   out << "Watertight bark: " << junctions << " junctions in " << joints << " joints (" << bridged

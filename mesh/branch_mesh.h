@@ -37,6 +37,11 @@
 
 namespace sylva {
 
+// Upper bounds of BranchMeshOptions that keep a typo from asking for
+// billions of triangles.
+inline constexpr int kMaxRingsPerSegment = 256;
+inline constexpr int kMaxSides = 256;
+
 struct BranchMeshOptions {
   // Rings sampled on each spline segment (one per skeleton edge), at least;
   // in [1, 256]. The tip adds one ring per axis.

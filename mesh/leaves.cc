@@ -289,43 +289,6 @@ LeafInstances NoLeaves(const LeafOptions& options, const LeafShape* shape) {
 
 }  // namespace
 
-void LeafOptions::Check() const {
-  SYLVA_CHECK_INPUT(num_leaves >= -1 && num_leaves <= 10000000, "Leaves.num_leaves")
-      << "must be -1 (no leaves), 0 (from the leaf area) or up to 10^7, got " << num_leaves;
-  SYLVA_CHECK_INPUT(max_leaves >= 1 && max_leaves <= 10000000, "Leaves.max_leaves")
-      << "must be between 1 and 10^7, got " << max_leaves;
-  SYLVA_CHECK_INPUT(max_draws_factor >= 1, "Leaves.max_draws_factor")
-      << "must be >= 1, got " << max_draws_factor;
-  SYLVA_CHECK_INPUT(leaf_length >= 0, "Leaves.leaf_length") << "must be >= 0, got " << leaf_length;
-  SYLVA_CHECK_INPUT(leaf_length_fraction > 0 && leaf_length_fraction < 1,
-                    "Leaves.leaf_length_fraction")
-      << "must be in (0, 1), got " << leaf_length_fraction;
-  SYLVA_CHECK_INPUT(leaf_aspect > 0 && leaf_aspect <= 10, "Leaves.leaf_aspect")
-      << "must be in (0, 10], got " << leaf_aspect;
-  SYLVA_CHECK_INPUT(twig_reach > 0, "Leaves.twig_reach") << "must be > 0, got " << twig_reach;
-  SYLVA_CHECK_INPUT(thin_branch_radius_fraction > 0 && thin_branch_radius_fraction <= 1,
-                    "Leaves.thin_branch_radius_fraction")
-      << "must be in (0, 1], got " << thin_branch_radius_fraction;
-  SYLVA_CHECK_INPUT(phototropism >= 0 && phototropism <= 1, "Leaves.phototropism")
-      << "must be in [0, 1], got " << phototropism;
-  SYLVA_CHECK_INPUT(matte_threshold >= 0 && matte_threshold < 1, "Leaves.matte_threshold")
-      << "must be in [0, 1), got " << matte_threshold;
-  BuiltinLeafShape(shape, leaf_aspect);  // throws for unknown names
-  // Also used without phyllotaxis by GenerateSkeletonLeafInstances.
-  SYLVA_CHECK_INPUT(internode > 0 && std::isfinite(internode), "Leaves.internode")
-      << "must be > 0 leaf lengths, got " << internode;
-  SYLVA_CHECK_INPUT(insertion_deg > 0 && insertion_deg < 180, "Leaves.insertion_deg")
-      << "must be in (0, 180) degrees, got " << insertion_deg;
-  if (phyllotaxis != "none") {
-    PhyllotaxisOptions phyllo;
-    phyllo.pattern = ParsePhyllotaxisPattern(phyllotaxis, "Leaves.phyllotaxis");
-    SYLVA_CHECK_INPUT(divergence_deg >= -360 && divergence_deg <= 360, "Leaves.divergence_deg")
-        << "must be in [-360, 360] degrees, got " << divergence_deg;
-    SYLVA_CHECK_INPUT(leaves_per_whorl >= 3 && leaves_per_whorl <= 32, "Leaves.leaves_per_whorl")
-        << "must be between 3 and 32, got " << leaves_per_whorl;
-  }
-}
-
 std::string LeafSummary::BriefReport() const {
   std::ostringstream out;
   if (!placement.empty()) {
@@ -369,8 +332,7 @@ LeafShape BuiltinLeafShape(const std::string& name, double aspect) {
   if (name == "ovate") return OutlineShape(name, aspect, 0.6, 1.0);
   if (name == "lanceolate") return OutlineShape(name, aspect, 0.5, 1.5);
   if (name == "needle") return Rhombus(name, std::min(aspect, 0.05));
-  SYLVA_CHECK_INPUT(false, "Leaves.shape")
-      << "unknown leaf shape \"" << name << "\" (quad, ovate, lanceolate, needle)";
+  CheckBuiltinLeafShapeName(name);  // throws
   return LeafShape();
 }
 

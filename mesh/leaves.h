@@ -123,6 +123,8 @@ struct LeafShape {
 // rhombus of width min(aspect, 0.05). `aspect` = width / length.
 // Throws InputError("Leaves.shape", ...) for other names.
 LeafShape BuiltinLeafShape(const std::string& name, double aspect);
+// Throws InputError("Leaves.shape", ...) unless `name` is one of those shapes.
+void CheckBuiltinLeafShapeName(const std::string& name);
 
 // A textured quad from an RGBA image of one leaf (upright: petiole at the
 // bottom row, tip at the top; alpha = 0 off the leaf): the quad spans the

@@ -348,29 +348,6 @@ void AppendLayer(const char* name, const std::vector<Polyline>& lines, const cha
 
 }  // namespace
 
-void PenAndInkOptions::Check() const {
-  SYLVA_CHECK_INPUT(image_size >= 64 && image_size <= 8192, "PenAndInk.image_size")
-      << "must be in [64, 8192], got " << image_size;
-  SYLVA_CHECK_INPUT(margin >= 0 && margin <= 0.4, "PenAndInk.margin")
-      << "must be in [0, 0.4], got " << margin;
-  SYLVA_CHECK_INPUT(sample_spacing_px > 0 && sample_spacing_px <= 10, "PenAndInk.sample_spacing_px")
-      << "must be in (0, 10], got " << sample_spacing_px;
-  SYLVA_CHECK_INPUT(crease_deg >= 0 && crease_deg <= 180, "PenAndInk.crease_deg")
-      << "must be in [0, 180], got " << crease_deg;
-  SYLVA_CHECK_INPUT(hatch_spacing_px >= 1 && hatch_spacing_px <= 100, "PenAndInk.hatch_spacing_px")
-      << "must be in [1, 100], got " << hatch_spacing_px;
-  SYLVA_CHECK_INPUT(
-      hatch_tone >= 0 && hatch_tone <= 1 && cross_hatch_tone >= 0 && cross_hatch_tone <= 1,
-      "PenAndInk.hatch_tone")
-      << "the tones must be in [0, 1]";
-  SYLVA_CHECK_INPUT(light_direction.allFinite() && light_direction.norm() > 0,
-                    "PenAndInk.light_direction")
-      << "must be a finite, non-zero vector";
-  SYLVA_CHECK_INPUT(outline_width_px > 0 && hatch_width_px > 0 && construction_width_px > 0,
-                    "PenAndInk.outline_width_px")
-      << "ink widths must be > 0";
-}
-
 PenAndInkView PenAndInkView::FromAngles(double azimuth_deg, double elevation_deg) {
   const double az = azimuth_deg * kDegrees, el = elevation_deg * kDegrees;
   PenAndInkView view;

@@ -58,18 +58,6 @@ LeafAttachment MakeAttachment(const Eigen::Vector3d& position, const CurveFrame&
 
 }  // namespace
 
-PhyllotaxisPattern ParsePhyllotaxisPattern(const std::string& name, const std::string& option) {
-  if (name == "alternate" || name == "distichous") return PhyllotaxisPattern::kAlternate;
-  if (name == "opposite_decussate" || name == "decussate") {
-    return PhyllotaxisPattern::kOppositeDecussate;
-  }
-  if (name == "whorled") return PhyllotaxisPattern::kWhorled;
-  if (name == "spiral") return PhyllotaxisPattern::kSpiral;
-  SYLVA_CHECK_INPUT(false, option)
-      << "unknown phyllotaxis \"" << name << "\" (alternate, opposite_decussate, whorled, spiral)";
-  return PhyllotaxisPattern::kSpiral;
-}
-
 const char* PhyllotaxisPatternName(PhyllotaxisPattern pattern) {
   switch (pattern) {
     case PhyllotaxisPattern::kAlternate:

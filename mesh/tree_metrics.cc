@@ -14,22 +14,6 @@
 
 namespace sylva {
 
-void TreeMetricsOptions::Check() const {
-  SYLVA_CHECK_INPUT(dbh_height_m > 0, "TreeMetrics.dbh_height_m") << "must be > 0";
-  SYLVA_CHECK_INPUT(major_branch_fraction > 0 && major_branch_fraction <= 1,
-                    "TreeMetrics.major_branch_fraction")
-      << "must be in (0, 1]";
-  SYLVA_CHECK_INPUT(crown_scale_fraction >= 0 && crown_scale_fraction < 1,
-                    "TreeMetrics.crown_scale_fraction")
-      << "must be in [0, 1)";
-  SYLVA_CHECK_INPUT(density_support_fraction > 0 && density_support_fraction <= 1,
-                    "TreeMetrics.density_support_fraction")
-      << "must be in (0, 1]";
-  SYLVA_CHECK_INPUT(direction_fraction > 0 && direction_fraction <= 1,
-                    "TreeMetrics.direction_fraction")
-      << "must be in (0, 1]";
-}
-
 // ---------------------------------------------------------------------------
 // Convex hull volume: incremental hull over triangles with outward normals.
 

@@ -215,14 +215,6 @@ bool TwigMeshOptions::Separate(int twigs) const {
   return mode == "separate" || (mode == "auto" && twigs > separate_above);
 }
 
-void TwigMeshOptions::Check() const {
-  SYLVA_CHECK_INPUT(mode == "joined" || mode == "separate" || mode == "auto", "Twigs.mesh")
-      << "must be joined, separate or auto, got \"" << mode << "\"";
-  SYLVA_CHECK_INPUT(separate_above >= 0, "Twigs.separate_above")
-      << "must be >= 0 twigs, got " << separate_above;
-  SYLVA_CHECK_INPUT(!material.name.empty(), "Twigs.material") << "the material needs a name";
-}
-
 std::string TwigTubesSummary::BriefReport() const {
   std::ostringstream out;
   out << "Twig tubes: " << tubes << " closed tubes, " << triangles << " triangles in " << seconds
@@ -282,40 +274,6 @@ TriangleMesh MeshTwigTubes(const SkeletonGraph& grown, const TwigSummary& twigs,
   summary->seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return mesh;
-}
-
-void TwigOptions::Check() const {
-  SYLVA_CHECK_INPUT(pattern == "monopodial" || pattern == "sympodial", "Twigs.pattern")
-      << "must be \"monopodial\" or \"sympodial\", got \"" << pattern << "\"";
-  SYLVA_CHECK_INPUT(twigs_per_length >= 0 && twigs_per_length <= 1000, "Twigs.twigs_per_length")
-      << "must be in [0, 1000] twigs per twig length, got " << twigs_per_length;
-  SYLVA_CHECK_INPUT(max_density_factor >= 1, "Twigs.max_density_factor")
-      << "must be >= 1, got " << max_density_factor;
-  SYLVA_CHECK_INPUT(length >= 0, "Twigs.length") << "must be >= 0 world units, got " << length;
-  SYLVA_CHECK_INPUT(length_fraction > 0 && length_fraction < 1, "Twigs.length_fraction")
-      << "must be in (0, 1), got " << length_fraction;
-  SYLVA_CHECK_INPUT(length_variation >= 0 && length_variation < 1, "Twigs.length_variation")
-      << "must be in [0, 1), got " << length_variation;
-  SYLVA_CHECK_INPUT(branching_angle_deg > 0 && branching_angle_deg < 180,
-                    "Twigs.branching_angle_deg")
-      << "must be in (0, 180) degrees, got " << branching_angle_deg;
-  SYLVA_CHECK_INPUT(strand_fraction > 0 && strand_fraction <= 1, "Twigs.strand_fraction")
-      << "must be in (0, 1], got " << strand_fraction;
-  SYLVA_CHECK_INPUT(diameter_exponent >= 1 && diameter_exponent <= 4, "Twigs.diameter_exponent")
-      << "must be in [1, 4], got " << diameter_exponent;
-  SYLVA_CHECK_INPUT(tip_taper > 0 && tip_taper <= 1, "Twigs.tip_taper")
-      << "must be in (0, 1], got " << tip_taper;
-  SYLVA_CHECK_INPUT(tropism >= -1 && tropism <= 1, "Twigs.tropism")
-      << "must be in [-1, 1], got " << tropism;
-  SYLVA_CHECK_INPUT(stiffness >= 0 && stiffness <= 1, "Twigs.stiffness")
-      << "must be in [0, 1], got " << stiffness;
-  SYLVA_CHECK_INPUT(segments >= 1 && segments <= 64, "Twigs.segments")
-      << "must be between 1 and 64, got " << segments;
-  SYLVA_CHECK_INPUT(laterals >= 0 && laterals <= 16, "Twigs.laterals")
-      << "must be between 0 and 16, got " << laterals;
-  SYLVA_CHECK_INPUT(sympodial_angle_deg >= 0 && sympodial_angle_deg < 90,
-                    "Twigs.sympodial_angle_deg")
-      << "must be in [0, 90) degrees, got " << sympodial_angle_deg;
 }
 
 std::string TwigSummary::BriefReport() const {

@@ -52,21 +52,6 @@ std::vector<int> EmptyRings(const std::vector<int>& start, int cols, int rows) {
 
 }  // namespace
 
-void AttractorFieldOptions::Check() const {
-  SYLVA_CHECK_INPUT(resolution >= 2 && resolution <= 4096, "DirectionField.resolution")
-      << "must be between 2 and 4096 cells, got " << resolution;
-  SYLVA_CHECK_INPUT(blend == "linear" || blend == "constant", "DirectionField.blend")
-      << "must be 'linear' or 'constant', got '" << blend << "'";
-  SYLVA_CHECK_INPUT(falloff > 0 && std::isfinite(falloff), "DirectionField.falloff")
-      << "must be a positive fraction of the image size, got " << falloff;
-  SYLVA_CHECK_INPUT(constant_h > 0 && constant_h < 1, "DirectionField.constant_h")
-      << "must be in (0, 1), got " << constant_h;
-  SYLVA_CHECK_INPUT(combine == "average" || combine == "intersect", "DirectionField.combine")
-      << "must be 'average' or 'intersect', got '" << combine << "'";
-  SYLVA_CHECK_INPUT(resolution_3d >= 2 && resolution_3d <= 1024, "DirectionField.resolution_3d")
-      << "must be between 2 and 1024 cells, got " << resolution_3d;
-}
-
 // ---------------------------------------------------------------------------
 // DirectionField2D
 

@@ -13,27 +13,6 @@
 
 namespace sylva {
 
-NeighborSearchKind NeighborSearchKindFromName(const std::string& name, const std::string& source) {
-  if (name == "uniform_grid") return NeighborSearchKind::kUniformGrid;
-  if (name == "embree") return NeighborSearchKind::kEmbree;
-  if (name == "brute_force") return NeighborSearchKind::kBruteForce;
-  SYLVA_INPUT_ERROR(source) << "must be 'uniform_grid', 'embree' or 'brute_force', got '" << name
-                            << "'";
-  return NeighborSearchKind::kUniformGrid;  // not reached
-}
-
-const char* NeighborSearchName(NeighborSearchKind kind) {
-  switch (kind) {
-    case NeighborSearchKind::kUniformGrid:
-      return "uniform_grid";
-    case NeighborSearchKind::kEmbree:
-      return "embree";
-    case NeighborSearchKind::kBruteForce:
-      return "brute_force";
-  }
-  return "?";
-}
-
 namespace {
 
 // Queries per parallel task.

@@ -695,35 +695,6 @@ ConsolidationOptions ConsolidationOptions::Off() {
   return off;
 }
 
-void ConsolidationOptions::Check() const {
-  SYLVA_CHECK_INPUT(redundancy_fraction >= 0 && redundancy_fraction < 1,
-                    "Skeleton.redundancy_fraction")
-      << "must be in [0, 1), got " << redundancy_fraction;
-  SYLVA_CHECK_INPUT(min_support >= 0 && min_support <= 1, "Skeleton.min_support")
-      << "must be in [0, 1], got " << min_support;
-  SYLVA_CHECK_INPUT(support_radius_voxels >= 1 && support_radius_voxels <= 8,
-                    "Skeleton.support_radius_voxels")
-      << "must be in [1, 8], got " << support_radius_voxels;
-  SYLVA_CHECK_INPUT(support_opacity > 0 && support_opacity <= 1, "Skeleton.support_opacity")
-      << "must be in (0, 1], got " << support_opacity;
-  SYLVA_CHECK_INPUT(zip_radius_voxels >= 0 && zip_radius_voxels <= 8, "Skeleton.zip_radius_voxels")
-      << "must be in [0, 8], got " << zip_radius_voxels;
-  SYLVA_CHECK_INPUT(duplicate_radius_voxels >= 0 && duplicate_radius_voxels <= 8,
-                    "Skeleton.duplicate_radius_voxels")
-      << "must be in [0, 8], got " << duplicate_radius_voxels;
-  SYLVA_CHECK_INPUT(max_strand_fraction >= 0 && max_strand_fraction <= 1,
-                    "Skeleton.thin_strand_fraction")
-      << "must be in [0, 1], got " << max_strand_fraction;
-  SYLVA_CHECK_INPUT(max_empty_fraction >= 0 && max_empty_fraction <= 1,
-                    "Skeleton.max_empty_fraction")
-      << "must be in [0, 1], got " << max_empty_fraction;
-  SYLVA_CHECK_INPUT(base_fraction >= 0 && base_fraction < 1, "Skeleton.base_fraction")
-      << "must be in [0, 1), got " << base_fraction;
-  SYLVA_CHECK_INPUT(sample_spacing_fraction > 0 && sample_spacing_fraction < 1,
-                    "Skeleton.consolidate_sample_spacing_fraction")
-      << "must be in (0, 1), got " << sample_spacing_fraction;
-}
-
 std::string ConsolidationSummary::BriefReport() const {
   std::ostringstream out;
   out << "Consolidation: length " << length_before << " -> " << length_after << " ("

@@ -68,20 +68,6 @@ double Height(const SkeletonGraph& skeleton) {
 
 }  // namespace
 
-void MattePruningOptions::Check() const {
-  SYLVA_CHECK_INPUT(max_strand_fraction >= 0 && max_strand_fraction <= 1,
-                    "Skeleton.prune_max_strand_fraction")
-      << "must be in [0, 1], got " << max_strand_fraction;
-  SYLVA_CHECK_INPUT(max_outside_fraction >= 0 && max_outside_fraction < 1,
-                    "Skeleton.prune_max_outside_fraction")
-      << "must be in [0, 1), got " << max_outside_fraction;
-  SYLVA_CHECK_INPUT(matte_threshold >= 0 && matte_threshold < 1, "Skeleton.prune_matte_threshold")
-      << "must be in [0, 1), got " << matte_threshold;
-  SYLVA_CHECK_INPUT(sample_spacing_fraction > 0 && sample_spacing_fraction < 1,
-                    "Skeleton.prune_sample_spacing_fraction")
-      << "must be in (0, 1), got " << sample_spacing_fraction;
-}
-
 std::string MattePruningSummary::BriefReport() const {
   std::ostringstream out;
   out << "Pruning: " << removed_axes << " of " << tested_axes

@@ -29,17 +29,6 @@ int BaseLayer(const std::map<int, Layer>& layers, const TreeBaseOptions& options
 
 }  // namespace
 
-void TreeBaseOptions::Check() const {
-  SYLVA_CHECK_INPUT(min_opacity >= 0 && min_opacity < 1, "TreeBase.min_opacity")
-      << "must be in [0, 1), got " << min_opacity;
-  SYLVA_CHECK_INPUT(layer_fraction > 0 && layer_fraction <= 1, "TreeBase.layer_fraction")
-      << "must be in (0, 1], got " << layer_fraction;
-  SYLVA_CHECK_INPUT(reference_voxels >= 1, "TreeBase.reference_voxels")
-      << "must be >= 1, got " << reference_voxels;
-  SYLVA_CHECK_INPUT(slab_voxels >= 1, "TreeBase.slab_voxels")
-      << "must be >= 1, got " << slab_voxels;
-}
-
 Eigen::Vector3d EstimateTreeBase(const DensityGrid& density, const TreeBaseOptions& options) {
   options.Check();
   std::map<int, Layer> layers;

@@ -546,24 +546,6 @@ int SelectTemplate(const std::vector<TreeExemplar>& exemplars, const Footprint& 
   return best;
 }
 
-void MrfOptions::Check() const {
-  SYLVA_CHECK_INPUT(interaction >= 0 && std::isfinite(interaction), "Sketch.mrf_interaction")
-      << "must be >= 0, got " << interaction;
-  SYLVA_CHECK_INPUT(density_grid >= 2 && density_grid <= 256, "Sketch.mrf_grid")
-      << "must be in [2, 256], got " << density_grid;
-  SYLVA_CHECK_INPUT(crowding_reach >= 0, "Sketch.mrf_reach")
-      << "must be >= 0, got " << crowding_reach;
-  SYLVA_CHECK_INPUT(depth_candidates >= 3, "Sketch.mrf_candidates")
-      << "must be >= 3, got " << depth_candidates;
-  SYLVA_CHECK_INPUT(max_icm_sweeps >= 0, "Sketch.mrf_sweeps") << "must be >= 0";
-  SYLVA_CHECK_INPUT(icm_epsilon > 0, "Sketch.mrf_epsilon") << "must be > 0";
-  SYLVA_CHECK_INPUT(em_iterations >= 0, "Sketch.mrf_em_iterations") << "must be >= 0";
-  SYLVA_CHECK_INPUT(prior_weight >= 0, "Sketch.mrf_prior_weight") << "must be >= 0";
-  SYLVA_CHECK_INPUT(generations >= 0 && generations <= 20, "Sketch.generations")
-      << "must be in [0, 20], got " << generations;
-  SYLVA_CHECK_INPUT(max_segments >= 1, "Sketch.max_segments") << "must be >= 1";
-}
-
 namespace {
 
 // Where `p` lies against a crown's slice: (across offset from the span's

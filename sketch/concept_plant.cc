@@ -463,38 +463,6 @@ ConceptOrganTemplate DefaultTemplate() {
 
 }  // namespace
 
-void ConceptPlantOptions::Check() const {
-  SYLVA_CHECK_INPUT(phyllotaxis == "auto" || ConceptPatternFromName(phyllotaxis).has_value(),
-                    "Concept.phyllotaxis")
-      << "expected auto, spiral, monostichous, distichous, tristichous or tetrastichous, got '"
-      << phyllotaxis << "'";
-  SYLVA_CHECK_INPUT(std::isfinite(divergence_deg) && divergence_deg < 360, "Concept.divergence_deg")
-      << "must be < 360 (< 0 for the pattern's), got " << divergence_deg;
-  SYLVA_CHECK_INPUT(organs_per_layer >= 1 && organs_per_layer <= 1000, "Concept.organs_per_layer")
-      << "must be in [1, 1000], got " << organs_per_layer;
-  SYLVA_CHECK_INPUT(organs_per_node >= 1 && organs_per_node <= 8, "Concept.organs_per_node")
-      << "must be in [1, 8], got " << organs_per_node;
-  SYLVA_CHECK_INPUT(std::isfinite(first_azimuth_deg), "Concept.first_azimuth_deg")
-      << "must be finite";
-  SYLVA_CHECK_INPUT(default_branching_deg > 0 && default_branching_deg < 180,
-                    "Concept.default_branching_deg")
-      << "must be in (0, 180), got " << default_branching_deg;
-  SYLVA_CHECK_INPUT(stem_length > 0 && std::isfinite(stem_length), "Concept.stem_length")
-      << "must be > 0, got " << stem_length;
-  SYLVA_CHECK_INPUT(stem_radius_fraction > 0 && stem_radius_fraction <= 0.2,
-                    "Concept.stem_radius_fraction")
-      << "must be in (0, 0.2], got " << stem_radius_fraction;
-  SYLVA_CHECK_INPUT(stem_tip_fraction > 0 && stem_tip_fraction <= 1, "Concept.stem_tip_fraction")
-      << "must be in (0, 1], got " << stem_tip_fraction;
-  SYLVA_CHECK_INPUT(organ_droop >= -1 && organ_droop <= 1, "Concept.organ_droop")
-      << "must be in [-1, 1], got " << organ_droop;
-  SYLVA_CHECK_INPUT(organ_fold_deg >= 0 && organ_fold_deg <= 60, "Concept.organ_fold_deg")
-      << "must be in [0, 60], got " << organ_fold_deg;
-  SYLVA_CHECK_INPUT(organ_axis_radius_fraction > 0 && organ_axis_radius_fraction <= 0.2,
-                    "Concept.organ_axis_radius_fraction")
-      << "must be in (0, 0.2], got " << organ_axis_radius_fraction;
-}
-
 Eigen::Vector3d ConceptPlant::ToWorld(const Eigen::Vector2d& point_px) const {
   return Eigen::Vector3d(point_px.x() - base_px.x(), 0, base_px.y() - point_px.y()) *
          world_per_pixel;

@@ -13,20 +13,10 @@ namespace {
 
 using Polyline = std::vector<Eigen::Vector2d>;
 
-constexpr ConceptPattern kPatterns[] = {ConceptPattern::kSpiral, ConceptPattern::kMonostichous,
-                                        ConceptPattern::kDistichous, ConceptPattern::kTristichous,
-                                        ConceptPattern::kTetrastichous};
-
 // An organ end within this many organ lengths of the stem is its base.
 constexpr double kBaseNearStemFraction = 0.5;
 // Outlines are thinned to at most this many points for the farthest pair.
 constexpr int kMaxOutlinePoints = 400;
-
-std::string Lower(std::string text) {
-  std::transform(text.begin(), text.end(), text.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return text;
-}
 
 // Lower-case alphanumeric words of `text`.
 std::vector<std::string> Words(const std::string& text) {
@@ -350,30 +340,6 @@ std::optional<ConceptPattern> DrawnPattern(const SketchDrawing& drawing) {
 }
 
 }  // namespace
-
-const char* ConceptPatternName(ConceptPattern pattern) {
-  switch (pattern) {
-    case ConceptPattern::kSpiral:
-      return "spiral";
-    case ConceptPattern::kMonostichous:
-      return "monostichous";
-    case ConceptPattern::kDistichous:
-      return "distichous";
-    case ConceptPattern::kTristichous:
-      return "tristichous";
-    case ConceptPattern::kTetrastichous:
-      return "tetrastichous";
-  }
-  return "spiral";
-}
-
-std::optional<ConceptPattern> ConceptPatternFromName(const std::string& name) {
-  const std::string lower = Lower(name);
-  for (ConceptPattern pattern : kPatterns) {
-    if (lower == ConceptPatternName(pattern)) return pattern;
-  }
-  return std::nullopt;
-}
 
 double ConceptDivergenceDeg(ConceptPattern pattern) {
   switch (pattern) {

@@ -413,32 +413,6 @@ void AppendTrunk(const TrunkPlan& plan, int t, const Symbols& sym, const Gesture
 
 }  // namespace
 
-void GestureTreeOptions::Check() const {
-  SYLVA_CHECK_INPUT(iterations >= 0 && iterations <= 30, "Gesture.iterations")
-      << "must be in [0, 30], got " << iterations;
-  SYLVA_CHECK_INPUT(trunk_segments >= 2, "Gesture.trunk_segments") << "must be >= 2";
-  SYLVA_CHECK_INPUT(smoothing_passes >= 0, "Gesture.smoothing_passes") << "must be >= 0";
-  SYLVA_CHECK_INPUT(trunk_radius > 0, "Gesture.trunk_radius") << "must be > 0";
-  SYLVA_CHECK_INPUT(max_speed_ratio >= 1, "Gesture.max_speed_ratio") << "must be >= 1";
-  SYLVA_CHECK_INPUT(crown_base >= 0 && crown_base <= 1, "Gesture.crown_base")
-      << "must be in [0, 1]";
-  SYLVA_CHECK_INPUT(growth_spacing > 0 && growth_spacing <= 1, "Gesture.growth_spacing")
-      << "must be in (0, 1]";
-  SYLVA_CHECK_INPUT(branch_length > 0, "Gesture.branch_length") << "must be > 0";
-  SYLVA_CHECK_INPUT(branch_radius_ratio > 0, "Gesture.branch_radius_ratio") << "must be > 0";
-  SYLVA_CHECK_INPUT(roi_e > 0 && roi_e <= 4, "Gesture.roi_e") << "must be in (0, 4]";
-  SYLVA_CHECK_INPUT(roi_n <= 4, "Gesture.roi_n") << "must be <= 4 (<= 0: fitted)";
-  SYLVA_CHECK_INPUT(roi_alpha >= 0, "Gesture.roi_alpha") << "must be >= 0";
-  SYLVA_CHECK_INPUT(roi_min_width > 0, "Gesture.roi_min_width") << "must be > 0";
-  SYLVA_CHECK_INPUT(roi_margin > 0.5, "Gesture.roi_margin") << "must be > 0.5";
-  SYLVA_CHECK_INPUT(roi_lift >= 0, "Gesture.roi_lift") << "must be >= 0";
-  SYLVA_CHECK_INPUT(avoid_turns >= 0 && avoid_turn_deg > 0, "Gesture.avoid_turns")
-      << "needs avoid_turns >= 0 and Gesture.avoid_turn_deg > 0";
-  SYLVA_CHECK_INPUT(min_segment_fraction > 0 && min_segment_fraction < 1,
-                    "Gesture.min_segment_fraction")
-      << "must be in (0, 1)";
-}
-
 LsystemGrammar LoadGestureGrammar(const GestureTreeOptions& options) {
   const std::map<std::string, double> overrides = ParseDefines(options.defines);
   LsystemGrammar grammar =

@@ -652,42 +652,6 @@ double OutlineArea(const Outline2& outline) {
   return 0.5 * std::abs(twice);
 }
 
-void SilhouetteTreeOptions::Check() const {
-  SYLVA_CHECK_INPUT(baf_base_deg >= 0 && baf_base_deg <= 180, "Sketch.silhouette_baf_base_deg")
-      << "must be in [0, 180] degrees, got " << baf_base_deg;
-  SYLVA_CHECK_INPUT(baf_tip_deg >= 0 && baf_tip_deg <= 180, "Sketch.silhouette_baf_tip_deg")
-      << "must be in [0, 180] degrees, got " << baf_tip_deg;
-  SYLVA_CHECK_INPUT(valley_depth > 0 && valley_depth < 1, "Sketch.silhouette_valley_depth")
-      << "must be in (0, 1), got " << valley_depth;
-  SYLVA_CHECK_INPUT(cone_min_deg > 0 && cone_min_deg <= cone_max_deg && cone_max_deg < 180,
-                    "Sketch.silhouette_cone_min_deg")
-      << "needs 0 < cone_min_deg <= cone_max_deg < 180, got " << cone_min_deg << " and "
-      << cone_max_deg;
-  SYLVA_CHECK_INPUT(levels >= 1 && levels <= 6, "Sketch.silhouette_levels")
-      << "must be in [1, 6], got " << levels;
-  SYLVA_CHECK_INPUT(max_overlap >= 0 && max_overlap <= 1, "Sketch.silhouette_max_overlap")
-      << "must be in [0, 1], got " << max_overlap;
-  SYLVA_CHECK_INPUT(extra_branches >= 0 && extra_branches <= 4, "Sketch.silhouette_extra_branches")
-      << "must be in [0, 4], got " << extra_branches;
-  SYLVA_CHECK_INPUT(phyllotaxis == "none" || phyllotaxis == "spiral" ||
-                        phyllotaxis == "decussate" || phyllotaxis == "whorl3",
-                    "Sketch.silhouette_phyllotaxis")
-      << "must be none, spiral, decussate or whorl3, got '" << phyllotaxis << "'";
-  SYLVA_CHECK_INPUT(drawn_spread_deg >= 0 && drawn_spread_deg <= 180,
-                    "Sketch.silhouette_drawn_spread_deg")
-      << "must be in [0, 180] degrees, got " << drawn_spread_deg;
-  SYLVA_CHECK_INPUT(gibbs_alpha > 0, "Sketch.silhouette_gibbs_alpha")
-      << "must be positive, got " << gibbs_alpha;
-  SYLVA_CHECK_INPUT(gibbs_iterations >= 0 && gibbs_iterations <= 1000000,
-                    "Sketch.silhouette_gibbs_iterations")
-      << "must be in [0, 10^6], got " << gibbs_iterations;
-  SYLVA_CHECK_INPUT(max_branches >= 2 && max_branches <= 1000000, "Sketch.silhouette_max_branches")
-      << "must be in [2, 10^6], got " << max_branches;
-  SYLVA_CHECK_INPUT(min_branch_share > 0 && min_branch_share < 1,
-                    "Sketch.silhouette_min_branch_share")
-      << "must be in (0, 1), got " << min_branch_share;
-}
-
 SilhouetteStructure InferSilhouetteStructure(const Outline2& trunk, const Outline2& crown,
                                              const std::vector<Outline2>& sub_silhouettes,
                                              const std::vector<Outline2>& drawn_branches,

@@ -469,23 +469,6 @@ FloatImage OutlinedRegions(const SketchDrawing& drawing, int width, int height) 
   return regions;
 }
 
-void SketchViewOptions::Check() const {
-  SYLVA_CHECK_INPUT(image_size >= 32 && image_size <= 8192, "Sketch.image_size")
-      << "must be in [32, 8192] pixels, got " << image_size;
-  SYLVA_CHECK_INPUT(std::isfinite(tree_height) && tree_height > 0, "Sketch.tree_height")
-      << "must be > 0, got " << tree_height;
-  SYLVA_CHECK_INPUT(crown_opacity > 0 && crown_opacity < 1, "Sketch.crown_opacity")
-      << "must be in (0, 1), got " << crown_opacity;
-  SYLVA_CHECK_INPUT(line_width > 0 && line_width < 0.1, "Sketch.line_width")
-      << "must be in (0, 0.1), got " << line_width;
-  SYLVA_CHECK_INPUT(gap_closing >= 0 && gap_closing < 0.2, "Sketch.gap_closing")
-      << "must be in [0, 0.2), got " << gap_closing;
-  SYLVA_CHECK_INPUT(valley_depth > 0 && valley_depth < 0.5, "Sketch.valley_depth")
-      << "must be in (0, 0.5), got " << valley_depth;
-  SYLVA_CHECK_INPUT(branch_reach > 0 && branch_reach <= 1, "Sketch.branch_reach")
-      << "must be in (0, 1], got " << branch_reach;
-}
-
 // The depth prior of a single drawing: a crown of revolution seen from the
 // side, a virtual view at right angles whose tree base is `base` (view
 // pixels).

@@ -298,17 +298,6 @@ void OrientTowardsRoots(const UndirectedGraph& graph, const std::vector<int>& ro
 
 }  // namespace
 
-void StrokeGraphOptions::Check() const {
-  SYLVA_CHECK_INPUT(std::isfinite(snap_distance) && snap_distance >= 0,
-                    "Attractors.stroke_snap_distance")
-      << "must be a finite distance >= 0 in pixels, got " << snap_distance;
-  SYLVA_CHECK_INPUT(std::isfinite(simplify_tolerance) && simplify_tolerance >= 0,
-                    "Attractors.stroke_simplify_tolerance")
-      << "must be a finite distance >= 0 in pixels, got " << simplify_tolerance;
-  SYLVA_CHECK_INPUT(resample_spacing > 0, "Attractors.stroke_resample_spacing")
-      << "must be > 0 pixels (infinity: no resampling), got " << resample_spacing;
-}
-
 AttractorGraph2D GraphFromStrokes(const StrokeSet& strokes, const StrokeGraphOptions& options) {
   options.Check();
   strokes.Check("the stroke set");

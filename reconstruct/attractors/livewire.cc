@@ -118,34 +118,6 @@ std::vector<cv::Point> PathInWindow(const LivewireFeatures& features, const cv::
 
 }  // namespace
 
-void LivewireOptions::Check() const {
-  SYLVA_CHECK_INPUT(seeds == "farthest_point" || seeds == "skeleton_tips" || seeds == "silhouette",
-                    "Attractors.seeds")
-      << "must be \"farthest_point\", \"skeleton_tips\" or \"silhouette\", got \"" << seeds << "\"";
-  SYLVA_CHECK_INPUT(num_seeds >= 1, "Attractors.num_seeds") << "must be >= 1, got " << num_seeds;
-  SYLVA_CHECK_INPUT(max_image_size >= 16, "Attractors.max_image_size")
-      << "must be >= 16 pixels, got " << max_image_size;
-  SYLVA_CHECK_INPUT(matte_threshold > 0 && matte_threshold < 1, "Attractors.matte_threshold")
-      << "must be in (0, 1), got " << matte_threshold;
-  SYLVA_CHECK_INPUT(simplify_tolerance >= 0 && std::isfinite(simplify_tolerance),
-                    "Attractors.simplify_tolerance")
-      << "must be a finite number >= 0 pixels, got " << simplify_tolerance;
-  for (const auto& [value, name] : {std::pair{weight_outside, "Attractors.weight_outside"},
-                                    std::pair{weight_direction, "Attractors.weight_direction"},
-                                    std::pair{weight_centerline, "Attractors.weight_centerline"}}) {
-    SYLVA_CHECK_INPUT(value >= 0 && std::isfinite(value), name) << "must be >= 0, got " << value;
-  }
-  SYLVA_CHECK_INPUT(weight_outside + weight_direction + weight_centerline > 1e-6,
-                    "Attractors.weight_outside")
-      << "the three livewire weights must not all be zero";
-  SYLVA_CHECK_INPUT(min_twig_length >= 0 && min_twig_length < 1, "Attractors.min_twig_length")
-      << "must be in [0, 1), got " << min_twig_length;
-  SYLVA_CHECK_INPUT(photo_weight >= 0 && photo_weight <= 1, "Attractors.photo_weight")
-      << "must be in [0, 1], got " << photo_weight;
-  SYLVA_CHECK_INPUT(snap_radius >= 0 && std::isfinite(snap_radius), "Attractors.snap_radius")
-      << "must be a finite number >= 0 pixels, got " << snap_radius;
-}
-
 std::string LivewireSummary::BriefReport() const {
   std::ostringstream out;
   out << "livewire: " << seeds << " seeds, " << paths << " paths, " << nodes << " nodes, "

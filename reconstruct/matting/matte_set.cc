@@ -214,28 +214,6 @@ FloatImage StructureImage(const cv::Mat& structure) {
 
 }  // namespace
 
-void MatteSetOptions::Check() const {
-  SYLVA_CHECK_INPUT(static_min_photos >= 3, "MatteSet.static_min_photos")
-      << "must be >= 3, got " << static_min_photos;
-  SYLVA_CHECK_INPUT(static_photo_fraction > 0.5 && static_photo_fraction <= 1,
-                    "MatteSet.static_photo_fraction")
-      << "must be in (0.5, 1], got " << static_photo_fraction;
-  SYLVA_CHECK_INPUT(static_color_tolerance > 0 && static_color_tolerance <= 1,
-                    "MatteSet.static_color_tolerance")
-      << "must be in (0, 1], got " << static_color_tolerance;
-  SYLVA_CHECK_INPUT(static_margin_px >= 0 && static_margin_px <= 10, "MatteSet.static_margin_px")
-      << "must be between 0 and 10 pixels, got " << static_margin_px;
-  SYLVA_CHECK_INPUT(static_min_moving_share >= 0 && static_min_moving_share < 1,
-                    "MatteSet.static_min_moving_share")
-      << "must be in [0, 1), got " << static_min_moving_share;
-  SYLVA_CHECK_INPUT(max_border_share > 0 && max_border_share <= 1, "MatteSet.max_border_share")
-      << "must be in (0, 1], got " << max_border_share;
-  SYLVA_CHECK_INPUT(max_foreground_ratio > 1, "MatteSet.max_foreground_ratio")
-      << "must be > 1, got " << max_foreground_ratio;
-  SYLVA_CHECK_INPUT(analysis_size >= 32 && analysis_size <= 16384, "MatteSet.analysis_size")
-      << "must be between 32 and 16384 pixels, got " << analysis_size;
-}
-
 int MatteSetFactor(int width, int height, const MatteSetOptions& options) {
   return std::max(1, (std::max(width, height) + options.analysis_size - 1) / options.analysis_size);
 }

@@ -85,23 +85,6 @@ double Quantile(std::vector<float> values, double quantile, int needed) {
 
 }  // namespace
 
-void BranchWidthOptions::Check() const {
-  SYLVA_CHECK_INPUT(mode == "auto" || mode == "on" || mode == "off", "BranchWidth.mode")
-      << "must be auto, on or off, got '" << mode << "'";
-  SYLVA_CHECK_INPUT(matte_threshold > 0 && matte_threshold <= 1, "BranchWidth.matte_threshold")
-      << "must be in (0, 1], got " << matte_threshold;
-  SYLVA_CHECK_INPUT(view_quantile >= 0 && view_quantile <= 1, "BranchWidth.view_quantile")
-      << "must be in [0, 1], got " << view_quantile;
-  SYLVA_CHECK_INPUT(min_views >= 1, "BranchWidth.min_views") << "must be >= 1, got " << min_views;
-  SYLVA_CHECK_INPUT(min_side_on > 0 && min_side_on <= 1, "BranchWidth.min_side_on")
-      << "must be in (0, 1], got " << min_side_on;
-  SYLVA_CHECK_INPUT(search_pixels >= 0 && search_pixels <= 50, "BranchWidth.search_pixels")
-      << "must be in [0, 50], got " << search_pixels;
-  SYLVA_CHECK_INPUT(min_measured_share >= 0 && min_measured_share <= 1,
-                    "BranchWidth.min_measured_share")
-      << "must be in [0, 1], got " << min_measured_share;
-}
-
 std::string BranchWidthSummary::BriefReport() const {
   std::ostringstream text;
   text.precision(3);

@@ -678,36 +678,6 @@ CommandOutcome MapWithRetries(RunContext* context, const fs::path& image_list,
 
 }  // namespace
 
-void ColmapOptions::Check() const {
-  SYLVA_CHECK_INPUT(!executable.empty(), "Colmap.executable") << "must not be empty";
-  SYLVA_CHECK_INPUT(matcher == "auto" || matcher == "exhaustive" || matcher == "sequential",
-                    "Colmap.matcher")
-      << "must be 'auto', 'exhaustive' or 'sequential', got '" << matcher << "'";
-  SYLVA_CHECK_INPUT(exhaustive_max_photos >= 2, "Colmap.exhaustive_max_photos")
-      << "must be >= 2, got " << exhaustive_max_photos;
-  SYLVA_CHECK_INPUT(sequential_overlap >= 1, "Colmap.sequential_overlap")
-      << "must be >= 1, got " << sequential_overlap;
-  SYLVA_CHECK_INPUT(max_image_size >= 100 && max_image_size <= 20000, "Colmap.max_image_size")
-      << "must be between 100 and 20000 pixels, got " << max_image_size;
-  SYLVA_CHECK_INPUT(max_num_features >= 100, "Colmap.max_num_features")
-      << "must be >= 100, got " << max_num_features;
-  const bool known_model = camera_model == "SIMPLE_PINHOLE" || camera_model == "PINHOLE" ||
-                           camera_model == "SIMPLE_RADIAL" || camera_model == "RADIAL" ||
-                           camera_model == "OPENCV";
-  SYLVA_CHECK_INPUT(known_model, "Colmap.camera_model")
-      << "must be SIMPLE_PINHOLE, PINHOLE, SIMPLE_RADIAL, RADIAL or OPENCV, got '" << camera_model
-      << "'";
-  SYLVA_CHECK_INPUT(num_threads == -1 || num_threads >= 1, "Colmap.num_threads")
-      << "must be -1 (all cores) or >= 1, got " << num_threads;
-  SYLVA_CHECK_INPUT(mapper_attempts >= 1 && mapper_attempts <= 20, "Colmap.mapper_attempts")
-      << "must be between 1 and 20, got " << mapper_attempts;
-  SYLVA_CHECK_INPUT(random_seed >= 0, "Colmap.random_seed") << "must be >= 0, got " << random_seed;
-  SYLVA_CHECK_INPUT(stall_seconds >= 0.0, "Colmap.stall_seconds")
-      << "must be >= 0 (0 = never stop a silent COLMAP), got " << stall_seconds;
-  SYLVA_CHECK_INPUT(rematch_below >= 0.0 && rematch_below <= 1.0, "Colmap.rematch_below")
-      << "must be between 0 and 1, got " << rematch_below;
-}
-
 std::string ColmapResult::BriefReport() const {
   std::ostringstream text;
   text.precision(3);

@@ -525,33 +525,7 @@ void FindWorst(const LooseSetup& setup, const LooseProblem& problem, const Image
   }
 }
 
-void CheckRange(bool ok, const char* field, const std::string& requirement, double value) {
-  SYLVA_CHECK_INPUT(ok, std::string("LooseRefine.") + field)
-      << "must be " << requirement << ", got " << value;
-}
-
 }  // namespace
-
-void LooseRefineOptions::Check() const {
-  CheckRange(click_sigma_px > 0 && std::isfinite(click_sigma_px), "click_sigma_px", "> 0 pixels",
-             click_sigma_px);
-  CheckRange(robust_loss_px > 0 && std::isfinite(robust_loss_px), "robust_loss_px", "> 0 pixels",
-             robust_loss_px);
-  CheckRange(azimuth_sigma_deg > 0 && azimuth_sigma_deg <= 180, "azimuth_sigma_deg",
-             "in (0, 180] degrees", azimuth_sigma_deg);
-  CheckRange(elevation_sigma_deg > 0 && elevation_sigma_deg <= 180, "elevation_sigma_deg",
-             "in (0, 180] degrees", elevation_sigma_deg);
-  CheckRange(roll_sigma_deg > 0 && roll_sigma_deg <= 180, "roll_sigma_deg", "in (0, 180] degrees",
-             roll_sigma_deg);
-  CheckRange(known_focal_sigma > 0 && std::isfinite(known_focal_sigma), "known_focal_sigma", "> 0",
-             known_focal_sigma);
-  CheckRange(unknown_focal_sigma > 0 && std::isfinite(unknown_focal_sigma), "unknown_focal_sigma",
-             "> 0", unknown_focal_sigma);
-  CheckRange(max_iterations >= 1 && max_iterations <= 100000, "max_iterations",
-             "between 1 and 100000", max_iterations);
-  CheckRange(weak_direction_threshold > 0 && weak_direction_threshold < 1,
-             "weak_direction_threshold", "in (0, 1)", weak_direction_threshold);
-}
 
 std::string LooseRefineSummary::BriefReport() const {
   std::ostringstream out;

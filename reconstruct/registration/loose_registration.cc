@@ -227,11 +227,6 @@ double PixelHeight(const LooseSetup& setup, const LoosePhoto& photo, const Ancho
   return pixel_height;
 }
 
-void CheckRange(bool ok, const char* field, const std::string& requirement, double value) {
-  SYLVA_CHECK_INPUT(ok, std::string("LooseInit.") + field)
-      << "must be " << requirement << ", got " << value;
-}
-
 }  // namespace
 
 Eigen::Quaterniond LooseCamFromWorld(double azimuth_deg, double elevation_deg, double roll_deg) {
@@ -252,22 +247,6 @@ Eigen::Vector3d LooseAnglesDeg(const Eigen::Quaterniond& cam_from_world) {
   const Eigen::Vector3d y0 = z.cross(x0);
   const double roll = std::atan2(x.dot(y0), x.dot(x0));
   return Eigen::Vector3d(azimuth, elevation, roll) / kDegree;
-}
-
-void LooseInitOptions::Check() const {
-  CheckRange(assumed_tree_height > 0 && std::isfinite(assumed_tree_height), "assumed_tree_height",
-             "> 0 world units", assumed_tree_height);
-  CheckRange(default_focal_factor > 0 && std::isfinite(default_focal_factor),
-             "default_focal_factor", "> 0", default_focal_factor);
-  CheckRange(matte_threshold > 0 && matte_threshold < 1, "matte_threshold", "in (0, 1)",
-             matte_threshold);
-  CheckRange(min_row_fraction >= 0 && min_row_fraction < 1, "min_row_fraction", "in [0, 1)",
-             min_row_fraction);
-  CheckRange(base_band_fraction > 0 && base_band_fraction <= 1, "base_band_fraction", "in (0, 1]",
-             base_band_fraction);
-  CheckRange(fallback_fill > 0 && fallback_fill <= 1, "fallback_fill", "in (0, 1]", fallback_fill);
-  CheckRange(orthographic_distance_heights > 0 && std::isfinite(orthographic_distance_heights),
-             "orthographic_distance_heights", "> 0", orthographic_distance_heights);
 }
 
 std::string LooseAnchorSourceName(LooseAnchorSource source) {

@@ -26,8 +26,6 @@ constexpr int kMinSeeingViews = 2;
 // agree within this fraction.
 constexpr double kMaxAspectMismatch = 0.01;
 
-const char* const kAxisNames[] = {"+x", "-x", "+y", "-y", "+z", "-z"};
-
 Eigen::Vector3d AxisDirection(const std::string& name) {
   const int index = static_cast<int>(std::find(std::begin(kAxisNames), std::end(kAxisNames), name) -
                                      std::begin(kAxisNames));
@@ -501,38 +499,6 @@ Eigen::Quaterniond HeadingFromFirstView(const ImageSet& cameras,
 }
 
 }  // namespace
-
-void WorldFrameOptions::Check() const {
-  const bool axis =
-      std::find(std::begin(kAxisNames), std::end(kAxisNames), up) != std::end(kAxisNames);
-  SYLVA_CHECK_INPUT(up == "auto" || up == "keep" || axis, "WorldFrame.up")
-      << "must be 'auto', 'keep' or an axis (+x, -x, +y, -y, +z, -z), got '" << up << "'";
-  SYLVA_CHECK_INPUT(base == "auto" || base == "keep", "WorldFrame.base")
-      << "must be 'auto' or 'keep', got '" << base << "'";
-  SYLVA_CHECK_INPUT(std::isfinite(known_height) && known_height >= 0, "WorldFrame.known_height")
-      << "must be >= 0 (0 = unknown), got " << known_height;
-  SYLVA_CHECK_INPUT(!units.empty(), "WorldFrame.units") << "must not be empty";
-  SYLVA_CHECK_INPUT(matte_threshold >= 0 && matte_threshold < 1, "WorldFrame.matte_threshold")
-      << "must be in [0, 1), got " << matte_threshold;
-  SYLVA_CHECK_INPUT(matte_working_size >= 16 && matte_working_size <= 8192,
-                    "WorldFrame.matte_working_size")
-      << "must be between 16 and 8192 pixels, got " << matte_working_size;
-  SYLVA_CHECK_INPUT(min_part_fraction >= 0 && min_part_fraction <= 1,
-                    "WorldFrame.min_part_fraction")
-      << "must be in [0, 1], got " << min_part_fraction;
-  SYLVA_CHECK_INPUT(band_fraction >= 0 && band_fraction < 1, "WorldFrame.band_fraction")
-      << "must be in [0, 1), got " << band_fraction;
-  SYLVA_CHECK_INPUT(consensus > 0 && consensus <= 1, "WorldFrame.consensus")
-      << "must be in (0, 1], got " << consensus;
-  SYLVA_CHECK_INPUT(ring_min_views >= 3, "WorldFrame.ring_min_views")
-      << "must be >= 3, got " << ring_min_views;
-  SYLVA_CHECK_INPUT(ring_max_thickness > 0 && ring_max_thickness <= 1,
-                    "WorldFrame.ring_max_thickness")
-      << "must be in (0, 1], got " << ring_max_thickness;
-  SYLVA_CHECK_INPUT(ring_max_tilt_degrees >= 0 && ring_max_tilt_degrees <= 90,
-                    "WorldFrame.ring_max_tilt_degrees")
-      << "must be in [0, 90], got " << ring_max_tilt_degrees;
-}
 
 std::string WorldFrame::BriefReport() const {
   std::ostringstream text;

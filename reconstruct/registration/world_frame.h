@@ -48,6 +48,9 @@
 
 namespace sylva {
 
+// The axes WorldFrame.up names, besides auto and keep.
+inline const char* const kAxisNames[] = {"+x", "-x", "+y", "-y", "+z", "-z"};
+
 struct WorldFrameOptions {
   // Which way is up in the input frame:
   //   "auto":  estimated from the cameras (see above);

@@ -63,6 +63,13 @@ void AttractStageOptions::Check() const {
   livewire.Check();
 }
 
+void SketchMrfOptions::Check() const {
+  SYLVA_CHECK_INPUT(method == "flow" || method == "mrf" || method == "silhouette", "Sketch.method")
+      << "expected flow, mrf or silhouette, got '" << method << "'";
+  mrf.Check();
+  silhouette.Check();
+}
+
 void PipelineOptions::Check() const {
   general.Check();
   matting.Check();

@@ -238,13 +238,6 @@ FloatImage WithoutTrunk(const FloatImage& matte, double crown_opacity) {
 
 }  // namespace
 
-void SketchMrfOptions::Check() const {
-  SYLVA_CHECK_INPUT(method == "flow" || method == "mrf" || method == "silhouette", "Sketch.method")
-      << "expected flow, mrf or silhouette, got '" << method << "'";
-  mrf.Check();
-  silhouette.Check();
-}
-
 std::vector<TreeExemplar> BuiltinExemplars() {
   struct Species {
     const char* name;
