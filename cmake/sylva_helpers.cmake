@@ -106,3 +106,31 @@ function(sylva_add_fuzzer name)
     set_tests_properties(sylva_fuzz_replay_${name} PROPERTIES LABELS fuzz TIMEOUT 300)
   endif()
 endfunction()
+
+# sylva_forbid_links(TARGET LIBRARY...): a configure error if TARGET links any
+# of the LIBRARIES, directly or through the sylva_* libraries it links. It
+# keeps light targets light: the fuzz build compiles what its targets link.
+function(sylva_forbid_links target)
+  set(seen "")
+  set(queue ${target})
+  while(queue)
+    list(POP_FRONT queue current)
+    if(current IN_LIST seen OR NOT TARGET ${current})
+      continue()
+    endif()
+    list(APPEND seen ${current})
+    get_target_property(direct ${current} LINK_LIBRARIES)
+    get_target_property(interface ${current} INTERFACE_LINK_LIBRARIES)
+    foreach(library IN LISTS direct interface)
+      # A static library's private dependencies appear as $<LINK_ONLY:...>.
+      string(REGEX REPLACE "^\\$<LINK_ONLY:(.*)>$" "\\1" library "${library}")
+      if(library IN_LIST ARGN)
+        message(FATAL_ERROR "${target} links ${library} (through ${current}); it must not: "
+                            "its build would compile all of ${library}")
+      endif()
+      if(library MATCHES "^sylva_")
+        list(APPEND queue ${library})
+      endif()
+    endforeach()
+  endwhile()
+endfunction()
