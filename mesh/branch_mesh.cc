@@ -92,7 +92,7 @@ int TubeSides(double axis_radius, double max_radius, const BranchMeshOptions& op
 int TubeRingsPerSegment(double edge_length, const BranchMeshOptions& options) {
   const double by_length = std::ceil(options.rings_per_unit_length * edge_length);
   const double rings = std::max(static_cast<double>(options.rings_per_segment), by_length);
-  return static_cast<int>(std::min(rings, static_cast<double>(kMaxRingsPerSegment)));
+  return static_cast<int>(std::min(rings, static_cast<double>(kMaxBranchRingsPerSegment)));
 }
 
 int BranchTube::NumRings() const {

@@ -39,8 +39,8 @@ namespace sylva {
 
 // Upper bounds of BranchMeshOptions that keep a typo from asking for
 // billions of triangles.
-inline constexpr int kMaxRingsPerSegment = 256;
-inline constexpr int kMaxSides = 256;
+inline constexpr int kMaxBranchRingsPerSegment = 256;
+inline constexpr int kMaxBranchSides = 256;
 
 struct BranchMeshOptions {
   // Rings sampled on each spline segment (one per skeleton edge), at least;

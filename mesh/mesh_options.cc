@@ -32,16 +32,16 @@ void AllometryOptions::Check() const {
 }
 
 void BranchMeshOptions::Check() const {
-  SYLVA_CHECK_INPUT(rings_per_segment >= 1 && rings_per_segment <= kMaxRingsPerSegment,
+  SYLVA_CHECK_INPUT(rings_per_segment >= 1 && rings_per_segment <= kMaxBranchRingsPerSegment,
                     "BranchMesh.rings_per_segment")
-      << "must be in [1, " << kMaxRingsPerSegment << "], got " << rings_per_segment;
+      << "must be in [1, " << kMaxBranchRingsPerSegment << "], got " << rings_per_segment;
   SYLVA_CHECK_INPUT(rings_per_unit_length >= 0 && std::isfinite(rings_per_unit_length),
                     "BranchMesh.rings_per_unit_length")
       << "must be >= 0, got " << rings_per_unit_length;
   SYLVA_CHECK_INPUT(min_sides >= 3 && min_sides <= max_sides, "BranchMesh.min_sides")
       << "must be in [3, max_sides = " << max_sides << "], got " << min_sides;
-  SYLVA_CHECK_INPUT(max_sides <= kMaxSides, "BranchMesh.max_sides")
-      << "must be at most " << kMaxSides << ", got " << max_sides;
+  SYLVA_CHECK_INPUT(max_sides <= kMaxBranchSides, "BranchMesh.max_sides")
+      << "must be at most " << kMaxBranchSides << ", got " << max_sides;
   SYLVA_CHECK_INPUT(!bark.name.empty(), "BranchMesh.bark") << "the material needs a name";
   SYLVA_CHECK_INPUT(bark.diffuse_color.allFinite() && bark.diffuse_color.minCoeff() >= 0 &&
                         bark.diffuse_color.maxCoeff() <= 1,

@@ -82,7 +82,7 @@ void ColmapOptions::Check() const {
 
 void WorldFrameOptions::Check() const {
   const bool axis =
-      std::find(std::begin(kAxisNames), std::end(kAxisNames), up) != std::end(kAxisNames);
+      std::find(std::begin(kUpAxisNames), std::end(kUpAxisNames), up) != std::end(kUpAxisNames);
   SYLVA_CHECK_INPUT(up == "auto" || up == "keep" || axis, "WorldFrame.up")
       << "must be 'auto', 'keep' or an axis (+x, -x, +y, -y, +z, -z), got '" << up << "'";
   SYLVA_CHECK_INPUT(base == "auto" || base == "keep", "WorldFrame.base")

@@ -27,8 +27,8 @@ constexpr int kMinSeeingViews = 2;
 constexpr double kMaxAspectMismatch = 0.01;
 
 Eigen::Vector3d AxisDirection(const std::string& name) {
-  const int index = static_cast<int>(std::find(std::begin(kAxisNames), std::end(kAxisNames), name) -
-                                     std::begin(kAxisNames));
+  const int index = static_cast<int>(
+      std::find(std::begin(kUpAxisNames), std::end(kUpAxisNames), name) - std::begin(kUpAxisNames));
   SYLVA_CHECK(index < 6) << "unknown axis " << name;
   Eigen::Vector3d axis = Eigen::Vector3d::Zero();
   axis(index / 2) = index % 2 == 0 ? 1.0 : -1.0;

@@ -49,7 +49,7 @@
 namespace sylva {
 
 // The axes WorldFrame.up names, besides auto and keep.
-inline const char* const kAxisNames[] = {"+x", "-x", "+y", "-y", "+z", "-z"};
+inline const char* const kUpAxisNames[] = {"+x", "-x", "+y", "-y", "+z", "-z"};
 
 struct WorldFrameOptions {
   // Which way is up in the input frame:
